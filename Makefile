@@ -1,0 +1,41 @@
+# make demo   set up (apt + .venv), build, install and run the demo
+# make test   set up, build, then ctest and pytest
+# make bench  run the benchmarks in bench/ (slow; writes bench/results/)
+SHELL := /bin/bash
+VENV := .venv
+PY := $(VENV)/bin/python
+JOBS ?= $(shell nproc)
+SOURCES := $(shell find cpp python -type f \( -name '*.cpp' -o -name '*.hpp' -o -name '*.py' \)) CMakeLists.txt pyproject.toml
+
+.PHONY: setup build demo test ctest pytest bench clean
+
+setup:
+	@./scripts/setup.sh
+
+# The Python package, rebuilt (incrementally, in build/) when a source changed.
+$(VENV)/.hovi.stamp: $(SOURCES) | setup
+	CMAKE_BUILD_PARALLEL_LEVEL=$(JOBS) $(PY) -m pip install -q --no-build-isolation --no-deps .
+	@touch $@
+
+build: setup $(VENV)/.hovi.stamp
+
+build/cpp/CMakeCache.txt: CMakeLists.txt | setup
+	cmake -S . -B build/cpp -DCMAKE_BUILD_TYPE=Release -DHOVI_BUILD_TESTS=ON -DHOVI_BUILD_PYTHON=OFF
+
+ctest: setup build/cpp/CMakeCache.txt
+	cmake --build build/cpp -j $(JOBS)
+	cd build/cpp && ctest --output-on-failure -j $(JOBS)
+
+pytest: build
+	$(PY) -m pytest -q tests
+
+demo: build
+	$(PY) -m hovi info pendulum:32
+
+test: ctest pytest
+
+bench: build
+	$(PY) bench/run_all.py
+
+clean:
+	rm -rf build $(VENV)/.hovi.stamp

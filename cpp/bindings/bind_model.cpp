@@ -1,0 +1,238 @@
+// Bindings of Model (with a private workspace), the URDF loader and the built-in models.
+#include <memory>
+
+#include "common.hpp"
+#include "hovi/algorithms/dynamics.hpp"
+#include "hovi/algorithms/energy.hpp"
+#include "hovi/algorithms/kinematics.hpp"
+#include "hovi/algorithms/mass_matrix.hpp"
+#include "hovi/errors.hpp"
+#include "hovi/models/pendulum.hpp"
+#include "hovi/parsers/urdf.hpp"
+
+namespace hovi::py_bind {
+
+namespace {
+
+// The Python-side model: the immutable core Model plus a lazily (re)sized workspace.
+struct PyModel {
+  Model model;
+  std::unique_ptr<Data> data;
+  Data& ws() {
+    if (!data || static_cast<int>(data->g.size()) != model.n()) data = std::make_unique<Data>(model);
+    return *data;
+  }
+  VecX vec(const py::handle& x, const char* name) { return as_vector(x, name, model.n()); }
+};
+
+const char* type_name(JointType t) { return t == JointType::Revolute ? "revolute" : "prismatic"; }
+
+JointType parse_type(const std::string& t) {
+  if (t == "revolute" || t == "continuous") return JointType::Revolute;
+  if (t == "prismatic") return JointType::Prismatic;
+  throw ModelError("joint_type must be 'revolute' or 'prismatic', got '" + t + "'");
+}
+
+BaseJoint parse_base(const std::string& b) {
+  if (b == "fixed") return BaseJoint::Fixed;
+  if (b == "floating") return BaseJoint::Floating;
+  if (b == "planar") return BaseJoint::Planar;
+  throw InputError("base must be 'fixed', 'floating' or 'planar', got '" + b + "'");
+}
+
+SE3 as_se3(const py::handle& obj, const char* name) {
+  const MatX T = as_matrix(obj, name, 4, 4);
+  if ((T.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).norm() > 1e-12)
+    throw InputError(std::string(name) + " must be a homogeneous transform (last row 0 0 0 1)");
+  return SE3(T.topLeftCorner<3, 3>(), T.topRightCorner<3, 1>());
+}
+
+std::string summary(const Model& model) {
+  std::ostringstream os;
+  os << "hovi.Model: " << model.n() << " DoF, " << model.n() << " bodies, total mass " << model.total_mass()
+     << " kg, gravity (" << model.gravity.transpose() << ")\n";
+  os << "  #  body                      joint                     type       parent\n";
+  for (int i = 0; i < model.n(); ++i) {
+    const BodySpec& s = model.spec[i];
+    char line[256];
+    std::snprintf(line, sizeof line, "  %-2d %-25s %-25s %-10s %s\n", i, s.name.c_str(), s.joint_name.c_str(),
+                  type_name(s.type), s.parent >= 0 ? model.spec[s.parent].name.c_str() : "world");
+    os << line;
+  }
+  return os.str();
+}
+
+template <class F>
+py::list per_body(const Model& model, F&& f) {
+  py::list out;
+  for (int i = 0; i < model.n(); ++i) out.append(f(model.spec[i]));
+  return out;
+}
+
+template <class F>
+VecX per_joint(const Model& model, F&& f) {
+  VecX out(model.n());
+  for (int i = 0; i < model.n(); ++i) out[i] = f(model.spec[i]);
+  return out;
+}
+
+}  // namespace
+
+void bind_model(py::module_& m) {
+  py::class_<PyModel, std::shared_ptr<PyModel>> cls(m, "Model", R"doc(
+A tree of rigid bodies joined by 1-DoF revolute or prismatic joints (parents before children).
+
+Body frames sit at each body's centre of mass with the joint frame's orientation (ERRATA C-3);
+``joint_placements`` gives the joint frames (Pinocchio's ``oMi``). Twists are ordered
+(angular, linear) as in the paper. Build one with ``Model.from_urdf``, ``hovi.models``, or
+``Model()`` followed by ``add_body``.
+)doc");
+  cls.def(py::init([]() { return std::make_shared<PyModel>(); }), "An empty model (add bodies with add_body).")
+      .def_static(
+          "from_urdf",
+          [](const py::object& source, const std::string& base, bool expand_joints, const py::object& planar_normal) {
+            UrdfOptions opt;
+            opt.base = parse_base(base);
+            opt.expand_joints = expand_joints;
+            opt.planar_normal = as_vector(planar_normal, "planar_normal", 3);
+            const std::string src = py::str(py::module_::import("os").attr("fspath")(source));
+            auto pm = std::make_shared<PyModel>();
+            pm->model = model_from_urdf(src, opt);
+            return pm;
+          },
+          py::arg("source"), py::arg("base") = "fixed", py::arg("expand_joints") = false,
+          py::arg("planar_normal") = py::make_tuple(0.0, 1.0, 0.0), R"doc(
+Load a URDF file (path) or XML string.
+
+base: 'fixed' (root link welded to the world), 'floating' (6 joints x, y, z, yaw, pitch, roll:
+Z-Y-X Euler angles, singular at pitch = ±pi/2) or 'planar' (2 prismatic + 1 revolute about
+planar_normal, default the x-z plane). expand_joints: expand URDF floating/planar joints the
+same way instead of raising. Fixed joints are merged (inertia lumped into the parent);
+continuous joints become revolute joints without limits; mimic joints are kept as metadata
+(integrated as independent joints). Raises hovi.URDFError naming the link or joint at fault.
+)doc")
+      .def(
+          "add_body",
+          [](PyModel& self, const std::string& name, const py::object& parent, const std::string& joint_type,
+             const py::object& axis, const py::object& placement, double mass, const py::object& com,
+             const py::object& inertia, const std::string& joint_name, double lower, double upper) {
+            BodySpec s;
+            s.name = name;
+            s.joint_name = joint_name.empty() ? name + "_joint" : joint_name;
+            if (parent.is_none()) s.parent = -1;
+            else if (py::isinstance<py::str>(parent)) {
+              s.parent = self.model.body_index(parent.cast<std::string>());
+              if (s.parent < 0) throw ModelError("add_body('" + name + "'): no body named '" + parent.cast<std::string>() + "'");
+            } else s.parent = parent.cast<int>();
+            s.type = parse_type(joint_type);
+            s.axis = as_vector(axis, "axis", 3);
+            if (!placement.is_none()) s.placement = as_se3(placement, "placement");
+            s.mass = mass;
+            s.com = as_vector(com, "com", 3);
+            s.inertia = as_matrix(inertia, "inertia", 3, 3);
+            s.limits.lower = lower;
+            s.limits.upper = upper;
+            return self.model.add_body(s);
+          },
+          py::arg("name"), py::arg("parent"), py::arg("joint_type") = "revolute", py::arg("axis") = py::make_tuple(0.0, 0.0, 1.0),
+          py::arg("placement") = py::none(), py::arg("mass") = 0.0, py::arg("com") = py::make_tuple(0.0, 0.0, 0.0),
+          py::arg("inertia") = py::array_t<double>(std::vector<py::ssize_t>{3, 3}, std::vector<double>(9, 0.0).data()),
+          py::arg("joint_name") = "", py::arg("lower") = -std::numeric_limits<double>::infinity(),
+          py::arg("upper") = std::numeric_limits<double>::infinity(), R"doc(
+Append a body; returns its index. parent: index or body name, None for the world.
+placement: 4x4 pose of the joint frame in the parent's joint frame at q = 0. axis: joint axis in
+the joint frame. com: centre of mass in the joint frame. inertia: 3x3 rotational inertia about
+the COM (joint-frame axes). Raises hovi.ModelError naming the body on invalid input.
+)doc")
+      .def_property_readonly("n", [](const PyModel& s) { return s.model.n(); }, "Number of joints = DoF = bodies.")
+      .def_property_readonly("nq", [](const PyModel& s) { return s.model.n(); })
+      .def_property_readonly("nv", [](const PyModel& s) { return s.model.n(); })
+      .def_property_readonly("total_mass", [](const PyModel& s) { return s.model.total_mass(); })
+      .def_property(
+          "gravity", [](const PyModel& s) { return Vec3(s.model.gravity); },
+          [](PyModel& s, const py::object& g) { s.model.gravity = as_vector(g, "gravity", 3); },
+          "Gravity in the world frame (default (0, 0, -9.81)).")
+      .def_property_readonly("body_names", [](const PyModel& s) { return per_body(s.model, [](const BodySpec& b) { return b.name; }); })
+      .def_property_readonly("joint_names", [](const PyModel& s) { return per_body(s.model, [](const BodySpec& b) { return b.joint_name; }); })
+      .def_property_readonly("joint_types", [](const PyModel& s) { return per_body(s.model, [](const BodySpec& b) { return type_name(b.type); }); })
+      .def_property_readonly("parents", [](const PyModel& s) { return s.model.parent; }, "Parent body index per body, -1 for the world.")
+      .def_property_readonly("masses", [](const PyModel& s) { return per_joint(s.model, [](const BodySpec& b) { return b.mass; }); })
+      .def_property_readonly("lower_limits", [](const PyModel& s) { return per_joint(s.model, [](const BodySpec& b) { return b.limits.lower; }); })
+      .def_property_readonly("upper_limits", [](const PyModel& s) { return per_joint(s.model, [](const BodySpec& b) { return b.limits.upper; }); })
+      .def_property_readonly("velocity_limits", [](const PyModel& s) { return per_joint(s.model, [](const BodySpec& b) { return b.limits.velocity; }); })
+      .def_property_readonly("effort_limits", [](const PyModel& s) { return per_joint(s.model, [](const BodySpec& b) { return b.limits.effort; }); })
+      .def_property_readonly("damping", [](const PyModel& s) { return per_joint(s.model, [](const BodySpec& b) { return b.damping; }); }, "URDF <dynamics damping> per joint (metadata).")
+      .def_property_readonly("friction", [](const PyModel& s) { return per_joint(s.model, [](const BodySpec& b) { return b.friction; }); }, "URDF <dynamics friction> per joint (metadata).")
+      .def_property_readonly("mimic", [](const PyModel& s) {
+            py::dict d;
+            for (const BodySpec& b : s.model.spec)
+              if (b.mimic) d[py::str(b.joint_name)] = py::make_tuple(b.mimic->joint, b.mimic->multiplier, b.mimic->offset);
+            return d;
+          }, "{joint: (leader, multiplier, offset)} for URDF mimic joints (metadata only).")
+      .def("body_index", [](const PyModel& s, const std::string& name) {
+            const int i = s.model.body_index(name);
+            if (i < 0) throw py::key_error("no body named '" + name + "'");
+            return i;
+          })
+      .def("joint_index", [](const PyModel& s, const std::string& name) {
+            const int i = s.model.joint_index(name);
+            if (i < 0) throw py::key_error("no joint named '" + name + "'");
+            return i;
+          })
+      .def("summary", [](const PyModel& s) { return summary(s.model); }, "A table of bodies and joints.")
+      .def("__repr__", [](const PyModel& s) {
+            std::ostringstream os;
+            os << "<hovi.Model: " << s.model.n() << " DoF, mass " << s.model.total_mass() << " kg>";
+            return os.str();
+          })
+      .def("body_poses", [](PyModel& s, const py::object& q) {
+            forward_kinematics(s.model, s.ws(), s.vec(q, "q"));
+            std::vector<Mat4> out;
+            for (const SE3& g : s.ws().g) out.push_back(g.matrix());
+            return stack(out);
+          }, py::arg("q"), "(n, 4, 4) world poses g_i of the body frames (at each centre of mass).")
+      .def("joint_placements", [](PyModel& s, const py::object& q) {
+            forward_kinematics(s.model, s.ws(), s.vec(q, "q"));
+            std::vector<Mat4> out;
+            for (int i = 0; i < s.model.n(); ++i) out.push_back(joint_placement(s.model, s.ws(), i).matrix());
+            return stack(out);
+          }, py::arg("q"), "(n, 4, 4) world poses of the joint frames (Pinocchio's oMi).")
+      .def("spatial_twists", [](PyModel& s, const py::object& q) {
+            forward_kinematics(s.model, s.ws(), s.vec(q, "q"));
+            return stack(s.ws().Sbar);
+          }, py::arg("q"), "(n, 6) spatial joint twists S̄_i = Ad_{g_i} S_i, (angular, linear).")
+      .def("spatial_velocities", [](PyModel& s, const py::object& q, const py::object& qd) {
+            forward_kinematics(s.model, s.ws(), s.vec(q, "q"), s.vec(qd, "qdot"));
+            return stack(s.ws().v);
+          }, py::arg("q"), py::arg("qdot"), "(n, 6) spatial velocities v̄_i = (ġ g^{-1})^∨, (angular, linear).")
+      .def("kinetic_energy", [](PyModel& s, const py::object& q, const py::object& qd) {
+            return kinetic_energy(s.model, s.ws(), s.vec(q, "q"), s.vec(qd, "qdot"));
+          }, py::arg("q"), py::arg("qdot"))
+      .def("potential_energy", [](PyModel& s, const py::object& q) {
+            return potential_energy(s.model, s.ws(), s.vec(q, "q"));
+          }, py::arg("q"), "Gravitational potential -sum m_i g^T p_i (p_i the centre of mass).")
+      .def("energy", [](PyModel& s, const py::object& q, const py::object& qd) {
+            const VecX qv = s.vec(q, "q");
+            return kinetic_energy(s.model, s.ws(), qv, s.vec(qd, "qdot")) + potential_energy(s.model, s.ws(), qv);
+          }, py::arg("q"), py::arg("qdot"), "Total mechanical energy K + V.")
+      .def("mass_matrix", [](PyModel& s, const py::object& q) {
+            return MatX(mass_matrix(s.model, s.ws(), s.vec(q, "q")));
+          }, py::arg("q"), "Joint-space mass matrix M(q), (n, n).")
+      .def("forward_dynamics", [](PyModel& s, const py::object& q, const py::object& qd, const py::object& tau) {
+            const VecX t = tau.is_none() ? VecX::Zero(s.model.n()) : s.vec(tau, "tau");
+            return VecX(forward_dynamics(s.model, s.ws(), s.vec(q, "q"), s.vec(qd, "qdot"), t));
+          }, py::arg("q"), py::arg("qdot"), py::arg("tau") = py::none(),
+          "q̈ = FD(q, q̇, tau) by the articulated-body algorithm (O(n)), gravity included.")
+      .def("inverse_dynamics", [](PyModel& s, const py::object& q, const py::object& qd, const py::object& qdd) {
+            return VecX(inverse_dynamics(s.model, s.ws(), s.vec(q, "q"), s.vec(qd, "qdot"), s.vec(qdd, "qddot")));
+          }, py::arg("q"), py::arg("qdot"), py::arg("qddot"),
+          "tau = M(q) q̈ + C(q, q̇) q̇ + G(q) by recursive Newton-Euler (O(n)).");
+
+  m.def("pendulum", [](int n, double length, double mass, double radius) {
+        auto pm = std::make_shared<PyModel>();
+        pm->model = models::pendulum(n, length, mass, radius);
+        return pm;
+      }, py::arg("n"), py::arg("length") = 0.5, py::arg("mass") = 1.0, py::arg("radius") = 0.02);
+}
+
+}  // namespace hovi::py_bind

@@ -1,0 +1,66 @@
+#include "common.hpp"
+
+#include <sstream>
+
+#include "hovi/errors.hpp"
+
+namespace hovi::py_bind {
+
+namespace {
+std::string shape_of(const py::array& a) {
+  std::ostringstream os;
+  os << "(";
+  for (py::ssize_t k = 0; k < a.ndim(); ++k) os << (k ? ", " : "") << a.shape(k);
+  os << (a.ndim() == 1 ? ",)" : ")");
+  return os.str();
+}
+}  // namespace
+
+VecX as_vector(const py::handle& obj, const char* name, long n) {
+  auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(obj);
+  if (!a) throw InputError(std::string(name) + " must be an array of real numbers");
+  if (a.ndim() != 1 || (n >= 0 && a.shape(0) != n)) {
+    std::ostringstream os;
+    os << name << " must be a 1-D array";
+    if (n >= 0) os << " of length " << n;
+    os << ", got shape " << shape_of(a);
+    throw InputError(os.str());
+  }
+  VecX v = Eigen::Map<const VecX>(a.data(), a.shape(0));
+  if (!v.allFinite()) throw InputError(std::string(name) + " contains NaN or infinity");
+  return v;
+}
+
+MatX as_matrix(const py::handle& obj, const char* name, long rows, long cols) {
+  auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(obj);
+  if (!a) throw InputError(std::string(name) + " must be an array of real numbers");
+  if (a.ndim() != 2 || (rows >= 0 && a.shape(0) != rows) || (cols >= 0 && a.shape(1) != cols)) {
+    std::ostringstream os;
+    os << name << " must be a 2-D array of shape (" << (rows >= 0 ? std::to_string(rows) : "*") << ", "
+       << (cols >= 0 ? std::to_string(cols) : "*") << "), got shape " << shape_of(a);
+    throw InputError(os.str());
+  }
+  using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  MatX m = Eigen::Map<const RowMat>(a.data(), a.shape(0), a.shape(1));
+  if (!m.allFinite()) throw InputError(std::string(name) + " contains NaN or infinity");
+  return m;
+}
+
+py::array_t<double> stack(const std::vector<Mat4>& mats) {
+  py::array_t<double> out({static_cast<py::ssize_t>(mats.size()), py::ssize_t(4), py::ssize_t(4)});
+  auto r = out.mutable_unchecked<3>();
+  for (std::size_t k = 0; k < mats.size(); ++k)
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j) r(k, i, j) = mats[k](i, j);
+  return out;
+}
+
+py::array_t<double> stack(const std::vector<Vec6>& vecs) {
+  py::array_t<double> out({static_cast<py::ssize_t>(vecs.size()), py::ssize_t(6)});
+  auto r = out.mutable_unchecked<2>();
+  for (std::size_t k = 0; k < vecs.size(); ++k)
+    for (int i = 0; i < 6; ++i) r(k, i) = vecs[k](i);
+  return out;
+}
+
+}  // namespace hovi::py_bind

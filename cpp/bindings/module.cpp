@@ -1,0 +1,23 @@
+// The extension module hovi._core: exception classes and one bind_* call per area.
+#include "common.hpp"
+#include "hovi/errors.hpp"
+
+namespace py = pybind11;
+
+PYBIND11_MODULE(_core, m) {
+  m.doc() = "hovi C++ core: higher-order variational integrators for robots";
+  static py::exception<hovi::ModelError> model_error(m, "ModelError", PyExc_ValueError);
+  static py::exception<hovi::UrdfError> urdf_error(m, "URDFError", model_error.ptr());
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const hovi::UrdfError& e) {
+      py::set_error(urdf_error, e.what());
+    } catch (const hovi::ModelError& e) {
+      py::set_error(model_error, e.what());
+    } catch (const hovi::InputError& e) {
+      py::set_error(PyExc_ValueError, e.what());
+    }
+  });
+  hovi::py_bind::bind_model(m);
+}

@@ -1,0 +1,14 @@
+// Forward dynamics by the articulated-body algorithm and inverse dynamics by recursive
+// Newton-Euler, both in spatial (world-frame) coordinates with gravity entering as the
+// external wrench F̄_i of every body.
+#pragma once
+#include "hovi/model/data.hpp"
+
+namespace hovi {
+// q̈ = FD(q, q̇, tau), O(n). Returns data.qdd. Throws ModelError if a joint moves no mass.
+const VecX& forward_dynamics(const Model& model, Data& data, const Eigen::Ref<const VecX>& q,
+                             const Eigen::Ref<const VecX>& qdot, const Eigen::Ref<const VecX>& tau);
+// tau = ID(q, q̇, q̈) = M(q) q̈ + C(q, q̇) q̇ + G(q), O(n). Returns data.tau.
+const VecX& inverse_dynamics(const Model& model, Data& data, const Eigen::Ref<const VecX>& q,
+                             const Eigen::Ref<const VecX>& qdot, const Eigen::Ref<const VecX>& qddot);
+}  // namespace hovi

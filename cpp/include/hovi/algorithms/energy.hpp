@@ -1,0 +1,10 @@
+// Kinetic energy K = 1/2 sum v̄_i^T M̄_i v̄_i and gravitational potential V = -sum m_i g^T p_i
+// (p_i the centre of mass, ERRATA C-3/C-4).
+#pragma once
+#include "hovi/model/data.hpp"
+
+namespace hovi {
+double kinetic_energy(const Model& model, Data& data, const Eigen::Ref<const VecX>& q,
+                      const Eigen::Ref<const VecX>& qdot);
+double potential_energy(const Model& model, Data& data, const Eigen::Ref<const VecX>& q);
+}  // namespace hovi

@@ -1,0 +1,74 @@
+// The immutable kinematic tree (paper Sec. 2.3): n rigid bodies, each attached to its parent
+// by a one-degree-of-freedom revolute or prismatic joint, parents numbered before children.
+//
+// Frames follow ERRATA C-3: body frame {i} is the joint frame of joint i translated to the
+// body's centre of mass c_i (orientation kept), so M_i = blockdiag(I_c, m 1) and p_i is the COM.
+// The joint frame itself is kept for output (joint_placement) and for URDF round trips.
+#pragma once
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "hovi/spatial/algebra.hpp"
+
+namespace hovi {
+
+enum class JointType { Revolute, Prismatic };
+
+struct JointLimits {
+  double lower = -std::numeric_limits<double>::infinity();
+  double upper = std::numeric_limits<double>::infinity();
+  double velocity = std::numeric_limits<double>::infinity();
+  double effort = std::numeric_limits<double>::infinity();
+};
+
+struct Mimic {          // metadata only: hovi integrates mimic joints as independent joints
+  std::string joint;    // the joint this one follows
+  double multiplier = 1, offset = 0;
+};
+
+// Everything the user specifies for one body; Model::add_body validates it.
+struct BodySpec {
+  std::string name;            // link name
+  std::string joint_name;
+  int parent = -1;             // index of the parent body, -1 for the world
+  JointType type = JointType::Revolute;
+  Vec3 axis = Vec3::UnitZ();   // joint axis in the joint frame (normalised on add)
+  SE3 placement;               // joint frame in the parent's joint frame at q = 0
+  double mass = 0;
+  Vec3 com = Vec3::Zero();     // centre of mass in the joint frame
+  Mat3 inertia = Mat3::Zero(); // rotational inertia about the COM, joint-frame axes
+  JointLimits limits;
+  std::optional<Mimic> mimic;
+  double damping = 0, friction = 0;  // URDF <dynamics>, metadata
+};
+
+// Throws ModelError naming `what` unless mass >= 0 and a non-zero inertia is positive definite
+// (a massless body must have zero inertia).
+void check_inertia(const std::string& what, double mass, const Mat3& inertia);
+
+class Model {
+ public:
+  Model() = default;
+  // Appends a body; returns its index. Throws ModelError naming the body on invalid input.
+  int add_body(const BodySpec& spec);
+
+  int n() const { return static_cast<int>(parent.size()); }
+  double total_mass() const;
+  int body_index(const std::string& link_name) const;  // -1 if absent
+  int joint_index(const std::string& joint_name) const;  // -1 if absent
+
+  // Topology
+  std::vector<int> parent;                 // par(i), -1 for the world {0}
+  std::vector<std::vector<int>> children;  // chd(i)
+  // Per body, in the COM frame {i} (paper notation)
+  std::vector<Twist> S;                    // S_i, joint twist in {i}
+  std::vector<SE3> g_parent0;              // g_{par(i),i}(0), {i} in {par(i)} at q_i = 0
+  std::vector<SpatialInertia> M;           // M_i = blockdiag(I_c, m 1)
+  // What the user gave, kept for output and metadata
+  std::vector<BodySpec> spec;
+  Vec3 gravity = Vec3(0, 0, -9.81);        // world frame
+};
+
+}  // namespace hovi

@@ -1,0 +1,22 @@
+#include "hovi/algorithms/energy.hpp"
+
+#include "hovi/algorithms/kinematics.hpp"
+
+namespace hovi {
+
+double kinetic_energy(const Model& model, Data& data, const Eigen::Ref<const VecX>& q,
+                      const Eigen::Ref<const VecX>& qdot) {
+  forward_kinematics(model, data, q, qdot);
+  double K = 0;
+  for (int i = 0; i < model.n(); ++i) K += 0.5 * data.v[i].dot(data.Mbar[i] * data.v[i]);
+  return K;
+}
+
+double potential_energy(const Model& model, Data& data, const Eigen::Ref<const VecX>& q) {
+  forward_kinematics(model, data, q);
+  double V = 0;
+  for (int i = 0; i < model.n(); ++i) V -= model.M[i].m * model.gravity.dot(data.g[i].p);
+  return V;
+}
+
+}  // namespace hovi

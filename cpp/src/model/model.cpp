@@ -1,0 +1,95 @@
+#include "hovi/model/model.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <sstream>
+
+#include "hovi/errors.hpp"
+
+namespace hovi {
+namespace {
+
+std::string describe(const BodySpec& s) {
+  return "body '" + s.name + "' (joint '" + s.joint_name + "')";
+}
+
+template <class D>
+bool finite(const Eigen::MatrixBase<D>& m) {
+  return m.allFinite();
+}
+
+void validate(const BodySpec& s, int n) {
+  if (s.parent < -1 || s.parent >= n) {
+    std::ostringstream os;
+    os << describe(s) << ": parent index " << s.parent
+       << " does not name an existing body (parents must be added before children)";
+    throw ModelError(os.str());
+  }
+  if (!finite(s.com) || !finite(s.inertia) || !finite(s.placement.R) || !finite(s.placement.p) || !finite(s.axis))
+    throw ModelError(describe(s) + ": non-finite value in axis, placement, centre of mass or inertia");
+  if (s.axis.norm() < 1e-12) throw ModelError(describe(s) + ": joint axis has zero length");
+  const Mat3 R = s.placement.R;
+  if ((R.transpose() * R - Mat3::Identity()).norm() > 1e-9 || R.determinant() < 0)
+    throw ModelError(describe(s) + ": placement rotation is not a rotation matrix");
+  check_inertia(describe(s), s.mass, s.inertia);
+}
+
+}  // namespace
+
+void check_inertia(const std::string& what, double mass, const Mat3& inertia) {
+  if (!std::isfinite(mass) || mass < 0)
+    throw ModelError(what + ": mass must be finite and non-negative, got " + std::to_string(mass));
+  if (!inertia.allFinite()) throw ModelError(what + ": inertia has a non-finite entry");
+  if ((inertia - inertia.transpose()).norm() > 1e-12 * (1 + inertia.norm()))
+    throw ModelError(what + ": rotational inertia is not symmetric");
+  if (mass == 0 && inertia.norm() == 0) return;  // a massless (virtual) body
+  if (mass == 0) throw ModelError(what + ": non-zero rotational inertia with zero mass");
+  Eigen::SelfAdjointEigenSolver<Mat3> es(inertia);
+  if (es.eigenvalues().minCoeff() <= 0) {
+    std::ostringstream os;
+    os << what << ": rotational inertia is not positive definite (principal moments "
+       << es.eigenvalues().transpose() << ")";
+    throw ModelError(os.str());
+  }
+}
+
+int Model::add_body(const BodySpec& spec_in) {
+  validate(spec_in, n());
+  BodySpec s = spec_in;
+  s.axis.normalize();
+  const int i = n();
+  parent.push_back(s.parent);
+  children.emplace_back();
+  if (s.parent >= 0) children[s.parent].push_back(i);
+
+  // S_i = Ad_{T(c_i)}^{-1} S^J with S^J = (axis, 0) or (0, axis) in the joint frame (ERRATA C-3)
+  Twist SJ = Twist::Zero();
+  if (s.type == JointType::Revolute) SJ.head<3>() = s.axis; else SJ.tail<3>() = s.axis;
+  S.push_back(Ad(SE3::Translation(-s.com), SJ));
+  // g_{par,i}(0) = T(c_par)^{-1} X_i T(c_i)
+  const Vec3 c_par = s.parent >= 0 ? spec[s.parent].com : Vec3::Zero();
+  g_parent0.push_back(SE3::Translation(-c_par) * s.placement * SE3::Translation(s.com));
+  M.push_back(SpatialInertia::AtCom(s.mass, s.inertia));
+  spec.push_back(std::move(s));
+  return i;
+}
+
+double Model::total_mass() const {
+  double m = 0;
+  for (const auto& b : M) m += b.m;
+  return m;
+}
+
+int Model::body_index(const std::string& name) const {
+  for (int i = 0; i < n(); ++i)
+    if (spec[i].name == name) return i;
+  return -1;
+}
+
+int Model::joint_index(const std::string& name) const {
+  for (int i = 0; i < n(); ++i)
+    if (spec[i].joint_name == name) return i;
+  return -1;
+}
+
+}  // namespace hovi

@@ -1,0 +1,228 @@
+#include "hovi/parsers/urdf.hpp"
+
+#include <console_bridge/console.h>
+
+#include <Eigen/Geometry>
+#include <fstream>
+#include <sstream>
+#include <urdf_parser/urdf_parser.h>
+
+#include "hovi/errors.hpp"
+
+namespace hovi {
+namespace {
+
+// Collects urdfdom's console_bridge messages so that they can go into the exception.
+struct MessageCapture : console_bridge::OutputHandler {
+  std::string text;
+  MessageCapture() { console_bridge::useOutputHandler(this); }
+  ~MessageCapture() override { console_bridge::restorePreviousOutputHandler(); }
+  void log(const std::string& msg, console_bridge::LogLevel level, const char*, int) override {
+    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_WARN) text += (text.empty() ? "" : "; ") + msg;
+  }
+};
+
+SE3 to_se3(const urdf::Pose& pose) {
+  const Eigen::Quaterniond quat(pose.rotation.w, pose.rotation.x, pose.rotation.y, pose.rotation.z);
+  return SE3(quat.normalized().toRotationMatrix(), Vec3(pose.position.x, pose.position.y, pose.position.z));
+}
+
+Vec3 to_vec(const urdf::Vector3& v) { return Vec3(v.x, v.y, v.z); }
+
+// The inertia of one URDF link, validated, as a SpatialInertia about the link frame.
+SpatialInertia link_inertia(const urdf::Link& link) {
+  if (!link.inertial) return SpatialInertia();
+  const urdf::Inertial& in = *link.inertial;
+  Mat3 Ic;
+  Ic << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
+  check_inertia("link '" + link.name + "'", in.mass, Ic);
+  const SE3 X = to_se3(in.origin);  // inertial frame in the link frame
+  return SpatialInertia::AtCom(in.mass, Ic).transformed(X);
+}
+
+// A chain of 1-DoF joints standing for one multi-DoF joint.
+using JointChain = std::vector<std::pair<JointType, Vec3>>;
+
+JointChain floating_chain() {
+  return {{JointType::Prismatic, Vec3::UnitX()}, {JointType::Prismatic, Vec3::UnitY()},
+          {JointType::Prismatic, Vec3::UnitZ()}, {JointType::Revolute, Vec3::UnitZ()},
+          {JointType::Revolute, Vec3::UnitY()},  {JointType::Revolute, Vec3::UnitX()}};
+}
+
+JointChain planar_chain(Vec3 n) {
+  n.normalize();
+  Vec3 t1 = Vec3::UnitX();
+  for (int k = 0; k < 3; ++k)
+    if (std::abs(n.dot(Vec3::Unit(k))) < 0.9) { t1 = Vec3::Unit(k); break; }
+  t1 = (t1 - t1.dot(n) * n).normalized();
+  return {{JointType::Prismatic, t1}, {JointType::Prismatic, t1.cross(n)}, {JointType::Revolute, n}};
+}
+
+const char* const kFloatingSuffix[] = {"_x", "_y", "_z", "_rz", "_ry", "_rx"};
+const char* const kPlanarSuffix[] = {"_t1", "_t2", "_r"};
+
+class TreeBuilder {
+ public:
+  TreeBuilder(const urdf::ModelInterface& urdf, const UrdfOptions& opt) : urdf_(urdf), opt_(opt) {}
+
+  Model build() {
+    const urdf::LinkConstSharedPtr root = urdf_.getRoot();
+    if (!root) throw UrdfError("URDF has no root link");
+    check_tree();
+    int root_body = -1;
+    if (opt_.base == BaseJoint::Fixed) {
+      visit(*root, -1, SE3::Identity());
+    } else {
+      const bool floating = opt_.base == BaseJoint::Floating;
+      root_body = add_chain(floating ? floating_chain() : planar_chain(opt_.planar_normal),
+                            floating ? kFloatingSuffix : kPlanarSuffix, root->name, root->name + "_base",
+                            -1, SE3::Identity());
+      visit(*root, root_body, SE3::Identity());
+    }
+    if (specs_.empty()) throw UrdfError("URDF '" + urdf_.getName() + "' has no movable joint");
+    Model model;
+    for (std::size_t i = 0; i < specs_.size(); ++i) {
+      BodySpec s = specs_[i];
+      const SpatialInertia& I = inertia_[i];
+      s.mass = I.m;
+      s.com = I.m > 0 ? Vec3(I.h / I.m) : Vec3::Zero();
+      s.inertia = I.m > 0 ? Mat3(I.I + I.m * hat(s.com) * hat(s.com)) : Mat3::Zero();
+      s.inertia = 0.5 * (s.inertia + s.inertia.transpose()).eval();
+      model.add_body(s);
+    }
+    return model;
+  }
+
+ private:
+  // urdfdom keeps the last parent joint of a link; a link that is the child of two joints
+  // closes a kinematic loop, which a tree cannot hold.
+  void check_tree() const {
+    for (const auto& [name, joint] : urdf_.joints_) {
+      const urdf::LinkConstSharedPtr child = urdf_.getLink(joint->child_link_name);
+      if (!child) throw UrdfError("joint '" + name + "' names unknown child link '" + joint->child_link_name + "'");
+      if (!child->parent_joint || child->parent_joint->name != name)
+        throw UrdfError("link '" + child->name + "' is the child of more than one joint ('" + name +
+                        "' and '" + (child->parent_joint ? child->parent_joint->name : "?") +
+                        "'): kinematic loops are not supported");
+    }
+  }
+
+  // Adds `link` (whose frame is X in the frame of body `body`, -1 = world) and its subtree.
+  void visit(const urdf::Link& link, int body, const SE3& X) {
+    if (body >= 0) inertia_[body] += link_inertia(link).transformed(X);
+    else link_inertia(link);  // still validated when welded to the world
+    for (const urdf::JointSharedPtr& joint : link.child_joints) {
+      const urdf::LinkConstSharedPtr child = urdf_.getLink(joint->child_link_name);
+      const SE3 Xj = X * to_se3(joint->parent_to_joint_origin_transform);
+      JointLimits lim;
+      if (joint->limits && joint->type != urdf::Joint::CONTINUOUS) {
+        lim.lower = joint->limits->lower;
+        lim.upper = joint->limits->upper;
+      }
+      if (joint->limits) {
+        lim.velocity = joint->limits->velocity;
+        lim.effort = joint->limits->effort;
+      }
+      switch (joint->type) {
+        case urdf::Joint::FIXED:
+          visit(*child, body, Xj);
+          break;
+        case urdf::Joint::REVOLUTE:
+        case urdf::Joint::CONTINUOUS:
+        case urdf::Joint::PRISMATIC: {
+          BodySpec s;
+          s.name = child->name;
+          s.joint_name = joint->name;
+          s.parent = body;
+          s.type = joint->type == urdf::Joint::PRISMATIC ? JointType::Prismatic : JointType::Revolute;
+          s.axis = to_vec(joint->axis);
+          if (s.axis.norm() < 1e-12) throw UrdfError("joint '" + joint->name + "' has a zero axis");
+          s.placement = Xj;
+          s.limits = lim;
+          if (joint->mimic) s.mimic = Mimic{joint->mimic->joint_name, joint->mimic->multiplier, joint->mimic->offset};
+          if (joint->dynamics) {
+            s.damping = joint->dynamics->damping;
+            s.friction = joint->dynamics->friction;
+          }
+          visit(*child, push(s), SE3::Identity());
+          break;
+        }
+        case urdf::Joint::FLOATING:
+        case urdf::Joint::PLANAR: {
+          const bool floating = joint->type == urdf::Joint::FLOATING;
+          if (!opt_.expand_joints)
+            throw UrdfError("joint '" + joint->name + "' is " + (floating ? "floating" : "planar") +
+                            ": hovi supports 1-DoF joints; pass expand_joints=True to expand it into "
+                            "1-DoF joints");
+          const int last = add_chain(floating ? floating_chain() : planar_chain(to_vec(joint->axis)),
+                                     floating ? kFloatingSuffix : kPlanarSuffix, child->name, joint->name,
+                                     body, Xj);
+          visit(*child, last, SE3::Identity());
+          break;
+        }
+        default:
+          throw UrdfError("joint '" + joint->name + "' has an unknown or unsupported type");
+      }
+    }
+  }
+
+  // Expands a multi-DoF joint into massless virtual bodies; returns the last (the real link).
+  int add_chain(const JointChain& chain, const char* const* suffix, const std::string& link_name,
+                const std::string& joint_name, int parent, const SE3& placement) {
+    int body = parent;
+    for (std::size_t k = 0; k < chain.size(); ++k) {
+      BodySpec s;
+      const bool last = k + 1 == chain.size();
+      s.name = last ? link_name : link_name + suffix[k];
+      s.joint_name = joint_name + suffix[k];
+      s.parent = body;
+      s.type = chain[k].first;
+      s.axis = chain[k].second;
+      s.placement = k == 0 ? placement : SE3::Identity();
+      body = push(s);
+    }
+    return body;
+  }
+
+  int push(const BodySpec& s) {
+    specs_.push_back(s);
+    inertia_.emplace_back();
+    return static_cast<int>(specs_.size()) - 1;
+  }
+
+  const urdf::ModelInterface& urdf_;
+  const UrdfOptions& opt_;
+  std::vector<BodySpec> specs_;
+  std::vector<SpatialInertia> inertia_;  // lumped inertia of each body about its joint frame
+};
+
+std::string read_source(const std::string& source) {
+  const auto first = source.find_first_not_of(" \t\r\n");
+  if (first != std::string::npos && source[first] == '<') return source;
+  std::ifstream in(source);
+  if (!in) throw UrdfError("cannot open URDF file '" + source + "'");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+}  // namespace
+
+Model model_from_urdf(const std::string& source, const UrdfOptions& options) {
+  const std::string xml = read_source(source);
+  urdf::ModelInterfaceSharedPtr urdf;
+  std::string messages;
+  {
+    MessageCapture capture;
+    try {
+      urdf = urdf::parseURDF(xml);
+    } catch (const std::exception& e) {
+      capture.text += std::string(capture.text.empty() ? "" : "; ") + e.what();
+    }
+    messages = capture.text;
+  }
+  if (!urdf) throw UrdfError("malformed or invalid URDF: " + (messages.empty() ? "urdfdom could not parse it" : messages));
+  return TreeBuilder(*urdf, options).build();
+}
+
+}  // namespace hovi

@@ -1,0 +1,11 @@
+"""hovi: higher-order variational integrators for robots.
+
+An Eigen C++ core with pybind11 bindings implementing Fan, Schultz and Murphey, "Efficient
+Computation of Higher-Order Variational Integrators in Robotic Simulation and Trajectory
+Optimization" (WAFR 2018).
+"""
+from ._core import Model, ModelError, URDFError
+from . import models
+
+__all__ = ["Model", "ModelError", "URDFError", "models"]
+__version__ = "0.1.0"
