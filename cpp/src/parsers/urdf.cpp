@@ -35,7 +35,11 @@ SpatialInertia link_inertia(const urdf::Link& link) {
   const urdf::Inertial& in = *link.inertial;
   Mat3 Ic;
   Ic << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
-  check_inertia("link '" + link.name + "'", in.mass, Ic);
+  try {
+    check_inertia("link '" + link.name + "'", in.mass, Ic);
+  } catch (const ModelError& e) {
+    throw UrdfError(e.what());
+  }
   const SE3 X = to_se3(in.origin);  // inertial frame in the link frame
   return SpatialInertia::AtCom(in.mass, Ic).transformed(X);
 }

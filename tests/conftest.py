@@ -1,0 +1,23 @@
+"""Shared helpers and fixtures for the hovi test suite."""
+import os
+
+import numpy as np
+import pytest
+
+
+def erd_urdf(rel):
+    """Absolute path of an example-robot-data URDF, e.g. 'panda_description/urdf/panda.urdf'.
+
+    ``example_robot_data.getModelPath(rel)`` returns the 'robots' directory that contains ``rel``.
+    """
+    erd = pytest.importorskip("example_robot_data")
+    path = os.path.join(erd.getModelPath(rel), rel)
+    if not os.path.isfile(path):
+        pytest.skip(f"example-robot-data file not found: {rel}")
+    return path
+
+
+@pytest.fixture
+def rng():
+    """A fixed-seed random generator (a fresh one per test, so tests are order-independent)."""
+    return np.random.default_rng(20180611)
