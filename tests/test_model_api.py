@@ -1,0 +1,70 @@
+"""The Python Model API: building in code, inputs checked with clear errors."""
+import numpy as np
+import pytest
+
+import hovi
+
+
+def test_build_in_code_matches_builtin_pendulum():
+    n, L, m, r = 3, 0.5, 1.0, 0.02
+    It, Ia = m * (3 * r * r + L * L) / 12, m * r * r / 2
+    model = hovi.Model()
+    for i in range(n):
+        T = np.eye(4)
+        T[2, 3] = 0.0 if i == 0 else -L
+        model.add_body(f"link{i + 1}", parent=None if i == 0 else i - 1, axis=[1, 0, 0] if i % 2 == 0 else [0, 1, 0],
+                       placement=T, mass=m, com=[0, 0, -L / 2], inertia=np.diag([It, It, Ia]))
+    ref = hovi.models.pendulum(n, L, m, r)
+    q = np.array([0.3, -0.5, 1.1])
+    np.testing.assert_array_equal(model.mass_matrix(q), ref.mass_matrix(q))
+    assert "link2" in model.summary() and model.parents == [-1, 0, 1]
+
+
+@pytest.mark.parametrize("q, pattern", [
+    (np.zeros(2), r"q must be a 1-D array of length 3, got shape \(2,\)"),
+    (np.zeros((3, 1)), r"q must be a 1-D array of length 3, got shape \(3, 1\)"),
+    (np.array([0.0, np.nan, 0.0]), "q contains NaN"),
+    (np.array([0.0, np.inf, 0.0]), "q contains NaN or infinity"),
+    (["a", "b", "c"], "q must be an array of real numbers"),
+])
+def test_bad_state_raises_value_error(q, pattern):
+    model = hovi.models.pendulum(3)
+    with pytest.raises(ValueError, match=pattern):
+        model.mass_matrix(q)
+
+
+def test_bad_velocity_and_torque():
+    model = hovi.models.pendulum(3)
+    with pytest.raises(ValueError, match="qdot must be a 1-D array of length 3"):
+        model.kinetic_energy(np.zeros(3), np.zeros(4))
+    with pytest.raises(ValueError, match="tau contains NaN"):
+        model.forward_dynamics(np.zeros(3), np.zeros(3), np.array([0, np.nan, 0]))
+
+
+@pytest.mark.parametrize("kwargs, pattern", [
+    (dict(name="b", parent=5), "parent index 5 does not name an existing body"),
+    (dict(name="b", parent="nope"), "no body named 'nope'"),
+    (dict(name="b", parent=None, mass=-2.0), "mass must be finite and non-negative"),
+    (dict(name="b", parent=None, mass=1.0, inertia=np.diag([1.0, -1.0, 1.0])), "not positive definite"),
+    (dict(name="b", parent=None, axis=[0, 0, 0]), "zero length"),
+    (dict(name="b", parent=None, joint_type="helical"), "joint_type must be"),
+    (dict(name="b", parent=None, placement=np.diag([2.0, 1, 1, 1])), "not a rotation matrix"),
+])
+def test_add_body_rejects_invalid_bodies(kwargs, pattern):
+    model = hovi.Model()
+    with pytest.raises(hovi.ModelError, match=pattern):
+        model.add_body(**kwargs)
+
+
+def test_massless_joint_is_reported():
+    model = hovi.Model()
+    model.add_body("ghost", parent=None)
+    with pytest.raises(hovi.ModelError, match="'ghost_joint' moves no mass"):
+        model.forward_dynamics([0.0], [0.0])
+
+
+def test_pendulum_rejects_bad_parameters():
+    with pytest.raises(hovi.ModelError, match="at least 1"):
+        hovi.models.pendulum(0)
+    with pytest.raises(hovi.ModelError, match="positive"):
+        hovi.models.pendulum(3, length=-1)
