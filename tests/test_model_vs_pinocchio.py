@@ -13,7 +13,6 @@ mass matrix, forward dynamics (ABA with gravity) and inverse dynamics (RNEA), at
 to 1e-10 relative (absolute tolerance 1e-10 times the magnitude of the quantity compared).
 """
 import functools
-import xml.etree.ElementTree as ET
 
 import numpy as np
 import pytest
@@ -51,26 +50,6 @@ def pin_pendulum(n, length=0.5, mass=1.0, radius=0.02):
         model.appendBodyToJoint(parent, inertia, pin.SE3.Identity())
     model.gravity = pin.Motion(np.array([0.0, 0.0, -9.81]), np.zeros(3))
     return model
-
-
-def give_point_masses_inertia(xml):
-    """Give links with positive mass and all-zero rotational inertia a small inertia.
-
-    hovi (currently) rejects links whose rotational inertia is not positive *definite*, checked
-    per link before fixed joints are merged, so point masses such as Talos' force/torque-sensor
-    links (mass 0.1 kg, zero inertia) make the URDF unloadable (see
-    ``test_talos_reduced_loads_unmodified``). The same patched XML is fed to both libraries, so
-    the comparison stays exact.
-    """
-    root = ET.fromstring(xml)
-    for inertial in root.iter("inertial"):
-        mass, inertia = inertial.find("mass"), inertial.find("inertia")
-        if mass is None or inertia is None or float(mass.get("value")) <= 0:
-            continue
-        keys = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
-        if all(float(inertia.get(k, "0")) == 0 for k in keys):
-            inertia.attrib.update(ixx="1e-6", ixy="0", ixz="0", iyy="2e-6", iyz="0", izz="3e-6")
-    return ET.tostring(root, encoding="unicode")
 
 
 class Pair:
@@ -204,12 +183,7 @@ def get_pair(case):
         return Pair(case, hovi.models.pendulum(n), pin_pendulum(n))
     if case == "synthetic-urdf":
         return Pair(case, hovi.Model.from_urdf(SYNTHETIC_URDF), pin.buildModelFromXML(SYNTHETIC_URDF))
-    path = {"panda": PANDA, "solo12": SOLO12, "talos_reduced(patched)": TALOS}[case]
-    path = erd_urdf(path)
-    if case == "talos_reduced(patched)":
-        with open(path) as f:
-            xml = give_point_masses_inertia(f.read())
-        return Pair(case, hovi.Model.from_urdf(xml), pin.buildModelFromXML(xml))
+    path = erd_urdf({"panda": PANDA, "solo12": SOLO12, "talos_reduced": TALOS}[case])
     return Pair(case, hovi.Model.from_urdf(path), pin.buildModelFromUrdf(path))
 
 
@@ -220,7 +194,7 @@ CASES = [
     "synthetic-urdf",
     "panda",
     "solo12",
-    "talos_reduced(patched)",
+    "talos_reduced",
 ]
 
 
@@ -399,28 +373,3 @@ def test_custom_gravity(case, rng):
         close(fresh.h.potential_energy(q), want, fresh.h.total_mass * 10.0 * 3.0, f"V {k}")
     # the cached default-gravity model is untouched
     close(np.asarray(base.h.gravity), [0.0, 0.0, -9.81], 9.81, "cached model gravity")
-
-
-# --------------------------------------------------------------------------------------------
-# Known limitation: point masses in URDFs
-# --------------------------------------------------------------------------------------------
-
-
-@pytest.mark.xfail(
-    raises=hovi.ModelError,
-    strict=True,
-    reason=(
-        "hovi rejects URDF links with zero rotational inertia but positive mass (point masses, "
-        "e.g. Talos' wrist_*_ft_link, 0.1 kg) before merging fixed joints; Pinocchio accepts them"
-    ),
-)
-def test_talos_reduced_loads_unmodified():
-    path = erd_urdf(TALOS)
-    h = hovi.Model.from_urdf(path)
-    pm = pin.buildModelFromUrdf(path)
-    pair = Pair("talos_reduced", h, pm)
-    rng = np.random.default_rng(0)
-    q, v = pair.random_q(rng), pair.random_v(rng)
-    tau = rng.uniform(-10.0, 10.0, h.n)
-    want = pair.v_hovi(pin.aba(pm, pair.pd, pair.q_pin(q), pair.v_pin(v), pair.v_pin(tau)))
-    close(np.asarray(h.forward_dynamics(q, v, tau)).ravel(), want, np.abs(want).max(), "talos ABA")

@@ -122,3 +122,11 @@ def test_missing_file_and_bad_base():
 
 def test_urdf_error_is_a_value_error():
     assert issubclass(hovi.URDFError, hovi.ModelError) and issubclass(hovi.ModelError, ValueError)
+
+
+def test_point_mass_link_is_accepted():
+    # Zero principal moments (point masses such as force-sensor links) are valid; negative ones are not.
+    xml = robot(link("a"), link("b"), link("tip", inertia=(0, 0, 0, 0, 0, 0)), joint("j", "a", "b"),
+                joint("weld", "b", "tip", kind="fixed", xyz="0 0 -1"))
+    model = hovi.Model.from_urdf(xml)
+    assert model.total_mass == pytest.approx(2.0)

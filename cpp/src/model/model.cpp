@@ -44,10 +44,12 @@ void check_inertia(const std::string& what, double mass, const Mat3& inertia) {
     throw ModelError(what + ": rotational inertia is not symmetric");
   if (mass == 0 && inertia.norm() == 0) return;  // a massless (virtual) body
   if (mass == 0) throw ModelError(what + ": non-zero rotational inertia with zero mass");
+  // Zero principal moments are allowed (point masses and thin rods, common in real URDFs);
+  // negative ones are not.
   Eigen::SelfAdjointEigenSolver<Mat3> es(inertia);
-  if (es.eigenvalues().minCoeff() <= 0) {
+  if (es.eigenvalues().minCoeff() < -1e-12 * std::max(1.0, es.eigenvalues().cwiseAbs().maxCoeff())) {
     std::ostringstream os;
-    os << what << ": rotational inertia is not positive definite (principal moments "
+    os << what << ": rotational inertia is not positive definite: negative principal moment (principal moments "
        << es.eigenvalues().transpose() << ")";
     throw ModelError(os.str());
   }

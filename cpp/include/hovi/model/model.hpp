@@ -44,8 +44,9 @@ struct BodySpec {
   double damping = 0, friction = 0;  // URDF <dynamics>, metadata
 };
 
-// Throws ModelError naming `what` unless mass >= 0 and a non-zero inertia is positive definite
-// (a massless body must have zero inertia).
+// Throws ModelError naming `what` unless mass >= 0 and the rotational inertia has no negative
+// principal moment (zero moments allowed: point masses, thin rods); a massless body must have
+// zero inertia.
 void check_inertia(const std::string& what, double mass, const Mat3& inertia);
 
 class Model {
