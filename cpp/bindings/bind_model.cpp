@@ -1,7 +1,7 @@
 // Bindings of Model (with a private workspace), the URDF loader and the built-in models.
 #include <memory>
 
-#include "common.hpp"
+#include "py_model.hpp"
 #include "hovi/algorithms/dynamics.hpp"
 #include "hovi/algorithms/energy.hpp"
 #include "hovi/algorithms/kinematics.hpp"
@@ -12,18 +12,29 @@
 
 namespace hovi::py_bind {
 
-namespace {
-
-// The Python-side model: the immutable core Model plus a lazily (re)sized workspace.
-struct PyModel {
-  Model model;
-  std::unique_ptr<Data> data;
-  Data& ws() {
-    if (!data || static_cast<int>(data->g.size()) != model.n()) data = std::make_unique<Data>(model);
-    return *data;
+int joint_arg(const Model& model, const py::handle& joint) {
+  if (py::isinstance<py::str>(joint)) {
+    const int i = model.joint_index(joint.cast<std::string>());
+    if (i < 0) throw ModelError("no joint named '" + joint.cast<std::string>() + "'");
+    return i;
   }
-  VecX vec(const py::handle& x, const char* name) { return as_vector(x, name, model.n()); }
-};
+  const int i = joint.cast<int>();
+  if (i < 0 || i >= model.n()) throw ModelError("joint index " + std::to_string(i) + " out of range");
+  return i;
+}
+
+int body_arg(const Model& model, const py::handle& body) {
+  if (py::isinstance<py::str>(body)) {
+    const int i = model.body_index(body.cast<std::string>());
+    if (i < 0) throw ModelError("no body named '" + body.cast<std::string>() + "'");
+    return i;
+  }
+  const int i = body.cast<int>();
+  if (i < 0 || i >= model.n()) throw ModelError("body index " + std::to_string(i) + " out of range");
+  return i;
+}
+
+namespace {
 
 const char* type_name(JointType t) { return t == JointType::Revolute ? "revolute" : "prismatic"; }
 
@@ -169,6 +180,47 @@ the COM (joint-frame axes). Raises hovi.ModelError naming the body on invalid in
               if (b.mimic) d[py::str(b.joint_name)] = py::make_tuple(b.mimic->joint, b.mimic->multiplier, b.mimic->offset);
             return d;
           }, "{joint: (leader, multiplier, offset)} for URDF mimic joints (metadata only).")
+      .def("add_spring", [](PyModel& s, const py::object& joint, double k, double rest) {
+            s.model.add_spring(joint_arg(s.model, joint), k, rest);
+          }, py::arg("joint"), py::arg("stiffness"), py::arg("rest") = 0.0,
+          "Linear joint spring Q = -stiffness (q - rest) (joint index or name); adds 1/2 k (q - rest)^2 to V.")
+      .def("add_damper", [](PyModel& s, const py::object& joint, double c) {
+            s.model.add_damper(joint_arg(s.model, joint), c);
+          }, py::arg("joint"), py::arg("damping"), "Linear joint damper Q = -damping q̇.")
+      .def("add_actuator", [](PyModel& s, const py::object& joint, double gear) {
+            return s.model.add_actuator(joint_arg(s.model, joint), gear);
+          }, py::arg("joint"), py::arg("gear") = 1.0,
+          "A new control input u[k] acting on the joint as Q += gear u[k]; returns k.")
+      .def("add_control", [](PyModel& s) { return s.model.add_control(); },
+           "A new control input with no joint actuation (for control-scaled wrenches); returns its index.")
+      .def("add_point_wrench", [](PyModel& s, const py::object& body, const py::object& force, const py::object& torque,
+                                  const py::object& point, const std::string& frame, const py::object& control) {
+            const int i = body_arg(s.model, body);
+            const Vec3 r = point.is_none() ? Vec3::Zero() : Vec3(as_vector(point, "point", 3) - s.model.spec[i].com);
+            PointWrench::Frame f;
+            if (frame == "world") f = PointWrench::Frame::World;
+            else if (frame == "body") f = PointWrench::Frame::Body;
+            else throw InputError("frame must be 'world' or 'body', got '" + frame + "'");
+            const int c = control.is_none() ? -1 : control.cast<int>();
+            if (control.is_none() == false && c < 0) throw ModelError("add_point_wrench: control index must be >= 0");
+            s.model.add_wrench(std::make_shared<PointWrench>(i, r, as_vector(force, "force", 3), as_vector(torque, "torque", 3), f, c));
+          }, py::arg("body"), py::arg("force") = py::make_tuple(0.0, 0.0, 0.0), py::arg("torque") = py::make_tuple(0.0, 0.0, 0.0),
+          py::arg("point") = py::none(), py::arg("frame") = "world", py::arg("control") = py::none(), R"doc(
+A force (and torque) on a body, applied at `point` (in the body's joint frame; default: its centre
+of mass). frame='world': components fixed in the world; frame='body': components turn with the
+body (a follower force). control=k scales the wrench by the control input u[k].
+)doc")
+      .def("add_drag", [](PyModel& s, const py::object& body, double linear, double angular) {
+            if (linear < 0 || angular < 0) throw ModelError("add_drag: coefficients must be non-negative");
+            s.model.add_wrench(std::make_shared<BodyDrag>(body_arg(s.model, body), linear, angular));
+          }, py::arg("body"), py::arg("linear"), py::arg("angular") = 0.0,
+          "Linear drag at the centre of mass in the body frame: F = -(angular w, linear v_com).")
+      .def_property_readonly("n_controls", [](const PyModel& s) { return s.model.n_controls(); })
+      .def_property_readonly("actuation", [](const PyModel& s) { return MatX(s.model.joint_forces.actuation); },
+                             "Actuation map B (n x m): joint forces Q += B u.")
+      .def_property_readonly("stiffness", [](const PyModel& s) { return VecX(s.model.joint_forces.stiffness); })
+      .def_property_readonly("joint_damping", [](const PyModel& s) { return VecX(s.model.joint_forces.damping); })
+      .def_property_readonly("n_wrenches", [](const PyModel& s) { return s.model.wrenches.size(); })
       .def("body_index", [](const PyModel& s, const std::string& name) {
             const int i = s.model.body_index(name);
             if (i < 0) throw py::key_error("no body named '" + name + "'");

@@ -6,6 +6,7 @@ Optimization" (WAFR 2018).
 """
 from ._core import Model, ModelError, URDFError
 from . import models
+from .integrator import ConvergenceError, Integrator, StepInfo, Trajectory
 
-__all__ = ["Model", "ModelError", "URDFError", "models"]
+__all__ = ["Model", "ModelError", "URDFError", "models", "Integrator", "ConvergenceError", "StepInfo", "Trajectory"]
 __version__ = "0.1.0"

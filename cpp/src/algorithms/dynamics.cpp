@@ -14,15 +14,16 @@ Wrench body_bias(const Model& model, const Data& data, int i) {
 }
 }  // namespace
 
-const VecX& forward_dynamics(const Model& model, Data& data, const Eigen::Ref<const VecX>& q,
-                             const Eigen::Ref<const VecX>& qdot, const Eigen::Ref<const VecX>& tau) {
-  forward_kinematics(model, data, q, qdot);
-  check_vector("tau", tau, model.n());
+namespace {
+// The articulated-body algorithm after forward_kinematics(q, qdot): q̈ = M^{-1}(tau - bias),
+// with the bias (velocity products and gravity) included or not.
+const VecX& articulated_body(const Model& model, Data& data, const Eigen::Ref<const VecX>& qdot,
+                             const Eigen::Ref<const VecX>& tau, bool with_bias) {
   const int n = model.n();
   for (int i = 0; i < n; ++i) {
-    data.c[i] = ad(data.v[i], data.Sbar[i]) * qdot[i];  // Ṡ̄_i q̇_i
+    data.c[i] = with_bias ? Twist(ad(data.v[i], data.Sbar[i]) * qdot[i]) : Twist::Zero();  // Ṡ̄_i q̇_i
     data.IA[i] = data.Mbar[i].matrix();
-    data.pA[i] = body_bias(model, data, i);
+    data.pA[i] = with_bias ? body_bias(model, data, i) : Wrench::Zero();
   }
   for (int i = n - 1; i >= 0; --i) {
     data.U[i] = data.IA[i] * data.Sbar[i];
@@ -45,6 +46,21 @@ const VecX& forward_dynamics(const Model& model, Data& data, const Eigen::Ref<co
     data.a[i] = a + data.Sbar[i] * data.qdd[i];
   }
   return data.qdd;
+}
+}  // namespace
+
+const VecX& forward_dynamics(const Model& model, Data& data, const Eigen::Ref<const VecX>& q,
+                             const Eigen::Ref<const VecX>& qdot, const Eigen::Ref<const VecX>& tau) {
+  forward_kinematics(model, data, q, qdot);
+  check_vector("tau", tau, model.n());
+  return articulated_body(model, data, qdot, tau, true);
+}
+
+const VecX& mass_matrix_solve(const Model& model, Data& data, const Eigen::Ref<const VecX>& q,
+                              const Eigen::Ref<const VecX>& rhs) {
+  forward_kinematics(model, data, q);
+  check_vector("rhs", rhs, model.n());
+  return articulated_body(model, data, rhs, rhs, false);
 }
 
 const VecX& inverse_dynamics(const Model& model, Data& data, const Eigen::Ref<const VecX>& q,

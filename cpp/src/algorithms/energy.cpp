@@ -16,6 +16,11 @@ double potential_energy(const Model& model, Data& data, const Eigen::Ref<const V
   forward_kinematics(model, data, q);
   double V = 0;
   for (int i = 0; i < model.n(); ++i) V -= model.M[i].m * model.gravity.dot(data.g[i].p);
+  const JointForces& jf = model.joint_forces;
+  if (jf.has_springs())
+    for (int i = 0; i < model.n(); ++i)
+      if (jf.stiffness[i] != 0)  // 1/2 k (q - qref)^2
+        V += 0.5 * jf.stiffness[i] * q[i] * q[i] - jf.preload[i] * q[i] + 0.5 * jf.preload[i] * jf.preload[i] / jf.stiffness[i];
   return V;
 }
 

@@ -73,7 +73,60 @@ int Model::add_body(const BodySpec& spec_in) {
   g_parent0.push_back(SE3::Translation(-c_par) * s.placement * SE3::Translation(s.com));
   M.push_back(SpatialInertia::AtCom(s.mass, s.inertia));
   spec.push_back(std::move(s));
+  joint_forces.resize(n());
   return i;
+}
+
+namespace {
+void check_joint(const Model& m, int joint, const char* what) {
+  if (joint < 0 || joint >= m.n())
+    throw ModelError(std::string(what) + ": joint index " + std::to_string(joint) + " out of range (model has " +
+                     std::to_string(m.n()) + " joints)");
+}
+void check_finite(double x, const char* what) {
+  if (!std::isfinite(x)) throw ModelError(std::string(what) + ": value must be finite");
+}
+}  // namespace
+
+void Model::add_spring(int joint, double stiffness, double rest) {
+  check_joint(*this, joint, "add_spring");
+  check_finite(stiffness, "add_spring");
+  check_finite(rest, "add_spring");
+  joint_forces.stiffness[joint] += stiffness;
+  joint_forces.preload[joint] += stiffness * rest;
+}
+
+void Model::add_damper(int joint, double damping) {
+  check_joint(*this, joint, "add_damper");
+  check_finite(damping, "add_damper");
+  joint_forces.damping[joint] += damping;
+}
+
+int Model::add_control() {
+  MatX& B = joint_forces.actuation;
+  B.conservativeResize(n(), B.cols() + 1);
+  B.col(B.cols() - 1).setZero();
+  return static_cast<int>(B.cols()) - 1;
+}
+
+int Model::add_actuator(int joint, double gear) {
+  check_joint(*this, joint, "add_actuator");
+  check_finite(gear, "add_actuator");
+  const int k = add_control();
+  joint_forces.actuation(joint, k) = gear;
+  return k;
+}
+
+void Model::add_wrench(std::shared_ptr<const BodyWrench> wrench) {
+  if (!wrench) throw ModelError("add_wrench: null wrench");
+  if (wrench->body() < 0 || wrench->body() >= n())
+    throw ModelError(std::string("add_wrench(") + wrench->kind() + "): body index " + std::to_string(wrench->body()) +
+                     " out of range");
+  if (wrench->max_control_index() >= n_controls())
+    throw ModelError(std::string("add_wrench(") + wrench->kind() + "): control index " +
+                     std::to_string(wrench->max_control_index()) + " does not exist (model has " +
+                     std::to_string(n_controls()) + " controls; add them first with add_control)");
+  wrenches.push_back(std::move(wrench));
 }
 
 double Model::total_mass() const {

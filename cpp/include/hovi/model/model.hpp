@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "hovi/forces/body_wrench.hpp"
+#include "hovi/forces/joint_forces.hpp"
 #include "hovi/spatial/algebra.hpp"
 
 namespace hovi {
@@ -60,6 +62,15 @@ class Model {
   int body_index(const std::string& link_name) const;  // -1 if absent
   int joint_index(const std::string& joint_name) const;  // -1 if absent
 
+  // Force elements (Assumption 1). Each throws ModelError on an unknown joint/body or bad value.
+  void add_spring(int joint, double stiffness, double rest);  // Q -= k (q - rest)
+  void add_damper(int joint, double damping);                 // Q -= c q̇
+  int add_control();                                          // a new input u[m], no actuation yet
+  int add_actuator(int joint, double gear = 1.0);             // new input u[m], Q_joint += gear u[m]
+  void add_wrench(std::shared_ptr<const BodyWrench> wrench);
+  int n_controls() const { return joint_forces.n_controls(); }
+  bool has_gravity() const { return gravity.squaredNorm() > 0; }
+
   // Topology
   std::vector<int> parent;                 // par(i), -1 for the world {0}
   std::vector<std::vector<int>> children;  // chd(i)
@@ -70,6 +81,8 @@ class Model {
   // What the user gave, kept for output and metadata
   std::vector<BodySpec> spec;
   Vec3 gravity = Vec3(0, 0, -9.81);        // world frame
+  JointForces joint_forces;                // springs, dampers, actuation map
+  std::vector<std::shared_ptr<const BodyWrench>> wrenches;  // external wrenches on bodies
 };
 
 }  // namespace hovi

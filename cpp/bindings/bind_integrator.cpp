@@ -1,0 +1,143 @@
+// Bindings of the Galerkin integrator (hovi._core.Integrator). The Pythonic layer (argument
+// normalisation, Trajectory, exceptions) is python/hovi/integrator.py. Arrays of control points
+// are (s+1, n) on the Python side (row a = q^{k,a}); controls (s+1, m).
+#include "hovi/algorithms/energy.hpp"
+#include "hovi/errors.hpp"
+#include "hovi/integrators/galerkin_integrator.hpp"
+#include "py_model.hpp"
+
+namespace hovi::py_bind {
+
+namespace {
+
+py::dict info_dict(const SolveInfo& info) {
+  py::dict d;
+  d["status"] = to_string(info.status);
+  d["converged"] = info.converged();
+  d["iterations"] = info.iterations;
+  d["residual_evaluations"] = info.residual_evaluations;
+  d["residual"] = info.residual;
+  return d;
+}
+
+struct PyIntegrator {
+  PyIntegrator(const PyModel& m, int s, double dt, const SolverOptions& opt) : integ(m.model, s, dt, opt), data(integ.model()) {}
+  GalerkinIntegrator integ;
+  Data data;  // for energies
+  int n() const { return integ.model().n(); }
+  int s() const { return integ.quadrature().s; }
+  int m() const { return integ.model().n_controls(); }
+
+  // (s+1, n) Python array -> n x (s+1)
+  MatX control_points(const py::handle& x, const char* name) { return as_matrix(x, name, s() + 1, n()).transpose(); }
+  // None | (m,) | (s+1, m) -> m x (s+1)
+  MatX controls(const py::handle& u) {
+    const int S1 = s() + 1, M = m();
+    if (u.is_none()) return MatX::Zero(M, S1);
+    const py::array a = py::array::ensure(u);
+    if (M == 0) throw InputError("the model has no controls (add actuators or controls first), but u was given");
+    if (a && a.ndim() == 1) return as_vector(u, "u", M).replicate(1, S1);
+    return as_matrix(u, "u (one row per control point)", S1, M).transpose();
+  }
+  double energy(const VecX& q, const VecX& p) {
+    const VecX qd = integ.velocity(q, p);
+    return kinetic_energy(integ.model(), data, q, qd) + potential_energy(integ.model(), data, q);
+  }
+};
+
+}  // namespace
+
+void bind_integrator(py::module_& m) {
+  py::class_<PyIntegrator>(m, "Integrator")
+      .def(py::init([](const PyModel& model, int s, double dt, double tol, int max_iterations, int max_backtracks,
+                       bool line_search) {
+             SolverOptions opt;
+             opt.tol = tol;
+             opt.max_iterations = max_iterations;
+             opt.max_backtracks = max_backtracks;
+             opt.line_search = line_search;
+             return new PyIntegrator(model, s, dt, opt);
+           }),
+           py::arg("model"), py::arg("s"), py::arg("dt"), py::arg("tol"), py::arg("max_iterations"),
+           py::arg("max_backtracks"), py::arg("line_search"))
+      .def_property_readonly("s", &PyIntegrator::s)
+      .def_property_readonly("n", &PyIntegrator::n)
+      .def_property_readonly("n_controls", &PyIntegrator::m)
+      .def_property_readonly("dt", [](const PyIntegrator& p) { return p.integ.dt(); })
+      .def_property_readonly("nodes", [](const PyIntegrator& p) { return VecX(p.integ.quadrature().c); })
+      .def_property_readonly("weights", [](const PyIntegrator& p) { return VecX(p.integ.quadrature().w); })
+      .def_property_readonly("differentiation_matrix", [](const PyIntegrator& p) { return MatX(p.integ.quadrature().b); })
+      .def("momentum", [](PyIntegrator& p, const py::object& q, const py::object& qd) {
+            return p.integ.momentum(as_vector(q, "q", p.n()), as_vector(qd, "qdot", p.n()));
+          }, py::arg("q"), py::arg("qdot"))
+      .def("velocity", [](PyIntegrator& p, const py::object& q, const py::object& mom) {
+            return p.integ.velocity(as_vector(q, "q", p.n()), as_vector(mom, "p", p.n()));
+          }, py::arg("q"), py::arg("p"))
+      .def("energy", [](PyIntegrator& p, const py::object& q, const py::object& mom) {
+            return p.energy(as_vector(q, "q", p.n()), as_vector(mom, "p", p.n()));
+          }, py::arg("q"), py::arg("p"))
+      .def("energies", [](PyIntegrator& p, const py::object& Q, const py::object& P) {
+            const MatX q = as_matrix(Q, "q", -1, p.n()), mom = as_matrix(P, "p", q.rows(), p.n());
+            VecX E(q.rows());
+            py::gil_scoped_release release;
+            for (int k = 0; k < q.rows(); ++k) E[k] = p.energy(q.row(k).transpose(), mom.row(k).transpose());
+            return E;
+          }, py::arg("q"), py::arg("p"))
+      .def("del_residual", [](PyIntegrator& p, const py::object& qc, const py::object& mom, const py::object& u) {
+            MatX r(p.n(), p.s());
+            VecX p_next(p.n());
+            p.integ.residual(p.control_points(qc, "control_points"), as_vector(mom, "p", p.n()), p.controls(u), r, p_next);
+            return py::make_tuple(MatX(r.transpose()), p_next);
+          }, py::arg("control_points"), py::arg("p"), py::arg("u") = py::none())
+      .def("newton_direction", [](PyIntegrator& p, const py::object& qc, const py::object& mom, const py::object& u) {
+            MatX dq(p.n(), p.s());
+            if (!p.integ.direction(p.control_points(qc, "control_points"), as_vector(mom, "p", p.n()), p.controls(u), dq))
+              throw InputError("the DEL Jacobian is singular at these control points (a pivot block is not invertible)");
+            return MatX(dq.transpose());
+          }, py::arg("control_points"), py::arg("p"), py::arg("u") = py::none())
+      .def("step", [](PyIntegrator& p, const py::object& q, const py::object& mom, const py::object& u, const py::object& guess) {
+            const VecX qk = as_vector(q, "q", p.n()), pk = as_vector(mom, "p", p.n());
+            const MatX uk = p.controls(u);
+            MatX qc(p.n(), p.s() + 1);
+            qc.col(0) = qk;
+            if (guess.is_none()) p.integ.guess_from_velocity(p.integ.velocity(qk, pk), qc);
+            else {
+              qc = p.control_points(guess, "guess");
+              qc.col(0) = qk;
+            }
+            VecX p_next(p.n());
+            SolveInfo info;
+            {
+              py::gil_scoped_release release;
+              info = p.integ.step(pk, uk, qc, p_next);
+            }
+            return py::make_tuple(MatX(qc.transpose()), p_next, info_dict(info));
+          }, py::arg("q"), py::arg("p"), py::arg("u") = py::none(), py::arg("guess") = py::none())
+      .def("rollout", [](PyIntegrator& p, const py::object& q0, const py::object& p0, int steps, const py::object& u,
+                         const py::object& previous) {
+            const VecX q = as_vector(q0, "q0", p.n()), mom = as_vector(p0, "p0", p.n());
+            MatX U(0, 0), prev;
+            if (!u.is_none()) U = as_matrix(u, "u", steps, (p.s() + 1) * p.m());
+            else if (p.m() > 0) U = MatX::Zero(steps, (p.s() + 1) * p.m());
+            if (!previous.is_none()) prev = p.control_points(previous, "previous");
+            Rollout r;
+            {
+              py::gil_scoped_release release;
+              r = p.integ.rollout(q, mom, steps, U, prev);
+            }
+            py::dict d;
+            d["q"] = MatX(r.q.topRows(r.steps + 1));
+            d["p"] = MatX(r.p.topRows(r.steps + 1));
+            d["control_points"] = MatX(r.control_points.topRows(r.steps));
+            const int attempted = static_cast<int>(r.status.size());
+            d["iterations"] = Eigen::VectorXi(r.iterations.head(attempted));
+            d["residual"] = VecX(r.residual.head(attempted));
+            py::list st;
+            for (SolveStatus x : r.status) st.append(to_string(x));
+            d["status"] = st;
+            d["steps"] = r.steps;
+            return d;
+          }, py::arg("q0"), py::arg("p0"), py::arg("steps"), py::arg("u") = py::none(), py::arg("previous") = py::none());
+}
+
+}  // namespace hovi::py_bind

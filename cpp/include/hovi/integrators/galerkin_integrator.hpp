@@ -1,0 +1,67 @@
+// The Galerkin variational integrator of order 2s on s+1 Lobatto control points: one step
+// (q^k, p^k, u^k) -> (q^{k+1}, p^{k+1}) and rollouts over many steps, entirely in C++.
+//
+// Controls: u^{k,a} is given at each control point (an m x (s+1) matrix per step). Samples of a
+// smooth u(t) keep the order 2s; a control held constant over each step (zero-order hold) is
+// integrated to order 2s for that piecewise-constant input, but is only a first-order
+// approximation of a smooth u(t).
+#pragma once
+#include "hovi/integrators/newton_solver.hpp"
+#include "hovi/model/data.hpp"
+
+namespace hovi {
+
+struct Rollout {
+  MatX q, p;                   // (N+1) x n: q^k, p^k
+  MatX control_points;         // N x ((s+1) n): row k = vec(q^{k,0..s}) column-major (n per point)
+  Eigen::VectorXi iterations;  // Newton iterations per step
+  VecX residual;               // final ||r||_inf per step
+  std::vector<SolveStatus> status;
+  int steps = 0;               // steps completed (less than N if a solve failed)
+};
+
+class GalerkinIntegrator {
+ public:
+  GalerkinIntegrator(Model model, int s, double dt, SolverOptions options = {});
+
+  const Model& model() const { return model_; }
+  const Quadrature& quadrature() const { return quad_; }
+  double dt() const { return dt_; }
+  SolverOptions options;
+
+  // p = dL/dq̇ = M(q) q̇ and its inverse q̇ = M(q)^{-1} p, O(n).
+  VecX momentum(const VecX& q, const VecX& qdot);
+  VecX velocity(const VecX& q, const VecX& p);
+
+  // One step. qc: n x (s+1), column 0 must be q^k; on entry columns 1..s are the initial guess,
+  // on exit the solution. u: m x (s+1).
+  SolveInfo step(const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u, Eigen::Ref<MatX> qc,
+                 Eigen::Ref<VecX> p_next);
+
+  // Initial guesses for columns 1..s of qc (column 0 = q^k already set): from a velocity
+  // estimate, q^k + c^a dt q̇; or by extrapolating the previous step's polynomial.
+  void guess_from_velocity(const VecX& qdot, Eigen::Ref<MatX> qc) const;
+  void guess_from_previous(const Eigen::Ref<const MatX>& previous, Eigen::Ref<MatX> qc) const;
+
+  // N steps from (q0, p0). u: N x ((s+1) m), row k = vec(u^{k,0..s}) column-major; may have 0
+  // columns when the model has no controls. previous: control points of the step before
+  // (n x (s+1)) for the first guess, or empty to start from M^{-1} p0. Stops at the first failed
+  // solve.
+  Rollout rollout(const VecX& q0, const VecX& p0, int N, const MatX& u, const MatX& previous = MatX());
+
+  // The DEL residual and Newton direction at given control points (for tests and tools).
+  void residual(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u,
+                Eigen::Ref<MatX> r, Eigen::Ref<VecX> p_next);
+  bool direction(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u,
+                 Eigen::Ref<MatX> dq);
+
+ private:
+  Model model_;
+  Quadrature quad_;
+  double dt_;
+  NewtonSolver solver_;
+  Data data_;
+  MatX extrapolate_;  // E(b, a) = l_b(1 + c^a), for guess_from_previous
+};
+
+}  // namespace hovi

@@ -1,0 +1,44 @@
+// Newton's method on the DEL equations of one step, with the exact O(s^3 n) direction
+// (Algorithms 1, A.1, A.2) and a backtracking line search on the residual norm.
+#pragma once
+#include "hovi/algorithms/del_residual.hpp"
+#include "hovi/algorithms/newton_direction.hpp"
+
+namespace hovi {
+
+struct SolverOptions {
+  double tol = 1e-10;        // converged when ||r||_inf <= tol * (1 + ||p^k||_inf)
+  int max_iterations = 30;
+  int max_backtracks = 12;   // halvings of the step before the line search gives up
+  bool line_search = true;   // false: always take the full Newton step
+};
+
+enum class SolveStatus { Converged, MaxIterations, LineSearchFailed, SingularJacobian, NonFinite };
+const char* to_string(SolveStatus status);
+
+struct SolveInfo {
+  SolveStatus status = SolveStatus::MaxIterations;
+  int iterations = 0;        // Newton directions computed
+  int residual_evaluations = 0;
+  double residual = 0;       // ||r||_inf at exit
+  bool converged() const { return status == SolveStatus::Converged; }
+};
+
+class NewtonSolver {
+ public:
+  NewtonSolver(const Model& model, const Quadrature& quad);
+  // Solves r(q^{k,0..s}) = 0 for q^{k,1..s}. qc (n x (s+1)): column 0 is q^k, columns 1..s the
+  // initial guess on entry and the solution (or last iterate) on exit; p_next gets p^{k+1}.
+  SolveInfo solve(const Model& model, const Quadrature& quad, const SolverOptions& opt,
+                  const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u, double dt,
+                  Eigen::Ref<MatX> qc, Eigen::Ref<VecX> p_next);
+
+  DelWorkspace del;
+  NewtonWorkspace newton;
+
+ private:
+  MatX r_, r_trial_, dq_, q_trial_;
+  VecX p_trial_;
+};
+
+}  // namespace hovi

@@ -1,0 +1,21 @@
+#include "hovi/algorithms/del_workspace.hpp"
+
+namespace hovi {
+
+DelWorkspace::DelWorkspace(const Model& model, const Quadrature& quad) : n(model.n()), s(quad.s) {
+  const std::size_t N = static_cast<std::size_t>(n) * (s + 1);
+  g.resize(N);
+  Sbar.resize(N);
+  Sdot.resize(N);
+  Mbar.resize(N);
+  v.resize(N);
+  mu.resize(N);
+  F.resize(N);
+  Gamma.resize(N);
+  qdot.resize(n, s + 1);
+  u.resize(model.n_controls(), s + 1);
+  wrenches.resize(n);
+  for (const auto& w : model.wrenches) wrenches[w->body()].push_back(w.get());
+}
+
+}  // namespace hovi

@@ -1,0 +1,52 @@
+#include "hovi/forces/body_wrench.hpp"
+
+namespace hovi {
+
+Mat6 world_force_D1(const Vec3& f, const Vec3& x) {
+  Mat6 D1 = Mat6::Zero();
+  const Mat3 F = hat(f);
+  D1.topLeftCorner<3, 3>() = F * hat(x);
+  D1.topRightCorner<3, 3>() = -F;
+  return D1;
+}
+
+PointWrench::PointWrench(int body, const Vec3& point, const Vec3& force, const Vec3& torque, Frame frame, int control)
+    : BodyWrench(body), point_(point), force_(force), torque_(torque), frame_(frame), control_(control) {}
+
+Wrench PointWrench::unit_value(const SE3& g) const {
+  if (frame_ == Frame::World) {
+    Wrench F;
+    F.head<3>() = torque_ + g.act(point_).cross(force_);
+    F.tail<3>() = force_;
+    return F;
+  }
+  Wrench Fb;  // body wrench about the COM
+  Fb.head<3>() = torque_ + point_.cross(force_);
+  Fb.tail<3>() = force_;
+  return AdInvT(g, Fb);
+}
+
+Wrench PointWrench::value(const SE3& g, const Twist&, const VecX& u) const { return scale(u) * unit_value(g); }
+
+void PointWrench::add_derivatives(const SE3& g, const Twist&, const VecX& u, Mat6& D1, Mat6&) const {
+  if (frame_ == Frame::World) D1 += scale(u) * world_force_D1(force_, g.act(point_));
+  else D1 -= adD(value(g, Twist::Zero(), u));  // body-fixed wrenches: D1 = -ad^D_F̄
+}
+
+void PointWrench::add_control_jacobian(const SE3& g, const Twist&, const VecX&, Eigen::Ref<MatX> Du) const {
+  if (control_ >= 0) Du.col(control_) += unit_value(g);
+}
+
+BodyDrag::BodyDrag(int body, double linear, double angular)
+    : BodyWrench(body), C_(linear, Vec3::Zero(), angular * Mat3::Identity()) {}
+
+Wrench BodyDrag::value(const SE3& g, const Twist& v, const VecX&) const { return -(C_.transformed(g) * v); }
+
+void BodyDrag::add_derivatives(const SE3& g, const Twist& v, const VecX&, Mat6& D1, Mat6& D2) const {
+  const Mat6 Cbar = C_.transformed(g).matrix();
+  const Wrench F = -(Cbar * v);
+  D2 -= Cbar;
+  D1 -= adD(F) + Cbar * ad(v);
+}
+
+}  // namespace hovi

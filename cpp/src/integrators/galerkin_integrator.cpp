@@ -1,0 +1,111 @@
+#include "hovi/integrators/galerkin_integrator.hpp"
+
+#include <cmath>
+
+#include "hovi/algorithms/dynamics.hpp"
+#include "hovi/algorithms/kinematics.hpp"
+#include "hovi/algorithms/mass_matrix.hpp"
+#include "hovi/errors.hpp"
+
+namespace hovi {
+
+namespace {
+Model checked(Model model) {
+  if (model.n() == 0) throw ModelError("the model has no joints");
+  return model;
+}
+}  // namespace
+
+GalerkinIntegrator::GalerkinIntegrator(Model model, int s, double dt, SolverOptions opt)
+    : options(opt), model_(checked(std::move(model))), quad_(s), dt_(dt), solver_(model_, quad_), data_(model_) {
+  if (!(dt > 0) || !std::isfinite(dt)) throw InputError("dt must be positive and finite, got " + std::to_string(dt));
+  if (!(opt.tol > 0)) throw InputError("tol must be positive");
+  if (opt.max_iterations < 1) throw InputError("max_iterations must be at least 1");
+  if (opt.max_backtracks < 0) throw InputError("max_backtracks must be non-negative");
+  // E(b, a) = l_b(1 + c^a): the previous step's polynomial evaluated at this step's points.
+  extrapolate_.resize(s + 1, s + 1);
+  for (int a = 0; a <= s; ++a) extrapolate_.col(a) = quad_.basis(1 + quad_.c[a]);
+}
+
+VecX GalerkinIntegrator::momentum(const VecX& q, const VecX& qdot) {
+  check_vector("qdot", qdot, model_.n());
+  return mass_matrix(model_, data_, q) * qdot;  // O(n^2); used once per trajectory
+}
+
+VecX GalerkinIntegrator::velocity(const VecX& q, const VecX& p) { return mass_matrix_solve(model_, data_, q, p); }
+
+SolveInfo GalerkinIntegrator::step(const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u,
+                                   Eigen::Ref<MatX> qc, Eigen::Ref<VecX> p_next) {
+  return solver_.solve(model_, quad_, options, p, u, dt_, qc, p_next);
+}
+
+void GalerkinIntegrator::guess_from_velocity(const VecX& qdot, Eigen::Ref<MatX> qc) const {
+  for (int a = 1; a <= quad_.s; ++a) qc.col(a) = qc.col(0) + (quad_.c[a] * dt_) * qdot;
+}
+
+void GalerkinIntegrator::guess_from_previous(const Eigen::Ref<const MatX>& previous, Eigen::Ref<MatX> qc) const {
+  const VecX q0 = qc.col(0);
+  qc.noalias() = previous * extrapolate_;
+  // Keep q^{k,0} exactly and shift the extrapolation to pass through it.
+  const VecX shift = q0 - qc.col(0);
+  qc.colwise() += shift;
+}
+
+Rollout GalerkinIntegrator::rollout(const VecX& q0, const VecX& p0, int N, const MatX& u, const MatX& previous) {
+  const int n = model_.n(), s = quad_.s, S1 = s + 1, m = model_.n_controls();
+  check_vector("q0", q0, n);
+  check_vector("p0", p0, n);
+  if (N < 0) throw InputError("the number of steps must be non-negative");
+  if (m > 0 && (u.rows() != N || u.cols() != S1 * m))
+    throw InputError("controls must have shape (steps, s+1, m) = (" + std::to_string(N) + ", " + std::to_string(S1) +
+                     ", " + std::to_string(m) + ")");
+  if (m > 0 && !u.allFinite()) throw InputError("controls contain NaN or infinity");
+  if (previous.size() && (previous.rows() != n || previous.cols() != S1))
+    throw InputError("previous control points must have shape (n, s+1)");
+  Rollout out;
+  out.q.resize(N + 1, n);
+  out.p.resize(N + 1, n);
+  out.control_points.resize(N, S1 * n);
+  out.iterations.resize(N);
+  out.residual.resize(N);
+  out.status.reserve(N);
+  out.q.row(0) = q0.transpose();
+  out.p.row(0) = p0.transpose();
+  MatX qc(n, S1), prev = previous, uk(m, S1);
+  VecX p = p0, p_next(n);
+  for (int k = 0; k < N; ++k) {
+    qc.col(0) = out.q.row(k).transpose();
+    if (prev.size()) guess_from_previous(prev, qc);
+    else guess_from_velocity(velocity(qc.col(0), p), qc);
+    if (m > 0)
+      for (int a = 0; a < S1; ++a)
+        for (int j = 0; j < m; ++j) uk(j, a) = u(k, a * m + j);
+    const SolveInfo info = step(p, uk, qc, p_next);
+    out.status.push_back(info.status);
+    out.iterations[k] = info.iterations;
+    out.residual[k] = info.residual;
+    if (!info.converged()) break;
+    out.q.row(k + 1) = qc.col(s).transpose();
+    out.p.row(k + 1) = p_next.transpose();
+    out.control_points.row(k) = Eigen::Map<const VecX>(qc.data(), S1 * n).transpose();
+    p = p_next;
+    prev = qc;
+    out.steps = k + 1;
+  }
+  return out;
+}
+
+void GalerkinIntegrator::residual(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const VecX>& p,
+                                  const Eigen::Ref<const MatX>& u, Eigen::Ref<MatX> r, Eigen::Ref<VecX> p_next) {
+  del_residual(model_, quad_, solver_.del, qc, p, u, dt_, r, p_next);
+}
+
+bool GalerkinIntegrator::direction(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const VecX>& p,
+                                   const Eigen::Ref<const MatX>& u, Eigen::Ref<MatX> dq) {
+  MatX r(model_.n(), quad_.s);
+  VecX p_next(model_.n());
+  residual(qc, p, u, r, p_next);
+  return newton_direction(model_, quad_, solver_.del, solver_.newton, r, dq);
+}
+
+}  // namespace hovi

@@ -1,0 +1,81 @@
+#include "hovi/integrators/newton_solver.hpp"
+
+namespace hovi {
+
+const char* to_string(SolveStatus status) {
+  switch (status) {
+    case SolveStatus::Converged: return "converged";
+    case SolveStatus::MaxIterations: return "max_iterations";
+    case SolveStatus::LineSearchFailed: return "line_search_failed";
+    case SolveStatus::SingularJacobian: return "singular_jacobian";
+    case SolveStatus::NonFinite: return "non_finite";
+  }
+  return "unknown";
+}
+
+NewtonSolver::NewtonSolver(const Model& model, const Quadrature& quad)
+    : del(model, quad), newton(model, quad), r_(model.n(), quad.s), r_trial_(model.n(), quad.s),
+      dq_(model.n(), quad.s), q_trial_(model.n(), quad.s + 1), p_trial_(model.n()) {}
+
+SolveInfo NewtonSolver::solve(const Model& model, const Quadrature& quad, const SolverOptions& opt,
+                              const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u, double dt,
+                              Eigen::Ref<MatX> qc, Eigen::Ref<VecX> p_next) {
+  const int s = quad.s;
+  const double target = opt.tol * (1 + (p.size() ? p.cwiseAbs().maxCoeff() : 0.0));
+  SolveInfo info;
+  del_residual(model, quad, del, qc, p, u, dt, r_, p_next);
+  info.residual_evaluations = 1;
+  info.residual = r_.size() ? r_.cwiseAbs().maxCoeff() : 0.0;
+  double norm2 = r_.norm();
+  for (;;) {
+    if (!std::isfinite(norm2) || !p_next.allFinite()) {
+      info.status = SolveStatus::NonFinite;
+      return info;
+    }
+    if (info.residual <= target) {
+      info.status = SolveStatus::Converged;
+      return info;
+    }
+    if (info.iterations >= opt.max_iterations) {
+      info.status = SolveStatus::MaxIterations;
+      return info;
+    }
+    if (!newton_direction(model, quad, del, newton, r_, dq_)) {
+      info.status = SolveStatus::SingularJacobian;
+      return info;
+    }
+    ++info.iterations;
+    if (!dq_.allFinite()) {
+      info.status = SolveStatus::NonFinite;
+      return info;
+    }
+    double lambda = 1;
+    bool accepted = false;
+    for (int bt = 0; bt <= (opt.line_search ? opt.max_backtracks : 0); ++bt, lambda *= 0.5) {
+      q_trial_.col(0) = qc.col(0);
+      q_trial_.rightCols(s) = qc.rightCols(s) + lambda * dq_;
+      del_residual(model, quad, del, q_trial_, p, u, dt, r_trial_, p_trial_);
+      ++info.residual_evaluations;
+      const double trial2 = r_trial_.norm();
+      // Armijo condition on ||r||: the Newton direction decreases it at rate 1 (its slope is -||r||).
+      if (!opt.line_search || (std::isfinite(trial2) && trial2 <= (1 - 1e-4 * lambda) * norm2)) {
+        accepted = true;
+        break;
+      }
+    }
+    if (!accepted) {
+      // del holds the last trial; restore the workspace of the current iterate for the caller.
+      del_residual(model, quad, del, qc, p, u, dt, r_, p_next);
+      ++info.residual_evaluations;
+      info.status = SolveStatus::LineSearchFailed;
+      return info;
+    }
+    qc = q_trial_;
+    r_.swap(r_trial_);
+    p_next = p_trial_;
+    norm2 = r_.norm();
+    info.residual = r_.cwiseAbs().maxCoeff();
+  }
+}
+
+}  // namespace hovi

@@ -1,0 +1,212 @@
+"""The Galerkin variational integrator: the Pythonic layer over hovi._core.Integrator."""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import _core
+
+
+class ConvergenceError(RuntimeError):
+    """A Newton solve of the DEL equations did not converge."""
+
+    def __init__(self, message: str, info: dict | None = None, trajectory: "Trajectory | None" = None):
+        super().__init__(message)
+        self.info = info
+        self.trajectory = trajectory
+
+
+@dataclass
+class StepInfo:
+    status: str            # 'converged', 'max_iterations', 'line_search_failed', 'singular_jacobian', 'non_finite'
+    converged: bool
+    iterations: int        # Newton directions computed
+    residual_evaluations: int
+    residual: float        # ||r||_inf at exit
+
+
+@dataclass
+class Trajectory:
+    """A rollout. Arrays are indexed by step k; t[k] = k dt."""
+    t: np.ndarray               # (K+1,)
+    q: np.ndarray               # (K+1, n) configurations q^k
+    p: np.ndarray               # (K+1, n) discrete momenta p^k
+    control_points: np.ndarray  # (K, s+1, n): q^{k,0..s}
+    iterations: np.ndarray      # (attempted,) Newton iterations per step
+    residuals: np.ndarray       # (attempted,) final ||r||_inf per step
+    status: list = field(default_factory=list)
+    integrator: "Integrator | None" = field(default=None, repr=False)
+
+    @property
+    def steps(self) -> int:
+        return len(self.t) - 1
+
+    @property
+    def converged(self) -> bool:
+        return all(s == "converged" for s in self.status)
+
+    @property
+    def qdot(self) -> np.ndarray:
+        """Velocity estimates q̇^k = M(q^k)^{-1} p^k (discrete Legendre transform)."""
+        return np.array([self.integrator.velocity(q, p) for q, p in zip(self.q, self.p)])
+
+    @property
+    def energy(self) -> np.ndarray:
+        """Total energy K + V at every step, with q̇ = M^{-1} p."""
+        return self.integrator.energies(self.q, self.p)
+
+
+class Integrator:
+    """Galerkin variational integrator of order 2s on s+1 Lobatto points (Fan et al. 2018).
+
+    Give either ``s`` (s = 1 trapezoidal, s = 2 Simpson, any s up to 16) or ``order`` = 2s.
+    Each step solves the DEL equations for q^{k,1..s} by Newton's method with the exact
+    O(s^3 n) direction (appendix Algorithms A.1/A.2) and a backtracking line search; a step has
+    converged when ||r||_inf <= tol (1 + ||p^k||_inf).
+
+    The model is copied: later changes to it do not affect the integrator.
+
+    Controls ``u`` are given per control point, shape (s+1, m), or held constant over a step,
+    shape (m,). Samples of a smooth u(t) keep order 2s; a zero-order hold is first-order
+    accurate with respect to a smooth u(t).
+    """
+
+    def __init__(self, model: _core.Model, s: int | None = None, *, order: int | None = None, dt: float = 0.01,
+                 tol: float = 1e-10, max_iterations: int = 30, max_backtracks: int = 12, line_search: bool = True):
+        if s is None and order is None:
+            s = 2
+        elif s is not None and order is not None and order != 2 * s:
+            raise ValueError(f"order must be 2s: got s={s} and order={order}")
+        elif s is None:
+            if order % 2 or order < 2:
+                raise ValueError(f"order must be an even number >= 2 (order = 2s), got {order}")
+            s = order // 2
+        if not isinstance(model, _core.Model):
+            raise TypeError(f"model must be a hovi.Model, got {type(model).__name__}")
+        self._core = _core.Integrator(model, int(s), float(dt), float(tol), int(max_iterations), int(max_backtracks),
+                                      bool(line_search))
+        self.model = model
+
+    # --- properties -------------------------------------------------------------------------
+    s = property(lambda self: self._core.s, doc="Number of Lobatto intervals; s+1 control points.")
+    order = property(lambda self: 2 * self._core.s, doc="Order of accuracy 2s.")
+    dt = property(lambda self: self._core.dt)
+    n = property(lambda self: self._core.n)
+    nodes = property(lambda self: self._core.nodes, doc="Lobatto nodes c^a on [0, 1].")
+    weights = property(lambda self: self._core.weights, doc="Lobatto weights w^a.")
+    differentiation_matrix = property(lambda self: self._core.differentiation_matrix,
+                                      doc="b^{ab} = l_b'(c^a): q̇^a = (1/dt) sum_b b^{ab} q^b.")
+
+    def __repr__(self):
+        return f"<hovi.Integrator order {self.order} (s={self.s}), dt={self.dt}, n={self.n}>"
+
+    # --- momentum and energy -----------------------------------------------------------------
+    def momentum(self, q, qdot) -> np.ndarray:
+        """p = dL/dq̇ = M(q) q̇: the discrete momentum to start from."""
+        return self._core.momentum(q, qdot)
+
+    def velocity(self, q, p) -> np.ndarray:
+        """q̇ = M(q)^{-1} p, O(n)."""
+        return self._core.velocity(q, p)
+
+    def energy(self, q, p) -> float:
+        return self._core.energy(q, p)
+
+    def energies(self, q, p) -> np.ndarray:
+        return self._core.energies(q, p)
+
+    # --- the DEL equations ---------------------------------------------------------------------
+    def del_residual(self, control_points, p, u=None):
+        """Algorithm 1: (r, p_next) with r of shape (s, n) (row a = r^{k,a}) for control points (s+1, n)."""
+        return self._core.del_residual(control_points, p, u)
+
+    def newton_direction(self, control_points, p, u=None) -> np.ndarray:
+        """Algorithms A.1/A.2: dq of shape (s, n) (row gamma-1 = δq^{k,gamma}) with J dq = -r."""
+        return self._core.newton_direction(control_points, p, u)
+
+    # --- stepping --------------------------------------------------------------------------------
+    def step(self, q, p, u=None, *, guess=None, raise_on_failure: bool = True):
+        """One step: returns (q_next, p_next, info). ``info.control_points`` holds q^{k,0..s}.
+
+        guess: initial control points (s+1, n); default q + c^a dt M^{-1} p.
+        Raises ConvergenceError if the solve fails and raise_on_failure (else check info.converged).
+        """
+        qc, p_next, info = self._core.step(q, p, u, guess)
+        info = StepInfo(**info)
+        if not info.converged and raise_on_failure:
+            raise ConvergenceError(f"Newton solve did not converge ({info.status}) after {info.iterations} "
+                                   f"iterations, residual {info.residual:.3e}; try a smaller dt", info=info)
+        info.control_points = qc
+        return qc[-1].copy(), p_next, info
+
+    def rollout(self, q0, steps: int, *, p0=None, qdot0=None, u=None, raise_on_failure: bool = True,
+                progress: bool = False, chunk: int = 500) -> Trajectory:
+        """Simulate ``steps`` steps from q0 with p0 (or qdot0, default zero velocity), in C++.
+
+        u: None, (m,) constant, (steps, m) held per step, or (steps, s+1, m) per control point.
+        progress: show a progress bar (the C++ loop runs in chunks of ``chunk`` steps).
+        Raises ConvergenceError at the first failed step (its .trajectory holds what was done),
+        unless raise_on_failure=False, in which case the trajectory stops there.
+        """
+        steps = int(steps)
+        if steps < 0:
+            raise ValueError("steps must be non-negative")
+        q0 = np.asarray(q0, dtype=float)
+        if p0 is not None and qdot0 is not None:
+            raise ValueError("give p0 or qdot0, not both")
+        if p0 is None:
+            qdot0 = np.zeros(self.n) if qdot0 is None else qdot0
+            p0 = self.momentum(q0, qdot0)
+        U = self._rollout_controls(u, steps)
+        bar = None
+        if progress:
+            from tqdm import tqdm
+            bar = tqdm(total=steps, unit="step", desc="simulating")
+        parts, previous, q, p, done = [], None, q0, np.asarray(p0, dtype=float), 0
+        while True:
+            n_chunk = min(chunk, steps - done) if progress else steps - done
+            res = self._core.rollout(q, p, n_chunk, None if U is None else U[done:done + n_chunk], previous)
+            parts.append(res)
+            done += res["steps"]
+            if bar is not None:
+                bar.update(res["steps"])
+            if res["steps"] < n_chunk or done >= steps:
+                break
+            q, p = res["q"][-1], res["p"][-1]
+            previous = res["control_points"][-1].reshape(self.s + 1, self.n)
+        if bar is not None:
+            bar.close()
+        traj = self._join(parts)
+        if not traj.converged and raise_on_failure:
+            k = traj.steps
+            raise ConvergenceError(f"Newton solve did not converge at step {k} (t = {k * self.dt:.6g} s): "
+                                   f"{traj.status[-1]}, residual {traj.residuals[-1]:.3e}; try a smaller dt",
+                                   trajectory=traj)
+        return traj
+
+    def _rollout_controls(self, u, steps):
+        m, S1 = self._core.n_controls, self.s + 1
+        if u is None:
+            return None
+        if m == 0:
+            raise ValueError("the model has no controls (add actuators or controls first), but u was given")
+        u = np.asarray(u, dtype=float)
+        if u.shape == (m,):
+            u = np.broadcast_to(u, (steps, S1, m))
+        elif u.shape == (steps, m):
+            u = np.repeat(u[:, None, :], S1, axis=1)
+        elif u.shape != (steps, S1, m):
+            raise ValueError(f"u must have shape ({m},), ({steps}, {m}) or ({steps}, {S1}, {m}), got {u.shape}")
+        if not np.all(np.isfinite(u)):
+            raise ValueError("u contains NaN or infinity")
+        return np.ascontiguousarray(u.reshape(steps, S1 * m))
+
+    def _join(self, parts) -> Trajectory:
+        q = np.vstack([parts[0]["q"]] + [r["q"][1:] for r in parts[1:]])
+        p = np.vstack([parts[0]["p"]] + [r["p"][1:] for r in parts[1:]])
+        cp = np.vstack([r["control_points"] for r in parts]).reshape(-1, self.s + 1, self.n)
+        return Trajectory(t=np.arange(len(q)) * self.dt, q=q, p=p, control_points=cp,
+                          iterations=np.concatenate([r["iterations"] for r in parts]),
+                          residuals=np.concatenate([r["residual"] for r in parts]),
+                          status=sum((r["status"] for r in parts), []), integrator=self)
