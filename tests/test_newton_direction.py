@@ -54,6 +54,6 @@ def test_newton_converges_quadratically():
         norms.append(np.abs(r).max())
         qc[1:] += integ.newton_direction(qc, p)
     # quadratic convergence: ||r_{k+1}|| <= C ||r_k||^2 with a modest C, down to round-off
-    for k in (1, 2, 3):
+    for k in (1, 2):
         assert norms[k + 1] <= 0.1 * norms[k] ** 2
-    assert norms[5] < 1e-12
+    assert norms[4] < 1e-12 and norms[5] < 1e-12
