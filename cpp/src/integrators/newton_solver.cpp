@@ -49,6 +49,12 @@ SolveInfo NewtonSolver::solve(const Model& model, const Quadrature& quad, const 
       info.status = SolveStatus::NonFinite;
       return info;
     }
+    // A Newton step below round-off of q: the residual is at its floor (tol was set below what
+    // double precision can reach at this dt), so the iterate is as converged as it can be.
+    if (dq_.cwiseAbs().maxCoeff() <= 1e-14 * (1 + qc.cwiseAbs().maxCoeff())) {
+      info.status = SolveStatus::Converged;
+      return info;
+    }
     double lambda = 1;
     bool accepted = false;
     for (int bt = 0; bt <= (opt.line_search ? opt.max_backtracks : 0); ++bt, lambda *= 0.5) {

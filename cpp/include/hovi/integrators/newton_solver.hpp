@@ -7,7 +7,8 @@
 namespace hovi {
 
 struct SolverOptions {
-  double tol = 1e-10;        // converged when ||r||_inf <= tol * (1 + ||p^k||_inf)
+  double tol = 1e-10;        // converged when ||r||_inf <= tol * (1 + ||p^k||_inf), or when the
+                             // Newton step falls below round-off, 1e-14 (1 + ||q||_inf)
   int max_iterations = 30;
   int max_backtracks = 12;   // halvings of the step before the line search gives up
   bool line_search = true;   // false: always take the full Newton step

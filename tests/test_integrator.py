@@ -1,0 +1,185 @@
+"""The Galerkin integrator end to end: order of accuracy against DOP853, energy behaviour,
+stress, and the Python API's checks."""
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+import hovi
+from test_urdf import CHAIN
+
+
+def dop853_reference(model, q0, qd0, T):
+    n = model.n
+
+    def f(t, y):
+        return np.concatenate([y[n:], model.forward_dynamics(y[:n], y[n:])])
+
+    sol = solve_ivp(f, (0, T), np.concatenate([q0, qd0]), method="DOP853", rtol=1e-13, atol=1e-13)
+    assert sol.success
+    return sol.y[:n, -1]
+
+
+@pytest.mark.parametrize("s, dts", [
+    (1, [0.02, 0.01, 0.005, 0.0025]),
+    (2, [0.05, 0.025, 0.0125, 0.00625]),
+    (3, [0.1, 0.05, 0.025, 0.0125]),
+])
+def test_order_of_accuracy_is_2s(s, dts):
+    model = hovi.models.pendulum(5)
+    rng = np.random.default_rng(1)
+    q0, qd0 = rng.uniform(-0.5, 0.5, 5), rng.uniform(-0.5, 0.5, 5)
+    ref = dop853_reference(model, q0, qd0, 1.0)
+    errors = []
+    for dt in dts:
+        traj = hovi.Integrator(model, s=s, dt=dt, tol=1e-13).rollout(q0, int(round(1 / dt)), qdot0=qd0)
+        errors.append(np.linalg.norm(traj.q[-1] - ref))
+    slope = np.polyfit(np.log(dts), np.log(errors), 1)[0]
+    assert abs(slope - 2 * s) <= 0.3, (slope, errors)
+
+
+@pytest.mark.parametrize("s", [1, 2, 3])
+def test_energy_error_is_bounded_without_drift(s):
+    # The paper's Fig. 4 set-up: 12 links, q0 uniform in [-pi/12, pi/12], zero velocity.
+    model = hovi.models.pendulum(12)
+    rng = np.random.default_rng(0)
+    integ = hovi.Integrator(model, s=s, dt=0.01)
+    traj = integ.rollout(rng.uniform(-np.pi / 12, np.pi / 12, 12), 10_000)
+    signed = traj.energy - traj.energy[0]
+    err = np.abs(signed)
+    tenth = len(err) // 10
+    first, last = err[1:tenth].mean(), err[-tenth:].mean()
+    assert last <= 2 * first, (first, last)
+    # no secular trend: the least-squares drift over the run is small next to the oscillation
+    drift = np.polyfit(traj.t, signed, 1)[0] * traj.t[-1]
+    assert abs(drift) < 0.5 * err.max(), (drift, err.max())
+    assert err.max() < [2e-2, 1e-4, 1e-6][s - 1] * abs(traj.energy[0])
+
+
+def test_momentum_velocity_round_trip_and_energy():
+    model = hovi.models.pendulum(6)
+    integ = hovi.Integrator(model, order=4)
+    rng = np.random.default_rng(3)
+    q, qd = rng.uniform(-1, 1, 6), rng.uniform(-1, 1, 6)
+    p = integ.momentum(q, qd)
+    np.testing.assert_allclose(p, model.mass_matrix(q) @ qd, rtol=1e-12)
+    np.testing.assert_allclose(integ.velocity(q, p), qd, rtol=1e-10)
+    assert integ.energy(q, p) == pytest.approx(model.energy(q, qd), rel=1e-12)
+
+
+def test_step_and_rollout_agree_and_report():
+    model = hovi.models.pendulum(4)
+    integ = hovi.Integrator(model, s=2, dt=0.01)
+    q0 = np.array([0.3, -0.2, 0.5, 0.1])
+    p0 = integ.momentum(q0, np.zeros(4))
+    q1, p1, info = integ.step(q0, p0)
+    assert info.converged and info.status == "converged" and 1 <= info.iterations <= 10
+    assert info.control_points.shape == (3, 4)
+    np.testing.assert_array_equal(info.control_points[0], q0)
+    r, p_next = integ.del_residual(info.control_points, p0)
+    assert np.abs(r).max() <= 1e-10 * (1 + np.abs(p0).max())
+    np.testing.assert_allclose(p_next, p1, rtol=1e-12, atol=1e-14)
+    traj = integ.rollout(q0, 50, p0=p0)
+    assert traj.q.shape == (51, 4) and traj.p.shape == (51, 4) and traj.control_points.shape == (50, 3, 4)
+    np.testing.assert_allclose(traj.q[1], q1, atol=1e-10)
+    assert traj.converged and traj.iterations.shape == (50,) and np.all(traj.residuals < 1e-9)
+    assert traj.t[-1] == pytest.approx(0.5)
+    # chunked (progress) rollouts continue the same trajectory
+    chunked = integ.rollout(q0, 50, p0=p0, progress=False, chunk=7)
+    np.testing.assert_allclose(chunked.q, traj.q, atol=1e-12)
+
+
+def test_controls_drive_the_system():
+    model = hovi.models.pendulum(2)
+    model.gravity = [0, 0, 0]
+    k = model.add_actuator(0)
+    integ = hovi.Integrator(model, s=2, dt=0.01)
+    steps = 100
+    free = integ.rollout(np.zeros(2), steps)
+    np.testing.assert_allclose(free.q, 0, atol=1e-14)
+    pushed = integ.rollout(np.zeros(2), steps, u=[1.0])
+    # constant torque from rest: the total angular momentum about the joint-1 axis grows as tau t
+    assert pushed.p[-1, 0] == pytest.approx(1.0 * steps * integ.dt, rel=1e-9)
+    per_point = integ.rollout(np.zeros(2), steps, u=np.ones((steps, 3, 1)))
+    np.testing.assert_allclose(per_point.q, pushed.q, atol=1e-14)
+    with pytest.raises(ValueError, match="u must have shape"):
+        integ.rollout(np.zeros(2), steps, u=np.ones((steps, 2)))
+    assert k == 0
+
+
+def test_stress_large_steps_never_return_nan():
+    model = hovi.models.pendulum(32)
+    integ = hovi.Integrator(model, s=2, dt=0.1, max_iterations=20)
+    rng = np.random.default_rng(4)
+    outcomes = set()
+    for _ in range(20):
+        q0, qd0 = rng.uniform(-np.pi / 2, np.pi / 2, (2, 32))
+        p0 = integ.momentum(q0, qd0)
+        q1, p1, info = integ.step(q0, p0, raise_on_failure=False)
+        outcomes.add(info.status)
+        if info.converged:
+            assert np.all(np.isfinite(q1)) and np.all(np.isfinite(p1))
+            r, _ = integ.del_residual(info.control_points, p0)
+            assert np.abs(r).max() <= 1e-10 * (1 + np.abs(p0).max())
+        else:
+            with pytest.raises(hovi.ConvergenceError):
+                integ.step(q0, p0)
+    assert outcomes <= {"converged", "max_iterations", "line_search_failed", "singular_jacobian", "non_finite"}
+
+
+def test_stress_stiff_springs_and_singular_base():
+    model = hovi.models.pendulum(5)
+    for j in range(5):
+        model.add_spring(j, 1e7)
+    integ = hovi.Integrator(model, s=2, dt=0.05)
+    q0 = np.full(5, 0.5)
+    traj = integ.rollout(q0, 20, raise_on_failure=False)
+    assert np.all(np.isfinite(traj.q)) and np.all(np.isfinite(traj.p))
+    # A floating base at the Euler-angle singularity (pitch = pi/2): the mass matrix is singular.
+    floating = hovi.Model.from_urdf(CHAIN, base="floating")
+    q = np.zeros(8)
+    q[4] = np.pi / 2
+    integ = hovi.Integrator(floating, s=2, dt=0.01)
+    with pytest.raises((hovi.ModelError, hovi.ConvergenceError)):
+        integ.rollout(q, 10, qdot0=np.ones(8))
+    q[4] = np.pi / 2 - 1e-3  # near the singularity: converges or reports, never NaN
+    traj = integ.rollout(q, 10, qdot0=np.full(8, 0.1), raise_on_failure=False)
+    assert np.all(np.isfinite(traj.q))
+
+
+@pytest.mark.parametrize("kwargs, exc, pattern", [
+    (dict(dt=0.0), ValueError, "dt must be positive"),
+    (dict(dt=-0.01), ValueError, "dt must be positive"),
+    (dict(dt=float("nan")), ValueError, "dt must be positive"),
+    (dict(s=0), ValueError, "between 1 and 16"),
+    (dict(order=3), ValueError, "order must be an even number"),
+    (dict(s=2, order=6), ValueError, "order must be 2s"),
+    (dict(tol=0.0), ValueError, "tol must be positive"),
+    (dict(max_iterations=0), ValueError, "max_iterations"),
+])
+def test_bad_integrator_options(kwargs, exc, pattern):
+    with pytest.raises(exc, match=pattern):
+        hovi.Integrator(hovi.models.pendulum(2), **kwargs)
+
+
+def test_bad_step_inputs():
+    integ = hovi.Integrator(hovi.models.pendulum(3), s=2)
+    with pytest.raises(ValueError, match="q must be a 1-D array of length 3"):
+        integ.step(np.zeros(2), np.zeros(3))
+    with pytest.raises(ValueError, match="p contains NaN"):
+        integ.step(np.zeros(3), np.array([0, np.nan, 0]))
+    with pytest.raises(ValueError, match="no controls"):
+        integ.step(np.zeros(3), np.zeros(3), u=[1.0])
+    with pytest.raises(ValueError, match=r"control_points must be a 2-D array of shape \(3, 3\)"):
+        integ.del_residual(np.zeros((2, 3)), np.zeros(3))
+    with pytest.raises(ValueError, match="give p0 or qdot0"):
+        integ.rollout(np.zeros(3), 5, p0=np.zeros(3), qdot0=np.zeros(3))
+    with pytest.raises(TypeError, match="hovi.Model"):
+        hovi.Integrator("pendulum")
+
+
+def test_model_is_copied():
+    model = hovi.models.pendulum(2)
+    integ = hovi.Integrator(model, s=1)
+    model.add_spring(0, 100.0)
+    traj = integ.rollout(np.zeros(2), 10)
+    np.testing.assert_allclose(traj.q, 0, atol=1e-14)  # the spring added later has no effect
