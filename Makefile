@@ -30,7 +30,7 @@ pytest: build
 	$(PY) -m pytest -q tests
 
 demo: build
-	$(PY) -m hovi info pendulum:32
+	$(PY) -m hovi simulate pendulum:32 --order 4 --dt 0.01 --duration 10 --output results
 
 test: ctest pytest
 

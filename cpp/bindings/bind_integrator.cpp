@@ -100,14 +100,14 @@ void bind_integrator(py::module_& m) {
             const MatX uk = p.controls(u);
             MatX qc(p.n(), p.s() + 1);
             qc.col(0) = qk;
-            if (guess.is_none()) p.integ.guess_from_velocity(p.integ.velocity(qk, pk), qc);
-            else {
-              qc = p.control_points(guess, "guess");
-              qc.col(0) = qk;
-            }
             VecX p_next(p.n());
             SolveInfo info;
-            {
+            if (guess.is_none()) {
+              py::gil_scoped_release release;
+              info = p.integ.robust_step(pk, uk, MatX(), qc, p_next);
+            } else {
+              qc = p.control_points(guess, "guess");
+              qc.col(0) = qk;
               py::gil_scoped_release release;
               info = p.integ.step(pk, uk, qc, p_next);
             }

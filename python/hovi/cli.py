@@ -1,10 +1,16 @@
-"""The ``hovi`` command line."""
+"""The ``hovi`` command line: ``hovi simulate`` (the main job) and ``hovi info``."""
+from __future__ import annotations
+
 import argparse
+import json
+import os
 import sys
+import time
 
 import numpy as np
 
 from . import Model, models
+from .integrator import ConvergenceError, Integrator
 
 
 def load_model(spec: str, base: str = "fixed") -> Model:
@@ -13,6 +19,56 @@ def load_model(spec: str, base: str = "fixed") -> Model:
         _, _, n = spec.partition(":")
         return models.pendulum(int(n) if n else 32)
     return Model.from_urdf(spec, base=base)
+
+
+def initial_state(model: Model, spread: float, seed: int):
+    """q0 uniform in [-spread, spread] (clipped to joint limits), zero velocity."""
+    rng = np.random.default_rng(seed)
+    q0 = rng.uniform(-spread, spread, model.n)
+    lo, hi = model.lower_limits, model.upper_limits
+    return np.clip(q0, np.where(np.isfinite(lo), lo, -np.inf), np.where(np.isfinite(hi), hi, np.inf))
+
+
+def cmd_simulate(args) -> int:
+    model = load_model(args.model, args.base)
+    integ = Integrator(model, order=args.order, dt=args.dt, tol=args.tol)
+    steps = int(round(args.duration / args.dt))
+    q0 = initial_state(model, args.spread, args.seed)
+    print(f"{args.model}: {model.n} DoF, {model.total_mass:.4g} kg; order {integ.order} (s = {integ.s}), "
+          f"dt = {args.dt} s, {steps} steps")
+    t0 = time.perf_counter()
+    try:
+        traj = integ.rollout(q0, steps, progress=not args.no_progress)
+    except ConvergenceError as e:
+        print(f"error: {e}", file=sys.stderr)
+        traj = e.trajectory
+        if traj is None or traj.steps == 0:
+            return 1
+    wall = time.perf_counter() - t0
+    energy = traj.energy
+    rel = np.abs(energy - energy[0]) / max(abs(energy[0]), 1e-300)
+    summary = {
+        "model": args.model, "dof": model.n, "order": integ.order, "dt": args.dt, "steps": traj.steps,
+        "wall_time_s": wall, "steps_per_second": traj.steps / wall,
+        "newton_iterations_mean": float(traj.iterations.mean()), "newton_iterations_max": int(traj.iterations.max()),
+        "energy_initial": float(energy[0]), "energy_error_max_relative": float(rel.max()),
+        "energy_error_final_relative": float(rel[-1]), "converged": traj.converged,
+    }
+    print(f"{summary['steps_per_second']:.0f} steps/s ({wall:.2f} s wall), Newton iterations per step: "
+          f"mean {summary['newton_iterations_mean']:.2f}, max {summary['newton_iterations_max']}")
+    print(f"energy E0 = {energy[0]:.6g} J, max relative error {rel.max():.2e}, final {rel[-1]:.2e}")
+    os.makedirs(args.output, exist_ok=True)
+    with open(os.path.join(args.output, "simulate.json"), "w") as f:
+        json.dump(summary, f, indent=2)
+    if not args.no_plot:
+        from .plotting import plot_configuration, plot_energy_error
+        name = os.path.basename(args.model)
+        plot_energy_error(traj.t, energy, os.path.join(args.output, "energy_error.png"),
+                          f"{name}, order {integ.order}, dt = {args.dt} s")
+        plot_configuration(model, traj.q[-1], os.path.join(args.output, "final_configuration.png"),
+                           f"{name} at t = {traj.t[-1]:.3g} s")
+        print(f"wrote {args.output}/energy_error.png, final_configuration.png, simulate.json")
+    return 0 if traj.converged else 1
 
 
 def cmd_info(args) -> int:
@@ -26,17 +82,39 @@ def cmd_info(args) -> int:
     return 0
 
 
+def add_model_args(p):
+    p.add_argument("model", nargs="?", default="pendulum:32",
+                   help="'pendulum:N' (the built-in N-link pendulum) or a URDF path (default: pendulum:32)")
+    p.add_argument("--base", default="fixed", choices=["fixed", "floating", "planar"],
+                   help="how a URDF's root link is attached to the world (default: fixed)")
+    p.add_argument("--seed", type=int, default=0, help="seed of the random initial state (default: 0)")
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="hovi", description="Higher-order variational integrators for robots.")
     sub = parser.add_subparsers(dest="command", required=True)
+    sim = sub.add_parser("simulate", help="simulate a model and report speed and energy error",
+                         description="Simulate from a random configuration at rest with the Galerkin variational "
+                                     "integrator; print steps per second, Newton iterations per step and the "
+                                     "energy error; write plots and a JSON summary.")
+    add_model_args(sim)
+    sim.add_argument("--order", type=int, default=4, help="order of accuracy 2s: 2 trapezoidal, 4 Simpson, "
+                                                          "6, 8, ... (default: 4)")
+    sim.add_argument("--dt", type=float, default=0.01, help="time step in seconds (default: 0.01)")
+    sim.add_argument("--duration", type=float, default=10.0, help="simulated time in seconds (default: 10)")
+    sim.add_argument("--spread", type=float, default=np.pi / 4,
+                     help="initial joint positions uniform in [-spread, spread] rad or m (default: pi/4)")
+    sim.add_argument("--tol", type=float, default=1e-10, help="Newton tolerance on the scaled residual (default: 1e-10)")
+    sim.add_argument("--output", default="results", help="folder for the plots and JSON (default: results)")
+    sim.add_argument("--no-plot", action="store_true", help="skip the plots")
+    sim.add_argument("--no-progress", action="store_true", help="no progress bar")
+    sim.set_defaults(func=cmd_simulate)
     info = sub.add_parser("info", help="describe a model and print its energy at a random state")
-    info.add_argument("model", nargs="?", default="pendulum:32",
-                      help="'pendulum:N' (built-in N-link pendulum) or a URDF path (default pendulum:32)")
-    info.add_argument("--base", default="fixed", choices=["fixed", "floating", "planar"],
-                      help="how a URDF's root link is attached to the world (default fixed)")
-    info.add_argument("--seed", type=int, default=0, help="seed of the random state (default 0)")
+    add_model_args(info)
     info.set_defaults(func=cmd_info)
     args = parser.parse_args(argv)
+    if getattr(args, "dt", 1) <= 0 or getattr(args, "duration", 1) <= 0:
+        parser.error("--dt and --duration must be positive")
     return args.func(args)
 
 

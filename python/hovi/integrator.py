@@ -129,7 +129,8 @@ class Integrator:
     def step(self, q, p, u=None, *, guess=None, raise_on_failure: bool = True):
         """One step: returns (q_next, p_next, info). ``info.control_points`` holds q^{k,0..s}.
 
-        guess: initial control points (s+1, n); default q + c^a dt M^{-1} p.
+        guess: initial control points (s+1, n) for a single Newton solve; by default Newton starts
+        from q + c^a dt M^{-1} p and, if that fails, from q^{k,a} = q.
         Raises ConvergenceError if the solve fails and raise_on_failure (else check info.converged).
         """
         qc, p_next, info = self._core.step(q, p, u, guess)
@@ -143,6 +144,9 @@ class Integrator:
     def rollout(self, q0, steps: int, *, p0=None, qdot0=None, u=None, raise_on_failure: bool = True,
                 progress: bool = False, chunk: int = 500) -> Trajectory:
         """Simulate ``steps`` steps from q0 with p0 (or qdot0, default zero velocity), in C++.
+
+        Each step starts Newton from the previous step's polynomial extrapolated; if that solve
+        fails it retries from q^k + c^a dt M^{-1} p^k, then from q^{k,a} = q^k.
 
         u: None, (m,) constant, (steps, m) held per step, or (steps, s+1, m) per control point.
         progress: show a progress bar (the C++ loop runs in chunks of ``chunk`` steps).

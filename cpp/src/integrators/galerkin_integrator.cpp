@@ -39,6 +39,24 @@ SolveInfo GalerkinIntegrator::step(const Eigen::Ref<const VecX>& p, const Eigen:
   return solver_.solve(model_, quad_, options, p, u, dt_, qc, p_next);
 }
 
+SolveInfo GalerkinIntegrator::robust_step(const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u,
+                                          const Eigen::Ref<const MatX>& previous, Eigen::Ref<MatX> qc,
+                                          Eigen::Ref<VecX> p_next) {
+  SolveInfo total;
+  for (int attempt = previous.size() ? 0 : 1; attempt < 3; ++attempt) {
+    if (attempt == 0) guess_from_previous(previous, qc);
+    else if (attempt == 1) guess_from_velocity(velocity(qc.col(0), p), qc);
+    else qc.rightCols(quad_.s).colwise() = VecX(qc.col(0));
+    const SolveInfo info = step(p, u, qc, p_next);
+    total.status = info.status;
+    total.iterations += info.iterations;
+    total.residual_evaluations += info.residual_evaluations;
+    total.residual = info.residual;
+    if (info.converged()) break;
+  }
+  return total;
+}
+
 void GalerkinIntegrator::guess_from_velocity(const VecX& qdot, Eigen::Ref<MatX> qc) const {
   for (int a = 1; a <= quad_.s; ++a) qc.col(a) = qc.col(0) + (quad_.c[a] * dt_) * qdot;
 }
@@ -75,12 +93,10 @@ Rollout GalerkinIntegrator::rollout(const VecX& q0, const VecX& p0, int N, const
   VecX p = p0, p_next(n);
   for (int k = 0; k < N; ++k) {
     qc.col(0) = out.q.row(k).transpose();
-    if (prev.size()) guess_from_previous(prev, qc);
-    else guess_from_velocity(velocity(qc.col(0), p), qc);
     if (m > 0)
       for (int a = 0; a < S1; ++a)
         for (int j = 0; j < m; ++j) uk(j, a) = u(k, a * m + j);
-    const SolveInfo info = step(p, uk, qc, p_next);
+    const SolveInfo info = robust_step(p, uk, prev, qc, p_next);
     out.status.push_back(info.status);
     out.iterations[k] = info.iterations;
     out.residual[k] = info.residual;

@@ -38,6 +38,12 @@ class GalerkinIntegrator {
   SolveInfo step(const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u, Eigen::Ref<MatX> qc,
                  Eigen::Ref<VecX> p_next);
 
+  // One step with fallbacks: Newton from the extrapolated previous polynomial (if `previous` is
+  // given), then from the velocity guess, then from q^{k,a} = q^k, stopping at the first that
+  // converges. qc column 0 must hold q^k. Iterations add up over the attempts.
+  SolveInfo robust_step(const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u,
+                        const Eigen::Ref<const MatX>& previous, Eigen::Ref<MatX> qc, Eigen::Ref<VecX> p_next);
+
   // Initial guesses for columns 1..s of qc (column 0 = q^k already set): from a velocity
   // estimate, q^k + c^a dt q̇; or by extrapolating the previous step's polynomial.
   void guess_from_velocity(const VecX& qdot, Eigen::Ref<MatX> qc) const;

@@ -1,0 +1,57 @@
+"""Plots of simulations (matplotlib, Agg backend)."""
+from __future__ import annotations
+
+import numpy as np
+
+
+def _plt():
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    return plt
+
+
+def plot_energy_error(t, energy, path, title=""):
+    """Relative energy error |E - E0| / |E0| over time, log scale."""
+    plt = _plt()
+    err = np.abs(energy - energy[0]) / max(abs(energy[0]), 1e-300)
+    fig, ax = plt.subplots(figsize=(7, 3.5))
+    ax.semilogy(t[1:], np.maximum(err[1:], 1e-17), lw=0.8)
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel("|E - E0| / |E0|")
+    ax.set_title(title or "energy error")
+    ax.grid(True, which="both", alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def plot_configuration(model, q, path, title=""):
+    """The kinematic tree at q: joint origins joined parent to child, centres of mass as dots."""
+    plt = _plt()
+    X = model.joint_placements(q)[:, :3, 3]
+    C = model.body_poses(q)[:, :3, 3]
+    fig = plt.figure(figsize=(6, 6))
+    ax = fig.add_subplot(projection="3d")
+    for i, par in enumerate(model.parents):
+        a = X[par] if par >= 0 else np.zeros(3)
+        ax.plot(*np.stack([a, X[i]]).T, color="tab:gray", lw=1)
+        ax.plot(*np.stack([X[i], C[i]]).T, color="tab:blue", lw=2)
+    # the last link of each leaf: from its joint through its centre of mass and as far again
+    children = {p for p in model.parents}
+    for i in range(model.n):
+        if i not in children:
+            ax.plot(*np.stack([X[i], 2 * C[i] - X[i]]).T, color="tab:blue", lw=2)
+    ax.scatter(*C.T, s=8, color="tab:red")
+    pts = np.vstack([X, C, np.zeros((1, 3))])
+    mid, half = pts.mean(axis=0), max(np.ptp(pts, axis=0).max() / 2, 1e-3)
+    ax.set_xlim(mid[0] - half, mid[0] + half)
+    ax.set_ylim(mid[1] - half, mid[1] + half)
+    ax.set_zlim(mid[2] - half, mid[2] + half)
+    ax.set_xlabel("x")
+    ax.set_ylabel("y")
+    ax.set_zlabel("z")
+    ax.set_title(title or "configuration")
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)

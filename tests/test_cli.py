@@ -1,0 +1,39 @@
+"""The command line: hovi simulate / hovi info."""
+import json
+import subprocess
+import sys
+
+import pytest
+
+from hovi.cli import main
+
+
+def test_simulate_writes_summary_and_plots(tmp_path, capsys):
+    assert main(["simulate", "pendulum:4", "--duration", "0.5", "--dt", "0.01", "--no-progress",
+                 "--output", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "steps/s" in out and "Newton iterations per step" in out and "energy" in out
+    summary = json.loads((tmp_path / "simulate.json").read_text())
+    assert summary["steps"] == 50 and summary["converged"] and summary["dof"] == 4
+    assert summary["energy_error_max_relative"] < 1e-4
+    assert (tmp_path / "energy_error.png").stat().st_size > 1000
+    assert (tmp_path / "final_configuration.png").stat().st_size > 1000
+
+
+def test_simulate_urdf(tmp_path):
+    from conftest import erd_urdf
+    path = erd_urdf("panda_description/urdf/panda.urdf")
+    assert main(["simulate", path, "--duration", "0.1", "--no-progress", "--no-plot", "--output", str(tmp_path)]) == 0
+
+
+def test_help_explains_every_option():
+    out = subprocess.run([sys.executable, "-m", "hovi", "simulate", "--help"], capture_output=True, text=True).stdout
+    for opt in ("--order", "--dt", "--duration", "--spread", "--tol", "--output", "--no-plot", "--base", "--seed"):
+        assert opt in out
+
+
+def test_bad_arguments_exit_with_usage_error():
+    with pytest.raises(SystemExit):
+        main(["simulate", "pendulum:3", "--dt", "-1"])
+    with pytest.raises(SystemExit):
+        main(["nonsense"])
