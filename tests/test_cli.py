@@ -37,3 +37,10 @@ def test_bad_arguments_exit_with_usage_error():
         main(["simulate", "pendulum:3", "--dt", "-1"])
     with pytest.raises(SystemExit):
         main(["nonsense"])
+
+
+def test_bad_model_or_option_is_a_clean_error(capsys):
+    assert main(["simulate", "/nonexistent.urdf", "--no-progress"]) == 2
+    assert "cannot open URDF file" in capsys.readouterr().err
+    assert main(["simulate", "pendulum:3", "--order", "3", "--no-progress"]) == 2
+    assert "order must be an even number" in capsys.readouterr().err

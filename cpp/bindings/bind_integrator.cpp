@@ -1,6 +1,8 @@
 // Bindings of the Galerkin integrator (hovi._core.Integrator). The Pythonic layer (argument
 // normalisation, Trajectory, exceptions) is python/hovi/integrator.py. Arrays of control points
 // are (s+1, n) on the Python side (row a = q^{k,a}); controls (s+1, m).
+#include <chrono>
+
 #include "hovi/algorithms/energy.hpp"
 #include "hovi/errors.hpp"
 #include "hovi/integrators/galerkin_integrator.hpp"
@@ -121,9 +123,12 @@ void bind_integrator(py::module_& m) {
             else if (p.m() > 0) U = MatX::Zero(steps, (p.s() + 1) * p.m());
             if (!previous.is_none()) prev = p.control_points(previous, "previous");
             Rollout r;
+            double seconds;
             {
               py::gil_scoped_release release;
+              const auto t0 = std::chrono::steady_clock::now();
               r = p.integ.rollout(q, mom, steps, U, prev);
+              seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
             }
             py::dict d;
             d["q"] = MatX(r.q.topRows(r.steps + 1));
@@ -136,6 +141,7 @@ void bind_integrator(py::module_& m) {
             for (SolveStatus x : r.status) st.append(to_string(x));
             d["status"] = st;
             d["steps"] = r.steps;
+            d["seconds"] = seconds;
             return d;
           }, py::arg("q0"), py::arg("p0"), py::arg("steps"), py::arg("u") = py::none(), py::arg("previous") = py::none());
 }

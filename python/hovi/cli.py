@@ -115,7 +115,11 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     if getattr(args, "dt", 1) <= 0 or getattr(args, "duration", 1) <= 0:
         parser.error("--dt and --duration must be positive")
-    return args.func(args)
+    try:
+        return args.func(args)
+    except (ValueError, OSError) as e:  # bad model file, bad option value: a clean message, no traceback
+        print(f"hovi: error: {e}", file=sys.stderr)
+        return 2
 
 
 if __name__ == "__main__":

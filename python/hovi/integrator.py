@@ -36,6 +36,7 @@ class Trajectory:
     iterations: np.ndarray      # (attempted,) Newton iterations per step
     residuals: np.ndarray       # (attempted,) final ||r||_inf per step
     status: list = field(default_factory=list)
+    solve_seconds: float = 0.0  # time spent in the C++ loop
     integrator: "Integrator | None" = field(default=None, repr=False)
 
     @property
@@ -213,4 +214,5 @@ class Integrator:
         return Trajectory(t=np.arange(len(q)) * self.dt, q=q, p=p, control_points=cp,
                           iterations=np.concatenate([r["iterations"] for r in parts]),
                           residuals=np.concatenate([r["residual"] for r in parts]),
-                          status=sum((r["status"] for r in parts), []), integrator=self)
+                          status=sum((r["status"] for r in parts), []),
+                          solve_seconds=sum(r["seconds"] for r in parts), integrator=self)

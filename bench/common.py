@@ -1,0 +1,72 @@
+"""Shared helpers of the benchmark scripts: machine description, JSON output, slopes."""
+from __future__ import annotations
+
+import json
+import os
+import platform
+import subprocess
+import sys
+import sysconfig
+
+import numpy as np
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+RESULTS = os.path.join(ROOT, "bench", "results")
+
+
+def machine() -> dict:
+    cpu = ""
+    try:
+        with open("/proc/cpuinfo") as f:
+            cpu = next((l.split(":", 1)[1].strip() for l in f if l.startswith("model name")), "")
+    except OSError:
+        pass
+    return {"cpu": cpu, "cores": os.cpu_count(), "python": sys.version.split()[0], "platform": platform.platform()}
+
+
+def write_json(name: str, payload: dict) -> str:
+    os.makedirs(RESULTS, exist_ok=True)
+    path = os.path.join(RESULTS, name)
+    with open(path, "w") as f:
+        json.dump({"machine": machine(), **payload}, f, indent=1)
+    return path
+
+
+def loglog_slope(x, y) -> float:
+    return float(np.polyfit(np.log(x), np.log(y), 1)[0])
+
+
+def pinocchio_prefix() -> str:
+    """The pin wheel's install prefix (headers and libpinocchio_default)."""
+    return os.path.join(sysconfig.get_paths()["purelib"], "cmeel.prefix")
+
+
+def build_cpp_bench() -> str:
+    """Configure and build bench/cpp (hovi against Pinocchio's C++); returns the binary's path."""
+    build = os.path.join(ROOT, "build", "bench")
+    for cmd in (["cmake", "-S", ROOT, "-B", build, "-DCMAKE_BUILD_TYPE=Release", "-DHOVI_BUILD_PYTHON=OFF",
+                 "-DHOVI_BUILD_BENCH=ON", f"-DHOVI_PINOCCHIO_PREFIX={pinocchio_prefix()}"],
+                ["cmake", "--build", build, "-j", str(os.cpu_count() or 2), "--target", "hovi_bench_speed"]):
+        done = subprocess.run(cmd, capture_output=True, text=True)
+        if done.returncode:
+            sys.exit(f"building the C++ benchmark failed:\n{done.stdout}\n{done.stderr}")
+    return os.path.join(build, "hovi_bench_speed")
+
+
+def update_readme_section(tag: str, text: str):
+    """Replace the text between <!-- tag:begin --> and <!-- tag:end --> in bench/README.md."""
+    path = os.path.join(ROOT, "bench", "README.md")
+    begin, end = f"<!-- {tag}:begin -->", f"<!-- {tag}:end -->"
+    doc = open(path).read() if os.path.exists(path) else ""
+    block = f"{begin}\n{text.rstrip()}\n{end}"
+    if begin in doc and end in doc:
+        doc = doc[:doc.index(begin)] + block + doc[doc.index(end) + len(end):]
+    else:
+        doc = doc.rstrip() + "\n\n" + block + "\n"
+    with open(path, "w") as f:
+        f.write(doc)
+
+
+def erd_urdf(rel: str) -> str:
+    import example_robot_data as erd
+    return os.path.join(erd.getModelPath(rel), rel)

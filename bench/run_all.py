@@ -1,0 +1,13 @@
+"""Run every benchmark in full mode (slow)."""
+import os
+import subprocess
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+SCRIPTS = ["speed.py"]
+
+if __name__ == "__main__":
+    extra = sys.argv[1:]
+    for script in SCRIPTS:
+        print(f"== {script}", flush=True)
+        subprocess.run([sys.executable, os.path.join(HERE, script), *extra], check=True)
