@@ -4,16 +4,23 @@
 
 namespace hovi {
 
+namespace {
+
+void resize(BlockFamily& f, int n, int s, int rows) {
+  const std::size_t N = n, S = s, S1 = s + 1;
+  f.Z.resize(N * S1 * S1);
+  f.ZG.resize(N * S1 * S);
+  f.z.resize(N * S1);
+  f.K.resize(N * S1 * S);
+  f.rows = rows;
+}
+
+}  // namespace
+
 NewtonWorkspace::NewtonWorkspace(const Model& model, const Quadrature& quad) : n(model.n()), s(quad.s) {
   const std::size_t N = n, S = s, S1 = s + 1;
-  D.resize(N * S1 * S1);
-  G.resize(N * S1 * S);
-  l.resize(N * S1);
-  Pi.resize(N * S * S1);
-  Psi.resize(N * S * S);
-  zeta.resize(N * S);
-  H.resize(N * S1 * S);
-  Phi.resize(N * S * S);
+  resize(momentum, n, s, s + 1);
+  resize(impulse, n, s, s);
   X.resize(N * S * S1);
   Y.resize(N * S * S);
   y.resize(N * S);
@@ -23,6 +30,7 @@ NewtonWorkspace::NewtonWorkspace(const Model& model, const Quadrature& quad) : n
   Xi.resize(S * S);
   xi.resize(S);
   Lambda.resize(S, S);
+  corr.resize(S1);
   eta.resize(N * S);
   dv.resize(N * S1);
 }
@@ -48,6 +56,53 @@ void force_derivatives(const Model& model, const Quadrature& quad, const DelWork
     }
 }
 
+// Index maps of the per-body blocks (body i, row a, column rho in 0..s or nu/gamma in 1..s).
+struct Index {
+  int s, S1;
+  int Z(int i, int a, int rho) const { return (i * S1 + a) * S1 + rho; }
+  int G(int i, int a, int nu) const { return (i * S1 + a) * s + (nu - 1); }  // ZG and K
+  int z(int i, int a) const { return i * S1 + a; }
+  int X(int i, int gam, int rho) const { return (i * s + gam - 1) * S1 + rho; }
+  int Y(int i, int gam, int nu) const { return (i * s + gam - 1) * s + (nu - 1); }
+};
+
+// K^{a gamma} = Z^{a gamma} Ṡ̄^gamma + ZG^{a gamma} S̄^gamma + (1/dt) sum_rho b^{rho gamma} Z^{a rho} S̄^rho
+// (A.2 lines 3 and 4: H from D, G and Φ from Π, Ψ).
+void couple(BlockFamily& f, const Index& ix, int i, const DelWorkspace& del, const MatX& b, double idt) {
+  for (int gam = 1; gam <= ix.s; ++gam)
+    for (int a = 0; a < f.rows; ++a) {
+      Vec6 k = f.Z[ix.Z(i, a, gam)] * del.Sdot[del.at(i, gam)] + f.ZG[ix.G(i, a, gam)] * del.Sbar[del.at(i, gam)];
+      for (int rho = 0; rho < ix.S1; ++rho)
+        if (b(rho, gam) != 0) k += (idt * b(rho, gam)) * (f.Z[ix.Z(i, a, rho)] * del.Sbar[del.at(i, rho)]);
+      f.K[ix.G(i, a, gam)] = k;
+    }
+}
+
+// Body i's share of its parent's sums over chd (A.2 lines 1 and 2), with X^{0 rho} = Y^{0 nu} =
+// y^0 = 0 (ERRATA A-6):  Z_p^{a rho} += Z_i^{a rho} + sum_gamma K_i^{a gamma} X_i^{gamma rho}
+// - corr^a X_i^{a rho}, likewise ZG with Y and z with y; corr^a = ad^D_{μ̄ or Γ̄} S̄ (0 at a = 0).
+void propagate(BlockFamily& f, const Index& ix, int i, int p, const NewtonWorkspace& ws) {
+  const int s = ix.s;
+  for (int a = 0; a < f.rows; ++a) {
+    for (int rho = 0; rho < ix.S1; ++rho) {
+      Mat6 acc = f.Z[ix.Z(i, a, rho)];
+      for (int gam = 1; gam <= s; ++gam) acc.noalias() += f.K[ix.G(i, a, gam)] * ws.X[ix.X(i, gam, rho)].transpose();
+      if (a >= 1) acc.noalias() -= ws.corr[a] * ws.X[ix.X(i, a, rho)].transpose();
+      f.Z[ix.Z(p, a, rho)] += acc;
+    }
+    for (int nu = 1; nu <= s; ++nu) {
+      Mat6 acc = f.ZG[ix.G(i, a, nu)];
+      for (int gam = 1; gam <= s; ++gam) acc.noalias() += f.K[ix.G(i, a, gam)] * ws.Y[ix.Y(i, gam, nu)].transpose();
+      if (a >= 1) acc.noalias() -= ws.corr[a] * ws.Y[ix.Y(i, a, nu)].transpose();
+      f.ZG[ix.G(p, a, nu)] += acc;
+    }
+    Vec6 acc = f.z[ix.z(i, a)];
+    for (int gam = 1; gam <= s; ++gam) acc += f.K[ix.G(i, a, gam)] * ws.y[i * s + gam - 1];
+    if (a >= 1) acc -= ws.corr[a] * ws.y[i * s + a - 1];
+    f.z[ix.z(p, a)] += acc;
+  }
+}
+
 }  // namespace
 
 bool newton_direction(const Model& model, const Quadrature& quad, DelWorkspace& del, NewtonWorkspace& ws,
@@ -56,81 +111,61 @@ bool newton_direction(const Model& model, const Quadrature& quad, DelWorkspace& 
   const double dt = del.dt, idt = 1.0 / dt;
   const MatX& b = quad.b;
   const MatX& A = quad.a;
-  // Index maps of the per-body blocks.
-  auto iD = [&](int i, int a, int rho) { return (i * S1 + a) * S1 + rho; };
-  auto iG = [&](int i, int a, int nu) { return (i * S1 + a) * s + (nu - 1); };   // also H (gamma)
-  auto iP = [&](int i, int a, int rho) { return (i * s + a) * S1 + rho; };       // Π, X (gamma-1, rho)
-  auto iS = [&](int i, int a, int nu) { return (i * s + a) * s + (nu - 1); };    // Ψ, Φ, Y (gamma-1, nu)
+  const Index ix{s, S1};
+  BlockFamily& mom = ws.momentum;  // D, G, l, H
+  BlockFamily& imp = ws.impulse;   // Π, Ψ, ζ, Φ
 
   for (int k = 0; k < n * S1; ++k) del.Sdot[k] = ad(del.v[k], del.Sbar[k]);  // Ṡ̄ = ad_{v̄} S̄
   force_derivatives(model, quad, del, ws);
   const JointForces& jf = model.joint_forces;
 
   // Own terms of every body (children are added as they finish, below).
-  for (int i = 0; i < n; ++i) {
+  for (int i = 0; i < n; ++i)
     for (int a = 0; a < S1; ++a) {
-      for (int rho = 0; rho < S1; ++rho)
-        ws.D[iD(i, a, rho)] = a == rho ? del.Mbar[del.at(i, a)].matrix() : Mat6::Zero();
-      for (int nu = 1; nu <= s; ++nu) ws.G[iG(i, a, nu)].setZero();
-      ws.l[i * S1 + a].setZero();
-    }
-    for (int a = 0; a < s; ++a) {
-      for (int rho = 0; rho < S1; ++rho) ws.Pi[iP(i, a, rho)] = a == rho ? ws.D2F[i * s + a] : Mat6::Zero();
-      for (int nu = 1; nu <= s; ++nu) {
-        Mat6& P = ws.Psi[iS(i, a, nu)];
-        if (a == nu) {
-          const int k = del.at(i, a);
-          P = ws.D1F[i * s + a] + adD(del.F[k]) - ws.D2F[i * s + a] * ad(del.v[k]);
-        } else {
-          P.setZero();
-        }
+      const int k = del.at(i, a);
+      for (int rho = 0; rho < S1; ++rho) {
+        mom.Z[ix.Z(i, a, rho)] = a == rho ? del.Mbar[k].matrix() : Mat6::Zero();  // σ M̄
+        imp.Z[ix.Z(i, a, rho)] = a == rho && a < s ? ws.D2F[i * s + a] : Mat6::Zero();  // σ D_2F̄
       }
-      ws.zeta[i * s + a].setZero();
+      for (int nu = 1; nu <= s; ++nu) {
+        mom.ZG[ix.G(i, a, nu)].setZero();
+        if (a == nu && a < s)  // σ (D_1F̄ + ad^D_F̄ - D_2F̄ ad_v̄), ERRATA A-3
+          imp.ZG[ix.G(i, a, nu)] = ws.D1F[i * s + a] + adD(del.F[k]) - ws.D2F[i * s + a] * ad(del.v[k]);
+        else
+          imp.ZG[ix.G(i, a, nu)].setZero();
+      }
+      mom.z[ix.z(i, a)].setZero();
+      imp.z[ix.z(i, a)].setZero();
     }
-  }
 
   // Algorithm A.2: backward pass.
   for (int i = n - 1; i >= 0; --i) {
     auto Sb = [&](int a) -> const Twist& { return del.Sbar[del.at(i, a)]; };
     auto Sd = [&](int a) -> const Twist& { return del.Sdot[del.at(i, a)]; };
-    // H^{a gamma} and Φ^{a gamma}
-    for (int gam = 1; gam <= s; ++gam) {
-      for (int a = 0; a < S1; ++a) {
-        Vec6 h = ws.D[iD(i, a, gam)] * Sd(gam) + ws.G[iG(i, a, gam)] * Sb(gam);
-        for (int rho = 0; rho < S1; ++rho)
-          if (b(rho, gam) != 0) h += (idt * b(rho, gam)) * (ws.D[iD(i, a, rho)] * Sb(rho));
-        ws.H[iG(i, a, gam)] = h;
-      }
-      for (int a = 0; a < s; ++a) {
-        Vec6 f = ws.Pi[iP(i, a, gam)] * Sd(gam) + ws.Psi[iS(i, a, gam)] * Sb(gam);
-        for (int rho = 0; rho < S1; ++rho)
-          if (b(rho, gam) != 0) f += (idt * b(rho, gam)) * (ws.Pi[iP(i, a, rho)] * Sb(rho));
-        ws.Phi[iS(i, a, gam)] = f;
-      }
-    }
+    couple(mom, ix, i, del, b, idt);  // H
+    couple(imp, ix, i, del, b, idt);  // Φ
     // Θ̄, Ξ̄, ξ̄ and Λ for the residual rows a = 0..s-1.
     for (int a = 0; a < s; ++a) {
-      const int ka = del.at(i, a);
       const double wdt = quad.w[a] * dt;
-      const Mat6 adDmu = adD(del.mu[ka]);
+      const Mat6 adDmu = adD(del.mu[del.at(i, a)]);
       for (int rho = 0; rho < S1; ++rho) {
-        Vec6 th = wdt * (ws.D[iD(i, a, rho)].transpose() * Sd(a)) + ws.Pi[iP(i, a, rho)].transpose() * Sb(a);
+        Vec6 th = wdt * (mom.Z[ix.Z(i, a, rho)].transpose() * Sd(a)) + imp.Z[ix.Z(i, a, rho)].transpose() * Sb(a);
         if (rho == a) th += wdt * (adDmu.transpose() * Sb(a));
-        for (int be = 0; be < S1; ++be) th += A(a, be) * (ws.D[iD(i, be, rho)].transpose() * Sb(be));
+        for (int be = 0; be < S1; ++be) th += A(a, be) * (mom.Z[ix.Z(i, be, rho)].transpose() * Sb(be));
         ws.Theta[a * S1 + rho] = th;
       }
       for (int nu = 1; nu <= s; ++nu) {
-        Vec6 x = wdt * (ws.G[iG(i, a, nu)].transpose() * Sd(a)) + ws.Psi[iS(i, a, nu)].transpose() * Sb(a);
-        for (int be = 0; be < S1; ++be) x += A(a, be) * (ws.G[iG(i, be, nu)].transpose() * Sb(be));
+        Vec6 x = wdt * (mom.ZG[ix.G(i, a, nu)].transpose() * Sd(a)) + imp.ZG[ix.G(i, a, nu)].transpose() * Sb(a);
+        for (int be = 0; be < S1; ++be) x += A(a, be) * (mom.ZG[ix.G(i, be, nu)].transpose() * Sb(be));
         ws.Xi[a * s + nu - 1] = x;
       }
-      double x = wdt * Sd(a).dot(ws.l[i * S1 + a]) + Sb(a).dot(ws.zeta[i * s + a]);
-      for (int be = 0; be < S1; ++be) x += A(a, be) * Sb(be).dot(ws.l[i * S1 + be]);
+      double x = wdt * Sd(a).dot(mom.z[ix.z(i, a)]) + Sb(a).dot(imp.z[ix.z(i, a)]);
+      for (int be = 0; be < S1; ++be) x += A(a, be) * Sb(be).dot(mom.z[ix.z(i, be)]);
       ws.xi[a] = x;
       for (int gam = 1; gam <= s; ++gam) {
-        double L = wdt * Sd(a).dot(ws.H[iG(i, a, gam)]) + Sb(a).dot(ws.Phi[iS(i, a, gam)]);
-        for (int be = 0; be < S1; ++be) L += A(a, be) * Sb(be).dot(ws.H[iG(i, be, gam)]);
-        if (a == gam) L += wdt * (-jf.stiffness[i] + Sb(a).dot(adDmu * Sd(a)));  // D_1Q + ...
+        double L = wdt * Sd(a).dot(mom.K[ix.G(i, a, gam)]) + Sb(a).dot(imp.K[ix.G(i, a, gam)]);
+        for (int be = 0; be < S1; ++be) L += A(a, be) * Sb(be).dot(mom.K[ix.G(i, be, gam)]);
+        if (a == gam) L += wdt * (-jf.stiffness[i] + Sb(a).dot(adDmu * Sd(a)));  // D_1Q + w dt S̄ ad^D_μ̄ Ṡ̄
         L += idt * b(a, gam) * wdt * (-jf.damping[i]);                               // (1/dt) b D_2Q
         ws.Lambda(a, gam - 1) = L;
       }
@@ -138,68 +173,29 @@ bool newton_direction(const Model& model, const Quadrature& quad, DelWorkspace& 
     // X, Y, y = -Λ^{-1} (Θ̄, Ξ̄, r + ξ̄)
     const Eigen::PartialPivLU<MatX> lu(ws.Lambda);
     const double scale = ws.Lambda.cwiseAbs().maxCoeff();
-    if (!(std::abs(lu.determinant()) > 0) || !(scale > 0) ||
-        lu.matrixLU().diagonal().cwiseAbs().minCoeff() <= 1e-14 * scale)
-      return false;
+    if (!(scale > 0) || !(lu.matrixLU().diagonal().cwiseAbs().minCoeff() > 1e-14 * scale)) return false;
     const MatX Linv = lu.inverse();
     for (int gam = 1; gam <= s; ++gam) {
       for (int rho = 0; rho < S1; ++rho) {
         Vec6 x = Vec6::Zero();
         for (int v = 0; v < s; ++v) x -= Linv(gam - 1, v) * ws.Theta[v * S1 + rho];
-        ws.X[iP(i, gam - 1, rho)] = x;
+        ws.X[ix.X(i, gam, rho)] = x;
       }
       for (int nu = 1; nu <= s; ++nu) {
         Vec6 x = Vec6::Zero();
         for (int v = 0; v < s; ++v) x -= Linv(gam - 1, v) * ws.Xi[v * s + nu - 1];
-        ws.Y[iS(i, gam - 1, nu)] = x;
+        ws.Y[ix.Y(i, gam, nu)] = x;
       }
       double yy = 0;
       for (int v = 0; v < s; ++v) yy -= Linv(gam - 1, v) * (r(i, v) + ws.xi[v]);
       ws.y[i * s + gam - 1] = yy;
     }
-    // Contributions of body i to its parent (A.2 sums over chd(par)); X^{0 rho} = 0 etc.
     const int p = model.parent[i];
     if (p < 0) continue;
-    for (int a = 0; a < S1; ++a) {
-      const int ka = del.at(i, a);
-      const Vec6 adS = a >= 1 ? Vec6(adD(del.mu[ka]) * Sb(a)) : Vec6::Zero();
-      for (int rho = 0; rho < S1; ++rho) {
-        Mat6 acc = ws.D[iD(i, a, rho)];
-        for (int gam = 1; gam <= s; ++gam) acc.noalias() += ws.H[iG(i, a, gam)] * ws.X[iP(i, gam - 1, rho)].transpose();
-        if (a >= 1) acc.noalias() -= adS * ws.X[iP(i, a - 1, rho)].transpose();
-        ws.D[iD(p, a, rho)] += acc;
-      }
-      for (int nu = 1; nu <= s; ++nu) {
-        Mat6 acc = ws.G[iG(i, a, nu)];
-        for (int gam = 1; gam <= s; ++gam) acc.noalias() += ws.H[iG(i, a, gam)] * ws.Y[iS(i, gam - 1, nu)].transpose();
-        if (a >= 1) acc.noalias() -= adS * ws.Y[iS(i, a - 1, nu)].transpose();
-        ws.G[iG(p, a, nu)] += acc;
-      }
-      Vec6 acc = ws.l[i * S1 + a];
-      for (int gam = 1; gam <= s; ++gam) acc += ws.H[iG(i, a, gam)] * ws.y[i * s + gam - 1];
-      if (a >= 1) acc -= adS * ws.y[i * s + a - 1];
-      ws.l[p * S1 + a] += acc;
-    }
-    for (int a = 0; a < s; ++a) {
-      const int ka = del.at(i, a);
-      const Vec6 adG = a >= 1 ? Vec6(adD(del.Gamma[ka]) * Sb(a)) : Vec6::Zero();
-      for (int rho = 0; rho < S1; ++rho) {
-        Mat6 acc = ws.Pi[iP(i, a, rho)];
-        for (int gam = 1; gam <= s; ++gam) acc.noalias() += ws.Phi[iS(i, a, gam)] * ws.X[iP(i, gam - 1, rho)].transpose();
-        if (a >= 1) acc.noalias() -= adG * ws.X[iP(i, a - 1, rho)].transpose();
-        ws.Pi[iP(p, a, rho)] += acc;
-      }
-      for (int nu = 1; nu <= s; ++nu) {
-        Mat6 acc = ws.Psi[iS(i, a, nu)];
-        for (int gam = 1; gam <= s; ++gam) acc.noalias() += ws.Phi[iS(i, a, gam)] * ws.Y[iS(i, gam - 1, nu)].transpose();
-        if (a >= 1) acc.noalias() -= adG * ws.Y[iS(i, a - 1, nu)].transpose();
-        ws.Psi[iS(p, a, nu)] += acc;
-      }
-      Vec6 acc = ws.zeta[i * s + a];
-      for (int gam = 1; gam <= s; ++gam) acc += ws.Phi[iS(i, a, gam)] * ws.y[i * s + gam - 1];
-      if (a >= 1) acc -= adG * ws.y[i * s + a - 1];
-      ws.zeta[p * s + a] += acc;
-    }
+    for (int a = 0; a < S1; ++a) ws.corr[a] = a >= 1 ? Vec6(adD(del.mu[del.at(i, a)]) * Sb(a)) : Vec6::Zero();
+    propagate(mom, ix, i, p, ws);
+    for (int a = 0; a < S1; ++a) ws.corr[a] = a >= 1 ? Vec6(adD(del.Gamma[del.at(i, a)]) * Sb(a)) : Vec6::Zero();
+    propagate(imp, ix, i, p, ws);
   }
 
   // Algorithm A.1: forward pass.
@@ -208,8 +204,8 @@ bool newton_direction(const Model& model, const Quadrature& quad, DelWorkspace& 
     for (int gam = 1; gam <= s; ++gam) {
       double d = ws.y[i * s + gam - 1];
       if (p >= 0) {
-        for (int rho = 0; rho < S1; ++rho) d += ws.X[iP(i, gam - 1, rho)].dot(ws.dv[p * S1 + rho]);
-        for (int nu = 1; nu <= s; ++nu) d += ws.Y[iS(i, gam - 1, nu)].dot(ws.eta[p * s + nu - 1]);
+        for (int rho = 0; rho < S1; ++rho) d += ws.X[ix.X(i, gam, rho)].dot(ws.dv[p * S1 + rho]);
+        for (int nu = 1; nu <= s; ++nu) d += ws.Y[ix.Y(i, gam, nu)].dot(ws.eta[p * s + nu - 1]);
       }
       dq(i, gam - 1) = d;
     }

@@ -9,18 +9,24 @@
 
 namespace hovi {
 
+// One of the two families of recursions of Algorithm A.2, the coefficients of a spatial
+// variation written in the variations δ̄v̄^rho, η̄^nu and a constant:
+//   momentum: δ̄μ̄_i^a = sum_rho D^{a rho} δ̄v̄^rho + sum_nu G^{a nu} η̄^nu + l^a, coupling H^{a gamma};
+//   impulse:  δ̄Γ̄_i^a = sum_rho Π^{a rho} δ̄v̄^rho + sum_nu Ψ^{a nu} η̄^nu + ζ^a, coupling Φ^{a gamma}.
+// Per body, rows a = 0..s (the impulse family uses rows 0..s-1 only).
+struct BlockFamily {
+  std::vector<Mat6> Z;   // D or Π: (s+1) x (s+1), columns rho = 0..s
+  std::vector<Mat6> ZG;  // G or Ψ: (s+1) x s, columns nu = 1..s
+  std::vector<Vec6> z;   // l or ζ: s+1
+  std::vector<Vec6> K;   // H or Φ: (s+1) x s, columns gamma = 1..s
+  int rows = 0;          // s+1 for momentum, s for impulse
+};
+
 struct NewtonWorkspace {
   NewtonWorkspace(const Model& model, const Quadrature& quad);
   int n, s;
-  // Per body blocks, row-major in (first index, second index):
-  std::vector<Mat6> D;      // D_i^{a rho}: (s+1) x (s+1)
-  std::vector<Mat6> G;      // G_i^{a nu}: (s+1) x s
-  std::vector<Vec6> l;      // l_i^a: s+1
-  std::vector<Mat6> Pi;     // Π_i^{a rho}: s x (s+1)
-  std::vector<Mat6> Psi;    // Ψ_i^{a nu}: s x s
-  std::vector<Vec6> zeta;   // ζ_i^a: s
-  std::vector<Vec6> H;      // H_i^{a gamma}: (s+1) x s
-  std::vector<Vec6> Phi;    // Φ_i^{a gamma}: s x s
+  BlockFamily momentum;     // D, G, l, H
+  BlockFamily impulse;      // Π, Ψ, ζ, Φ
   std::vector<Vec6> X;      // X_i^{gamma rho} (row vectors): s x (s+1)
   std::vector<Vec6> Y;      // Y_i^{gamma nu}: s x s
   VecX y;                   // y_i^gamma: n x s
@@ -29,6 +35,7 @@ struct NewtonWorkspace {
   std::vector<Vec6> Theta, Xi;  // Θ̄^{a rho} (s x (s+1)), Ξ̄^{a nu} (s x s), as column vectors
   VecX xi;                      // ξ̄^a
   MatX Lambda;                  // Λ_i, s x s
+  std::vector<Vec6> corr;       // ad^D_{μ̄ or Γ̄} S̄ of the current body, per a
   // Forward pass
   std::vector<Twist> eta, dv;   // η̄_i^nu (n x s), spatial variation δ̄v̄_i^rho (n x (s+1))
 };
