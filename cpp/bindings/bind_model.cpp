@@ -4,6 +4,9 @@
 #include "py_model.hpp"
 #include "hovi/algorithms/dynamics.hpp"
 #include "hovi/algorithms/energy.hpp"
+#include "hovi/algorithms/force_jacobians.hpp"
+#include "hovi/algorithms/gravity_hessian.hpp"
+#include "hovi/algorithms/kinetic_hessians.hpp"
 #include "hovi/algorithms/kinematics.hpp"
 #include "hovi/algorithms/mass_matrix.hpp"
 #include "hovi/errors.hpp"
@@ -275,6 +278,26 @@ body (a follower force). control=k scales the wrench by the control input u[k].
             return VecX(forward_dynamics(s.model, s.ws(), s.vec(q, "q"), s.vec(qd, "qdot"), t));
           }, py::arg("q"), py::arg("qdot"), py::arg("tau") = py::none(),
           "q̈ = FD(q, q̇, tau) by the articulated-body algorithm (O(n)), gravity included.")
+      .def("kinetic_energy_hessians", [](PyModel& s, const py::object& q, const py::object& qd) {
+            kinetic_hessians(s.model, s.ws(), s.vec(q, "q"), s.vec(qd, "qdot"));
+            const Data& d = s.ws();
+            return py::make_tuple(d.Kvv, d.Kvq, d.Kqv, d.Kqq);
+          }, py::arg("q"), py::arg("qdot"), R"doc(
+Algorithm 2, O(n^2): (Kvv, Kvq, Kqv, Kqq) with Kvv = d2K/dq̇2, Kvq[i, j] = d/dq_j (dK/dq̇_i),
+Kqv[i, j] = d/dq̇_j (dK/dq_i) = Kvq.T, Kqq = d2K/dq2.
+)doc")
+      .def("gravity_hessian", [](PyModel& s, const py::object& q) {
+            return MatX(gravity_hessian(s.model, s.ws(), s.vec(q, "q")));
+          }, py::arg("q"), "Algorithm 3, O(n^2): d2V_g/dq2 of the gravitational potential (springs not included).")
+      .def("force_jacobians", [](PyModel& s, const py::object& q, const py::object& qd, const py::object& u) {
+            const VecX uu = u.is_none() ? VecX::Zero(s.model.n_controls()) : as_vector(u, "u", s.model.n_controls());
+            ForceJacobians fj(s.model);
+            force_jacobians(s.model, s.ws(), s.vec(q, "q"), s.vec(qd, "qdot"), uu, fj);
+            return py::make_tuple(fj.Q, fj.Qq, fj.Qv, fj.Qu);
+          }, py::arg("q"), py::arg("qdot"), py::arg("u") = py::none(), R"doc(
+(Q, dQ/dq, dQ/dq̇, dQ/du) of the generalized non-conservative force: joint springs, dampers and
+actuators plus the body wrench elements mapped to joint space (gravity not included).
+)doc")
       .def("inverse_dynamics", [](PyModel& s, const py::object& q, const py::object& qd, const py::object& qdd) {
             return VecX(inverse_dynamics(s.model, s.ws(), s.vec(q, "q"), s.vec(qd, "qdot"), s.vec(qdd, "qddot")));
           }, py::arg("q"), py::arg("qdot"), py::arg("qddot"),

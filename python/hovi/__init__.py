@@ -7,6 +7,8 @@ Optimization" (WAFR 2018).
 from ._core import Model, ModelError, URDFError
 from . import models
 from .integrator import ConvergenceError, Integrator, StepInfo, Trajectory
+from .linearizer import DelJacobian, Linearizer, StepLinearization
 
-__all__ = ["Model", "ModelError", "URDFError", "models", "Integrator", "ConvergenceError", "StepInfo", "Trajectory"]
+__all__ = ["Model", "ModelError", "URDFError", "models", "Integrator", "ConvergenceError", "StepInfo", "Trajectory",
+           "Linearizer", "DelJacobian", "StepLinearization"]
 __version__ = "0.1.0"

@@ -1,0 +1,75 @@
+// Bindings of the linearisation (hovi._core.Linearizer); the Pythonic layer is
+// python/hovi/linearizer.py.
+#include "hovi/integrators/linearizer.hpp"
+#include "py_integrator.hpp"
+
+namespace hovi::py_bind {
+
+namespace {
+struct PyLinearizer {
+  explicit PyLinearizer(PyIntegrator& integ)
+      : integ(integ), lin(integ.integ.model(), integ.integ.quadrature(), integ.integ.dt()) {}
+  PyIntegrator& integ;
+  Linearizer lin;
+};
+}  // namespace
+
+void bind_linearizer(py::module_& m) {
+  py::class_<PyLinearizer>(m, "Linearizer")
+      .def(py::init<PyIntegrator&>(), py::arg("integrator"), py::keep_alive<1, 2>())
+      .def("del_jacobian", [](PyLinearizer& L, const py::object& qc, const py::object& u, bool with_u) {
+            MatX Jq, Ju;
+            const MatX q = L.integ.control_points(qc, "control_points"), uu = L.integ.controls(u);
+            {
+              py::gil_scoped_release release;
+              L.lin.del_jacobian(q, uu, Jq, with_u ? &Ju : nullptr);
+            }
+            return py::make_tuple(Jq, with_u ? py::cast(Ju) : py::none());
+          }, py::arg("control_points"), py::arg("u") = py::none(), py::arg("with_u") = true)
+      .def("step_jacobians", [](PyLinearizer& L, const py::object& qc, const py::object& u, bool want_A, bool want_B) {
+            const MatX q = L.integ.control_points(qc, "control_points"), uu = L.integ.controls(u);
+            MatX A, B;
+            bool ok;
+            {
+              py::gil_scoped_release release;
+              ok = L.lin.step_jacobians(q, uu, want_A ? &A : nullptr, want_B ? &B : nullptr);
+            }
+            if (!ok) throw InputError("the DEL Jacobian dR/dq^{k,1..s} is singular at these control points");
+            return py::make_tuple(want_A ? py::cast(A) : py::none(), want_B ? py::cast(B) : py::none());
+          }, py::arg("control_points"), py::arg("u") = py::none(), py::arg("want_A") = true, py::arg("want_B") = true)
+      .def("rollout_jacobians", [](PyLinearizer& L, const py::object& cps, const py::object& u, bool want_A, bool want_B) {
+            const int n = L.integ.n(), S1 = L.integ.s() + 1, m = L.integ.m();
+            const MatX C = as_matrix(cps, "control_points (steps, (s+1) n)", -1, S1 * n);
+            const int N = static_cast<int>(C.rows());
+            MatX U = MatX::Zero(N, S1 * m);
+            if (!u.is_none()) U = as_matrix(u, "u (steps, (s+1) m)", N, S1 * m);
+            py::array_t<double> As(std::vector<py::ssize_t>{want_A ? N : 0, 2 * n, 2 * n});
+            py::array_t<double> Bs(std::vector<py::ssize_t>{want_B ? N : 0, 2 * n, S1 * m});
+            auto a = As.mutable_unchecked<3>();
+            auto b = Bs.mutable_unchecked<3>();
+            int failed = -1;
+            {
+              py::gil_scoped_release release;
+              MatX A, B, qc(n, S1), uk(m, S1);
+              for (int k = 0; k < N && failed < 0; ++k) {
+                for (int c = 0; c < S1; ++c) qc.col(c) = C.row(k).segment(c * n, n).transpose();
+                for (int c = 0; c < S1; ++c) uk.col(c) = U.row(k).segment(c * m, m).transpose();
+                if (!L.lin.step_jacobians(qc, uk, want_A ? &A : nullptr, want_B ? &B : nullptr)) {
+                  failed = k;
+                  break;
+                }
+                if (want_A)
+                  for (int i = 0; i < 2 * n; ++i)
+                    for (int j = 0; j < 2 * n; ++j) a(k, i, j) = A(i, j);
+                if (want_B)
+                  for (int i = 0; i < 2 * n; ++i)
+                    for (int j = 0; j < S1 * m; ++j) b(k, i, j) = B(i, j);
+              }
+            }
+            if (failed >= 0)
+              throw InputError("the DEL Jacobian is singular at step " + std::to_string(failed));
+            return py::make_tuple(want_A ? py::object(As) : py::none(), want_B ? py::object(Bs) : py::none());
+          }, py::arg("control_points"), py::arg("u") = py::none(), py::arg("want_A") = true, py::arg("want_B") = true);
+}
+
+}  // namespace hovi::py_bind

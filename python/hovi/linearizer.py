@@ -1,0 +1,100 @@
+"""Linearisation of the Galerkin integrator (paper Section 4): the Pythonic layer over
+hovi._core.Linearizer."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import _core
+from .integrator import ConvergenceError, Integrator, Trajectory
+
+
+@dataclass
+class DelJacobian:
+    """The Jacobian of the DEL equations at control points q^{k,0..s}.
+
+    Rows are stacked in blocks of n: blocks 0..s-1 are the residuals r^{k,a} and block s is the
+    momentum p^{k+1}. ``dq`` has column blocks q^{k,0..s}; ``du`` has column blocks u^{k,0..s}
+    (m columns each); d r^{k,0}/d p^k is the identity and no other row depends on p^k.
+    ``blocks()`` views ``dq`` as (s+1, s+1, n, n).
+    """
+    dq: np.ndarray
+    du: np.ndarray | None
+    s: int
+    n: int
+
+    def blocks(self) -> np.ndarray:
+        S1, n = self.s + 1, self.n
+        return self.dq.reshape(S1, n, S1, n).transpose(0, 2, 1, 3)
+
+
+@dataclass
+class StepLinearization:
+    """One converged step and its Jacobians. State ordering x = (q, p).
+
+    A = d(q^{k+1}, p^{k+1}) / d(q^k, p^k), (2n, 2n).
+    B = d(q^{k+1}, p^{k+1}) / du: (2n, (s+1) m) with column block a for u^{k,a}, or (2n, m) for a
+    control held over the step (hold=True, the sum of the blocks).
+    """
+    q_next: np.ndarray
+    p_next: np.ndarray
+    control_points: np.ndarray
+    A: np.ndarray | None
+    B: np.ndarray | None
+
+
+def _hold(B: np.ndarray, m: int) -> np.ndarray:
+    """Per-control-point columns -> one held control: sum the (s+1) column blocks."""
+    return B.reshape(*B.shape[:-1], -1, m).sum(axis=-2)
+
+
+class Linearizer:
+    """Exact linearisation of an Integrator's DEL equations and of its one-step map.
+
+    D^2 L_d is assembled in O(s^2 n^2) from Algorithms 2 and 3 at each control point; the step
+    Jacobians A, B follow by the implicit function theorem with one LU factorisation of the
+    (sn x sn) DEL Jacobian serving every right-hand side. Asking only for A does no work for B.
+    """
+
+    def __init__(self, integrator: Integrator):
+        if not isinstance(integrator, Integrator):
+            raise TypeError(f"integrator must be a hovi.Integrator, got {type(integrator).__name__}")
+        self.integrator = integrator
+        self._core = _core.Linearizer(integrator._core)
+
+    def del_jacobian(self, control_points, u=None, *, with_u: bool = True) -> DelJacobian:
+        """Jacobian of (r^{k,0..s-1}, p^{k+1}) with respect to q^{k,0..s} (and u^{k,0..s})."""
+        dq, du = self._core.del_jacobian(control_points, u, with_u)
+        return DelJacobian(dq=dq, du=du, s=self.integrator.s, n=self.integrator.n)
+
+    def step_jacobians(self, q, p, u=None, *, A: bool = True, B: bool = True, hold: bool = False,
+                       guess=None) -> StepLinearization:
+        """Take one step from (q, p) with controls u and linearise it (see StepLinearization)."""
+        q_next, p_next, info = self.integrator.step(q, p, u, guess=guess)
+        Am, Bm = self._core.step_jacobians(info.control_points, u, A, B)
+        if Bm is not None and hold:
+            Bm = _hold(Bm, self.integrator.model.n_controls)
+        return StepLinearization(q_next, p_next, info.control_points, Am, Bm)
+
+    def linearize_at(self, control_points, u=None, *, A: bool = True, B: bool = True, hold: bool = False):
+        """(A, B) at given converged control points (s+1, n) of a step."""
+        Am, Bm = self._core.step_jacobians(control_points, u, A, B)
+        if Bm is not None and hold:
+            Bm = _hold(Bm, self.integrator.model.n_controls)
+        return Am, Bm
+
+    def rollout_jacobians(self, trajectory: Trajectory, u=None, *, A: bool = True, B: bool = True,
+                          hold: bool = False):
+        """(A_k, B_k) along a trajectory, computed in C++: arrays (K, 2n, 2n) and (K, 2n, (s+1) m)
+        (or (K, 2n, m) with hold=True). u as given to Integrator.rollout."""
+        integ = self.integrator
+        if not trajectory.converged:
+            raise ConvergenceError("the trajectory has unconverged steps; linearise the converged part only")
+        K = trajectory.control_points.shape[0]
+        U = integ._rollout_controls(u, K)
+        cps = np.ascontiguousarray(trajectory.control_points.reshape(K, -1))
+        As, Bs = self._core.rollout_jacobians(cps, U, A, B)
+        if Bs is not None and hold:
+            Bs = _hold(Bs, integ.model.n_controls)
+        return As, Bs
