@@ -5,7 +5,11 @@
 //   hovi_bench_speed pendulum N S...     the built-in N-link pendulum
 //   hovi_bench_speed urdf PATH S...      a URDF (fixed base), loaded by hovi and handed to Pinocchio
 //   hovi_bench_speed skip PATH           DEL evaluation with and without force elements / gravity
+//   hovi_bench_speed lin-pendulum N S... / lin-urdf PATH S...
+//                                        linearisation: D^2 L_d, DEL Jacobian, step Jacobians A, (A, B),
+//                                        against Pinocchio's computeRNEADerivatives
 #include <pinocchio/algorithm/aba.hpp>
+#include <pinocchio/algorithm/rnea-derivatives.hpp>
 #include <pinocchio/algorithm/rnea.hpp>
 #include <pinocchio/multibody.hpp>
 
@@ -22,6 +26,7 @@
 #include "hovi/algorithms/dynamics.hpp"
 #include "hovi/algorithms/newton_direction.hpp"
 #include "hovi/integrators/galerkin_integrator.hpp"
+#include "hovi/integrators/linearizer.hpp"
 #include "hovi/models/pendulum.hpp"
 #include "hovi/parsers/urdf.hpp"
 
@@ -132,6 +137,31 @@ struct Bench {
                 name.c_str(), n, s, dt, t_eval, t_dir, t_step, info.iterations, info.converged() ? "true" : "false",
                 t_roll, ro.steps, ro.iterations.head(std::max(ro.steps, 1)).cast<double>().mean());
   }
+
+  void linearization_line(int s, double dt) {
+    const int n = model.n();
+    pinocchio::Model pm = to_pinocchio(model);
+    pinocchio::Data pd(pm);
+    const VecX q = random(n, 1.5), v = random(n, 1.5), a = random(n, 1.5);
+    const double t_rnead = time_per_call([&] { pinocchio::computeRNEADerivatives(pm, pd, q, v, a); });
+    GalerkinIntegrator integ(model, s, dt);
+    const Quadrature& quad = integ.quadrature();
+    DelJacobianWorkspace ws(model, quad);
+    Linearizer lin(model, quad, dt);
+    const VecX q0 = random(n, M_PI / 12), qd0 = VecX::Zero(n);
+    MatX qc(n, s + 1), u = MatX::Zero(model.n_controls(), s + 1), H((s + 1) * n, (s + 1) * n), Jq, A, B;
+    VecX pn(n);
+    qc.col(0) = q0;
+    integ.guess_from_velocity(qd0, qc);
+    integ.step(integ.momentum(q0, qd0), u, qc, pn);  // converged control points
+    const double t_d2l = time_per_call([&] { dlagrangian_hessian(model, quad, ws, qc, dt, H); });
+    const double t_jac = time_per_call([&] { lin.del_jacobian(qc, u, Jq, nullptr); });
+    const double t_A = time_per_call([&] { lin.step_jacobians(qc, u, &A, nullptr); });
+    const double t_AB = time_per_call([&] { lin.step_jacobians(qc, u, &A, &B); });
+    std::printf("{\"model\": \"%s\", \"n\": %d, \"s\": %d, \"op\": \"linearization\", \"pin_rnea_derivatives\": %.6e, "
+                "\"d2Ld\": %.6e, \"del_jacobian\": %.6e, \"step_A\": %.6e, \"step_AB\": %.6e}\n",
+                name.c_str(), n, s, t_rnead, t_d2l, t_jac, t_A, t_AB);
+  }
 };
 
 // DEL evaluation cost with and without the work a scene may or may not need.
@@ -169,13 +199,18 @@ int main(int argc, char** argv) {
     return 2;
   }
   const std::string kind = argv[1];
-  Model model = kind == "pendulum" ? models::pendulum(std::stoi(argv[2])) : model_from_urdf(argv[2]);
-  const std::string name = kind == "pendulum" ? "pendulum" : std::string(argv[2]).substr(std::string(argv[2]).rfind('/') + 1);
+  const bool pendulum = kind == "pendulum" || kind == "lin-pendulum";
+  Model model = pendulum ? models::pendulum(std::stoi(argv[2])) : model_from_urdf(argv[2]);
+  const std::string name = pendulum ? "pendulum" : std::string(argv[2]).substr(std::string(argv[2]).rfind('/') + 1);
   if (kind == "skip") {
     skip_lines(model, name, 2);
     return 0;
   }
   Bench b{model, name};
+  if (kind.rfind("lin-", 0) == 0) {
+    for (int k = 3; k < argc; ++k) b.linearization_line(std::stoi(argv[k]), 0.01);
+    return 0;
+  }
   b.reference_line();
   for (int k = 3; k < argc; ++k) b.integrator_line(std::stoi(argv[k]), 0.01);
   return 0;
