@@ -58,8 +58,9 @@ def table(rows, slopes):
                  "factorisation for all 2n + (s+1)m right-hand sides; the LU and the product with dp/dz dominate "
                  "beyond n ≈ 32, hence slopes above 2 there. The recursive solver of Algorithms A.1/A.2 could "
                  "take the right-hand sides one at a time in O(s²n) each (O(s²n²) in all), but at these sizes "
-                 "2n of its passes cost more than one dense LU (about 2n × 0.3 of a Newton direction: ~50 ms "
-                 "against ~11 ms at n = 128, s = 3), so hovi keeps the dense factorisation.")
+                 "2n of its passes would cost more than one dense LU (an estimate from the measured Newton direction, "
+                 "0.6 ms at n = 128, s = 3 in speed.py: 256 passes at a third of it take ~50 ms, against the 11 ms "
+                 "measured here for the dense path), so hovi keeps the dense factorisation.")
     return "\n".join(lines)
 
 
