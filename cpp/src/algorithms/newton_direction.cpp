@@ -30,7 +30,9 @@ NewtonWorkspace::NewtonWorkspace(const Model& model, const Quadrature& quad) : n
   Xi.resize(S * S);
   xi.resize(S);
   Lambda.resize(S, S);
-  corr.resize(S1);
+  Lambda_inv.assign(N, MatX(S, S));
+  corr_mu.resize(N * S1);
+  corr_Gamma.resize(N * S1);
   eta.resize(N * S);
   dv.resize(N * S1);
 }
@@ -80,40 +82,49 @@ void couple(BlockFamily& f, const Index& ix, int i, const DelWorkspace& del, con
 
 // Body i's share of its parent's sums over chd (A.2 lines 1 and 2), with X^{0 rho} = Y^{0 nu} =
 // y^0 = 0 (ERRATA A-6):  Z_p^{a rho} += Z_i^{a rho} + sum_gamma K_i^{a gamma} X_i^{gamma rho}
-// - corr^a X_i^{a rho}, likewise ZG with Y and z with y; corr^a = ad^D_{μ̄ or Γ̄} S̄ (0 at a = 0).
-void propagate(BlockFamily& f, const Index& ix, int i, int p, const NewtonWorkspace& ws) {
+// - corr^a X_i^{a rho}, and likewise ZG with Y; corr^a = ad^D_{μ̄ or Γ̄} S̄ (0 at a = 0).
+void propagate_blocks(BlockFamily& f, const Index& ix, int i, int p, const NewtonWorkspace& ws,
+                      const std::vector<Vec6>& corr) {
   const int s = ix.s;
   for (int a = 0; a < f.rows; ++a) {
+    const Vec6& c = corr[ix.z(i, a)];
     for (int rho = 0; rho < ix.S1; ++rho) {
       Mat6 acc = f.Z[ix.Z(i, a, rho)];
       for (int gam = 1; gam <= s; ++gam) acc.noalias() += f.K[ix.G(i, a, gam)] * ws.X[ix.X(i, gam, rho)].transpose();
-      if (a >= 1) acc.noalias() -= ws.corr[a] * ws.X[ix.X(i, a, rho)].transpose();
+      if (a >= 1) acc.noalias() -= c * ws.X[ix.X(i, a, rho)].transpose();
       f.Z[ix.Z(p, a, rho)] += acc;
     }
     for (int nu = 1; nu <= s; ++nu) {
       Mat6 acc = f.ZG[ix.G(i, a, nu)];
       for (int gam = 1; gam <= s; ++gam) acc.noalias() += f.K[ix.G(i, a, gam)] * ws.Y[ix.Y(i, gam, nu)].transpose();
-      if (a >= 1) acc.noalias() -= ws.corr[a] * ws.Y[ix.Y(i, a, nu)].transpose();
+      if (a >= 1) acc.noalias() -= c * ws.Y[ix.Y(i, a, nu)].transpose();
       f.ZG[ix.G(p, a, nu)] += acc;
     }
+  }
+}
+
+// The same for the offsets: z_p^a += z_i^a + sum_gamma K_i^{a gamma} y_i^gamma - corr^a y_i^a.
+void propagate_offsets(BlockFamily& f, const Index& ix, int i, int p, const NewtonWorkspace& ws,
+                       const std::vector<Vec6>& corr) {
+  const int s = ix.s;
+  for (int a = 0; a < f.rows; ++a) {
     Vec6 acc = f.z[ix.z(i, a)];
     for (int gam = 1; gam <= s; ++gam) acc += f.K[ix.G(i, a, gam)] * ws.y[i * s + gam - 1];
-    if (a >= 1) acc -= ws.corr[a] * ws.y[i * s + a - 1];
+    if (a >= 1) acc -= corr[ix.z(i, a)] * ws.y[i * s + a - 1];
     f.z[ix.z(p, a)] += acc;
   }
 }
 
 }  // namespace
 
-bool newton_direction(const Model& model, const Quadrature& quad, DelWorkspace& del, NewtonWorkspace& ws,
-                      const Eigen::Ref<const MatX>& r, Eigen::Ref<MatX> dq) {
+bool newton_factor(const Model& model, const Quadrature& quad, DelWorkspace& del, NewtonWorkspace& ws) {
   const int n = model.n(), s = quad.s, S1 = s + 1;
   const double dt = del.dt, idt = 1.0 / dt;
   const MatX& b = quad.b;
   const MatX& A = quad.a;
   const Index ix{s, S1};
-  BlockFamily& mom = ws.momentum;  // D, G, l, H
-  BlockFamily& imp = ws.impulse;   // Π, Ψ, ζ, Φ
+  BlockFamily& mom = ws.momentum;  // D, G, H
+  BlockFamily& imp = ws.impulse;   // Π, Ψ, Φ
 
   for (int k = 0; k < n * S1; ++k) del.Sdot[k] = ad(del.v[k], del.Sbar[k]);  // Ṡ̄ = ad_{v̄} S̄
   force_derivatives(model, quad, del, ws);
@@ -134,17 +145,17 @@ bool newton_direction(const Model& model, const Quadrature& quad, DelWorkspace& 
         else
           imp.ZG[ix.G(i, a, nu)].setZero();
       }
-      mom.z[ix.z(i, a)].setZero();
-      imp.z[ix.z(i, a)].setZero();
+      ws.corr_mu[ix.z(i, a)] = a >= 1 ? Vec6(adD(del.mu[k]) * del.Sbar[k]) : Vec6::Zero();
+      ws.corr_Gamma[ix.z(i, a)] = a >= 1 ? Vec6(adD(del.Gamma[k]) * del.Sbar[k]) : Vec6::Zero();
     }
 
-  // Algorithm A.2: backward pass.
+  // Algorithm A.2, backward pass: the residual-independent part.
   for (int i = n - 1; i >= 0; --i) {
     auto Sb = [&](int a) -> const Twist& { return del.Sbar[del.at(i, a)]; };
     auto Sd = [&](int a) -> const Twist& { return del.Sdot[del.at(i, a)]; };
     couple(mom, ix, i, del, b, idt);  // H
     couple(imp, ix, i, del, b, idt);  // Φ
-    // Θ̄, Ξ̄, ξ̄ and Λ for the residual rows a = 0..s-1.
+    // Θ̄, Ξ̄ and Λ for the residual rows a = 0..s-1.
     for (int a = 0; a < s; ++a) {
       const double wdt = quad.w[a] * dt;
       const Mat6 adDmu = adD(del.mu[del.at(i, a)]);
@@ -159,9 +170,6 @@ bool newton_direction(const Model& model, const Quadrature& quad, DelWorkspace& 
         for (int be = 0; be < S1; ++be) x += A(a, be) * (mom.ZG[ix.G(i, be, nu)].transpose() * Sb(be));
         ws.Xi[a * s + nu - 1] = x;
       }
-      double x = wdt * Sd(a).dot(mom.z[ix.z(i, a)]) + Sb(a).dot(imp.z[ix.z(i, a)]);
-      for (int be = 0; be < S1; ++be) x += A(a, be) * Sb(be).dot(mom.z[ix.z(i, be)]);
-      ws.xi[a] = x;
       for (int gam = 1; gam <= s; ++gam) {
         double L = wdt * Sd(a).dot(mom.K[ix.G(i, a, gam)]) + Sb(a).dot(imp.K[ix.G(i, a, gam)]);
         for (int be = 0; be < S1; ++be) L += A(a, be) * Sb(be).dot(mom.K[ix.G(i, be, gam)]);
@@ -170,11 +178,12 @@ bool newton_direction(const Model& model, const Quadrature& quad, DelWorkspace& 
         ws.Lambda(a, gam - 1) = L;
       }
     }
-    // X, Y, y = -Λ^{-1} (Θ̄, Ξ̄, r + ξ̄)
+    // Λ̄ = Λ^{-1}; X, Y = -Λ̄ (Θ̄, Ξ̄)
     const Eigen::PartialPivLU<MatX> lu(ws.Lambda);
     const double scale = ws.Lambda.cwiseAbs().maxCoeff();
     if (!(scale > 0) || !(lu.matrixLU().diagonal().cwiseAbs().minCoeff() > 1e-14 * scale)) return false;
-    const MatX Linv = lu.inverse();
+    MatX& Linv = ws.Lambda_inv[i];
+    Linv = lu.inverse();
     for (int gam = 1; gam <= s; ++gam) {
       for (int rho = 0; rho < S1; ++rho) {
         Vec6 x = Vec6::Zero();
@@ -186,16 +195,41 @@ bool newton_direction(const Model& model, const Quadrature& quad, DelWorkspace& 
         for (int v = 0; v < s; ++v) x -= Linv(gam - 1, v) * ws.Xi[v * s + nu - 1];
         ws.Y[ix.Y(i, gam, nu)] = x;
       }
-      double yy = 0;
-      for (int v = 0; v < s; ++v) yy -= Linv(gam - 1, v) * (r(i, v) + ws.xi[v]);
-      ws.y[i * s + gam - 1] = yy;
     }
     const int p = model.parent[i];
     if (p < 0) continue;
-    for (int a = 0; a < S1; ++a) ws.corr[a] = a >= 1 ? Vec6(adD(del.mu[del.at(i, a)]) * Sb(a)) : Vec6::Zero();
-    propagate(mom, ix, i, p, ws);
-    for (int a = 0; a < S1; ++a) ws.corr[a] = a >= 1 ? Vec6(adD(del.Gamma[del.at(i, a)]) * Sb(a)) : Vec6::Zero();
-    propagate(imp, ix, i, p, ws);
+    propagate_blocks(mom, ix, i, p, ws, ws.corr_mu);
+    propagate_blocks(imp, ix, i, p, ws, ws.corr_Gamma);
+  }
+  return true;
+}
+
+void newton_solve(const Model& model, const Quadrature& quad, const DelWorkspace& del, NewtonWorkspace& ws,
+                  const Eigen::Ref<const MatX>& r, Eigen::Ref<MatX> dq) {
+  const int n = model.n(), s = quad.s, S1 = s + 1;
+  const double dt = del.dt, idt = 1.0 / dt;
+  const MatX& b = quad.b;
+  const MatX& A = quad.a;
+  const Index ix{s, S1};
+  BlockFamily& mom = ws.momentum;  // l
+  BlockFamily& imp = ws.impulse;   // ζ
+  for (int k = 0; k < n * S1; ++k) {
+    mom.z[k].setZero();
+    imp.z[k].setZero();
+  }
+  // Algorithm A.2, backward pass: l, ζ, ξ̄ and y = -Λ̄ (r + ξ̄).
+  for (int i = n - 1; i >= 0; --i) {
+    auto Sb = [&](int a) -> const Twist& { return del.Sbar[del.at(i, a)]; };
+    for (int a = 0; a < s; ++a) {
+      double x = quad.w[a] * dt * del.Sdot[del.at(i, a)].dot(mom.z[ix.z(i, a)]) + Sb(a).dot(imp.z[ix.z(i, a)]);
+      for (int be = 0; be < S1; ++be) x += A(a, be) * Sb(be).dot(mom.z[ix.z(i, be)]);
+      ws.xi[a] = x + r(i, a);
+    }
+    ws.y.segment(i * s, s).noalias() = -ws.Lambda_inv[i] * ws.xi;
+    const int p = model.parent[i];
+    if (p < 0) continue;
+    propagate_offsets(mom, ix, i, p, ws, ws.corr_mu);
+    propagate_offsets(imp, ix, i, p, ws, ws.corr_Gamma);
   }
 
   // Algorithm A.1: forward pass.
@@ -223,6 +257,12 @@ bool newton_direction(const Model& model, const Quadrature& quad, DelWorkspace& 
       ws.dv[i * S1 + rho] = dvr;
     }
   }
+}
+
+bool newton_direction(const Model& model, const Quadrature& quad, DelWorkspace& del, NewtonWorkspace& ws,
+                      const Eigen::Ref<const MatX>& r, Eigen::Ref<MatX> dq) {
+  if (!newton_factor(model, quad, del, ws)) return false;
+  newton_solve(model, quad, del, ws, r, dq);
   return true;
 }
 

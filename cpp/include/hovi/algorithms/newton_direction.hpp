@@ -31,18 +31,29 @@ struct NewtonWorkspace {
   std::vector<Vec6> Y;      // Y_i^{gamma nu}: s x s
   VecX y;                   // y_i^gamma: n x s
   std::vector<Mat6> D1F, D2F;  // D_1F̄_i^a, D_2F̄_i^a of the discrete impulse, a = 0..s-1
+  std::vector<MatX> Lambda_inv;     // Λ̄_i = Λ_i^{-1}, s x s per body
+  std::vector<Vec6> corr_mu;        // ad^D_{μ̄_i^a} S̄_i^a (0 at a = 0), n x (s+1)
+  std::vector<Vec6> corr_Gamma;     // ad^D_{Γ̄_i^a} S̄_i^a (0 at a = 0), n x (s+1)
   // Scratch of one body
   std::vector<Vec6> Theta, Xi;  // Θ̄^{a rho} (s x (s+1)), Ξ̄^{a nu} (s x s), as column vectors
   VecX xi;                      // ξ̄^a
   MatX Lambda;                  // Λ_i, s x s
-  std::vector<Vec6> corr;       // ad^D_{μ̄ or Γ̄} S̄ of the current body, per a
   // Forward pass
   std::vector<Twist> eta, dv;   // η̄_i^nu (n x s), spatial variation δ̄v̄_i^rho (n x (s+1))
 };
 
-// Computes dq (n x s, column gamma-1 = δq^{k,gamma}) from the state left in `del` by the last
-// del_residual call and its residual r (n x s). Returns false if a pivot block Λ_i is singular
-// (ERRATA A-8), leaving dq unspecified.
+// The part of Algorithm A.2 that does not depend on the residual (D, G, Π, Ψ, H, Φ, Λ^{-1}, X,
+// Y), O(s^3 n), from the state left in `del` by the last del_residual call. Returns false if a
+// pivot block Λ_i is singular (ERRATA A-8).
+bool newton_factor(const Model& model, const Quadrature& quad, DelWorkspace& del, NewtonWorkspace& ws);
+
+// dq = -J^{-1} r for any right-hand side r (n x s) after newton_factor: the residual-dependent
+// recursion of A.2 (l, ζ, ξ̄, y) and Algorithm A.1, O(s^2 n) per right-hand side.
+void newton_solve(const Model& model, const Quadrature& quad, const DelWorkspace& del, NewtonWorkspace& ws,
+                  const Eigen::Ref<const MatX>& r, Eigen::Ref<MatX> dq);
+
+// newton_factor then newton_solve: dq (n x s, column gamma-1 = δq^{k,gamma}) for the residual r
+// of the last del_residual call. Returns false (dq unspecified) if a pivot block is singular.
 bool newton_direction(const Model& model, const Quadrature& quad, DelWorkspace& del, NewtonWorkspace& ws,
                       const Eigen::Ref<const MatX>& r, Eigen::Ref<MatX> dq);
 
