@@ -40,6 +40,13 @@ void bind_integrator(py::module_& m) {
       .def_property_readonly("s", &PyIntegrator::s)
       .def_property_readonly("n", &PyIntegrator::n)
       .def_property_readonly("n_controls", &PyIntegrator::m)
+      .def_property_readonly("n_constraints", [](const PyIntegrator& p) { return p.integ.model().n_constraints(); })
+      .def_property_readonly("multipliers", [](PyIntegrator& p) { return MatX(p.integ.multipliers().transpose()); },
+                             "λ^{k,0..s-1} of the last step, (s, n_constraints).")
+      .def("project", [](PyIntegrator& p, const py::object& q, const py::object& qd, double tol) {
+            auto qv = p.integ.project(as_vector(q, "q", p.n()), as_vector(qd, "qdot", p.n()), tol);
+            return py::make_tuple(qv.first, qv.second);
+          }, py::arg("q"), py::arg("qdot"), py::arg("tol") = 1e-12)
       .def_property_readonly("dt", [](const PyIntegrator& p) { return p.integ.dt(); })
       .def_property_readonly("nodes", [](const PyIntegrator& p) { return VecX(p.integ.quadrature().c); })
       .def_property_readonly("weights", [](const PyIntegrator& p) { return VecX(p.integ.quadrature().w); })
@@ -115,6 +122,7 @@ void bind_integrator(py::module_& m) {
             py::list st;
             for (SolveStatus x : r.status) st.append(to_string(x));
             d["status"] = st;
+            d["multipliers"] = MatX(r.multipliers.topRows(r.steps));
             d["steps"] = r.steps;
             d["seconds"] = seconds;
             return d;

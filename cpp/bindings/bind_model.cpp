@@ -4,6 +4,7 @@
 #include "py_model.hpp"
 #include "hovi/algorithms/dynamics.hpp"
 #include "hovi/algorithms/energy.hpp"
+#include "hovi/constraints/constraint.hpp"
 #include "hovi/algorithms/force_jacobians.hpp"
 #include "hovi/algorithms/gravity_hessian.hpp"
 #include "hovi/algorithms/kinetic_hessians.hpp"
@@ -218,6 +219,43 @@ body (a follower force). control=k scales the wrench by the control input u[k].
             s.model.add_wrench(std::make_shared<BodyDrag>(body_arg(s.model, body), linear, angular));
           }, py::arg("body"), py::arg("linear"), py::arg("angular") = 0.0,
           "Linear drag at the centre of mass in the body frame: F = -(angular w, linear v_com).")
+      .def("add_point_constraint", [](PyModel& s, const py::object& body, const py::object& point,
+                                      const py::object& target, const std::string& axes) {
+            const int i = body_arg(s.model, body);
+            const Vec3 r = point.is_none() ? Vec3::Zero() : Vec3(as_vector(point, "point", 3) - s.model.spec[i].com);
+            s.model.add_constraint(std::make_shared<PointConstraint>(i, r, as_vector(target, "target", 3), axes));
+          }, py::arg("body"), py::arg("point") = py::none(), py::arg("target"), py::arg("axes") = "xyz", R"doc(
+Hold a point of a body (in its joint frame; default the centre of mass) at a world point:
+h = P (x(q) - target) with P the rows of `axes` ('xyz', or e.g. 'xz' for planar use).
+)doc")
+      .def("add_loop_constraint", [](PyModel& s, const py::object& b1, const py::object& p1, const py::object& b2,
+                                     const py::object& p2, const std::string& axes) {
+            const int i = body_arg(s.model, b1), j = body_arg(s.model, b2);
+            const Vec3 r1 = as_vector(p1, "point1", 3) - s.model.spec[i].com, r2 = as_vector(p2, "point2", 3) - s.model.spec[j].com;
+            s.model.add_constraint(std::make_shared<LoopConstraint>(i, r1, j, r2, axes));
+          }, py::arg("body1"), py::arg("point1"), py::arg("body2"), py::arg("point2"), py::arg("axes") = "xyz",
+          "Make point1 of body1 and point2 of body2 (each in its body's joint frame) coincide: a loop closure.")
+      .def("add_orientation_constraint", [](PyModel& s, const py::object& body, const py::object& R0) {
+            s.model.add_constraint(std::make_shared<OrientationConstraint>(body_arg(s.model, body), as_matrix(R0, "rotation", 3, 3)));
+          }, py::arg("body"), py::arg("rotation"), "Hold a body's orientation at the world rotation `rotation` (3 equations).")
+      .def("add_joint_coupling", [](PyModel& s, const py::object& c, double offset) {
+            s.model.add_constraint(std::make_shared<JointCoupling>(as_vector(c, "coefficients", s.model.n()), offset));
+          }, py::arg("coefficients"), py::arg("offset") = 0.0, "A linear coupling of joint coordinates: coefficients . q = offset.")
+      .def_property_readonly("n_constraints", [](const PyModel& s) { return s.model.n_constraints(); },
+                             "Number of constraint equations.")
+      .def("constraint_values", [](PyModel& s, const py::object& q) {
+            const VecX qv = s.vec(q, "q");
+            forward_kinematics(s.model, s.ws(), qv);
+            VecX h(s.model.n_constraints());
+            constraint_values(s.model, KinematicsView{s.model, s.ws().g.data(), s.ws().Sbar.data(), 1}, qv, h);
+            return h;
+          }, py::arg("q"), "h(q) of all constraints stacked.")
+      .def("constraint_jacobian", [](PyModel& s, const py::object& q) {
+            forward_kinematics(s.model, s.ws(), s.vec(q, "q"));
+            MatX J(s.model.n_constraints(), s.model.n());
+            constraint_jacobian(s.model, KinematicsView{s.model, s.ws().g.data(), s.ws().Sbar.data(), 1}, J);
+            return J;
+          }, py::arg("q"), "Dh(q), (n_constraints, n).")
       .def_property_readonly("n_controls", [](const PyModel& s) { return s.model.n_controls(); })
       .def_property_readonly("actuation", [](const PyModel& s) { return MatX(s.model.joint_forces.actuation); },
                              "Actuation map B (n x m): joint forces Q += B u.")

@@ -36,6 +36,7 @@ class Trajectory:
     iterations: np.ndarray      # (attempted,) Newton iterations per step
     residuals: np.ndarray       # (attempted,) final ||r||_inf per step
     status: list = field(default_factory=list)
+    multipliers: np.ndarray | None = None  # (K, s, n_constraints): λ^{k,0..s-1} of constrained steps
     solve_seconds: float = 0.0  # time spent in the C++ loop
     integrator: "Integrator | None" = field(default=None, repr=False)
 
@@ -102,6 +103,32 @@ class Integrator:
     def __repr__(self):
         return f"<hovi.Integrator order {self.order} (s={self.s}), dt={self.dt}, n={self.n}>"
 
+    # --- constraints ---------------------------------------------------------------------------
+    @property
+    def n_constraints(self) -> int:
+        return self._core.n_constraints
+
+    def project(self, q, qdot=None, tol: float = 1e-12):
+        """A consistent initial state for a constrained model: (q, qdot) with h(q) = 0 (Gauss-Newton,
+        minimum-norm corrections) and Dh(q) qdot = 0 (the kinetic-energy-nearest velocity).
+        Raises ValueError for redundant or inconsistent constraints, a configuration too far from
+        the constraint manifold, or constraints that lock every degree of freedom."""
+        qdot = np.zeros(self.n) if qdot is None else qdot
+        return self._core.project(q, qdot, tol)
+
+    def _check_consistent(self, q0, qdot0):
+        if self.n_constraints == 0:
+            return
+        h = self.model.constraint_values(q0)
+        if np.abs(h).max() > 1e-8:
+            raise ValueError(f"the initial configuration violates the constraints (|h| = {np.abs(h).max():.3e}); "
+                             "use Integrator.project(q0, qdot0) for a consistent initial state")
+        if qdot0 is not None:
+            v = self.model.constraint_jacobian(q0) @ qdot0
+            if np.abs(v).max() > 1e-8 * (1 + np.abs(qdot0).max()):
+                raise ValueError(f"the initial velocity violates the constraints (|Dh qdot| = {np.abs(v).max():.3e}); "
+                                 "use Integrator.project(q0, qdot0) for a consistent initial state")
+
     # --- momentum and energy -----------------------------------------------------------------
     def momentum(self, q, qdot) -> np.ndarray:
         """p = dL/dq̇ = M(q) q̇: the discrete momentum to start from."""
@@ -140,6 +167,8 @@ class Integrator:
             raise ConvergenceError(f"Newton solve did not converge ({info.status}) after {info.iterations} "
                                    f"iterations, residual {info.residual:.3e}; try a smaller dt", info=info)
         info.control_points = qc
+        if self.n_constraints:
+            info.multipliers = self._core.multipliers
         return qc[-1].copy(), p_next, info
 
     def rollout(self, q0, steps: int, *, p0=None, qdot0=None, u=None, raise_on_failure: bool = True,
@@ -161,8 +190,11 @@ class Integrator:
         if p0 is not None and qdot0 is not None:
             raise ValueError("give p0 or qdot0, not both")
         if p0 is None:
-            qdot0 = np.zeros(self.n) if qdot0 is None else qdot0
+            qdot0 = np.zeros(self.n) if qdot0 is None else np.asarray(qdot0, dtype=float)
+            self._check_consistent(q0, qdot0)
             p0 = self.momentum(q0, qdot0)
+        else:
+            self._check_consistent(q0, None)
         U = self._rollout_controls(u, steps)
         bar = None
         if progress:
@@ -211,8 +243,11 @@ class Integrator:
         q = np.vstack([parts[0]["q"]] + [r["q"][1:] for r in parts[1:]])
         p = np.vstack([parts[0]["p"]] + [r["p"][1:] for r in parts[1:]])
         cp = np.vstack([r["control_points"] for r in parts]).reshape(-1, self.s + 1, self.n)
+        mult = None
+        if self.n_constraints:
+            mult = np.vstack([r["multipliers"] for r in parts]).reshape(-1, self.s, self.n_constraints)
         return Trajectory(t=np.arange(len(q)) * self.dt, q=q, p=p, control_points=cp,
                           iterations=np.concatenate([r["iterations"] for r in parts]),
                           residuals=np.concatenate([r["residual"] for r in parts]),
-                          status=sum((r["status"] for r in parts), []),
+                          status=sum((r["status"] for r in parts), []), multipliers=mult,
                           solve_seconds=sum(r["seconds"] for r in parts), integrator=self)

@@ -1,10 +1,13 @@
 #include "hovi/integrators/galerkin_integrator.hpp"
 
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
 #include <cmath>
 
 #include "hovi/algorithms/dynamics.hpp"
 #include "hovi/algorithms/kinematics.hpp"
 #include "hovi/algorithms/mass_matrix.hpp"
+#include "hovi/constraints/constraint.hpp"
 #include "hovi/errors.hpp"
 
 namespace hovi {
@@ -22,6 +25,10 @@ GalerkinIntegrator::GalerkinIntegrator(Model model, int s, double dt, SolverOpti
   if (!(opt.tol > 0)) throw InputError("tol must be positive");
   if (opt.max_iterations < 1) throw InputError("max_iterations must be at least 1");
   if (opt.max_backtracks < 0) throw InputError("max_backtracks must be non-negative");
+  if (model_.n_constraints() > 0) {
+    constrained_ = std::make_unique<ConstrainedSolver>(model_, quad_);
+    lambda_.setZero(model_.n_constraints(), s);
+  }
   // E(b, a) = l_b(1 + c^a): the previous step's polynomial evaluated at this step's points.
   extrapolate_.resize(s + 1, s + 1);
   for (int a = 0; a <= s; ++a) extrapolate_.col(a) = quad_.basis(1 + quad_.c[a]);
@@ -36,7 +43,57 @@ VecX GalerkinIntegrator::velocity(const VecX& q, const VecX& p) { return mass_ma
 
 SolveInfo GalerkinIntegrator::step(const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u,
                                    Eigen::Ref<MatX> qc, Eigen::Ref<VecX> p_next) {
+  if (constrained_) {
+    MatX lambda = lambda_;
+    const SolveInfo info = constrained_->solve(options, p, u, dt_, qc, lambda, p_next);
+    if (info.converged()) lambda_ = lambda;
+    return info;
+  }
   return solver_.solve(model_, quad_, options, p, u, dt_, qc, p_next);
+}
+
+VecX GalerkinIntegrator::constraint_values(const VecX& q) {
+  forward_kinematics(model_, data_, q);
+  VecX h(model_.n_constraints());
+  hovi::constraint_values(model_, KinematicsView{model_, data_.g.data(), data_.Sbar.data(), 1}, q, h);
+  return h;
+}
+
+MatX GalerkinIntegrator::constraint_jacobian(const VecX& q) {
+  forward_kinematics(model_, data_, q);
+  MatX J(model_.n_constraints(), model_.n());
+  hovi::constraint_jacobian(model_, KinematicsView{model_, data_.g.data(), data_.Sbar.data(), 1}, J);
+  return J;
+}
+
+std::pair<VecX, VecX> GalerkinIntegrator::project(const VecX& q0, const VecX& qdot0, double tol) {
+  const int n = model_.n(), m = model_.n_constraints();
+  check_vector("q", q0, n);
+  check_vector("qdot", qdot0, n);
+  if (m == 0) return {q0, qdot0};
+  VecX q = q0;
+  for (int it = 0;; ++it) {
+    const VecX h = constraint_values(q);
+    const MatX J = constraint_jacobian(q);
+    const Eigen::FullPivLU<MatX> lu(J);
+    if (lu.rank() < m)
+      throw InputError("the constraints are redundant or singular here: the constraint Jacobian has rank " +
+                       std::to_string(lu.rank()) + " < " + std::to_string(m) + " equations");
+    if (lu.rank() >= n) throw InputError("the constraints leave no degree of freedom (" + std::to_string(m) +
+                                         " independent equations for " + std::to_string(n) + " joints)");
+    if (h.cwiseAbs().maxCoeff() <= tol) break;
+    if (it == 50 || !h.allFinite())
+      throw InputError("the initial configuration is too far from the constraint manifold (or the constraints are "
+                       "inconsistent): Gauss-Newton left |h| = " + std::to_string(h.cwiseAbs().maxCoeff()));
+    q -= J.transpose() * (J * J.transpose()).ldlt().solve(h);  // minimum-norm correction
+  }
+  // q̇ - M^{-1} Dh^T (Dh M^{-1} Dh^T)^{-1} Dh q̇
+  const MatX J = constraint_jacobian(q);
+  const MatX M = mass_matrix(model_, data_, q);
+  const Eigen::LLT<MatX> Mc(M);
+  const MatX MinvJT = Mc.solve(J.transpose());
+  const VecX qdot = qdot0 - MinvJT * (J * MinvJT).ldlt().solve(J * qdot0);
+  return {q, qdot};
 }
 
 SolveInfo GalerkinIntegrator::robust_step(const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u,
@@ -85,6 +142,7 @@ Rollout GalerkinIntegrator::rollout(const VecX& q0, const VecX& p0, int N, const
   out.p.resize(N + 1, n);
   out.control_points.resize(N, S1 * n);
   out.iterations.resize(N);
+  out.multipliers.resize(N, quad_.s * model_.n_constraints());
   out.residual.resize(N);
   out.status.reserve(N);
   out.q.row(0) = q0.transpose();
@@ -104,6 +162,7 @@ Rollout GalerkinIntegrator::rollout(const VecX& q0, const VecX& p0, int N, const
     out.q.row(k + 1) = qc.col(s).transpose();
     out.p.row(k + 1) = p_next.transpose();
     out.control_points.row(k) = Eigen::Map<const VecX>(qc.data(), S1 * n).transpose();
+    if (constrained_) out.multipliers.row(k) = Eigen::Map<const VecX>(lambda_.data(), lambda_.size()).transpose();
     p = p_next;
     prev = qc;
     out.steps = k + 1;

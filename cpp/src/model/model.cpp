@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "hovi/constraints/constraint.hpp"
 #include "hovi/errors.hpp"
 
 namespace hovi {
@@ -145,6 +146,22 @@ int Model::joint_index(const std::string& name) const {
   for (int i = 0; i < n(); ++i)
     if (spec[i].joint_name == name) return i;
   return -1;
+}
+
+}  // namespace hovi
+
+namespace hovi {
+
+void Model::add_constraint(std::shared_ptr<const Constraint> constraint) {
+  if (!constraint) throw ModelError("add_constraint: null constraint");
+  constraint->check(*this);
+  constraints.push_back(std::move(constraint));
+}
+
+int Model::n_constraints() const {
+  int m = 0;
+  for (const auto& c : constraints) m += c->dim();
+  return m;
 }
 
 }  // namespace hovi

@@ -6,6 +6,9 @@
 // integrated to order 2s for that piecewise-constant input, but is only a first-order
 // approximation of a smooth u(t).
 #pragma once
+#include <memory>
+
+#include "hovi/integrators/constrained_solver.hpp"
 #include "hovi/integrators/newton_solver.hpp"
 #include "hovi/model/data.hpp"
 
@@ -14,6 +17,7 @@ namespace hovi {
 struct Rollout {
   MatX q, p;                   // (N+1) x n: q^k, p^k
   MatX control_points;         // N x ((s+1) n): row k = vec(q^{k,0..s}) column-major (n per point)
+  MatX multipliers;            // N x (s m_c): row k = vec(λ^{k,0..s-1}) column-major (constrained)
   Eigen::VectorXi iterations;  // Newton iterations per step
   VecX residual;               // final ||r||_inf per step
   std::vector<SolveStatus> status;
@@ -33,8 +37,20 @@ class GalerkinIntegrator {
   VecX momentum(const VecX& q, const VecX& qdot);
   VecX velocity(const VecX& q, const VecX& p);
 
+  // Constraints (the model's, if any): their number of equations m_c, the multipliers of the
+  // last step (m_c x s, also the next step's first guess), and a consistent initial state: q
+  // projected onto h(q) = 0 by Gauss-Newton (minimum-norm corrections), q̇ onto Dh q̇ = 0 in the
+  // kinetic-energy metric (q̇ - M^{-1} Dh^T (Dh M^{-1} Dh^T)^{-1} Dh q̇). Throws InputError for
+  // redundant or inconsistent constraints, a state too far off the manifold, or constraints
+  // that lock every degree of freedom.
+  int n_constraints() const { return model_.n_constraints(); }
+  MatX& multipliers() { return lambda_; }
+  std::pair<VecX, VecX> project(const VecX& q, const VecX& qdot, double tol = 1e-12);
+  VecX constraint_values(const VecX& q);
+  MatX constraint_jacobian(const VecX& q);
+
   // One step. qc: n x (s+1), column 0 must be q^k; on entry columns 1..s are the initial guess,
-  // on exit the solution. u: m x (s+1).
+  // on exit the solution. u: m x (s+1). Constrained models also update multipliers().
   SolveInfo step(const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u, Eigen::Ref<MatX> qc,
                  Eigen::Ref<VecX> p_next);
 
@@ -66,6 +82,8 @@ class GalerkinIntegrator {
   Quadrature quad_;
   double dt_;
   NewtonSolver solver_;
+  std::unique_ptr<ConstrainedSolver> constrained_;  // when the model has constraints
+  MatX lambda_;                                     // λ^{k,0..s-1}, m_c x s
   Data data_;
   MatX extrapolate_;  // E(b, a) = l_b(1 + c^a), for guess_from_previous
 };

@@ -12,6 +12,7 @@ struct SolverOptions {
   int max_iterations = 30;
   int max_backtracks = 12;   // halvings of the step before the line search gives up
   bool line_search = true;   // false: always take the full Newton step
+  double constraint_tol = 1e-12;  // constrained steps: also ||h(q^{k,1..s})||_inf <= this
 };
 
 enum class SolveStatus { Converged, MaxIterations, LineSearchFailed, SingularJacobian, NonFinite };

@@ -16,6 +16,8 @@
 
 namespace hovi {
 
+class Constraint;
+
 enum class JointType { Revolute, Prismatic };
 
 struct JointLimits {
@@ -69,6 +71,8 @@ class Model {
   int add_actuator(int joint, double gear = 1.0);             // new input u[m], Q_joint += gear u[m]
   void add_wrench(std::shared_ptr<const BodyWrench> wrench);
   int n_controls() const { return joint_forces.n_controls(); }
+  void add_constraint(std::shared_ptr<const Constraint> constraint);  // checked against the model
+  int n_constraints() const;                                          // equations, sum of dims
   bool has_gravity() const { return gravity.squaredNorm() > 0; }
 
   // Topology
@@ -83,6 +87,7 @@ class Model {
   Vec3 gravity = Vec3(0, 0, -9.81);        // world frame
   JointForces joint_forces;                // springs, dampers, actuation map
   std::vector<std::shared_ptr<const BodyWrench>> wrenches;  // external wrenches on bodies
+  std::vector<std::shared_ptr<const Constraint>> constraints;  // holonomic constraints h(q) = 0
 };
 
 }  // namespace hovi

@@ -1,0 +1,135 @@
+// Holonomic constraints h(q) = 0 (paper Sec. 3.3, eq. DEL_general_c). Each constraint gives its
+// value and Jacobian Dh at a configuration, and registers force elements whose generalized force
+// is exactly Dh^T λ, with the multipliers λ entering as extra control inputs. The constrained
+// integrator then reuses Algorithm 1, the recursive Newton direction and the linearisation on a
+// model augmented with those elements; their Lie-group derivatives supply the λ·d²h terms.
+// Implement Constraint in C++ to add a new kind.
+#pragma once
+#include <memory>
+
+#include "hovi/model/model.hpp"
+
+namespace hovi {
+
+// The kinematics of every body at one configuration: body i's pose is g[i * stride] (the COM
+// frame) and its spatial joint twist Sbar[i * stride].
+struct KinematicsView {
+  const Model& model;
+  const SE3* g;
+  const Twist* Sbar;
+  int stride;
+  const SE3& pose(int i) const { return g[i * stride]; }
+  const Twist& twist(int i) const { return Sbar[i * stride]; }
+};
+
+class Constraint {
+ public:
+  virtual ~Constraint() = default;
+  virtual int dim() const = 0;
+  virtual const char* kind() const = 0;
+  // Throws ModelError if the constraint does not fit the model (unknown body, ...).
+  virtual void check(const Model& model) const = 0;
+  // h(q), dim() entries.
+  virtual void value(const KinematicsView& kin, const Eigen::Ref<const VecX>& q, Eigen::Ref<VecX> h) const = 0;
+  // Dh = dh/dq, dim() x n (the rows are assigned, not added).
+  virtual void jacobian(const KinematicsView& kin, Eigen::Ref<MatX> J) const = 0;
+  // Adds to `augmented` the elements whose generalized force is Dh^T λ with λ_k = u[first + k];
+  // the controls first..first+dim()-1 already exist.
+  virtual void add_force_elements(Model& augmented, int first) const = 0;
+};
+
+// All of a model's constraints stacked (rows in the order they were added).
+void constraint_values(const Model& model, const KinematicsView& kin, const Eigen::Ref<const VecX>& q,
+                       Eigen::Ref<VecX> h);
+void constraint_jacobian(const Model& model, const KinematicsView& kin, Eigen::Ref<MatX> J);
+// The model plus every constraint's force elements, the multipliers appended to the controls:
+// u_augmented = [u; λ]. The augmented model has no constraints of its own.
+Model with_constraint_forces(const Model& model);
+
+// Rows of the world axes that a constraint keeps, e.g. "xz" for planar use: a k x 3 selector.
+Eigen::Matrix<double, Eigen::Dynamic, 3> axes_selector(const std::string& axes);
+
+// A point r of a body (in its COM frame) held at a world point: h = P (g r - target).
+class PointConstraint : public Constraint {
+ public:
+  PointConstraint(int body, const Vec3& point, const Vec3& target, const std::string& axes = "xyz");
+  int dim() const override { return static_cast<int>(P_.rows()); }
+  const char* kind() const override { return "point"; }
+  void check(const Model& model) const override;
+  void value(const KinematicsView& kin, const Eigen::Ref<const VecX>& q, Eigen::Ref<VecX> h) const override;
+  void jacobian(const KinematicsView& kin, Eigen::Ref<MatX> J) const override;
+  void add_force_elements(Model& augmented, int first) const override;
+
+ private:
+  int body_;
+  Vec3 point_, target_;
+  Eigen::Matrix<double, Eigen::Dynamic, 3> P_;
+};
+
+// A point r1 of body1 coincident with a point r2 of body2 (a loop closure): h = P (x1 - x2).
+class LoopConstraint : public Constraint {
+ public:
+  LoopConstraint(int body1, const Vec3& point1, int body2, const Vec3& point2, const std::string& axes = "xyz");
+  int dim() const override { return static_cast<int>(P_.rows()); }
+  const char* kind() const override { return "loop"; }
+  void check(const Model& model) const override;
+  void value(const KinematicsView& kin, const Eigen::Ref<const VecX>& q, Eigen::Ref<VecX> h) const override;
+  void jacobian(const KinematicsView& kin, Eigen::Ref<MatX> J) const override;
+  void add_force_elements(Model& augmented, int first) const override;
+
+ private:
+  int body1_, body2_;
+  Vec3 point1_, point2_;
+  Eigen::Matrix<double, Eigen::Dynamic, 3> P_;
+};
+
+// A body's orientation held at R0: h = ((R e_y)·(R0 e_z), (R e_z)·(R0 e_x), (R e_x)·(R0 e_y)),
+// zero at R = R0 with Dh = R0^T ω there (valid near R0, where it is used).
+class OrientationConstraint : public Constraint {
+ public:
+  OrientationConstraint(int body, const Mat3& R0);
+  int dim() const override { return 3; }
+  const char* kind() const override { return "orientation"; }
+  void check(const Model& model) const override;
+  void value(const KinematicsView& kin, const Eigen::Ref<const VecX>& q, Eigen::Ref<VecX> h) const override;
+  void jacobian(const KinematicsView& kin, Eigen::Ref<MatX> J) const override;
+  void add_force_elements(Model& augmented, int first) const override;
+
+ private:
+  int body_;
+  Mat3 R0_;
+};
+
+// A linear coupling of joint coordinates: h = c^T q - offset (one equation).
+class JointCoupling : public Constraint {
+ public:
+  JointCoupling(const VecX& coefficients, double offset);
+  int dim() const override { return 1; }
+  const char* kind() const override { return "joint_coupling"; }
+  void check(const Model& model) const override;
+  void value(const KinematicsView& kin, const Eigen::Ref<const VecX>& q, Eigen::Ref<VecX> h) const override;
+  void jacobian(const KinematicsView& kin, Eigen::Ref<MatX> J) const override;
+  void add_force_elements(Model& augmented, int first) const override;
+
+ private:
+  VecX c_;
+  double offset_;
+};
+
+// The torque u[control] (R a × d) aligning a body axis a (body frame) with a world axis d: the
+// force element of OrientationConstraint. D1 = [[u d^ (R a)^, 0], [0, 0]], D2 = 0.
+class AlignmentTorque : public BodyWrench {
+ public:
+  AlignmentTorque(int body, const Vec3& body_axis, const Vec3& world_axis, int control);
+  Wrench value(const SE3& g, const Twist& v, const VecX& u) const override;
+  void add_derivatives(const SE3& g, const Twist& v, const VecX& u, Mat6& D1, Mat6& D2) const override;
+  void add_control_jacobian(const SE3& g, const Twist& v, const VecX& u, Eigen::Ref<MatX> Du) const override;
+  int max_control_index() const override { return control_; }
+  const char* kind() const override { return "alignment_torque"; }
+
+ private:
+  Vec3 a_, d_;
+  int control_;
+};
+
+}  // namespace hovi
