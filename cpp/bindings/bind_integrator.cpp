@@ -47,6 +47,26 @@ void bind_integrator(py::module_& m) {
             auto qv = p.integ.project(as_vector(q, "q", p.n()), as_vector(qd, "qdot", p.n()), tol);
             return py::make_tuple(qv.first, qv.second);
           }, py::arg("q"), py::arg("qdot"), py::arg("tol") = 1e-12)
+      .def("constrained_residual", [](PyIntegrator& p, const py::object& qc, const py::object& lam,
+                                      const py::object& mom, const py::object& u) {
+            ConstrainedSolver& cs = p.constrained();
+            MatX r, H;
+            VecX p_next(p.n());
+            cs.evaluate(as_vector(mom, "p", p.n()), p.controls(u), p.multipliers_arg(lam), p.integ.dt(),
+                        p.control_points(qc, "control_points"), r, H, p_next);
+            return py::make_tuple(MatX(r.transpose()), MatX(H.transpose()), p_next);
+          }, py::arg("control_points"), py::arg("multipliers"), py::arg("p"), py::arg("u") = py::none())
+      .def("constrained_direction", [](PyIntegrator& p, const py::object& qc, const py::object& lam,
+                                       const py::object& mom, const py::object& u) {
+            ConstrainedSolver& cs = p.constrained();
+            MatX r, H, dz, dl;
+            VecX p_next(p.n());
+            cs.evaluate(as_vector(mom, "p", p.n()), p.controls(u), p.multipliers_arg(lam), p.integ.dt(),
+                        p.control_points(qc, "control_points"), r, H, p_next);
+            if (!cs.direction(p.integ.dt(), r, H, dz, dl))
+              throw InputError("the constrained DEL Jacobian (or its Schur complement) is singular here");
+            return py::make_tuple(MatX(dz.transpose()), MatX(dl.transpose()));
+          }, py::arg("control_points"), py::arg("multipliers"), py::arg("p"), py::arg("u") = py::none())
       .def_property_readonly("dt", [](const PyIntegrator& p) { return p.integ.dt(); })
       .def_property_readonly("nodes", [](const PyIntegrator& p) { return VecX(p.integ.quadrature().c); })
       .def_property_readonly("weights", [](const PyIntegrator& p) { return VecX(p.integ.quadrature().w); })

@@ -26,23 +26,35 @@ void bind_linearizer(py::module_& m) {
             }
             return py::make_tuple(Jq, with_u ? py::cast(Ju) : py::none());
           }, py::arg("control_points"), py::arg("u") = py::none(), py::arg("with_u") = true)
-      .def("step_jacobians", [](PyLinearizer& L, const py::object& qc, const py::object& u, bool want_A, bool want_B) {
+      .def("step_jacobians", [](PyLinearizer& L, const py::object& qc, const py::object& u, bool want_A, bool want_B,
+                                const py::object& multipliers) {
             const MatX q = L.integ.control_points(qc, "control_points"), uu = L.integ.controls(u);
+            const int mc = L.integ.integ.model().n_constraints();
+            if (mc && multipliers.is_none()) throw InputError("a constrained model needs the step's multipliers");
+            const MatX lam = mc ? L.integ.multipliers_arg(multipliers) : MatX();
             MatX A, B;
             bool ok;
             {
               py::gil_scoped_release release;
-              ok = L.lin.step_jacobians(q, uu, want_A ? &A : nullptr, want_B ? &B : nullptr);
+              ok = L.lin.step_jacobians(q, uu, want_A ? &A : nullptr, want_B ? &B : nullptr, lam);
             }
             if (!ok) throw InputError("the DEL Jacobian dR/dq^{k,1..s} is singular at these control points");
             return py::make_tuple(want_A ? py::cast(A) : py::none(), want_B ? py::cast(B) : py::none());
-          }, py::arg("control_points"), py::arg("u") = py::none(), py::arg("want_A") = true, py::arg("want_B") = true)
-      .def("rollout_jacobians", [](PyLinearizer& L, const py::object& cps, const py::object& u, bool want_A, bool want_B) {
+          }, py::arg("control_points"), py::arg("u") = py::none(), py::arg("want_A") = true, py::arg("want_B") = true,
+          py::arg("multipliers") = py::none())
+      .def("rollout_jacobians", [](PyLinearizer& L, const py::object& cps, const py::object& u, bool want_A, bool want_B,
+                                   const py::object& multipliers) {
             const int n = L.integ.n(), S1 = L.integ.s() + 1, m = L.integ.m();
             const MatX C = as_matrix(cps, "control_points (steps, (s+1) n)", -1, S1 * n);
             const int N = static_cast<int>(C.rows());
             MatX U = MatX::Zero(N, S1 * m);
             if (!u.is_none()) U = as_matrix(u, "u (steps, (s+1) m)", N, S1 * m);
+            const int mc = L.integ.integ.model().n_constraints(), s = S1 - 1;
+            MatX LAM;
+            if (mc) {
+              if (multipliers.is_none()) throw InputError("a constrained model needs the multipliers of every step");
+              LAM = as_matrix(multipliers, "multipliers (steps, s m_c)", N, s * mc);
+            }
             py::array_t<double> As(std::vector<py::ssize_t>{want_A ? N : 0, 2 * n, 2 * n});
             py::array_t<double> Bs(std::vector<py::ssize_t>{want_B ? N : 0, 2 * n, S1 * m});
             auto a = As.mutable_unchecked<3>();
@@ -50,11 +62,12 @@ void bind_linearizer(py::module_& m) {
             int failed = -1;
             {
               py::gil_scoped_release release;
-              MatX A, B, qc(n, S1), uk(m, S1);
+              MatX A, B, qc(n, S1), uk(m, S1), lk(mc, s);
               for (int k = 0; k < N && failed < 0; ++k) {
                 for (int c = 0; c < S1; ++c) qc.col(c) = C.row(k).segment(c * n, n).transpose();
                 for (int c = 0; c < S1; ++c) uk.col(c) = U.row(k).segment(c * m, m).transpose();
-                if (!L.lin.step_jacobians(qc, uk, want_A ? &A : nullptr, want_B ? &B : nullptr)) {
+                for (int c = 0; c < s && mc; ++c) lk.col(c) = LAM.row(k).segment(c * mc, mc).transpose();
+                if (!L.lin.step_jacobians(qc, uk, want_A ? &A : nullptr, want_B ? &B : nullptr, lk)) {
                   failed = k;
                   break;
                 }
@@ -69,7 +82,8 @@ void bind_linearizer(py::module_& m) {
             if (failed >= 0)
               throw InputError("the DEL Jacobian is singular at step " + std::to_string(failed));
             return py::make_tuple(want_A ? py::object(As) : py::none(), want_B ? py::object(Bs) : py::none());
-          }, py::arg("control_points"), py::arg("u") = py::none(), py::arg("want_A") = true, py::arg("want_B") = true);
+          }, py::arg("control_points"), py::arg("u") = py::none(), py::arg("want_A") = true, py::arg("want_B") = true,
+          py::arg("multipliers") = py::none());
 }
 
 }  // namespace hovi::py_bind

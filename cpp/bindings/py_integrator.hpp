@@ -26,6 +26,14 @@ struct PyIntegrator {
     if (a && a.ndim() == 1) return as_vector(u, "u", M).replicate(1, S1);
     return as_matrix(u, "u (one row per control point)", S1, M).transpose();
   }
+  ConstrainedSolver& constrained() {
+    if (!integ.constrained()) throw InputError("the model has no constraints");
+    return *integ.constrained();
+  }
+  // (s, m_c) Python array -> m_c x s
+  MatX multipliers_arg(const py::handle& x) {
+    return as_matrix(x, "multipliers", s(), integ.model().n_constraints()).transpose();
+  }
   double energy(const VecX& q, const VecX& p) {
     const VecX qd = integ.velocity(q, p);
     return kinetic_energy(integ.model(), data, q, qd) + potential_energy(integ.model(), data, q);

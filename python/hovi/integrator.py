@@ -116,6 +116,16 @@ class Integrator:
         qdot = np.zeros(self.n) if qdot is None else qdot
         return self._core.project(q, qdot, tol)
 
+    def constrained_residual(self, control_points, multipliers, p, u=None):
+        """(r, h, p_next) of the constrained DEL equations: r (s, n) includes the constraint forces
+        w^a dt Dh(q^a)^T λ^a, h (s, m_c) = h(q^{k,1..s}); multipliers (s, m_c) = λ^{k,0..s-1}."""
+        return self._core.constrained_residual(control_points, multipliers, p, u)
+
+    def constrained_direction(self, control_points, multipliers, p, u=None):
+        """The constrained Newton direction (dq (s, n), dλ (s, m_c)): the recursive solver and the
+        Schur complement of the KKT system."""
+        return self._core.constrained_direction(control_points, multipliers, p, u)
+
     def _check_consistent(self, q0, qdot0):
         if self.n_constraints == 0:
             return

@@ -72,14 +72,16 @@ class Linearizer:
                        guess=None) -> StepLinearization:
         """Take one step from (q, p) with controls u and linearise it (see StepLinearization)."""
         q_next, p_next, info = self.integrator.step(q, p, u, guess=guess)
-        Am, Bm = self._core.step_jacobians(info.control_points, u, A, B)
+        Am, Bm = self._core.step_jacobians(info.control_points, u, A, B, getattr(info, "multipliers", None))
         if Bm is not None and hold:
             Bm = _hold(Bm, self.integrator.model.n_controls)
         return StepLinearization(q_next, p_next, info.control_points, Am, Bm)
 
-    def linearize_at(self, control_points, u=None, *, A: bool = True, B: bool = True, hold: bool = False):
-        """(A, B) at given converged control points (s+1, n) of a step."""
-        Am, Bm = self._core.step_jacobians(control_points, u, A, B)
+    def linearize_at(self, control_points, u=None, *, A: bool = True, B: bool = True, hold: bool = False,
+                     multipliers=None):
+        """(A, B) at given converged control points (s+1, n) of a step (and its multipliers (s, m_c)
+        for a constrained model)."""
+        Am, Bm = self._core.step_jacobians(control_points, u, A, B, multipliers)
         if Bm is not None and hold:
             Bm = _hold(Bm, self.integrator.model.n_controls)
         return Am, Bm
@@ -94,7 +96,10 @@ class Linearizer:
         K = trajectory.control_points.shape[0]
         U = integ._rollout_controls(u, K)
         cps = np.ascontiguousarray(trajectory.control_points.reshape(K, -1))
-        As, Bs = self._core.rollout_jacobians(cps, U, A, B)
+        mult = None
+        if trajectory.multipliers is not None:
+            mult = np.ascontiguousarray(trajectory.multipliers.reshape(K, -1))
+        As, Bs = self._core.rollout_jacobians(cps, U, A, B, mult)
         if Bs is not None and hold:
             Bs = _hold(Bs, integ.model.n_controls)
         return As, Bs

@@ -31,10 +31,45 @@ void ConstrainedSolver::evaluate(const Eigen::Ref<const VecX>& p, const Eigen::R
   }
 }
 
+bool ConstrainedSolver::direction(double dt, const MatX& r, const MatX& H, MatX& dz, MatX& dlambda) {
+  const int n = n_, s = s_, mc = mc_, sm = s * mc;
+  if (!newton_factor(aug_, quad_, del_, newton_)) return false;
+  dz.resize(n, s);
+  newton_solve(aug_, quad_, del_, newton_, r, dz);  // dz_r = -J^{-1} r
+  // W(:, (a, c)) = -J^{-1} C^T e_(a, c): the discrete force w^a dt Dh(q^a)_c^T in residual row a.
+  W_.resize(n * s, sm);
+  rhs_.resize(n, s);
+  for (int a = 0; a < s; ++a) {
+    constraint_jacobian(aug_, view(a), Dh_);
+    for (int c = 0; c < mc; ++c) {
+      rhs_.setZero();
+      rhs_.col(a) = (quad_.w[a] * dt) * Dh_.row(c).transpose();
+      Eigen::Map<MatX> w(W_.col(a * mc + c).data(), n, s);
+      newton_solve(aug_, quad_, del_, newton_, rhs_, w);
+    }
+  }
+  // Schur complement: S dλ = -h - Dh dz_r with S((g, i), (a, c)) = Dh(q^g)_i . W(:, (a, c))^g
+  S_.resize(sm, sm);
+  schur_rhs_.resize(sm);
+  for (int g = 1; g <= s; ++g) {
+    constraint_jacobian(aug_, view(g), Dh_);
+    S_.middleRows((g - 1) * mc, mc).noalias() = Dh_ * W_.middleRows((g - 1) * n, n);
+    schur_rhs_.segment((g - 1) * mc, mc) = -H.col(g - 1) - Dh_ * dz.col(g - 1);
+  }
+  const Eigen::PartialPivLU<MatX> lu(S_);
+  const double scale = S_.cwiseAbs().maxCoeff();
+  if (!(scale > 0) || !(lu.matrixLU().diagonal().cwiseAbs().minCoeff() > 1e-13 * scale))
+    return false;  // redundant constraints or a locked mechanism
+  const VecX dl = lu.solve(schur_rhs_);
+  Eigen::Map<VecX>(dz.data(), n * s) += W_ * dl;
+  dlambda = Eigen::Map<const MatX>(dl.data(), mc, s);
+  return dz.allFinite() && dlambda.allFinite();
+}
+
 SolveInfo ConstrainedSolver::solve(const SolverOptions& opt, const Eigen::Ref<const VecX>& p,
                                    const Eigen::Ref<const MatX>& u, double dt, Eigen::Ref<MatX> qc,
                                    Eigen::Ref<MatX> lambda, Eigen::Ref<VecX> p_next) {
-  const int n = n_, s = s_, mc = mc_, sm = s * mc;
+  const int s = s_, sm = s * mc_;
   const double target = opt.tol * (1 + (p.size() ? p.cwiseAbs().maxCoeff() : 0.0));
   SolveInfo info;
   evaluate(p, u, lambda, dt, qc, r_, H_, p_next);
@@ -55,43 +90,15 @@ SolveInfo ConstrainedSolver::solve(const SolverOptions& opt, const Eigen::Ref<co
       info.status = SolveStatus::MaxIterations;
       return info;
     }
-    if (!newton_factor(aug_, quad_, del_, newton_)) {
-      info.status = SolveStatus::SingularJacobian;
+    if (!direction(dt, r_, H_, dz_, dlambda_)) {
+      info.status = dz_.allFinite() ? SolveStatus::SingularJacobian : SolveStatus::NonFinite;
       return info;
     }
     ++info.iterations;
-    dz_.resize(n, s);
-    newton_solve(aug_, quad_, del_, newton_, r_, dz_);  // dz_r = -J^{-1} r
-    // W(:, (a, c)) = -J^{-1} C^T e_(a, c): the discrete force w^a dt Dh(q^a)_c^T in residual row a.
-    W_.resize(n * s, sm);
-    rhs_.resize(n, s);
-    for (int a = 0; a < s; ++a) {
-      constraint_jacobian(aug_, view(a), Dh_);
-      for (int c = 0; c < mc; ++c) {
-        rhs_.setZero();
-        rhs_.col(a) = (quad_.w[a] * dt) * Dh_.row(c).transpose();
-        Eigen::Map<MatX> w(W_.col(a * mc + c).data(), n, s);
-        newton_solve(aug_, quad_, del_, newton_, rhs_, w);
-      }
-    }
-    // Schur complement: S dλ = -h - Dh dz_r with S((g, i), (a, c)) = Dh(q^g)_i . W(:, (a, c))^g
-    S_.resize(sm, sm);
-    dlambda_.resize(sm);
-    for (int g = 1; g <= s; ++g) {
-      constraint_jacobian(aug_, view(g), Dh_);
-      S_.middleRows((g - 1) * mc, mc).noalias() = Dh_ * W_.middleRows((g - 1) * n, n);
-      dlambda_.segment((g - 1) * mc, mc) = -H_.col(g - 1) - Dh_ * dz_.col(g - 1);
-    }
-    const Eigen::PartialPivLU<MatX> lu(S_);
-    const double scale = S_.cwiseAbs().maxCoeff();
-    if (!(scale > 0) || !(lu.matrixLU().diagonal().cwiseAbs().minCoeff() > 1e-13 * scale)) {
-      info.status = SolveStatus::SingularJacobian;  // redundant constraints or a locked mechanism
-      return info;
-    }
-    dlambda_ = lu.solve(dlambda_).eval();
-    Eigen::Map<VecX>(dz_.data(), n * s) += W_ * dlambda_;
-    if (!dz_.allFinite() || !dlambda_.allFinite()) {
-      info.status = SolveStatus::NonFinite;
+    // A step below round-off of q: the residuals are at their floor (as in NewtonSolver).
+    if (dz_.cwiseAbs().maxCoeff() <= 1e-14 * (1 + qc.cwiseAbs().maxCoeff()) &&
+        (sm == 0 || H_.cwiseAbs().maxCoeff() <= opt.constraint_tol)) {
+      info.status = SolveStatus::Converged;
       return info;
     }
     // Backtracking on the merit ||(r, h)||.
@@ -100,7 +107,7 @@ SolveInfo ConstrainedSolver::solve(const SolverOptions& opt, const Eigen::Ref<co
     for (int bt = 0; bt <= (opt.line_search ? opt.max_backtracks : 0); ++bt, step *= 0.5) {
       q_trial_ = qc;
       q_trial_.rightCols(s) += step * dz_;
-      lambda_trial_ = lambda + step * Eigen::Map<const MatX>(dlambda_.data(), mc, s);
+      lambda_trial_ = lambda + step * dlambda_;
       evaluate(p, u, lambda_trial_, dt, q_trial_, r_trial_, H_trial_, p_trial_);
       ++info.residual_evaluations;
       const double trial = merit(r_trial_, H_trial_);

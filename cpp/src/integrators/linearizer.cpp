@@ -2,11 +2,13 @@
 
 #include <Eigen/LU>
 
+#include "hovi/algorithms/kinematics.hpp"
+
 namespace hovi {
 
 Linearizer::Linearizer(const Model& model, const Quadrature& quad, double dt)
-    : model_(model), quad_(quad), dt_(dt), ws_(model, quad),
-      Jq_((quad.s + 1) * model.n(), (quad.s + 1) * model.n()) {}
+    : model_(model), quad_(quad), dt_(dt), mc_(model.n_constraints()),
+      aug_(mc_ ? with_constraint_forces(model) : model), ws_(aug_, quad), data_(model) {}
 
 void Linearizer::del_jacobian(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u, MatX& Jq, MatX* Ju) {
   const int N = (quad_.s + 1) * model_.n();
@@ -14,32 +16,54 @@ void Linearizer::del_jacobian(const Eigen::Ref<const MatX>& qc, const Eigen::Ref
   hovi::del_jacobian(model_, quad_, ws_, qc, u, dt_, Jq, Ju);
 }
 
-bool Linearizer::step_jacobians(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u, MatX* A, MatX* B) {
-  const int n = model_.n(), s = quad_.s, m = model_.n_controls(), sn = s * n;
+bool Linearizer::step_jacobians(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u, MatX* A, MatX* B,
+                                const Eigen::Ref<const MatX>& lambda) {
+  const int n = model_.n(), s = quad_.s, S1 = s + 1, m = model_.n_controls(), mc = mc_;
+  const int sn = s * n, ny = sn + s * mc, ma = m + mc;  // unknowns y = (q^{k,1..s}, λ^{k,0..s-1})
   const bool want_u = B != nullptr && m > 0;
-  del_jacobian(qc, u, Jq_, want_u ? &Ju_ : nullptr);
-  const Eigen::PartialPivLU<MatX> lu(Jq_.topRightCorner(sn, sn));  // dR/dz
-  const double scale = Jq_.topRightCorner(sn, sn).cwiseAbs().maxCoeff();
+  // The augmented controls [u; λ] (λ^{k,s} = 0) and the Jacobians of the augmented equations.
+  uaug_.setZero(ma, S1);
+  uaug_.topRows(m) = u;
+  if (mc) uaug_.bottomLeftCorner(mc, s) = lambda;
+  Jq_.resize(S1 * n, S1 * n);
+  hovi::del_jacobian(aug_, quad_, ws_, qc, uaug_, dt_, Jq_, (want_u || mc) ? &Ju_ : nullptr);
+  // dR/dy: [[dr/dz, dr/dλ], [Dh, 0]]
+  K_.setZero(ny, ny);
+  K_.topLeftCorner(sn, sn) = Jq_.topRightCorner(sn, sn);
+  if (mc) {
+    Dh_.resize(mc, n);
+    for (int a = 0; a < S1; ++a) {
+      forward_kinematics(model_, data_, qc.col(a));
+      constraint_jacobian(model_, KinematicsView{model_, data_.g.data(), data_.Sbar.data(), 1}, Dh_);
+      if (a < s)  // dr^a/dλ^a: the multiplier columns of Ju at control point a
+        K_.block(a * n, sn + a * mc, n, mc) = Ju_.block(a * n, a * ma + m, n, mc);
+      if (a >= 1) K_.block(sn + (a - 1) * mc, (a - 1) * n, mc, n) = Dh_;  // dh(q^a)/dq^a
+    }
+  }
+  const Eigen::PartialPivLU<MatX> lu(K_);
+  const double scale = K_.cwiseAbs().maxCoeff();
   if (!(lu.matrixLU().diagonal().cwiseAbs().minCoeff() > 1e-14 * scale)) return false;
-  const auto P_z = Jq_.bottomRightCorner(n, sn);  // dp^{k+1}/dz
+  const auto P_z = Jq_.bottomRightCorner(n, sn);  // dp^{k+1}/dz; p^{k+1} has no λ (λ^{k,s} = 0)
   if (A) {
     // right-hand sides: dR/dq^k (first block column) and dR/dp^k = [I; 0]
-    rhs_.setZero(sn, 2 * n);
-    rhs_.leftCols(n) = Jq_.topLeftCorner(sn, n);
+    rhs_.setZero(ny, 2 * n);
+    rhs_.topLeftCorner(sn, n) = Jq_.topLeftCorner(sn, n);
     rhs_.block(0, n, n, n).setIdentity();
     sol_ = -lu.solve(rhs_);
     A->resize(2 * n, 2 * n);
-    A->topRows(n) = sol_.bottomRows(n);
-    A->bottomRows(n).noalias() = P_z * sol_;
+    A->topRows(n) = sol_.middleRows(sn - n, n);
+    A->bottomRows(n).noalias() = P_z * sol_.topRows(sn);
     A->bottomLeftCorner(n, n) += Jq_.bottomLeftCorner(n, n);
   }
   if (B) {
-    B->setZero(2 * n, (s + 1) * m);
+    B->setZero(2 * n, S1 * m);
     if (want_u) {
-      sol_ = -lu.solve(Ju_.topRows(sn));
-      B->topRows(n) = sol_.bottomRows(n);
-      B->bottomRows(n).noalias() = P_z * sol_;
-      B->bottomRows(n) += Ju_.bottomRows(n);
+      rhs_.setZero(ny, S1 * m);
+      for (int a = 0; a < S1; ++a) rhs_.block(0, a * m, sn, m) = Ju_.block(0, a * ma, sn, m);
+      sol_ = -lu.solve(rhs_);
+      B->topRows(n) = sol_.middleRows(sn - n, n);
+      B->bottomRows(n).noalias() = P_z * sol_.topRows(sn);
+      for (int a = 0; a < S1; ++a) B->block(n, a * m, n, m) += Ju_.block(sn, a * ma, n, m);
     }
   }
   return true;

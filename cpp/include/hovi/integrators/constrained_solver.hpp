@@ -28,9 +28,14 @@ class ConstrainedSolver {
   // h at the control points 1..s of the last residual evaluation (mc x s), for reporting.
   const MatX& constraint_residual() const { return H_; }
 
- private:
+  // The constrained residual (r: n x s with the constraint forces, H: mc x s) and p^{k+1}.
   void evaluate(const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u, const Eigen::Ref<const MatX>& lambda,
                 double dt, const Eigen::Ref<const MatX>& qc, MatX& r, MatX& H, Eigen::Ref<VecX> p_next);
+  // The Newton direction (dz: n x s, dlambda: mc x s) at the state of the last evaluate() with
+  // its residual r and constraint values H; false if J or the Schur complement is singular.
+  bool direction(double dt, const MatX& r, const MatX& H, MatX& dz, MatX& dlambda);
+
+ private:
   KinematicsView view(int a) const { return KinematicsView{aug_, del_.g.data() + a, del_.Sbar.data() + a, quad_.s + 1}; }
 
   Model aug_;
@@ -38,8 +43,8 @@ class ConstrainedSolver {
   int n_, s_, m_, mc_;
   DelWorkspace del_;
   NewtonWorkspace newton_;
-  MatX uaug_, r_, H_, r_trial_, H_trial_, dz_, q_trial_, lambda_trial_, rhs_, W_, S_, Dh_;
-  VecX p_trial_, h_, dlambda_;
+  MatX uaug_, r_, H_, r_trial_, H_trial_, dz_, dlambda_, q_trial_, lambda_trial_, rhs_, W_, S_, Dh_;
+  VecX p_trial_, h_, schur_rhs_;
 };
 
 }  // namespace hovi

@@ -45,6 +45,7 @@ class GalerkinIntegrator {
   // that lock every degree of freedom.
   int n_constraints() const { return model_.n_constraints(); }
   MatX& multipliers() { return lambda_; }
+  ConstrainedSolver* constrained() { return constrained_.get(); }  // null without constraints
   std::pair<VecX, VecX> project(const VecX& q, const VecX& qdot, double tol = 1e-12);
   VecX constraint_values(const VecX& q);
   MatX constraint_jacobian(const VecX& q);

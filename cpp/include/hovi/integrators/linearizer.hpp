@@ -1,11 +1,18 @@
 // The linearisation of one converged step (q^k, p^k, u^k) -> (q^{k+1}, p^{k+1}) by the implicit
-// function theorem on the DEL equations: with z = q^{k,1..s} and R(z; q^k, p^k, u) = 0,
-//   dz/dx = -(dR/dz)^{-1} dR/dx,   q^{k+1} = z_s,   dp^{k+1}/dx = dP/dx + dP/dz dz/dx,
-// one LU factorisation of dR/dz (sn x sn) serving every right-hand side.
+// function theorem on the DEL equations: with y = q^{k,1..s} (and the multipliers λ^{k,0..s-1}
+// of a constrained model) and R(y; q^k, p^k, u) = 0,
+//   dy/dx = -(dR/dy)^{-1} dR/dx,   q^{k+1} = q^{k,s},   dp^{k+1}/dx = dP/dx + dP/dy dy/dx,
+// one LU factorisation of dR/dy serving every right-hand side.
 //   A = d(q^{k+1}, p^{k+1}) / d(q^k, p^k)          (2n x 2n)
 //   B = d(q^{k+1}, p^{k+1}) / d(u^{k,0..s})        (2n x (s+1) m), column block a = u^{k,a}
+// Constrained models: R adds the constraint rows h(q^{k,1..s}) (Dh) and the constraint forces
+// w^a dt Dh(q^{k,a})^T λ^{k,a} (their λ·d²h terms come with the force elements of the
+// augmented model, constraint.hpp).
 #pragma once
+#include <memory>
+
 #include "hovi/algorithms/del_jacobian.hpp"
+#include "hovi/constraints/constraint.hpp"
 #include "hovi/integrators/galerkin_integrator.hpp"
 
 namespace hovi {
@@ -14,18 +21,22 @@ class Linearizer {
  public:
   Linearizer(const Model& model, const Quadrature& quad, double dt);
 
-  // The DEL Jacobian (see del_jacobian.hpp for the layout); Ju unless null.
+  // The DEL Jacobian of the unconstrained equations (see del_jacobian.hpp for the layout).
   void del_jacobian(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u, MatX& Jq, MatX* Ju);
-  // A and/or B (null: not computed, and no work done for it) at converged control points qc.
-  // Returns false if dR/dz is singular.
-  bool step_jacobians(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u, MatX* A, MatX* B);
+  // A and/or B (null: not computed, and no work done for it) at converged control points qc
+  // and, for a constrained model, multipliers lambda (m_c x s). Returns false if dR/dy is singular.
+  bool step_jacobians(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u, MatX* A, MatX* B,
+                      const Eigen::Ref<const MatX>& lambda = MatX());
 
  private:
   const Model& model_;
   const Quadrature& quad_;
   double dt_;
+  int mc_;
+  Model aug_;  // the model with its constraint forces (constraint.hpp); == model_ without constraints
   DelJacobianWorkspace ws_;
-  MatX Jq_, Ju_, rhs_, sol_;
+  Data data_;
+  MatX Jq_, Ju_, K_, rhs_, sol_, uaug_, Dh_;
 };
 
 }  // namespace hovi
