@@ -4,7 +4,7 @@ import subprocess
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-SCRIPTS = ["speed.py", "linearization.py"]
+SCRIPTS = ["speed.py", "linearization.py", "constraints.py"]
 
 if __name__ == "__main__":
     extra = sys.argv[1:]

@@ -8,6 +8,8 @@
 //   hovi_bench_speed lin-pendulum N S... / lin-urdf PATH S...
 //                                        linearisation: D^2 L_d, DEL Jacobian, step Jacobians A, (A, B),
 //                                        against Pinocchio's computeRNEADerivatives
+//   hovi_bench_speed constrained N S M... the constrained Newton direction on the N-link pendulum with
+//                                        M single-axis point constraints spread along the chain
 #include <pinocchio/algorithm/aba.hpp>
 #include <pinocchio/algorithm/rnea-derivatives.hpp>
 #include <pinocchio/algorithm/rnea.hpp>
@@ -24,8 +26,11 @@
 
 #include "hovi/algorithms/del_residual.hpp"
 #include "hovi/algorithms/dynamics.hpp"
+#include "hovi/algorithms/kinematics.hpp"
 #include "hovi/algorithms/newton_direction.hpp"
 #include "hovi/integrators/galerkin_integrator.hpp"
+#include "hovi/constraints/constraint.hpp"
+#include "hovi/integrators/constrained_solver.hpp"
 #include "hovi/integrators/linearizer.hpp"
 #include "hovi/models/pendulum.hpp"
 #include "hovi/parsers/urdf.hpp"
@@ -164,6 +169,40 @@ struct Bench {
   }
 };
 
+// One constrained Newton direction (factor, 1 + s m recursive solves, Schur complement) and one
+// constrained residual evaluation, with m single-axis point constraints on bodies spread along
+// the chain (targets at the current configuration, so the constraints are consistent).
+void constrained_lines(int n, int s, const std::vector<int>& ms) {
+  for (int m : ms) {
+    Model model = models::pendulum(n);
+    Data data(model);
+    Bench b{model, "pendulum"};
+    const VecX q0 = b.random(n, M_PI / 12);
+    forward_kinematics(model, data, q0);
+    const char* axes[3] = {"x", "y", "z"};
+    for (int k = 0; k < m; ++k) {
+      const int body = (k + 1) * n / (m + 1);
+      const Vec3 tip(0, 0, -0.25);  // below the COM, in its frame
+      model.add_constraint(std::make_shared<PointConstraint>(body, tip, data.g[body].act(tip), axes[k % 3]));
+    }
+    GalerkinIntegrator integ(model, s, 0.01);
+    ConstrainedSolver cs(model, integ.quadrature());
+    MatX qc(n, s + 1), lam = MatX::Zero(m, s), u(0, s + 1), r, H, dz, dl;
+    qc.col(0) = q0;
+    integ.guess_from_velocity(VecX::Zero(n), qc);
+    VecX pn(n);
+    const VecX p0 = VecX::Zero(n);
+    cs.evaluate(p0, u, lam, 0.01, qc, r, H, pn);
+    const double t_eval = time_per_call([&] { cs.evaluate(p0, u, lam, 0.01, qc, r, H, pn); });
+    cs.evaluate(p0, u, lam, 0.01, qc, r, H, pn);
+    bool ok = true;
+    const double t_dir = time_per_call([&] { ok = cs.direction(0.01, r, H, dz, dl) && ok; });
+    std::printf("{\"model\": \"pendulum\", \"n\": %d, \"s\": %d, \"m\": %d, \"op\": \"constrained\", "
+                "\"residual\": %.6e, \"direction\": %.6e, \"ok\": %s}\n",
+                n, s, m, t_eval, t_dir, ok ? "true" : "false");
+  }
+}
+
 // DEL evaluation cost with and without the work a scene may or may not need.
 void skip_lines(const Model& base, const std::string& name, int s) {
   auto eval_time = [&](const Model& m) {
@@ -199,6 +238,12 @@ int main(int argc, char** argv) {
     return 2;
   }
   const std::string kind = argv[1];
+  if (kind == "constrained") {
+    std::vector<int> ms;
+    for (int k = 4; k < argc; ++k) ms.push_back(std::stoi(argv[k]));
+    constrained_lines(std::stoi(argv[2]), std::stoi(argv[3]), ms);
+    return 0;
+  }
   const bool pendulum = kind == "pendulum" || kind == "lin-pendulum";
   Model model = pendulum ? models::pendulum(std::stoi(argv[2])) : model_from_urdf(argv[2]);
   const std::string name = pendulum ? "pendulum" : std::string(argv[2]).substr(std::string(argv[2]).rfind('/') + 1);
