@@ -14,8 +14,9 @@ const char* to_string(SolveStatus status) {
 }
 
 NewtonSolver::NewtonSolver(const Model& model, const Quadrature& quad)
-    : del(model, quad), newton(model, quad), r_(model.n(), quad.s), r_trial_(model.n(), quad.s),
-      dq_(model.n(), quad.s), q_trial_(model.n(), quad.s + 1), p_trial_(model.n()) {}
+    : del(model, quad), newton(model, quad), del_trial_(model, quad), r_(model.n(), quad.s),
+      r_trial_(model.n(), quad.s), dq_(model.n(), quad.s), dbar_(model.n(), quad.s), q_trial_(model.n(), quad.s + 1),
+      p_trial_(model.n()) {}
 
 SolveInfo NewtonSolver::solve(const Model& model, const Quadrature& quad, const SolverOptions& opt,
                               const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u, double dt,
@@ -40,10 +41,11 @@ SolveInfo NewtonSolver::solve(const Model& model, const Quadrature& quad, const 
       info.status = SolveStatus::MaxIterations;
       return info;
     }
-    if (!newton_direction(model, quad, del, newton, r_, dq_)) {
+    if (!newton_factor(model, quad, del, newton)) {
       info.status = SolveStatus::SingularJacobian;
       return info;
     }
+    newton_solve(model, quad, del, newton, r_, dq_);
     ++info.iterations;
     if (!dq_.allFinite()) {
       info.status = SolveStatus::NonFinite;
@@ -55,27 +57,35 @@ SolveInfo NewtonSolver::solve(const Model& model, const Quadrature& quad, const 
       info.status = SolveStatus::Converged;
       return info;
     }
+    const double dq_norm = dq_.norm();
     double lambda = 1;
     bool accepted = false;
     for (int bt = 0; bt <= (opt.line_search ? opt.max_backtracks : 0); ++bt, lambda *= 0.5) {
       q_trial_.col(0) = qc.col(0);
       q_trial_.rightCols(s) = qc.rightCols(s) + lambda * dq_;
-      del_residual(model, quad, del, q_trial_, p, u, dt, r_trial_, p_trial_);
+      del_residual(model, quad, del_trial_, q_trial_, p, u, dt, r_trial_, p_trial_);
       ++info.residual_evaluations;
       const double trial2 = r_trial_.norm();
-      // Armijo condition on ||r||: the Newton direction decreases it at rate 1 (its slope is -||r||).
-      if (!opt.line_search || (std::isfinite(trial2) && trial2 <= (1 - 1e-4 * lambda) * norm2)) {
+      if (!opt.line_search) {
+        accepted = true;
+        break;
+      }
+      if (!std::isfinite(trial2) || !p_trial_.allFinite()) continue;
+      if (trial2 <= (1 - 1e-4 * lambda) * norm2) {  // Armijo on ||r||
+        accepted = true;
+        break;
+      }
+      newton_solve(model, quad, del, newton, r_trial_, dbar_);  // simplified correction, J(x) kept
+      if (dbar_.norm() <= (1 - 0.25 * lambda) * dq_norm) {     // natural monotonicity
         accepted = true;
         break;
       }
     }
     if (!accepted) {
-      // del holds the last trial; restore the workspace of the current iterate for the caller.
-      del_residual(model, quad, del, qc, p, u, dt, r_, p_next);
-      ++info.residual_evaluations;
       info.status = SolveStatus::LineSearchFailed;
       return info;
     }
+    std::swap(del, del_trial_);
     qc = q_trial_;
     r_.swap(r_trial_);
     p_next = p_trial_;

@@ -1,5 +1,9 @@
 // Newton's method on the DEL equations of one step, with the exact O(s^3 n) direction
-// (Algorithms 1, A.1, A.2) and a backtracking line search on the residual norm.
+// (Algorithms 1, A.1, A.2) and a backtracking line search. A damped step x + λ dx is accepted
+// when it decreases the residual norm (Armijo) or passes Deuflhard's natural monotonicity test
+// ||J(x)^{-1} r(x + λ dx)|| <= (1 - λ/4) ||dx||, which is affine invariant and escapes the false
+// minima of ||r|| that stall a pure residual-norm search at large steps; the simplified
+// correction costs one more O(s^2 n) recursive solve with the factorisation at x.
 #pragma once
 #include "hovi/algorithms/del_residual.hpp"
 #include "hovi/algorithms/newton_direction.hpp"
@@ -39,7 +43,8 @@ class NewtonSolver {
   NewtonWorkspace newton;
 
  private:
-  MatX r_, r_trial_, dq_, q_trial_;
+  DelWorkspace del_trial_;  // Algorithm 1 at the trial point; swapped with del on acceptance
+  MatX r_, r_trial_, dq_, dbar_, q_trial_;
   VecX p_trial_;
 };
 

@@ -1,0 +1,85 @@
+"""Paper Fig. 2: hovi's exact O(n) Newton method against the O(n) quasi-Newton method of Lee et
+al. (2016) on the trapezoidal variational integrator of the 32-link pendulum: one step from
+random initial conditions (q0, qdot0 uniform in [-pi/2, pi/2]) for dt from 0.001 to 0.06; time
+per solve and iterations over the successful solves, and the success rate. Both start from
+q0 + dt qdot0 and stop at ||r||_inf <= 1e-10 (1 + ||p0||_inf); at most 100 iterations.
+
+    python bench/fig2_quasi_newton.py [--quick]
+
+Writes bench/results/fig2_quasi_newton.json and .png.
+"""
+from __future__ import annotations
+
+import argparse
+
+import numpy as np
+from tqdm import tqdm
+
+import hovi
+from common import RESULTS, write_json
+
+DTS = [0.001, 0.002, 0.005, 0.01, 0.02, 0.03, 0.04, 0.05, 0.06]
+METHODS = {"newton": "hovi exact Newton (Alg. 1 + A.1/A.2)", "quasi_newton": "quasi-Newton (Lee et al. 2016)"}
+
+
+def run(n_links, n_states, dts, seed=0):
+    model = hovi.models.pendulum(n_links)
+    rng = np.random.default_rng(seed)
+    q0 = rng.uniform(-np.pi / 2, np.pi / 2, (n_states, n_links))
+    qd0 = rng.uniform(-np.pi / 2, np.pi / 2, (n_states, n_links))
+    out = {m: [] for m in METHODS}
+    for dt in tqdm(dts, desc="dt"):
+        for method in METHODS:
+            d = hovi._core.baselines.one_step_batch(model, dt, q0, qd0, method)
+            ok = d["converged"].astype(bool)
+            out[method].append({
+                "dt": dt, "success_rate": float(ok.mean()),
+                "mean_seconds": float(d["seconds"][ok].mean()) if ok.any() else None,
+                "mean_iterations": float(d["iterations"][ok].mean()) if ok.any() else None,
+                "iterations": d["iterations"].tolist(), "converged": ok.tolist()})
+    return out
+
+
+def plot(out, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4.2))
+    for method, label in METHODS.items():
+        rows = out[method]
+        dt = [r["dt"] for r in rows]
+        t = [r["mean_seconds"] * 1e6 if r["mean_seconds"] else np.nan for r in rows]
+        it = [r["mean_iterations"] if r["mean_iterations"] else np.nan for r in rows]
+        axes[0].semilogy(dt, t, "o-", label=label)
+        axes[1].plot(dt, it, "o-", label=label)
+        axes[2].plot(dt, [100 * r["success_rate"] for r in rows], "o-", label=label)
+    for ax, title, ylabel in zip(axes, ["(a) time per solve", "(b) iterations", "(c) success rate"],
+                                 ["µs (successful solves)", "iterations (successful solves)", "%"]):
+        ax.set_title(title)
+        ax.set_xlabel("dt [s]")
+        ax.set_ylabel(ylabel)
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--quick", action="store_true", help="20 states, 3 time steps")
+    args = ap.parse_args()
+    n_states, dts = (20, [0.001, 0.01, 0.06]) if args.quick else (1000, DTS)
+    out = run(32, n_states, dts)
+    name = "fig2_quasi_newton_quick" if args.quick else "fig2_quasi_newton"
+    write_json(f"{name}.json", {"n_links": 32, "n_states": n_states, "results": out})
+    plot(out, f"{RESULTS}/{name}.png")
+    for method in METHODS:
+        for r in out[method]:
+            t = f"{r['mean_seconds'] * 1e6:.1f} µs" if r["mean_seconds"] else "-"
+            it = f"{r['mean_iterations']:.2f}" if r["mean_iterations"] else "-"
+            print(f"{method:13s} dt={r['dt']:<6} success {100 * r['success_rate']:5.1f}%  iterations {it:>6}  time {t}")
+
+
+if __name__ == "__main__":
+    main()
