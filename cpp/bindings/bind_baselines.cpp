@@ -4,6 +4,10 @@
 #include <chrono>
 
 #include "hovi/algorithms/mass_matrix.hpp"
+#include "hovi/algorithms/del_jacobian.hpp"
+#include "hovi/algorithms/del_residual.hpp"
+#include "hovi/algorithms/newton_direction.hpp"
+#include "hovi/baselines/autodiff_lagrangian.hpp"
 #include "hovi/baselines/quasi_newton.hpp"
 #include "hovi/errors.hpp"
 #include "py_model.hpp"
@@ -60,6 +64,64 @@ py::dict one_step_batch(const PyModel& pm, double dt, const py::object& Q0, cons
   d["residual"] = residual;
   return d;
 }
+// Mean time per call (seconds, at least `min_seconds` of repetitions) of f.
+template <class F>
+double time_call(F&& f, double min_seconds) {
+  f();
+  int reps = 0;
+  const auto t0 = Clock::now();
+  double elapsed = 0;
+  while (elapsed < min_seconds || reps < 1) {
+    f();
+    ++reps;
+    elapsed = std::chrono::duration<double>(Clock::now() - t0).count();
+  }
+  return elapsed / reps;
+}
+
+// Paper Fig. 3: per-state times of the DEL evaluation, the Newton direction and D^2 L_d, by
+// hovi's recursive algorithms ('recursive') or automatic differentiation ('autodiff'), at
+// control points q + c^a dt q̇ for every state.
+py::dict fig3_batch(const PyModel& pm, int s, double dt, const py::object& Q0, const py::object& QD0,
+                    const std::string& method, double min_seconds) {
+  const Model& model = pm.model;
+  const int n = model.n();
+  const MatX q0 = as_matrix(Q0, "q0", -1, n), qd0 = as_matrix(QD0, "qdot0", q0.rows(), n);
+  const int N = static_cast<int>(q0.rows());
+  if (method != "recursive" && method != "autodiff") throw InputError("method must be 'recursive' or 'autodiff'");
+  VecX t_eval(N), t_dir(N), t_d2(N);
+  {
+    py::gil_scoped_release release;
+    const Quadrature quad(s);
+    DelWorkspace del(model, quad);
+    NewtonWorkspace nws(model, quad);
+    DelJacobianWorkspace jws(model, quad);
+    std::unique_ptr<AutodiffDel> ad;
+    if (method == "autodiff") ad = std::make_unique<AutodiffDel>(model, quad, dt);
+    MatX qc(n, s + 1), r(n, s), dq(n, s), H((s + 1) * n, (s + 1) * n), u(model.n_controls(), s + 1);
+    u.setZero();
+    VecX p(n), p_next(n);
+    for (int k = 0; k < N; ++k) {
+      for (int a = 0; a <= s; ++a) qc.col(a) = q0.row(k).transpose() + quad.c[a] * dt * qd0.row(k).transpose();
+      p = qd0.row(k).transpose();
+      if (ad) {
+        t_eval[k] = time_call([&] { ad->residual(qc, p, u, r, p_next); }, min_seconds);
+        t_dir[k] = time_call([&] { ad->newton_direction(qc, p, u, dq); }, min_seconds);
+        t_d2[k] = time_call([&] { ad->d2Ld(qc, H); }, min_seconds);
+      } else {
+        t_eval[k] = time_call([&] { del_residual(model, quad, del, qc, p, u, dt, r, p_next); }, min_seconds);
+        del_residual(model, quad, del, qc, p, u, dt, r, p_next);
+        t_dir[k] = time_call([&] { newton_direction(model, quad, del, nws, r, dq); }, min_seconds);
+        t_d2[k] = time_call([&] { dlagrangian_hessian(model, quad, jws, qc, dt, H); }, min_seconds);
+      }
+    }
+  }
+  py::dict d;
+  d["del_residual"] = t_eval;
+  d["newton_direction"] = t_dir;
+  d["d2Ld"] = t_d2;
+  return d;
+}
 }  // namespace
 
 void bind_baselines(py::module_& m) {
@@ -71,6 +133,34 @@ One trapezoidal (s = 1) step from every state (rows of q0, qdot0; p0 = M(q0) qdo
 guess q0 + dt qdot0 and converged when ||r||_inf <= tol (1 + ||p0||_inf). Returns per-state
 arrays converged, iterations, seconds (timed in C++), residual.
 )doc");
+  b.def("fig3_batch", &fig3_batch, py::arg("model"), py::arg("s"), py::arg("dt"), py::arg("q0"), py::arg("qdot0"),
+        py::arg("method"), py::arg("min_seconds") = 0.002, R"doc(
+Per-state times (seconds, timed in C++) of the DEL evaluation, the Newton direction and D^2 L_d by
+'recursive' (hovi: Algorithm 1, A.1/A.2, Algorithms 2/3 + chain rule) or 'autodiff' (Eigen
+AutoDiffScalar on a scalar-templated Lagrangian, dense LU), at control points q + c^a dt qdot.
+)doc");
+  py::class_<AutodiffDel>(b, "AutodiffDel", "The automatic-differentiation baseline (dense, O(n^2)..O(n^3)).")
+      .def(py::init([](const PyModel& m, int s, double dt) { return new AutodiffDel(m.model, Quadrature(s), dt); }),
+           py::arg("model"), py::arg("s"), py::arg("dt"))
+      .def("residual", [](AutodiffDel& ad, const py::object& qc, const py::object& p) {
+            const int n = ad.n(), s = ad.s();
+            MatX r(n, s), u = MatX::Zero(0, s + 1);
+            VecX pn(n);
+            ad.residual(as_matrix(qc, "control_points", s + 1, n).transpose(), as_vector(p, "p", n), u, r, pn);
+            return py::make_tuple(MatX(r.transpose()), pn);
+          }, py::arg("control_points"), py::arg("p"))
+      .def("newton_direction", [](AutodiffDel& ad, const py::object& qc, const py::object& p) {
+            const int n = ad.n(), s = ad.s();
+            MatX dq(n, s), u = MatX::Zero(0, s + 1);
+            ad.newton_direction(as_matrix(qc, "control_points", s + 1, n).transpose(), as_vector(p, "p", n), u, dq);
+            return MatX(dq.transpose());
+          }, py::arg("control_points"), py::arg("p"))
+      .def("d2Ld", [](AutodiffDel& ad, const py::object& qc) {
+            const int n = ad.n(), s = ad.s();
+            MatX H((s + 1) * n, (s + 1) * n);
+            ad.d2Ld(as_matrix(qc, "control_points", s + 1, n).transpose(), H);
+            return H;
+          }, py::arg("control_points"));
 }
 
 }  // namespace hovi::py_bind

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <ctime>
 #include <memory>
 #include <random>
 
@@ -141,10 +142,14 @@ void check_against_hovi(const Model& model) {
       ad.newton_direction(x.qc, x.p, x.u, dq_ad);
       EXPECT_LT(rel(dq_ad, dq), 1e-8);
 
-      // D^2 L_d (Sec. 4, Algorithms 2 and 3)
+      // D^2 L_d (Sec. 4, Algorithms 2 and 3). hovi's L_d has V = V_g and counts the springs among
+      // the joint forces Q; the baseline's V includes the springs' potential, whose Hessian is
+      // the block diagonal -w^b dt k_i.
       const int N = (s + 1) * n;
       MatX H(N, N), H_ad;
       dlagrangian_hessian(model, quad, jws, x.qc, dt, H);
+      for (int b = 0; b <= s; ++b)
+        for (int i = 0; i < n; ++i) H(b * n + i, b * n + i) -= quad.w[b] * dt * model.joint_forces.stiffness[i];
       ad.d2Ld(x.qc, H_ad);
       EXPECT_LT(rel(H_ad, H), 1e-9);
       EXPECT_LT((H_ad - H_ad.transpose()).norm(), 1e-12 * H.norm());
@@ -205,6 +210,71 @@ TEST(AutodiffDel, BranchedTreeMatchesRecursiveAlgorithms) { check_against_hovi(f
 TEST(AutodiffDel, PendulumNewtonSolveMatchesNewtonSolver) { check_newton_solve(forced_pendulum()); }
 TEST(AutodiffDel, BranchedTreeNewtonSolveMatchesNewtonSolver) { check_newton_solve(forced_tree()); }
 
+// Without springs the two D^2 L_d are the same object.
+TEST(AutodiffDel, UnforcedHessianMatchesDirectly) {
+  for (const Model& model : {models::pendulum(4), ad_branched_tree()}) {
+    const Quadrature quad(2);
+    const double dt = 0.05;
+    std::mt19937 rng(5);
+    const Sample x = sample(model, quad, dt, rng);
+    AutodiffDel ad(model, quad, dt);
+    DelJacobianWorkspace jws(model, quad);
+    const int N = 3 * model.n();
+    MatX H(N, N), H_ad;
+    dlagrangian_hessian(model, quad, jws, x.qc, dt, H);
+    ad.d2Ld(x.qc, H_ad);
+    EXPECT_LT(rel(H_ad, H), 1e-9);
+  }
+}
+
+// Body frames away from the centre of mass (first moment h = m c != 0): K with the full spatial
+// inertia, V = -sum g^T (m p_i + R_i h_i). hovi's algorithms take gravity at the frame origin
+// (ERRATA C-3), so the derivatives are compared without gravity and the value with it.
+TEST(AutodiffDel, NonComFramesMatch) {
+  Model model = forced_tree();
+  for (int i = 0; i < model.n(); ++i) {
+    const SpatialInertia& Mc = model.M[i];
+    const Vec3 c(0.1, -0.05 * i, 0.02 * i + 0.03);
+    model.M[i] = SpatialInertia(Mc.m, Mc.m * c, Mc.I - Mc.m * hat(c) * hat(c));  // M about a point -c from the COM
+  }
+  const Quadrature quad(2);
+  const double dt = 0.02;
+  std::mt19937 rng(13);
+  const Sample x = sample(model, quad, dt, rng);
+  const int n = model.n();
+  {  // L_d with gravity
+    AutodiffDel ad(model, quad, dt);
+    Data data(model);
+    const MatX qd = x.qc * quad.b.transpose() / dt;
+    double Ld = 0;
+    for (int a = 0; a <= 2; ++a) {
+      const double K = kinetic_energy(model, data, x.qc.col(a), qd.col(a));  // also fills data.g
+      double Vg = 0, Vg_origin = 0;
+      for (int i = 0; i < n; ++i) {
+        Vg -= model.gravity.dot(model.M[i].m * data.g[i].p + data.g[i].R * model.M[i].h);
+        Vg_origin -= model.M[i].m * model.gravity.dot(data.g[i].p);
+      }
+      // hovi's potential_energy = V_g with the mass at the frame origin + the springs' V_s
+      const double V = potential_energy(model, data, x.qc.col(a)) - Vg_origin + Vg;
+      Ld += quad.w[a] * dt * (K - V);
+    }
+    EXPECT_NEAR(ad.lagrangian(x.qc), Ld, 1e-12 * (1 + std::abs(Ld)));
+  }
+  model.gravity.setZero();
+  AutodiffDel ad(model, quad, dt);
+  DelWorkspace del(model, quad);
+  NewtonWorkspace nws(model, quad);
+  MatX r(n, 2), r_ad, dq(n, 2), dq_ad;
+  VecX pn(n), pn_ad;
+  del_residual(model, quad, del, x.qc, x.p, x.u, dt, r, pn);
+  ad.residual(x.qc, x.p, x.u, r_ad, pn_ad);
+  EXPECT_LT(rel(r_ad, r), 1e-10);
+  EXPECT_LT(rel(pn_ad, pn), 1e-10);
+  ASSERT_TRUE(newton_direction(model, quad, del, nws, r, dq));
+  ad.newton_direction(x.qc, x.p, x.u, dq_ad);
+  EXPECT_LT(rel(dq_ad, dq), 1e-8);
+}
+
 TEST(AutodiffDel, RejectsBodyWrenches) {
   Model m = models::pendulum(3);
   m.add_wrench(std::make_shared<BodyDrag>(1, 0.1, 0.1));
@@ -221,30 +291,36 @@ TEST(AutodiffDel, RejectsWrongSizes) {
 }
 
 // Per-call times of the AD baseline and of hovi's recursive algorithms, Simpson rule (s = 2),
-// pendulums n = 8, 32, 128 (Fig. 4 of the paper). Run with --gtest_also_run_disabled_tests.
+// pendulums n = 8, 32, 128 (Fig. 4 of the paper). Thread CPU time (robust to other load on the
+// machine), median over batches. Run with --gtest_also_run_disabled_tests.
 TEST(AutodiffDel, DISABLED_Timing) {
-  using clock = std::chrono::steady_clock;
-  // Median of repeated calls, each batch lasting at least min_seconds (after one warm-up call).
-  auto time_call = [](auto&& f, double min_seconds) {
+  auto cpu_now = [] {
+    timespec ts;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+  };
+  // Median of batches of calls, each batch lasting at least min_seconds / 5, after a warm-up call.
+  auto time_call = [&](auto&& f, double min_seconds) {
     f();
     std::vector<double> samples;
-    const auto t_start = clock::now();
+    const double t_start = cpu_now();
     do {
       int reps = 0;
-      const auto t0 = clock::now();
+      const double t0 = cpu_now();
       double el;
       do {
         f();
         ++reps;
-        el = std::chrono::duration<double>(clock::now() - t0).count();
+        el = cpu_now() - t0;
       } while (el < min_seconds / 5);
       samples.push_back(el / reps);
-    } while (std::chrono::duration<double>(clock::now() - t_start).count() < min_seconds || samples.size() < 3);
+    } while (cpu_now() - t_start < min_seconds || samples.size() < 3);
     std::sort(samples.begin(), samples.end());
     return samples[samples.size() / 2];
   };
-  std::printf("%5s %14s %14s %8s | %14s %14s %8s | %14s %14s %8s\n", "n", "AD residual", "hovi residual", "ratio",
-              "AD newton", "hovi newton", "ratio", "AD d2Ld", "hovi d2Ld", "ratio");
+  std::printf("times per call in microseconds (thread CPU time); hovi newton = del_residual + newton_direction\n");
+  std::printf("%5s %12s %12s %7s | %12s %12s %12s %7s | %12s %12s %7s\n", "n", "AD resid", "hovi resid", "ratio",
+              "AD newton", "hovi newton", "(dir only)", "ratio", "AD d2Ld", "hovi d2Ld", "ratio");
   for (int n : {8, 32, 128}) {
     const Model model = models::pendulum(n);
     const Quadrature quad(2);
@@ -262,18 +338,19 @@ TEST(AutodiffDel, DISABLED_Timing) {
     const double t_res_ad = time_call([&] { ad.residual(x.qc, x.p, x.u, r_ad, pn_ad); }, budget);
     const double t_res = time_call([&] { del_residual(model, quad, del, x.qc, x.p, x.u, dt, r, pn); }, 0.5);
     const double t_nd_ad = time_call([&] { ad.newton_direction(x.qc, x.p, x.u, dq_ad); }, budget);
-    // hovi's Newton direction includes the del_residual call it needs
     const double t_nd = time_call(
         [&] {
           del_residual(model, quad, del, x.qc, x.p, x.u, dt, r, pn);
           newton_direction(model, quad, del, nws, r, dq);
         },
         0.5);
+    del_residual(model, quad, del, x.qc, x.p, x.u, dt, r, pn);
+    const double t_dir = time_call([&] { newton_direction(model, quad, del, nws, r, dq); }, 0.5);
     const double t_h_ad = time_call([&] { ad.d2Ld(x.qc, H_ad); }, budget);
     const double t_h = time_call([&] { dlagrangian_hessian(model, quad, jws, x.qc, dt, H); }, 0.5);
-    std::printf("%5d %12.3f us %12.3f us %8.0f | %12.3f us %12.3f us %8.0f | %12.3f us %12.3f us %8.0f\n", n,
-                1e6 * t_res_ad, 1e6 * t_res, t_res_ad / t_res, 1e6 * t_nd_ad, 1e6 * t_nd, t_nd_ad / t_nd,
-                1e6 * t_h_ad, 1e6 * t_h, t_h_ad / t_h);
+    std::printf("%5d %12.2f %12.2f %7.0f | %12.1f %12.2f %12.2f %7.0f | %12.1f %12.2f %7.0f\n", n, 1e6 * t_res_ad,
+                1e6 * t_res, t_res_ad / t_res, 1e6 * t_nd_ad, 1e6 * t_nd, 1e6 * t_dir, t_nd_ad / t_nd, 1e6 * t_h_ad,
+                1e6 * t_h, t_h_ad / t_h);
     std::fflush(stdout);
     EXPECT_LT(rel(r_ad, r), 1e-10);
     EXPECT_LT(rel(dq_ad, dq), 1e-8);

@@ -97,13 +97,15 @@ double inf_norm(const VecX& x) { return x.cwiseAbs().maxCoeff(); }
 }  // namespace
 
 // Converges to hovi's exact Newton solution (same tolerance, same stopping rule) from the states of
-// Fan et al. Fig. 2 (q, q̇ uniform in [-π/2, π/2]). Both solvers run at tol = 1e-13: p^{k+1} moves
-// with the residual (∂p^{k+1}/∂q^{k+1} ≈ -∂r/∂q^{k+1}), so agreeing to 1e-9 in p^{k+1} needs residuals
-// below 1e-9, and for n = 32 |p|_inf reaches ~2000, where hovi's default target 1e-10 (1 + |p|_inf)
-// is 2e-7 (the quasi-Newton stops just under its target, Newton far below it). At dt = 0.01 the
-// quasi-Newton iteration diverges from some of these states (the spectral radius of
-// I - J̃^{-1} J exceeds 1 there); those states are counted, and the test requires agreement on
-// every state where it converges and convergence on most of them.
+// Fan et al. Fig. 2 (q, q̇ uniform in [-π/2, π/2]). Agreement: |Δq^{k+1}|_inf < 1e-9 and
+// |Δp^{k+1}|_inf < 1e-9 (1 + |p^{k+1}|_inf). p^{k+1} is compared relatively because it moves with
+// the residual (∂p^{k+1}/∂q^{k+1} ≈ -∂r/∂q^{k+1} ≈ M/dt, up to ~3e6 for n = 32 at dt = 0.001), so its
+// round-off floor is ~eps |q| |M| / dt ≈ 1e-9 absolute while |p|_inf reaches ~2000. Both solvers run
+// at tol = 1e-12 (hovi's default 1e-10 (1 + |p|_inf) is up to 2e-7 here; the quasi-Newton stops
+// just under its target, Newton far below). At dt = 0.01 the quasi-Newton iteration diverges from
+// some of these states (the spectral radius of I - J̃^{-1} J exceeds 1 there): those states are
+// reported, and the test requires agreement on every state where both converge, and convergence
+// on all states at dt = 0.001 and on most at dt = 0.01.
 TEST(QuasiNewton, MatchesNewtonOnPendulum) {
   std::mt19937 rng(7);
   for (int n : {4, 32}) {
@@ -111,7 +113,7 @@ TEST(QuasiNewton, MatchesNewtonOnPendulum) {
     const Quadrature quad(1);
     const MatX u(0, 2);
     for (double dt : {0.001, 0.01}) {
-      QuasiNewtonSolver qn(model, dt, QuasiNewtonOptions{1e-13, 300});
+      QuasiNewtonSolver qn(model, dt, QuasiNewtonOptions{1e-12, 300});
       NewtonSolver newton(model, quad);
       SolverOptions nopt;
       nopt.tol = qn.options.tol;
@@ -132,11 +134,14 @@ TEST(QuasiNewton, MatchesNewtonOnPendulum) {
           continue;
         }
         ++compared;
-        // Below the target, or at the round-off floor (both solvers' second rule, a step below 1e-14 |q|).
-        EXPECT_LE(iq.residual, std::max(qn.options.tol * (1 + inf_norm(st.p)), 1e-11));
+        // Below the target, or at the round-off floor where both solvers' second rule (a step below
+        // 1e-14 (1 + |q|_inf)) stops them: |r| ~ |J̃| 1e-14 (1 + |q|_inf).
+        const MatX Jt = approximate_jacobian(model, st.q, dt);
+        const double floor = 1e-14 * (1 + inf_norm(qc_qn.col(1))) * Jt.cwiseAbs().rowwise().sum().maxCoeff();
+        EXPECT_LE(iq.residual, std::max(qn.options.tol * (1 + inf_norm(st.p)), floor));
         EXPECT_GE(iq.iterations, in.iterations);  // linear vs quadratic convergence
         EXPECT_LT(inf_norm(qc_qn.col(1) - qc_n.col(1)), 1e-9);
-        EXPECT_LT(inf_norm(p_qn - p_n), 1e-9);
+        EXPECT_LT(inf_norm(p_qn - p_n), 1e-9 * (1 + inf_norm(p_n)));
       }
       SCOPED_TRACE("n = " + std::to_string(n) + ", dt = " + std::to_string(dt));
       if (dt <= 0.001) EXPECT_EQ(compared, trials);
@@ -285,7 +290,8 @@ TEST(QuasiNewton, FailureIsReportedNotConverged) {
 }
 
 // Fan et al. Fig. 2 protocol (32-link pendulum, one trapezoidal step from random states) on 50
-// states per dt: iterations, success rate and time per solve, quasi-Newton vs hovi's Newton.
+// states per dt: iterations, success rate and time per solve (over successful solves, as in the
+// paper), quasi-Newton vs hovi's Newton, both from the same initial guess.
 // Run with --gtest_also_run_disabled_tests --gtest_filter='*QuasiNewton*Fig2*'.
 TEST(DISABLED_QuasiNewton, Fig2Measurement) {
   const int n = 32, trials = 50;
@@ -316,12 +322,16 @@ TEST(DISABLED_QuasiNewton, Fig2Measurement) {
           qc0.col(1) += dt * dt * qdd;
         }
         for (int solver = 0; solver < 2; ++solver) {
-          MatX qc = qc0;
-          VecX p_next(n);
-          const auto t0 = std::chrono::steady_clock::now();
-          const SolveInfo info = solver == 0 ? qn.solve(st.p, u, qc, p_next)
-                                             : newton.solve(model, quad, nopt, st.p, u, dt, qc, p_next);
-          const double us = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
+          SolveInfo info;
+          double us = std::numeric_limits<double>::infinity();
+          for (int rep = 0; rep < 5; ++rep) {  // time per solve: the minimum of 5 identical solves
+            MatX qc = qc0;
+            VecX p_next(n);
+            const auto t0 = std::chrono::steady_clock::now();
+            info = solver == 0 ? qn.solve(st.p, u, qc, p_next)
+                               : newton.solve(model, quad, nopt, st.p, u, dt, qc, p_next);
+            us = std::min(us, std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count());
+          }
           if (!info.converged()) continue;
           ++ok[solver];
           sum_it[solver] += info.iterations;

@@ -11,8 +11,7 @@
 namespace hovi {
 namespace {
 
-using AD1 = Eigen::AutoDiffScalar<Eigen::VectorXd>;                      // value and gradient
-using AD2 = Eigen::AutoDiffScalar<Eigen::Matrix<AD1, Eigen::Dynamic, 1>>;  // nested: gradient and Hessian
+using AD1 = Eigen::AutoDiffScalar<Eigen::VectorXd>;  // value and gradient (first-order passes)
 
 // ---- Scalar primitives, recursive over the nesting level --------------------------------------
 // All return Eigen expressions referring to their arguments: use them inside one statement only.
@@ -50,46 +49,61 @@ void sin_omc(const Eigen::AutoDiffScalar<Der>& x, Eigen::AutoDiffScalar<Der>& s,
 
 // Sizing (once), zeroing and seeding of the active scalars. n_in: first-level derivatives
 // (the gradient), n_out: second-level (the Hessian's columns).
-inline void init(double& x, int, int) { x = 0; }
-inline void init(AD1& x, int n_in, int) {
-  x.value() = 0;
-  x.derivatives().setZero(n_in);
+template <class Der>
+constexpr bool is_nested() {
+  return !std::is_same_v<typename Der::Scalar, double>;
 }
-inline void init(AD2& x, int n_in, int n_out) {
-  init(x.value(), n_in, 0);
-  x.derivatives().resize(n_out);
-  for (int j = 0; j < n_out; ++j) init(x.derivatives()[j], n_in, 0);
+inline void init(double& x, int, int) { x = 0; }
+template <class Der>
+void init(Eigen::AutoDiffScalar<Der>& x, int n_in, int n_out) {
+  if constexpr (!is_nested<Der>()) {
+    x.value() = 0;
+    x.derivatives().setZero(n_in);
+  } else {
+    init(x.value(), n_in, 0);
+    x.derivatives().resize(n_out);
+    for (int j = 0; j < n_out; ++j) init(x.derivatives()[j], n_in, 0);
+  }
 }
 inline void zero(double& x) { x = 0; }
-inline void zero(AD1& x) {
-  x.value() = 0;
-  x.derivatives().setZero();
-}
-inline void zero(AD2& x) {
+template <class Der>
+void zero(Eigen::AutoDiffScalar<Der>& x) {
   zero(x.value());
-  for (Eigen::Index j = 0; j < x.derivatives().size(); ++j) zero(x.derivatives()[j]);
+  if constexpr (!is_nested<Der>())
+    x.derivatives().setZero();
+  else
+    for (Eigen::Index j = 0; j < x.derivatives().size(); ++j) zero(x.derivatives()[j]);
 }
 inline void set_value(double& x, double v) { x = v; }
-inline void set_value(AD1& x, double v) { x.value() = v; }
-inline void set_value(AD2& x, double v) { x.value().value() = v; }
+template <class Der>
+void set_value(Eigen::AutoDiffScalar<Der>& x, double v) {
+  set_value(x.value(), v);
+}
 
 // A leaf of the computation: the value v of a linear function of the control-point coordinates
 // of joint i, dx/dq_i^b = coef[b]. off[b] is the index of q_i^b - i among the first-level (in) or
-// second-level (out) variables, -1 if q^b is not a variable at that level.
-inline void seed(double& x, double v, int, const double*, const std::vector<int>&, const std::vector<int>&) { x = v; }
-inline void seed(AD1& x, double v, int i, const double* coef, const std::vector<int>& in_off, const std::vector<int>&) {
-  x.value() = v;
-  x.derivatives().setZero();
-  for (size_t b = 0; b < in_off.size(); ++b)
-    if (in_off[b] >= 0) x.derivatives()[in_off[b] + i] = coef[b];
+// second-level (out) variables, -1 if q^b is not a variable at that level; the second-level
+// derivatives carried are those of the variables out_begin, out_begin + 1, ...
+inline void seed(double& x, double v, int, const double*, const std::vector<int>&, const std::vector<int>&, int) {
+  x = v;
 }
-inline void seed(AD2& x, double v, int i, const double* coef, const std::vector<int>& in_off,
-                 const std::vector<int>& out_off) {
-  seed(x.value(), v, i, coef, in_off, out_off);
-  auto& D = x.derivatives();  // dx/dq_out: constants, so their own derivatives stay zero (set by init)
-  for (Eigen::Index j = 0; j < D.size(); ++j) D[j].value() = 0;
-  for (size_t b = 0; b < out_off.size(); ++b)
-    if (out_off[b] >= 0) D[out_off[b] + i].value() = coef[b];
+template <class Der>
+void seed(Eigen::AutoDiffScalar<Der>& x, double v, int i, const double* coef, const std::vector<int>& in_off,
+          const std::vector<int>& out_off, int out_begin) {
+  if constexpr (!is_nested<Der>()) {
+    x.value() = v;
+    x.derivatives().setZero();
+    for (size_t b = 0; b < in_off.size(); ++b)
+      if (in_off[b] >= 0) x.derivatives()[in_off[b] + i] = coef[b];
+  } else {
+    seed(x.value(), v, i, coef, in_off, out_off, 0);
+    auto& D = x.derivatives();  // dx/dq_out: constants, so their own derivatives stay zero (set by init)
+    for (Eigen::Index j = 0; j < D.size(); ++j) D[j].value() = 0;
+    for (size_t b = 0; b < out_off.size(); ++b) {
+      const Eigen::Index j = out_off[b] + i - out_begin;  // this pass's chunk of second-level directions
+      if (out_off[b] >= 0 && j >= 0 && j < D.size()) D[j].value() = coef[b];
+    }
+  }
 }
 
 // ---- The model's constant data, per body ------------------------------------------------------
@@ -117,6 +131,7 @@ template <class T>
 struct Work {
   int n_in = 0, n_out = 0;
   std::vector<int> in_off, out_off;  // see seed()
+  int out_begin = 0;                 // first second-level direction of this pass
   std::vector<State<T>> pool;        // states of the bodies whose children are still to come
   State<T> world;                    // the parent of the roots: at rest, R^T g = g, g^T p = 0
   std::vector<int> free_slots, slot, pending;
@@ -188,25 +203,107 @@ void body_step(const BodyConst& B, double wdt, const State<T>& P, State<T>& C, W
   if (B.k != 0 || B.preload != 0) w.L = w.L + cm(w.th * w.th, -0.5 * wdt * B.k) + cm(w.th, wdt * B.preload);
 }
 
-}  // namespace
-
-struct AutodiffDel::Impl {
-  int n = 0, s = 0, m = 0;
+// The model's constants and the evaluation of L_d, for any scalar type.
+struct Lagrangian {
+  int n = 0, s = 0;
   double dt = 0;
-  VecX w;                // w^a
-  MatX b;                // b^{ab}
+  VecX w;                         // w^a
+  MatX b;                         // b^{ab}
   std::vector<double> unit, bdt;  // leaf coefficients: row a of the identity and of b / dt, (s+1)^2
   std::vector<BodyConst> body;
-  int pool_size = 0;
-  Vec3 g;
+  int pool_size = 0;              // most body states alive at once (index order)
+  Vec3 g;                         // gravity
+  MatX qd;                        // q̇^a, n x (s+1)
+
+  // L_d at qc into ws.L, with the derivatives the type T carries.
+  template <class T>
+  void eval(Work<T>& ws, const MatX& qc) {
+    qd.noalias() = qc * b.transpose() / dt;  // q̇^a = (1/dt) sum_b b^{ab} q^b
+    zero(ws.L);
+    const int S1 = s + 1;
+    for (int a = 0; a < S1; ++a) {
+      const double wdt = w[a] * dt;
+      ws.free_slots.clear();
+      for (int k = pool_size - 1; k >= 0; --k) ws.free_slots.push_back(k);
+      for (int i = 0; i < n; ++i) ws.pending[i] = body[i].nchild;
+      for (int i = 0; i < n; ++i) {
+        const BodyConst& Bi = body[i];
+        seed(ws.th, qc(i, a), i, &unit[a * S1], ws.in_off, ws.out_off, ws.out_begin);  // q_i^a
+        seed(ws.thd, qd(i, a), i, &bdt[a * S1], ws.in_off, ws.out_off, ws.out_begin);  // q̇_i^a
+        const int sl = ws.free_slots.back();
+        ws.free_slots.pop_back();
+        ws.slot[i] = sl;
+        const int par = Bi.parent;
+        body_step(Bi, wdt, par >= 0 ? ws.pool[ws.slot[par]] : ws.world, ws.pool[sl], ws);
+        if (par >= 0 && --ws.pending[par] == 0) ws.free_slots.push_back(ws.slot[par]);
+        if (Bi.nchild == 0) ws.free_slots.push_back(sl);
+      }
+    }
+  }
+};
+
+// Nested forward AD in vector mode, strip-mined: each pass carries the first-level gradient and
+// a chunk of at most kChunk second-level directions (kChunk columns of the Hessian), so that the
+// operands of every operation stay in cache; ceil(n_out / kChunk) passes. The first-level
+// derivative vectors hold at most MaxN entries inline, so the O(n) temporaries that every nested
+// operation creates per second-level direction live on the stack instead of the heap
+// (MaxN = Dynamic: heap, for the largest problems).
+constexpr int kChunk = 32;
+
+template <int MaxN>
+using AD1f = Eigen::AutoDiffScalar<Eigen::Matrix<double, Eigen::Dynamic, 1, 0, MaxN, 1>>;
+template <int MaxN>
+using AD2f = Eigen::AutoDiffScalar<Eigen::Matrix<AD1f<MaxN>, Eigen::Dynamic, 1>>;
+
+struct NestedPass {
+  virtual ~NestedPass() = default;
+  // At qc: grad = dL_d/dq_in (n_in), H = d^2 L_d / dq_in dq_out (n_in x n_out).
+  virtual void run(Lagrangian& lag, const MatX& qc, MatX& H, VecX& grad) = 0;
+};
+
+template <int MaxN>
+struct NestedPassT final : NestedPass {
+  int n_out, chunk;
+  Work<AD2f<MaxN>> ws;
+  NestedPassT(int n_in, int n_out_, int chunk_, std::vector<int> in, std::vector<int> out, int pool, int n,
+              const Vec3& g)
+      : n_out(n_out_), chunk(chunk_), ws(n_in, chunk_, std::move(in), std::move(out), pool, n, g) {}
+  void run(Lagrangian& lag, const MatX& qc, MatX& H, VecX& grad) override {
+    H.resize(ws.n_in, n_out);
+    for (int c0 = 0; c0 < n_out; c0 += chunk) {
+      ws.out_begin = c0;
+      lag.eval(ws, qc);
+      if (c0 == 0) grad = ws.L.value().derivatives();
+      const auto& D = ws.L.derivatives();
+      for (int c = 0; c < chunk && c0 + c < n_out; ++c) H.col(c0 + c) = D[c].derivatives();
+    }
+  }
+};
+
+std::unique_ptr<NestedPass> make_nested(int n_in, int n_out, std::vector<int> in, std::vector<int> out, int pool,
+                                        int n, const Vec3& g) {
+  const int passes = (n_out + kChunk - 1) / kChunk, chunk = (n_out + passes - 1) / passes;
+  auto make = [&](auto tag) -> std::unique_ptr<NestedPass> {
+    constexpr int M = decltype(tag)::value;
+    return std::make_unique<NestedPassT<M>>(n_in, n_out, chunk, std::move(in), std::move(out), pool, n, g);
+  };
+  if (n_in <= 32) return make(std::integral_constant<int, 32>());
+  if (n_in <= 128) return make(std::integral_constant<int, 128>());
+  if (n_in <= 512) return make(std::integral_constant<int, 512>());
+  return make(std::integral_constant<int, Eigen::Dynamic>());
+}
+
+}  // namespace
+
+struct AutodiffDel::Impl : Lagrangian {
+  int m = 0;
   VecX damping;          // c_i
   MatX B;                // actuation, n x m
-  MatX qd;               // q̇^a, n x (s+1)
   std::unique_ptr<Work<double>> wd;
   std::unique_ptr<Work<AD1>> w1;
-  std::unique_ptr<Work<AD2>> wj, wh;
-  MatX J;
-  VecX rv;
+  std::unique_ptr<NestedPass> nj, nh;  // second level q^{1..s} / first q^{0..s-1}; all q^{0..s} for both
+  MatX R, J, H;
+  VecX grad, rv;
   Eigen::PartialPivLU<MatX> lu;
 
   void check_q(const MatX& qc) const {
@@ -218,32 +315,6 @@ struct AutodiffDel::Impl {
       throw InputError("AutodiffDel: u must be " + std::to_string(m) + " x " + std::to_string(s + 1));
   }
 
-  // L_d (and its derivatives, by the type of T) at qc.
-  template <class T>
-  void eval(Work<T>& w, const MatX& qc) {
-    qd.noalias() = qc * b.transpose() / dt;  // q̇^a = (1/dt) sum_b b^{ab} q^b
-    zero(w.L);
-    const int S1 = s + 1;
-    for (int a = 0; a < S1; ++a) {
-      const double wdt = this->w[a] * dt;
-      w.free_slots.clear();
-      for (int k = pool_size - 1; k >= 0; --k) w.free_slots.push_back(k);
-      for (int i = 0; i < n; ++i) w.pending[i] = body[i].nchild;
-      for (int i = 0; i < n; ++i) {
-        const BodyConst& Bi = body[i];
-        seed(w.th, qc(i, a), i, &unit[a * S1], w.in_off, w.out_off);
-        seed(w.thd, qd(i, a), i, &bdt[a * S1], w.in_off, w.out_off);
-        const int sl = w.free_slots.back();
-        w.free_slots.pop_back();
-        w.slot[i] = sl;
-        const int par = Bi.parent;
-        body_step(Bi, wdt, par >= 0 ? w.pool[w.slot[par]] : w.world, w.pool[sl], w);
-        if (par >= 0 && --w.pending[par] == 0) w.free_slots.push_back(w.slot[par]);
-        if (Bi.nchild == 0) w.free_slots.push_back(sl);
-      }
-    }
-  }
-
   // The discrete joint forces F^a = w^a dt (-c q̇^a + B u^a), added to column a of out (a < cols).
   void add_forces(const MatX& u, MatX& out) const {
     for (int a = 0; a < out.cols(); ++a) {
@@ -253,19 +324,16 @@ struct AutodiffDel::Impl {
     }
   }
 
-  // J = d r^{0..s-1} / d q^{1..s} from a nested pass (first level q^{0..s-1}, second q^{1..s}).
+  // J = d r^{0..s-1} / d q^{1..s} (and the gradient D_{1..s} L_d) from one nested pass.
   void nested_jacobian(const MatX& qc) {
     const int sn = s * n;
-    if (!wj) {
+    if (!nj) {
       std::vector<int> in(s + 1, -1), out(s + 1, -1);
       for (int a = 0; a < s; ++a) in[a] = a * n;
       for (int a = 1; a <= s; ++a) out[a] = (a - 1) * n;
-      wj = std::make_unique<Work<AD2>>(sn, sn, in, out, pool_size, n, g);
+      nj = make_nested(sn, sn, in, out, pool_size, n, g);
     }
-    eval(*wj, qc);
-    J.resize(sn, sn);
-    const auto& D = wj->L.derivatives();
-    for (int c = 0; c < sn; ++c) J.col(c) = D[c].derivatives();
+    nj->run(*this, qc, J, grad);
     // dF^a_i / dq_i^c = -w^a c_i b^{ac}
     for (int a = 0; a < s; ++a)
       for (int c = 1; c <= s; ++c)
@@ -370,7 +438,11 @@ double AutodiffDel::lagrangian(const MatX& qc) {
   if (!im.wd) im.wd = std::make_unique<Work<double>>(0, 0, std::vector<int>(im.s + 1, -1),
                                                      std::vector<int>(im.s + 1, -1), im.pool_size, im.n, im.g);
   im.eval(*im.wd, qc);
-  return im.wd->L;
+  // the constant of the springs' 1/2 k (q - qref)^2 = 1/2 k q^2 - preload q + 1/2 preload^2 / k
+  double c = 0;
+  for (const BodyConst& B : im.body)
+    if (B.k != 0) c -= 0.5 * B.preload * B.preload / B.k;
+  return im.wd->L + c * im.w.sum() * im.dt;
 }
 
 void AutodiffDel::residual(const MatX& qc, const VecX& p, const MatX& u, MatX& r, VecX& p_next) {
@@ -386,12 +458,11 @@ void AutodiffDel::residual(const MatX& qc, const VecX& p, const MatX& u, MatX& r
   }
   im.eval(*im.w1, qc);
   // D_{a+1} L_d = block a of the gradient
-  const Eigen::Map<const MatX> grad(im.w1->L.derivatives().data(), n, s + 1);
-  MatX R = grad;
-  im.add_forces(u, R);
-  r = R.leftCols(s);
+  im.R = Eigen::Map<const MatX>(im.w1->L.derivatives().data(), n, s + 1);  // column a: D_{a+1} L_d
+  im.add_forces(u, im.R);
+  r = im.R.leftCols(s);
   r.col(0) += p;
-  p_next = R.col(s);
+  p_next = im.R.col(s);
 }
 
 void AutodiffDel::jacobian(const MatX& qc, const MatX& u, MatX& J) {
@@ -410,10 +481,10 @@ void AutodiffDel::newton_direction(const MatX& qc, const VecX& p, const MatX& u,
   const int n = im.n, s = im.s;
   im.nested_jacobian(qc);
   // r^a = D_{a+1} L_d + F^a (+ p for a = 0): the first-level gradient of the same pass
-  MatX R = Eigen::Map<const MatX>(im.wj->L.value().derivatives().data(), n, s);
-  im.add_forces(u, R);
-  R.col(0) += p;
-  im.rv = Eigen::Map<const VecX>(R.data(), n * s);
+  im.R = Eigen::Map<const MatX>(im.grad.data(), n, s);
+  im.add_forces(u, im.R);
+  im.R.col(0) += p;
+  im.rv = Eigen::Map<const VecX>(im.R.data(), n * s);
   im.lu.compute(im.J);
   dq.resize(n, s);
   Eigen::Map<VecX>(dq.data(), n * s) = -im.lu.solve(im.rv);
@@ -423,15 +494,12 @@ void AutodiffDel::d2Ld(const MatX& qc, MatX& H) {
   Impl& im = *impl_;
   im.check_q(qc);
   const int n = im.n, s = im.s, N = (s + 1) * n;
-  if (!im.wh) {
+  if (!im.nh) {
     std::vector<int> off(s + 1);
     for (int a = 0; a <= s; ++a) off[a] = a * n;
-    im.wh = std::make_unique<Work<AD2>>(N, N, off, off, im.pool_size, n, im.g);
+    im.nh = make_nested(N, N, off, off, im.pool_size, n, im.g);
   }
-  im.eval(*im.wh, qc);
-  H.resize(N, N);
-  const auto& D = im.wh->L.derivatives();
-  for (int c = 0; c < N; ++c) H.col(c) = D[c].derivatives();
+  im.nh->run(im, qc, H, im.grad);
 }
 
 }  // namespace hovi

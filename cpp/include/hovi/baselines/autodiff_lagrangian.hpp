@@ -11,6 +11,8 @@
 // Forces: gravity and the joint springs (1/2 k (q - qref)^2) enter through V; the dampers and
 // actuators as the discrete joint forces F^a = w^a dt (-c q̇^a + B u^a) of Assumption 1.
 // Body wrenches (model.wrenches) are not supported: the constructor throws ModelError.
+// Work arrays are allocated on the first call of each kind and reused; second derivatives are
+// computed in chunks of at most 32 Hessian columns per pass (vector-mode strip-mining).
 #pragma once
 #include <memory>
 
@@ -44,7 +46,9 @@ class AutodiffDel {
   // dq = -J^{-1} r (n x s, column c-1 = δq^c) by a dense LU; r from the same nested AD pass.
   void newton_direction(const MatX& qc, const VecX& p, const MatX& u, MatX& dq);
 
-  // D^2 L_d ((s+1) n square, block (b, c) = d^2 L_d / dq^b dq^c) by nested AD.
+  // D^2 L_d ((s+1) n square, block (b, c) = d^2 L_d / dq^b dq^c) by nested AD. L_d includes the
+  // springs' potential, so this is hovi's dlagrangian_hessian (which counts springs among the
+  // joint forces Q) plus the block diagonal -w^b dt k_i.
   void d2Ld(const MatX& qc, MatX& H);
 
  private:

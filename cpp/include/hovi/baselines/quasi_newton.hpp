@@ -1,19 +1,21 @@
 // Baseline: the linear-time quasi-Newton method of Lee, Liu, Park, Srinivasa, "A Linear-Time
-// Variational Integrator for Multibody Systems" (WAFR 2016, arXiv:1609.02898), the "recursive
-// impulse-based quasi-Newton" (RIQN) method of its Sec. 4 / Alg. 3, applied to hovi's
-// trapezoidal DEL equations (s = 1). This is the O(n) method the paper's Fig. 2 compares against.
+// Variational Integrator for Multibody Systems" (WAFR 2016, arXiv:1609.02898), their "recursive
+// impulse-based quasi-Newton" (RIQN) method, Alg. 3, applied to hovi's trapezoidal DEL equations
+// (s = 1). This is the O(n) method Fan et al.'s Fig. 2 compares against.
 //
-// What Lee et al. do (checked against their reference code, github.com/jslee02/wafr2016,
-// Skeleton::dm_integrate_RIQN_*): with the DEL residual written as
-//   f(q^{k+1}) = (momentum leaving the step) - (momentum entering) - (impulse)   (Lee Eqs. 17, 21-22)
-// (equation numbers of arXiv:1609.02898v2)
+// What Lee et al. do (read in their reference code, github.com/jslee02/wafr2016,
+// Skeleton::dm_integrate_RIQN_DRNEA / _SVI): with the DEL residual written as
+//   f(q^{k+1}) = (momentum leaving the step) - (momentum entering) - (impulse)   (Lee Eqs. 3, 17;
+//                                                          per body by DRNEA, Alg. 2, Eqs. 21-22)
 // whose Jacobian is (1/dt) M + O(1), they replace the Jacobian by J_f ≈ (1/dt) M(q^k), the
 // joint-space mass matrix at the *known* configuration q^k, held fixed during the iterations,
-// and take the full step (no line search)
+// and take the full step, with no line search:
 //   q^{k+1}_{(l+1)} = q^{k+1}_{(l)} - dt M(q^k)^{-1} f(q^{k+1}_{(l)})                  (Lee Alg. 3)
-// The product dt M^{-1} f is the joint velocity change caused by the generalized impulse
-// -dt f on the system at rest, computed in O(n) by the impulse form of the articulated-body
+// The step -dt M^{-1} f is the joint velocity change that the generalized impulse -dt f causes
+// on the system at rest; it is computed in O(n) by the impulse form of the articulated-body
 // algorithm (articulated inertias, bias impulses, velocity changes), never by forming M.
+// (Equation and algorithm numbers as cited for arXiv:1609.02898 by DART's design note
+// docs/design/simulation_variational_integrator.md; the update itself was checked in the code.)
 //
 // In hovi's sign convention r = p^k + D_1 L_d + F_d^{k,0} = -f (Algorithm 1), so the matrix the
 // step inverts is J̃ = -(1/dt) M(q^k) ≈ ∂r/∂q^{k+1}, and the step is dq = -J̃^{-1} r = dt M(q^k)^{-1} r.
