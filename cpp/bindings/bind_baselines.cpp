@@ -28,6 +28,7 @@ py::dict one_step_batch(const PyModel& pm, double dt, const py::object& Q0, cons
   if (method != "newton" && method != "quasi_newton") throw InputError("method must be 'newton' or 'quasi_newton'");
   Eigen::VectorXi iterations(N), converged(N);
   VecX seconds(N), residual(N);
+  MatX q_next(N, n);
   {
     py::gil_scoped_release release;
     Quadrature quad(1);
@@ -55,6 +56,7 @@ py::dict one_step_batch(const PyModel& pm, double dt, const py::object& Q0, cons
       iterations[k] = info.iterations;
       converged[k] = info.converged();
       residual[k] = info.residual;
+      q_next.row(k) = qc.col(1).transpose();
     }
   }
   py::dict d;
@@ -131,7 +133,7 @@ void bind_baselines(py::module_& m) {
 One trapezoidal (s = 1) step from every state (rows of q0, qdot0; p0 = M(q0) qdot0) by 'newton'
 (hovi's exact O(n) Newton with line search) or 'quasi_newton' (Lee et al. 2016), both from the
 guess q0 + dt qdot0 and converged when ||r||_inf <= tol (1 + ||p0||_inf). Returns per-state
-arrays converged, iterations, seconds (timed in C++), residual.
+arrays converged, iterations, seconds (timed in C++), residual, q_next (the last iterate).
 )doc");
   b.def("fig3_batch", &fig3_batch, py::arg("model"), py::arg("s"), py::arg("dt"), py::arg("q0"), py::arg("qdot0"),
         py::arg("method"), py::arg("min_seconds") = 0.002, R"doc(

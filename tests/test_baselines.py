@@ -1,0 +1,34 @@
+"""The Section 5 baselines through Python: the same equations and solutions as hovi's own
+algorithms (their full tests are the C++ ones in cpp/tests/test_*baselines*)."""
+import numpy as np
+
+import hovi
+
+
+def test_autodiff_matches_recursive_algorithms():
+    model = hovi.models.pendulum(5)
+    integ = hovi.Integrator(model, s=2, dt=0.02)
+    lin = hovi.Linearizer(integ)
+    ad = hovi._core.baselines.AutodiffDel(model, 2, 0.02)
+    rng = np.random.default_rng(0)
+    qc, p = rng.uniform(-1, 1, (3, 5)), rng.uniform(-1, 1, 5)
+    r, pn = integ.del_residual(qc, p)
+    r_ad, pn_ad = ad.residual(qc, p)
+    np.testing.assert_allclose(r_ad, r, rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(pn_ad, pn, rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(ad.newton_direction(qc, p), integ.newton_direction(qc, p), rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(ad.d2Ld(qc), lin.del_jacobian(qc).dq, rtol=1e-10, atol=1e-10)
+
+
+def test_quasi_newton_and_newton_reach_the_same_step():
+    model = hovi.models.pendulum(8)
+    rng = np.random.default_rng(1)
+    q0, qd0 = rng.uniform(-0.5, 0.5, (2, 10, 8))
+    newton = hovi._core.baselines.one_step_batch(model, 0.005, q0, qd0, "newton", tol=1e-12)
+    qn = hovi._core.baselines.one_step_batch(model, 0.005, q0, qd0, "quasi_newton", tol=1e-12)
+    assert newton["converged"].all() and qn["converged"].all()
+    assert (qn["iterations"] > newton["iterations"]).all()  # linear against quadratic convergence
+    np.testing.assert_allclose(qn["q_next"], newton["q_next"], atol=1e-10)
+    integ = hovi.Integrator(model, s=1, dt=0.005, tol=1e-12)
+    q1, _, _ = integ.step(q0[0], integ.momentum(q0[0], qd0[0]))
+    np.testing.assert_allclose(newton["q_next"][0], q1, atol=1e-10)
