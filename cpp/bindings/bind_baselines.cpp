@@ -64,6 +64,7 @@ py::dict one_step_batch(const PyModel& pm, double dt, const py::object& Q0, cons
   d["iterations"] = iterations;
   d["seconds"] = seconds;
   d["residual"] = residual;
+  d["q_next"] = q_next;
   return d;
 }
 // Mean time per call (seconds, at least `min_seconds` of repetitions) of f.
