@@ -3,6 +3,7 @@ algorithms (their full tests are the C++ ones in cpp/tests/test_*baselines*)."""
 import numpy as np
 
 import hovi
+import hovi.baselines
 
 
 def test_autodiff_matches_recursive_algorithms():
@@ -32,3 +33,32 @@ def test_quasi_newton_and_newton_reach_the_same_step():
     integ = hovi.Integrator(model, s=1, dt=0.005, tol=1e-12)
     q1, _, _ = integ.step(q0[0], integ.momentum(q0[0], qd0[0]))
     np.testing.assert_allclose(newton["q_next"][0], q1, atol=1e-10)
+
+
+def test_hermite_simpson_converges_at_order_3_or_better_against_dop853():
+    from scipy.integrate import solve_ivp
+    model = hovi.models.pendulum(5)
+    rng = np.random.default_rng(1)
+    q0, v0 = rng.uniform(-0.5, 0.5, 5), rng.uniform(-0.5, 0.5, 5)
+
+    def f(t, y):
+        return np.concatenate([y[5:], model.forward_dynamics(y[:5], y[5:])])
+
+    ref = solve_ivp(f, (0, 1), np.concatenate([q0, v0]), method="DOP853", rtol=1e-13, atol=1e-13).y[:5, -1]
+    dts = [0.05, 0.025, 0.0125, 0.00625]
+    errors = []
+    for dt in dts:
+        d = hovi.baselines.HermiteSimpson(model, dt, tol=1e-13).rollout(q0, v0, int(round(1 / dt)))
+        assert d["steps"] == int(round(1 / dt))
+        errors.append(np.linalg.norm(d["q"][-1] - ref))
+    slope = np.polyfit(np.log(dts), np.log(errors), 1)[0]
+    assert slope >= 3.0, (slope, errors)
+
+
+def test_hermite_simpson_rejects_bad_input():
+    import pytest
+    with pytest.raises(ValueError, match="dt"):
+        hovi.baselines.HermiteSimpson(hovi.models.pendulum(2), 0.0)
+    hs = hovi.baselines.HermiteSimpson(hovi.models.pendulum(2), 0.01)
+    with pytest.raises(ValueError, match="q0 must be a 1-D array of length 2"):
+        hs.rollout(np.zeros(3), np.zeros(2), 5)

@@ -8,6 +8,7 @@
 #include "hovi/algorithms/del_residual.hpp"
 #include "hovi/algorithms/newton_direction.hpp"
 #include "hovi/baselines/autodiff_lagrangian.hpp"
+#include "hovi/baselines/hermite_simpson.hpp"
 #include "hovi/baselines/quasi_newton.hpp"
 #include "hovi/errors.hpp"
 #include "py_model.hpp"
@@ -142,6 +143,41 @@ Per-state times (seconds, timed in C++) of the DEL evaluation, the Newton direct
 'recursive' (hovi: Algorithm 1, A.1/A.2, Algorithms 2/3 + chain rule) or 'autodiff' (Eigen
 AutoDiffScalar on a scalar-templated Lagrangian, dense LU), at control points q + c^a dt qdot.
 )doc");
+  py::class_<HermiteSimpson>(b, "HermiteSimpson", R"doc(
+Hermite-Simpson direct collocation as an implicit simulator (the paper's Sec. 5.3 baseline): the
+implicit formulation with the end and midpoint accelerations as unknowns and inverse-dynamics
+defects, Newton with an analytic dense Jacobian (RNEA derivatives) and LU; state (q, v).
+)doc")
+      .def(py::init([](const PyModel& m, double dt, double tol, int max_iterations) {
+             HermiteSimpsonOptions opt;
+             opt.tol = tol;
+             opt.max_iterations = max_iterations;
+             return new HermiteSimpson(m.model, dt, opt);
+           }),
+           py::arg("model"), py::arg("dt"), py::arg("tol") = 1e-10, py::arg("max_iterations") = 30)
+      .def("rollout", [](HermiteSimpson& hs, const py::object& q0, const py::object& v0, int steps) {
+            const int n = hs.model().n();
+            const VecX q = as_vector(q0, "q0", n), v = as_vector(v0, "v0", n);
+            if (steps < 0) throw InputError("steps must be non-negative");
+            HermiteSimpsonRollout r;
+            double seconds;
+            {
+              py::gil_scoped_release release;
+              const auto t0 = Clock::now();
+              r = hs.rollout(q, v, steps);
+              seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+            }
+            py::dict d;
+            d["q"] = MatX(r.q.topRows(r.steps + 1));
+            d["v"] = MatX(r.v.topRows(r.steps + 1));
+            d["iterations"] = Eigen::VectorXi(r.iterations.head(std::min<int>(steps, r.steps + 1)));
+            py::list st;
+            for (SolveStatus x : r.status) st.append(to_string(x));
+            d["status"] = st;
+            d["steps"] = r.steps;
+            d["seconds"] = seconds;
+            return d;
+          }, py::arg("q0"), py::arg("v0"), py::arg("steps"), "Simulate `steps` steps in C++ (GIL released); stops at a failed solve.");
   py::class_<AutodiffDel>(b, "AutodiffDel", "The automatic-differentiation baseline (dense, O(n^2)..O(n^3)).")
       .def(py::init([](const PyModel& m, int s, double dt) { return new AutodiffDel(m.model, Quadrature(s), dt); }),
            py::arg("model"), py::arg("s"), py::arg("dt"))

@@ -65,24 +65,26 @@ Model forced_pendulum() {
   return m;
 }
 
-// ẋ = f(x) = (v, FD(q, v, preload - k q - c v)) (no controls).
-void rhs(const Model& model, Data& data, const VecX& q, const VecX& v, VecX& qd, VecX& vd) {
+// ẋ = f(x) = (v, FD(q, v, preload - k q - c v + B u)) with a constant control u (empty: none).
+void rhs(const Model& model, Data& data, const VecX& u, const VecX& q, const VecX& v, VecX& qd, VecX& vd) {
   const JointForces& jf = model.joint_forces;
+  VecX tau = jf.preload - jf.stiffness.cwiseProduct(q) - jf.damping.cwiseProduct(v);
+  if (u.size()) tau += jf.actuation * u;
   qd = v;
-  vd = forward_dynamics(model, data, q, v, jf.preload - jf.stiffness.cwiseProduct(q) - jf.damping.cwiseProduct(v));
+  vd = forward_dynamics(model, data, q, v, tau);
 }
 
 // Classical RK4 with N equal steps over [0, T]; returns q(T) (v(T) in v_out).
-VecX rk4(const Model& model, VecX q, VecX v, double T, int N, VecX* v_out = nullptr) {
+VecX rk4(const Model& model, VecX q, VecX v, double T, int N, VecX* v_out = nullptr, const VecX& u = VecX()) {
   Data data(model);
   const double h = T / N;
   const int n = model.n();
   VecX k1q(n), k1v(n), k2q(n), k2v(n), k3q(n), k3v(n), k4q(n), k4v(n);
   for (int k = 0; k < N; ++k) {
-    rhs(model, data, q, v, k1q, k1v);
-    rhs(model, data, q + 0.5 * h * k1q, v + 0.5 * h * k1v, k2q, k2v);
-    rhs(model, data, q + 0.5 * h * k2q, v + 0.5 * h * k2v, k3q, k3v);
-    rhs(model, data, q + h * k3q, v + h * k3v, k4q, k4v);
+    rhs(model, data, u, q, v, k1q, k1v);
+    rhs(model, data, u, q + 0.5 * h * k1q, v + 0.5 * h * k1v, k2q, k2v);
+    rhs(model, data, u, q + 0.5 * h * k2q, v + 0.5 * h * k2v, k3q, k3v);
+    rhs(model, data, u, q + h * k3q, v + h * k3v, k4q, k4v);
     q += (h / 6) * (k1q + 2 * k2q + 2 * k3q + k4q);
     v += (h / 6) * (k1v + 2 * k2v + 2 * k3v + k4v);
   }
@@ -158,36 +160,41 @@ TEST(HermiteSimpson, CollocationResidualVanishesAtSolution) {
 }
 
 // (a) Order of convergence of q(T) on the 5-link pendulum from a random state, against RK4 at
-// a much smaller step whose own convergence is checked by halving it.
+// a much smaller step whose own convergence is checked by halving it; also with springs,
+// dampers and constant controls (the reference adds them independently of the solver).
 TEST(HermiteSimpson, ConvergenceOrderOnPendulum) {
-  const Model model = models::pendulum(5);
-  const int n = model.n();
-  std::mt19937 rng(3);
-  const VecX q0 = uniform(rng, n, -1, 1), v0 = uniform(rng, n, -1, 1);
-  const double T = 1.0;
-  // Reference: RK4 with 2^14 and 2^15 steps (h = 6.1e-5 and 3.1e-5).
-  const VecX q_ref = rk4(model, q0, v0, T, 1 << 15);
-  const VecX q_ref2 = rk4(model, q0, v0, T, 1 << 14);
-  const double ref_err = (q_ref - q_ref2).cwiseAbs().maxCoeff();
-  std::printf("reference: |RK4(2^14) - RK4(2^15)|_inf = %.3e\n", ref_err);
-  std::vector<double> err;
-  const std::vector<int> steps = {10, 20, 40, 80, 160};
-  for (int N : steps) {
-    HermiteSimpsonOptions opt;
-    opt.tol = 1e-13;
-    HermiteSimpson hs(model, T / N, opt);
-    const HermiteSimpsonRollout out = hs.rollout(q0, v0, N);
-    ASSERT_EQ(out.steps, N) << "dt " << T / N;
-    err.push_back((out.q.row(N).transpose() - q_ref).cwiseAbs().maxCoeff());
+  for (const bool forced : {false, true}) {
+    const Model model = forced ? forced_pendulum() : models::pendulum(5);
+    const int n = model.n(), m = model.n_controls();
+    std::mt19937 rng(3);
+    const VecX q0 = uniform(rng, n, -1, 1), v0 = uniform(rng, n, -1, 1), u = uniform(rng, m, -2, 2);
+    const double T = 1.0;
+    // Reference: RK4 with 2^14 and 2^15 steps (h = 6.1e-5 and 3.1e-5).
+    const VecX q_ref = rk4(model, q0, v0, T, 1 << 15, nullptr, u);
+    const VecX q_ref2 = rk4(model, q0, v0, T, 1 << 14, nullptr, u);
+    const double ref_err = (q_ref - q_ref2).cwiseAbs().maxCoeff();
+    std::printf("%s: reference |RK4(2^14) - RK4(2^15)|_inf = %.3e\n", forced ? "springs, dampers, controls" : "pendulum(5)",
+                ref_err);
+    std::vector<double> err;
+    const std::vector<int> steps = {10, 20, 40, 80, 160};
+    for (int N : steps) {
+      HermiteSimpsonOptions opt;
+      opt.tol = 1e-13;
+      HermiteSimpson hs(model, T / N, opt);
+      const MatX U = m ? MatX(u.transpose().replicate(N, 3)) : MatX();  // u^{k,0} = u^{k,1/2} = u^{k,1} = u
+      const HermiteSimpsonRollout out = hs.rollout(q0, v0, N, U);
+      ASSERT_EQ(out.steps, N) << "dt " << T / N;
+      err.push_back((out.q.row(N).transpose() - q_ref).cwiseAbs().maxCoeff());
+    }
+    for (size_t i = 0; i < err.size(); ++i) {
+      const double order = i ? std::log2(err[i - 1] / err[i]) : 0.0;
+      std::printf("  dt = %.5f  |q(T) - q_ref|_inf = %.3e  observed order %.2f\n", T / steps[i], err[i], order);
+    }
+    // The reference is far more accurate than the smallest HS error.
+    EXPECT_LT(ref_err, 1e-3 * err.back());
+    // The last three halvings: order >= 3 required; Lobatto IIIA (3 stages) is order 4 at the nodes.
+    for (size_t i = 2; i < err.size(); ++i) EXPECT_GT(std::log2(err[i - 1] / err[i]), 3.5) << "dt " << T / steps[i];
   }
-  for (size_t i = 0; i < err.size(); ++i) {
-    const double order = i ? std::log2(err[i - 1] / err[i]) : 0.0;
-    std::printf("dt = %.5f  |q(T) - q_ref|_inf = %.3e  observed order %.2f\n", T / steps[i], err[i], order);
-  }
-  // The reference is far more accurate than the smallest HS error.
-  EXPECT_LT(ref_err, 1e-3 * err.back());
-  // The last three halvings: order >= 3 required; Lobatto IIIA (3 stages) is order 4 at the nodes.
-  for (size_t i = 2; i < err.size(); ++i) EXPECT_GT(std::log2(err[i - 1] / err[i]), 3.5) << "dt " << T / steps[i];
 }
 
 // (c) Invalid inputs.
@@ -282,8 +289,10 @@ TEST(HermiteSimpson, RolloutWithControls) {
 }
 
 // Sec. 5.3 / Fig. 4 setting: 12-link pendulum, q0 ~ U[-pi/12, pi/12], v0 = 0, T = 10 s. Prints the
-// time per step, Newton iterations per step and the error against a fine RK4 reference, for
-// Hermite-Simpson (analytic and finite-difference Jacobians) and hovi's Simpson VI (s = 2).
+// time per step (best of 3 runs of each rollout), Newton iterations per step and the error
+// against a fine RK4 reference, (1/T) ∫ ||q - q_ref|| dt and max |q(T) - q_ref(T)|, for
+// Hermite-Simpson (analytic and finite-difference Jacobians) and hovi's Simpson VI (s = 2), at
+// the default tol 1e-10 and at 1e-13. Takes a few minutes.
 // Run with --gtest_also_run_disabled_tests --gtest_filter='*HermiteSimpsonTiming*'.
 TEST(HermiteSimpson, DISABLED_HermiteSimpsonTiming) {
   const Model model = models::pendulum(12);
@@ -291,59 +300,82 @@ TEST(HermiteSimpson, DISABLED_HermiteSimpsonTiming) {
   const double T = 10.0;
   const int trials = 5;
   using clock = std::chrono::steady_clock;
-  std::printf("%-22s %7s %10s %10s %8s %12s %12s\n", "method", "dt", "us/step", "us/iter", "iter/st", "mean|dq|",
-              "max|q(T)-ref|");
+  struct Method {
+    const char* name;
+    bool hs;
+    HermiteSimpsonJacobian jacobian;
+    double tol;
+    int reps;
+  };
+  const std::vector<Method> methods = {
+      {"HS analytic J", true, HermiteSimpsonJacobian::Analytic, 1e-10, 3},
+      {"HS finite-diff J", true, HermiteSimpsonJacobian::FiniteDifference, 1e-10, 1},
+      {"Simpson VI", false, HermiteSimpsonJacobian::Analytic, 1e-10, 3},
+      {"HS analytic J", true, HermiteSimpsonJacobian::Analytic, 1e-13, 3},
+      {"Simpson VI", false, HermiteSimpsonJacobian::Analytic, 1e-13, 3},
+  };
+  std::printf("%-18s %7s %6s %9s %9s %8s %11s %11s\n", "method", "tol", "dt", "us/step", "us/iter", "iter/st",
+              "mean|dq|", "max|dq(T)|");
   for (double dt : {0.001, 0.005, 0.01, 0.02}) {
     const int N = static_cast<int>(std::lround(T / dt));
-    for (int method = 0; method < 3; ++method) {
-      std::mt19937 rng(100);
-      double seconds = 0, mean_err = 0, end_err = 0;
-      long iters = 0, steps = 0;
-      for (int trial = 0; trial < trials; ++trial) {
-        const VecX q0 = uniform(rng, n, -M_PI / 12, M_PI / 12), v0 = VecX::Zero(n);
-        // Reference at the HS nodes: RK4 with 64 substeps per node for dt >= 0.005, 32 at 0.001.
-        MatX q_ref(N + 1, n);
-        {
-          const int sub = dt < 0.004 ? 32 : 64;
-          VecX q = q0, v = v0;
-          q_ref.row(0) = q.transpose();
-          for (int k = 0; k < N; ++k) {
-            VecX v_next;
-            q = rk4(model, q, v, dt, sub, &v_next);
-            v = v_next;
-            q_ref.row(k + 1) = q.transpose();
+    std::vector<double> seconds(methods.size(), 0), mean_err(methods.size(), 0), end_err(methods.size(), 0);
+    std::vector<long> iters(methods.size(), 0);
+    std::mt19937 rng(100);
+    for (int trial = 0; trial < trials; ++trial) {
+      const VecX q0 = uniform(rng, n, -M_PI / 12, M_PI / 12), v0 = VecX::Zero(n);
+      // Reference at the nodes: RK4 with h = dt/64 (dt/32 at dt = 0.001).
+      MatX q_ref(N + 1, n);
+      {
+        const int sub = dt < 0.004 ? 32 : 64;
+        VecX q = q0, v = v0, v_next;
+        q_ref.row(0) = q.transpose();
+        for (int k = 0; k < N; ++k) {
+          q = rk4(model, q, v, dt, sub, &v_next);
+          v = v_next;
+          q_ref.row(k + 1) = q.transpose();
+        }
+      }
+      for (size_t mi = 0; mi < methods.size(); ++mi) {
+        const Method& me = methods[mi];
+        MatX q_out;
+        double best = 1e300;
+        for (int rep = 0; rep < me.reps; ++rep) {
+          if (me.hs) {
+            HermiteSimpsonOptions opt;
+            opt.jacobian = me.jacobian;
+            opt.tol = me.tol;
+            HermiteSimpson hs(model, dt, opt);
+            const auto t0 = clock::now();
+            const HermiteSimpsonRollout out = hs.rollout(q0, v0, N);
+            best = std::min(best, std::chrono::duration<double>(clock::now() - t0).count());
+            ASSERT_EQ(out.steps, N);
+            if (rep == 0) iters[mi] += out.iterations.sum();
+            q_out = out.q;
+          } else {
+            SolverOptions opt;
+            opt.tol = me.tol;
+            GalerkinIntegrator vi(model, 2, dt, opt);
+            const VecX p0 = vi.momentum(q0, v0);
+            const auto t0 = clock::now();
+            const Rollout out = vi.rollout(q0, p0, N, MatX());
+            best = std::min(best, std::chrono::duration<double>(clock::now() - t0).count());
+            ASSERT_EQ(out.steps, N);
+            if (rep == 0) iters[mi] += out.iterations.sum();
+            q_out = out.q;
           }
         }
-        MatX q_out;
-        if (method < 2) {
-          HermiteSimpsonOptions opt;
-          opt.jacobian = method == 0 ? HermiteSimpsonJacobian::Analytic : HermiteSimpsonJacobian::FiniteDifference;
-          HermiteSimpson hs(model, dt, opt);
-          const auto t0 = clock::now();
-          const HermiteSimpsonRollout out = hs.rollout(q0, v0, N);
-          seconds += std::chrono::duration<double>(clock::now() - t0).count();
-          ASSERT_EQ(out.steps, N);
-          iters += out.iterations.sum();
-          q_out = out.q;
-        } else {
-          GalerkinIntegrator vi(model, 2, dt);
-          const VecX p0 = vi.momentum(q0, v0);
-          const auto t0 = clock::now();
-          const Rollout out = vi.rollout(q0, p0, N, MatX());
-          seconds += std::chrono::duration<double>(clock::now() - t0).count();
-          ASSERT_EQ(out.steps, N);
-          iters += out.iterations.sum();
-          q_out = out.q;
-        }
-        steps += N;
-        double e = 0;  // (1/T) ∫ ||q - q_ref|| dt by the trapezoidal rule on the nodes
+        seconds[mi] += best;
+        double e = 0;  // (1/T) ∫ ||q - q_ref|| dt, trapezoidal rule on the nodes
         for (int k = 0; k <= N; ++k) e += (k == 0 || k == N ? 0.5 : 1.0) * (q_out.row(k) - q_ref.row(k)).norm();
-        mean_err += e * dt / T / trials;
-        end_err = std::max(end_err, (q_out.row(N) - q_ref.row(N)).cwiseAbs().maxCoeff());
+        mean_err[mi] += e * dt / T / trials;
+        end_err[mi] = std::max(end_err[mi], (q_out.row(N) - q_ref.row(N)).cwiseAbs().maxCoeff());
       }
-      const char* name = method == 0 ? "HS (analytic J)" : method == 1 ? "HS (finite-diff J)" : "Simpson VI (s=2)";
-      std::printf("%-22s %7.3f %10.2f %10.2f %8.2f %12.3e %12.3e\n", name, dt, 1e6 * seconds / steps,
-                  1e6 * seconds / iters, double(iters) / steps, mean_err, end_err);
+    }
+    for (size_t mi = 0; mi < methods.size(); ++mi) {
+      const long steps = static_cast<long>(N) * trials;
+      std::printf("%-18s %7.0e %6.3f %9.2f %9.2f %8.2f %11.3e %11.3e\n", methods[mi].name, methods[mi].tol, dt,
+                  1e6 * seconds[mi] / steps, 1e6 * seconds[mi] / iters[mi], double(iters[mi]) / steps, mean_err[mi],
+                  end_err[mi]);
     }
   }
 }

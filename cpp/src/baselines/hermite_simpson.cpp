@@ -52,14 +52,19 @@ void rnea_derivatives(const Model& model, Data& data, const Eigen::Ref<const Vec
     out.v[i] = vp + S * qdot[i];                           // v̄_i
     out.a[i] = ap + out.Sdot[i] * qdot[i] + S * qddot[i];  // ā_i
     out.psi[i] = ad(ap, S) + ad(vp, out.Sdot[i]);          // ψ_i
-    const Mat6 Mb = data.Mbar[i].matrix();
+    const SpatialInertia& Mb = data.Mbar[i];
     const Wrench mu = Mb * out.v[i];                        // μ̄_i = M̄_i v̄_i
-    const Mat6 adv = ad(out.v[i]);
     out.F[i] = Mb * out.a[i] - adT(out.v[i], mu);          // f̄_i
-    out.Ic[i] = Mb;
-    out.Bc[i].noalias() = -Mb * adv;
-    out.Bc[i].noalias() -= adv.transpose() * Mb;
-    out.Bc[i] -= adD(mu);                                  // B_i
+    out.Ic[i] = Mb.matrix();
+    // X = M̄ ad_v = [[I ŵ + ĥ û, ĥ ŵ], [m û - ĥ ŵ, m ŵ]] (v = (w, u), M̄ = [[I, ĥ], [-ĥ, m 1]])
+    const Mat3 W = hat(out.v[i].head<3>()), U = hat(out.v[i].tail<3>()), H = hat(Mb.h);
+    const Mat3 HW = H * W;
+    Mat6 X;
+    X.topLeftCorner<3, 3>().noalias() = Mb.I * W + H * U;
+    X.topRightCorner<3, 3>() = HW;
+    X.bottomLeftCorner<3, 3>() = Mb.m * U - HW;
+    X.bottomRightCorner<3, 3>() = Mb.m * W;
+    out.Bc[i] = -(X + X.transpose()) - adD(mu);            // B_i = -M̄ ad_v - ad_v^T M̄ - ad^D_μ
   }
   for (int i = n - 1; i >= 0; --i) {  // subtree sums F̄_i, Ic_i, Bc_i
     const int p = model.parent[i];
@@ -78,7 +83,7 @@ void rnea_derivatives(const Model& model, Data& data, const Eigen::Ref<const Vec
     const Wrench BS = out.Bc[i].transpose() * Si;      // (S̄_i^T Bc_i)^T
     for (int l = i; l >= 0; l = model.parent[l]) {     // l ∈ anc(i) ∪ {i}
       out.dq(i, l) = IS.dot(out.psi[l]) + BS.dot(out.Sdot[l]);
-      out.dv(i, l) = 1 * IS.dot(out.Sdot[l]) + BS.dot(data.Sbar[l]);
+      out.dv(i, l) = 2 * IS.dot(out.Sdot[l]) + BS.dot(data.Sbar[l]);
       out.M(i, l) = IS.dot(data.Sbar[l]);
     }
     const Wrench wq = -adT(Si, out.F[i]) + out.Ic[i] * out.psi[i] + out.Bc[i] * out.Sdot[i];
@@ -158,7 +163,7 @@ void HermiteSimpson::residual(const VecX& z, VecX& r) {
   r.tail(n) = (4 * h / 6) * (inverse_dynamics(model_, data_, qm_, vm_, am_) - joint_force(1, qm_, vm_));  // midpoint
 }
 
-void HermiteSimpson::jacobian(const VecX& z) {
+void HermiteSimpson::jacobian(const VecX& z, VecX* r) {
   const int n = model_.n();
   const double h = dt_;
   if (options.jacobian == HermiteSimpsonJacobian::FiniteDifference) {
@@ -178,8 +183,17 @@ void HermiteSimpson::jacobian(const VecX& z) {
     return;
   }
   states_from_accelerations(z);
+  if (!z.allFinite() || !q1_.allFinite() || !v1_.allFinite() || !qm_.allFinite() || !vm_.allFinite()) {
+    J_.setConstant(std::numeric_limits<double>::quiet_NaN());
+    if (r) r->setConstant(std::numeric_limits<double>::quiet_NaN());
+    return;
+  }
   rnea_derivatives(model_, data_, q1_, v1_, a1_, d1_);
   rnea_derivatives(model_, data_, qm_, vm_, am_, dm_);
+  if (r) {  // the residual from the same passes: tau = ID(q, v, a)
+    r->head(n) = (h / 6) * (d1_.tau - joint_force(2, q1_, v1_));
+    r->tail(n) = (4 * h / 6) * (dm_.tau - joint_force(1, qm_, vm_));
+  }
   const JointForces& jf = model_.joint_forces;
   for (RneaDerivatives* d : {&d1_, &dm_}) {  // ∂(ID - Q)/∂q += k, ∂/∂v += c
     d->dq.diagonal() += jf.stiffness;
@@ -196,7 +210,10 @@ void HermiteSimpson::jacobian(const VecX& z) {
 
 SolveInfo HermiteSimpson::newton(VecX& z) {
   SolveInfo info;
-  residual(z, r_);
+  // Analytic: the first residual comes with the Jacobian (the RNEA derivative pass gives tau).
+  bool have_jacobian = options.jacobian == HermiteSimpsonJacobian::Analytic;
+  if (have_jacobian) jacobian(z, &r_);
+  else residual(z, r_);
   info.residual_evaluations = 1;
   info.residual = r_.cwiseAbs().maxCoeff();
   double norm2 = r_.norm();
@@ -214,14 +231,15 @@ SolveInfo HermiteSimpson::newton(VecX& z) {
       info.status = SolveStatus::MaxIterations;
       break;
     }
-    jacobian(z);
+    if (!have_jacobian) jacobian(z);
+    have_jacobian = false;
     if (!J_.allFinite()) {
       info.status = SolveStatus::NonFinite;
       break;
     }
     lu.compute(J_);
-    const double rcond = lu.rcond();
-    if (!(rcond > std::numeric_limits<double>::epsilon())) {
+    const VecX pivots = lu.matrixLU().diagonal().cwiseAbs();  // |U_ii|
+    if (!(pivots.minCoeff() > 1e-14 * pivots.maxCoeff())) {
       info.status = SolveStatus::SingularJacobian;
       break;
     }
@@ -302,12 +320,12 @@ HermiteSimpsonRollout HermiteSimpson::rollout(const VecX& q0, const VecX& v0, in
   out.q.resize(N + 1, n);
   out.v.resize(N + 1, n);
   out.a.resize(N + 1, n);
-  out.iterations.resize(N);
-  out.residual.resize(N);
+  out.iterations.setZero(N);
+  out.residual.setConstant(N, std::numeric_limits<double>::quiet_NaN());
   out.status.reserve(N);
   out.q.row(0) = q0.transpose();
   out.v.row(0) = v0.transpose();
-  out.a.row(0).setConstant(std::numeric_limits<double>::quiet_NaN());
+  out.a.setConstant(std::numeric_limits<double>::quiet_NaN());
   MatX uk(m, 3), guess(n, 2);
   VecX q = q0, v = v0, q_next(n), v_next(n);
   VecX A0(n), Am(n), A1(n);  // a at t_{k-1}, t_{k-1/2}, t_k from the previous step

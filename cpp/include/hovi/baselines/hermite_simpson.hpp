@@ -3,8 +3,8 @@
 // One step x_k -> x_{k+1} of length h solves the HS collocation conditions
 //   x_m     = (x_k + x_{k+1})/2 + h/8 (f_k - f_{k+1}),
 //   x_{k+1} = x_k + h/6 (f_k + 4 f_m + f_{k+1}),
-// i.e. the 3-stage Lobatto IIIA method: its node values converge with order 4 for smooth
-// problems (the paper's "third order" is the cubic interpolant between nodes).
+// i.e. the 3-stage Lobatto IIIA method. Sec. 5.3 calls it third order; its node values converge
+// with order 4 for smooth problems (observed: 3.98-4.00 in test_hermite_simpson.cpp).
 //
 // Formulation: the IMPLICIT one of the paper's footnote (and of Posa 2016, Hereid 2018): the joint
 // accelerations a_{k+1} and a_m are unknowns, f = (v, a), and the dynamics enter as the
@@ -30,7 +30,8 @@
 // coordinates (Carpentier & Mansard 2018, re-derived in hovi's world-frame conventions; see
 // rnea_derivatives below), plus M(q) from the same composite inertias. FiniteDifference
 // instead differentiates the reduced residual by central differences (8n RNEA passes, O(n^2)).
-// The 2n x 2n Newton system is solved densely by partial-pivoting LU, O(n^3).
+// The 2n x 2n Newton system is solved densely by partial-pivoting LU, O(n^3); it is reported
+// singular when min|U_ii| <= 1e-14 max|U_ii|.
 //
 // Forces: gravity, the joint springs/dampers/actuation of model.joint_forces,
 //   Q = preload - k q - c v + B u. Body wrench elements and holonomic constraints are not
@@ -54,9 +55,11 @@ struct HermiteSimpsonOptions {
 };
 
 struct HermiteSimpsonRollout {
-  MatX q, v, a;                // (N+1) x n: q_k, v_k and a_k = FD(q_k, v_k, tau_k) (row N: a of step N-1's end)
-  Eigen::VectorXi iterations;  // Newton iterations per step (summed over the fallback attempts)
-  VecX residual;               // final ||r||_inf per step
+  MatX q, v;                   // (N+1) x n: q_k, v_k
+  MatX a;                      // (N+1) x n: a_k = FD(q_k, v_k, tau_k); row N is a_N from the last
+                               // solve; rows not reached (and row 0 when N = 0) are NaN
+  Eigen::VectorXi iterations;  // Newton iterations per step (summed over the fallback attempts), 0 if not reached
+  VecX residual;               // final ||r||_inf per step, NaN if not reached
   std::vector<SolveStatus> status;
   int steps = 0;               // steps completed (less than N if a solve failed)
 };
@@ -112,10 +115,10 @@ class HermiteSimpson {
   const VecX& a_mid() const { return am_; }
 
  private:
-  void set_controls(const MatX& u);                   // tau_extra at the 3 points from u
+  void set_controls(const MatX& u);                   // checks and stores u at the 3 points
   void states_from_accelerations(const VecX& z);      // q1, v1, qm, vm from z = (a1, am)
   void residual(const VecX& z, VecX& r);              // reduced residual, impulse units
-  void jacobian(const VecX& z);                       // J_ = ∂r/∂z
+  void jacobian(const VecX& z, VecX* r = nullptr);   // J_ = ∂r/∂z (and r, analytic only)
   VecX joint_force(int point, const VecX& q, const VecX& v) const;  // Q = preload - k q - c v + B u
   SolveInfo newton(VecX& z);
 

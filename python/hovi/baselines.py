@@ -1,0 +1,13 @@
+"""The comparison baselines of the paper's Section 5, for benchmarks and studies.
+
+- ``HermiteSimpson(model, dt, tol=1e-10)``: Hermite-Simpson direct collocation used as an implicit
+  simulator; ``.rollout(q0, v0, steps)`` returns a dict with q, v, iterations, status, seconds.
+- ``AutodiffDel(model, s, dt)``: the DEL residual, Newton direction (dense LU) and D^2 L_d by
+  automatic differentiation of a scalar-templated Lagrangian.
+- ``one_step_batch(model, dt, q0, qdot0, method)``: one trapezoidal step from many states by hovi's
+  exact Newton ('newton') or the quasi-Newton of Lee et al. 2016 ('quasi_newton'), timed in C++.
+- ``fig3_batch(...)``: per-call times of the recursive algorithms or their AD counterparts.
+"""
+from ._core.baselines import AutodiffDel, HermiteSimpson, fig3_batch, one_step_batch
+
+__all__ = ["AutodiffDel", "HermiteSimpson", "fig3_batch", "one_step_batch"]

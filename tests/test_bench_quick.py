@@ -1,0 +1,20 @@
+"""Every benchmark script runs in --quick mode (a smoke run: the full studies live in bench/)."""
+import os
+import subprocess
+import sys
+
+import pytest
+
+BENCH = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "bench")
+SCRIPTS = ["speed.py", "linearization.py", "constraints.py", "fig2_quasi_newton.py", "fig3_autodiff.py",
+           "fig4_hermite_simpson.py", "stability.py"]
+
+
+@pytest.mark.parametrize("script", SCRIPTS)
+def test_bench_script_quick_mode(script):
+    done = subprocess.run([sys.executable, os.path.join(BENCH, script), "--quick"], cwd=BENCH,
+                          capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stdout[-2000:] + done.stderr[-4000:]
+    stem = script[:-3]
+    results = os.listdir(os.path.join(BENCH, "results"))
+    assert any(f.startswith(stem.split("_")[0]) and "quick" in f and f.endswith(".json") for f in results), results
