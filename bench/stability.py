@@ -25,7 +25,7 @@ NAMES = ["VI s=1 (trapezoidal)", "VI s=2 (Simpson)", "VI s=3", "Hermite-Simpson"
 def make(name, model, dt):
     """A function q0 -> (converged, q, energy) for `steps` steps."""
     if name.startswith("VI"):
-        integ = hovi.Integrator(model, s=int(name[4]), dt=dt)
+        integ = hovi.Integrator(model, s=int(name[5]), dt=dt)
 
         def run(q0, steps):
             traj = integ.rollout(q0, steps, raise_on_failure=False)
