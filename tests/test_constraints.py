@@ -225,3 +225,37 @@ def test_bad_constraints_give_clear_errors():
         m.add_joint_coupling([1.0, 2.0])
     with pytest.raises(hovi.ModelError, match="not a rotation"):
         m.add_orientation_constraint(0, 2 * np.eye(3))
+
+
+def test_constrained_del_jacobian_matches_finite_differences():
+    model, q0 = with_every_kind()
+    s, n, mc = 2, 9, model.n_constraints
+    integ = hovi.Integrator(model, s=s, dt=0.02)
+    lin = hovi.Linearizer(integ)
+    rng = np.random.default_rng(7)
+    qc = q0 + rng.normal(scale=0.02, size=(s + 1, n))
+    lam, p = rng.normal(size=(s, mc)), rng.normal(size=n)
+    J = lin.del_jacobian(qc, multipliers=lam)
+
+    def out(x, l):
+        r, H, pn = integ.constrained_residual(x, l, p)
+        return np.concatenate([r.ravel(), pn]), H.ravel()
+
+    h = 1e-4
+    dq = np.zeros(((s + 1) * n, (s + 1) * n))
+    dh = np.zeros((s * mc, (s + 1) * n))
+    for c in range(s + 1):
+        for j in range(n):
+            e = np.zeros_like(qc)
+            e[c, j] = h
+            f = [out(qc + k * e, lam) for k in (2, 1, -1, -2)]
+            dq[:, c * n + j] = (-f[0][0] + 8 * f[1][0] - 8 * f[2][0] + f[3][0]) / (12 * h)
+            dh[:, c * n + j] = (-f[0][1] + 8 * f[1][1] - 8 * f[2][1] + f[3][1]) / (12 * h)
+    np.testing.assert_allclose(J.dq, dq, rtol=0, atol=1e-7 * np.abs(dq).max())
+    np.testing.assert_allclose(J.dh, dh, rtol=0, atol=1e-7 * np.abs(dh).max())
+    dl = np.zeros(((s + 1) * n, s * mc))
+    for k in range(s * mc):
+        e = np.zeros(s * mc)
+        e[k] = 1.0
+        dl[:, k] = (out(qc, lam + e.reshape(s, mc))[0] - out(qc, lam - e.reshape(s, mc))[0]) / 2  # affine in λ
+    np.testing.assert_allclose(J.dlambda, dl, rtol=0, atol=1e-10 * np.abs(dl).max())

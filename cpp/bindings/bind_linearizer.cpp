@@ -17,15 +17,22 @@ struct PyLinearizer {
 void bind_linearizer(py::module_& m) {
   py::class_<PyLinearizer>(m, "Linearizer")
       .def(py::init<PyIntegrator&>(), py::arg("integrator"), py::keep_alive<1, 2>())
-      .def("del_jacobian", [](PyLinearizer& L, const py::object& qc, const py::object& u, bool with_u) {
-            MatX Jq, Ju;
+      .def("del_jacobian", [](PyLinearizer& L, const py::object& qc, const py::object& u, bool with_u,
+                              const py::object& multipliers) {
+            MatX Jq, Ju, Dh;
             const MatX q = L.integ.control_points(qc, "control_points"), uu = L.integ.controls(u);
+            const bool constrained = !multipliers.is_none();
+            if (constrained && L.integ.integ.model().n_constraints() == 0)
+              throw InputError("multipliers were given but the model has no constraints");
+            const MatX lam = constrained ? L.integ.multipliers_arg(multipliers) : MatX();
             {
               py::gil_scoped_release release;
-              L.lin.del_jacobian(q, uu, Jq, with_u ? &Ju : nullptr);
+              L.lin.del_jacobian(q, uu, Jq, (with_u || constrained) ? &Ju : nullptr, lam, constrained ? &Dh : nullptr);
             }
-            return py::make_tuple(Jq, with_u ? py::cast(Ju) : py::none());
-          }, py::arg("control_points"), py::arg("u") = py::none(), py::arg("with_u") = true)
+            return py::make_tuple(Jq, (with_u || constrained) ? py::cast(Ju) : py::none(),
+                                  constrained ? py::cast(Dh) : py::none());
+          }, py::arg("control_points"), py::arg("u") = py::none(), py::arg("with_u") = true,
+          py::arg("multipliers") = py::none())
       .def("step_jacobians", [](PyLinearizer& L, const py::object& qc, const py::object& u, bool want_A, bool want_B,
                                 const py::object& multipliers) {
             const MatX q = L.integ.control_points(qc, "control_points"), uu = L.integ.controls(u);

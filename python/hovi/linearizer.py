@@ -23,6 +23,8 @@ class DelJacobian:
     du: np.ndarray | None
     s: int
     n: int
+    dlambda: np.ndarray | None = None  # constrained: d(rows)/dλ^{k,0..s-1}, ((s+1) n, s m_c)
+    dh: np.ndarray | None = None       # constrained: dh(q^{k,1..s})/dq^{k,0..s}, (s m_c, (s+1) n)
 
     def blocks(self) -> np.ndarray:
         S1, n = self.s + 1, self.n
@@ -63,10 +65,22 @@ class Linearizer:
         self.integrator = integrator
         self._core = _core.Linearizer(integrator._core)
 
-    def del_jacobian(self, control_points, u=None, *, with_u: bool = True) -> DelJacobian:
-        """Jacobian of (r^{k,0..s-1}, p^{k+1}) with respect to q^{k,0..s} (and u^{k,0..s})."""
-        dq, du = self._core.del_jacobian(control_points, u, with_u)
-        return DelJacobian(dq=dq, du=du, s=self.integrator.s, n=self.integrator.n)
+    def del_jacobian(self, control_points, u=None, *, with_u: bool = True, multipliers=None) -> DelJacobian:
+        """Jacobian of (r^{k,0..s-1}, p^{k+1}) with respect to q^{k,0..s} (and u^{k,0..s}).
+
+        For a constrained model give the multipliers (s, m_c) = λ^{k,0..s-1}: the rows then include
+        the constraint forces w^a dt Dh(q^a)^T λ^a (with their λ·d²h terms), and the result carries
+        ``dlambda`` and ``dh`` (the Jacobian of the constraint rows h(q^{k,1..s})).
+        """
+        dq, du, dh = self._core.del_jacobian(control_points, u, with_u, multipliers)
+        s, n = self.integrator.s, self.integrator.n
+        dlambda = None
+        if multipliers is not None:
+            m, mc = self.integrator.model.n_controls, self.integrator.n_constraints
+            blocks = du.reshape((s + 1) * n, s + 1, m + mc)
+            dlambda = blocks[:, :s, m:].reshape((s + 1) * n, s * mc)
+            du = blocks[:, :, :m].reshape((s + 1) * n, (s + 1) * m) if with_u else None
+        return DelJacobian(dq=dq, du=du, s=s, n=n, dlambda=dlambda, dh=dh)
 
     def step_jacobians(self, q, p, u=None, *, A: bool = True, B: bool = True, hold: bool = False,
                        guess=None) -> StepLinearization:

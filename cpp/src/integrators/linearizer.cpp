@@ -10,10 +10,26 @@ Linearizer::Linearizer(const Model& model, const Quadrature& quad, double dt)
     : model_(model), quad_(quad), dt_(dt), mc_(model.n_constraints()),
       aug_(mc_ ? with_constraint_forces(model) : model), ws_(aug_, quad), data_(model) {}
 
-void Linearizer::del_jacobian(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u, MatX& Jq, MatX* Ju) {
-  const int N = (quad_.s + 1) * model_.n();
-  Jq.resize(N, N);
-  hovi::del_jacobian(model_, quad_, ws_, qc, u, dt_, Jq, Ju);
+void Linearizer::del_jacobian(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u, MatX& Jq, MatX* Ju,
+                              const Eigen::Ref<const MatX>& lambda, MatX* Dh) {
+  const int n = model_.n(), s = quad_.s, S1 = s + 1, m = model_.n_controls();
+  Jq.resize(S1 * n, S1 * n);
+  if (!mc_) {
+    hovi::del_jacobian(model_, quad_, ws_, qc, u, dt_, Jq, Ju);
+    return;
+  }
+  uaug_.setZero(m + mc_, S1);
+  uaug_.topRows(m) = u;
+  uaug_.bottomLeftCorner(mc_, s) = lambda;
+  hovi::del_jacobian(aug_, quad_, ws_, qc, uaug_, dt_, Jq, Ju);
+  if (Dh) {
+    Dh->setZero(s * mc_, S1 * n);
+    for (int a = 1; a <= s; ++a) {
+      forward_kinematics(model_, data_, qc.col(a));
+      constraint_jacobian(model_, KinematicsView{model_, data_.g.data(), data_.Sbar.data(), 1},
+                          Dh->block((a - 1) * mc_, a * n, mc_, n));
+    }
+  }
 }
 
 bool Linearizer::step_jacobians(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u, MatX* A, MatX* B,

@@ -21,8 +21,12 @@ class Linearizer {
  public:
   Linearizer(const Model& model, const Quadrature& quad, double dt);
 
-  // The DEL Jacobian of the unconstrained equations (see del_jacobian.hpp for the layout).
-  void del_jacobian(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u, MatX& Jq, MatX* Ju);
+  // The DEL Jacobian (see del_jacobian.hpp for the layout). For a constrained model with
+  // multipliers lambda (m_c x s), the equations include the constraint forces (and so their
+  // λ·d²h terms), Ju gains the columns of the multipliers (controls [u; λ] at each control
+  // point, λ^{k,s} = 0), and Dh (m_c s x n (s+1)) gets h(q^{k,1..s})'s Jacobian.
+  void del_jacobian(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u, MatX& Jq, MatX* Ju,
+                    const Eigen::Ref<const MatX>& lambda = MatX(), MatX* Dh = nullptr);
   // A and/or B (null: not computed, and no work done for it) at converged control points qc
   // and, for a constrained model, multipliers lambda (m_c x s). Returns false if dR/dy is singular.
   bool step_jacobians(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u, MatX* A, MatX* B,
