@@ -102,8 +102,9 @@ def main(argv=None) -> int:
                                                           "6, 8, ... (default: 4)")
     sim.add_argument("--dt", type=float, default=0.01, help="time step in seconds (default: 0.01)")
     sim.add_argument("--duration", type=float, default=10.0, help="simulated time in seconds (default: 10)")
-    sim.add_argument("--spread", type=float, default=np.pi / 4,
-                     help="initial joint positions uniform in [-spread, spread] rad or m (default: pi/4)")
+    sim.add_argument("--spread", type=float, default=np.pi / 12,
+                     help="initial joint positions uniform in [-spread, spread] rad or m (default: pi/12, the "
+                          "paper's Fig. 4 range; larger values make a long chain whip and need a smaller dt)")
     sim.add_argument("--tol", type=float, default=1e-10, help="Newton tolerance on the scaled residual (default: 1e-10)")
     sim.add_argument("--output", default="results", help="folder for the plots and JSON (default: results)")
     sim.add_argument("--no-plot", action="store_true", help="skip the plots")
