@@ -13,6 +13,7 @@
 #include <memory>
 #include <random>
 
+#include "test_models.hpp"
 #include "hovi/algorithms/del_jacobian.hpp"
 #include "hovi/algorithms/del_residual.hpp"
 #include "hovi/algorithms/energy.hpp"
@@ -28,36 +29,6 @@ using namespace hovi;
 
 namespace {
 
-// A branched tree with a prismatic joint, skewed axes, offset and rotated inertial frames and
-// full (non-diagonal) rotational inertias.
-Model ad_branched_tree() {
-  Model m;
-  int count = 0;
-  auto body = [&](const char* name, int parent, JointType t, Vec3 axis, Vec3 pos, double mass) {
-    BodySpec s;
-    s.name = name;
-    s.joint_name = std::string(name) + "_joint";
-    s.parent = parent;
-    s.type = t;
-    s.axis = axis;
-    s.placement = SE3(exp_twist((Twist() << 0.3, -0.2, 0.5, 0, 0, 0).finished(), 1.0 + 0.1 * count).R, pos);
-    s.mass = mass;
-    s.com = Vec3(0.05, -0.1, 0.2) * (1 + 0.2 * count);
-    Mat3 A;
-    A << 0.3, 0.1, -0.2, 0.05, 0.4, 0.1, -0.1, 0.2, 0.5;
-    A += 0.1 * count * Mat3::Identity();
-    s.inertia = 0.1 * (A * A.transpose() + Mat3::Identity());
-    ++count;
-    return m.add_body(s);
-  };
-  const int a = body("a", -1, JointType::Revolute, Vec3(0, 0, 1), Vec3(0, 0, 0), 2.0);
-  const int b = body("b", a, JointType::Prismatic, Vec3(1, 1, 0), Vec3(0.2, 0, 0.1), 1.0);
-  body("c", b, JointType::Revolute, Vec3(0.2, 1, 0.3), Vec3(0, 0.3, 0), 0.7);
-  const int d = body("d", a, JointType::Revolute, Vec3(1, 0, 0), Vec3(0, -0.2, 0.4), 1.3);
-  body("e", d, JointType::Revolute, Vec3(0, 1, 0), Vec3(0.1, 0.1, 0.1), 0.4);
-  body("f", d, JointType::Prismatic, Vec3(0, 0.3, 1), Vec3(-0.1, 0.2, 0.0), 0.6);
-  return m;
-}
 
 // Gravity is on by default; springs with a rest position, dampers and two actuators.
 void add_forces(Model& m) {
@@ -76,7 +47,7 @@ Model forced_pendulum() {
   return m;
 }
 Model forced_tree() {
-  Model m = ad_branched_tree();
+  Model m = test_models::branched_tree();
   add_forces(m);
   return m;
 }
@@ -212,7 +183,7 @@ TEST(AutodiffDel, BranchedTreeNewtonSolveMatchesNewtonSolver) { check_newton_sol
 
 // Without springs the two D^2 L_d are the same object.
 TEST(AutodiffDel, UnforcedHessianMatchesDirectly) {
-  for (const Model& model : {models::pendulum(4), ad_branched_tree()}) {
+  for (const Model& model : {models::pendulum(4), test_models::branched_tree()}) {
     const Quadrature quad(2);
     const double dt = 0.05;
     std::mt19937 rng(5);

@@ -4,6 +4,7 @@
 
 #include <Eigen/Dense>
 
+#include "test_models.hpp"
 #include "hovi/algorithms/dynamics.hpp"
 #include "hovi/algorithms/energy.hpp"
 #include "hovi/algorithms/mass_matrix.hpp"
@@ -13,30 +14,6 @@
 using namespace hovi;
 
 namespace {
-// A branched tree with a prismatic joint, a skewed axis and offset, rotated inertial frames.
-Model branched_tree() {
-  Model m;
-  auto body = [&](const char* name, int parent, JointType t, Vec3 axis, Vec3 pos, double mass) {
-    BodySpec s;
-    s.name = name;
-    s.joint_name = std::string(name) + "_joint";
-    s.parent = parent;
-    s.type = t;
-    s.axis = axis;
-    s.placement = SE3(exp_twist((Twist() << 0.3, -0.2, 0.5, 0, 0, 0).finished(), 1.0).R, pos);
-    s.mass = mass;
-    s.com = Vec3(0.05, -0.1, 0.2);
-    Mat3 A = Mat3::Random();
-    s.inertia = 0.1 * (A * A.transpose() + Mat3::Identity());
-    return m.add_body(s);
-  };
-  const int a = body("a", -1, JointType::Revolute, Vec3(0, 0, 1), Vec3(0, 0, 0), 2.0);
-  const int b = body("b", a, JointType::Prismatic, Vec3(1, 1, 0), Vec3(0.2, 0, 0.1), 1.0);
-  body("c", b, JointType::Revolute, Vec3(0.2, 1, 0.3), Vec3(0, 0.3, 0), 0.7);
-  const int d = body("d", a, JointType::Revolute, Vec3(1, 0, 0), Vec3(0, -0.2, 0.4), 1.3);
-  body("e", d, JointType::Revolute, Vec3(0, 1, 0), Vec3(0.1, 0.1, 0.1), 0.4);
-  return m;
-}
 
 void check_model(const Model& model) {
   Data data(model);
@@ -64,11 +41,11 @@ void check_model(const Model& model) {
 }  // namespace
 
 TEST(Dynamics, PendulumMatchesDenseReferences) { check_model(models::pendulum(6)); }
-TEST(Dynamics, BranchedTreeMatchesDenseReferences) { check_model(branched_tree()); }
+TEST(Dynamics, BranchedTreeMatchesDenseReferences) { check_model(test_models::branched_tree()); }
 
 // The bias of RNEA at rest is the gradient of the potential energy (central differences).
 TEST(Dynamics, GravityTorqueIsPotentialGradient) {
-  const Model model = branched_tree();
+  const Model model = test_models::branched_tree();
   Data data(model);
   const VecX q = VecX::Random(model.n());
   const VecX G = inverse_dynamics(model, data, q, VecX::Zero(model.n()), VecX::Zero(model.n()));

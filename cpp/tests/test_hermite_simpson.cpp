@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <random>
 
+#include "test_models.hpp"
 #include "hovi/algorithms/dynamics.hpp"
 #include "hovi/algorithms/mass_matrix.hpp"
 #include "hovi/baselines/hermite_simpson.hpp"
@@ -26,32 +27,6 @@ VecX uniform(std::mt19937& rng, int n, double lo, double hi) {
   return x;
 }
 
-// A branched tree with a prismatic joint, a skewed axis and offset, rotated inertial frames.
-Model hs_branched_tree() {
-  Model m;
-  std::mt19937 rng(7);
-  auto body = [&](const char* name, int parent, JointType t, Vec3 axis, Vec3 pos, double mass) {
-    BodySpec s;
-    s.name = name;
-    s.joint_name = std::string(name) + "_joint";
-    s.parent = parent;
-    s.type = t;
-    s.axis = axis;
-    s.placement = SE3(exp_twist((Twist() << 0.3, -0.2, 0.5, 0, 0, 0).finished(), 1.0).R, pos);
-    s.mass = mass;
-    s.com = Vec3(0.05, -0.1, 0.2);
-    const VecX r = uniform(rng, 9, -1, 1);
-    const Mat3 A = Eigen::Map<const Mat3>(r.data());
-    s.inertia = 0.1 * (A * A.transpose() + Mat3::Identity());
-    return m.add_body(s);
-  };
-  const int a = body("a", -1, JointType::Revolute, Vec3(0, 0, 1), Vec3(0, 0, 0), 2.0);
-  const int b = body("b", a, JointType::Prismatic, Vec3(1, 1, 0), Vec3(0.2, 0, 0.1), 1.0);
-  body("c", b, JointType::Revolute, Vec3(0.2, 1, 0.3), Vec3(0, 0.3, 0), 0.7);
-  const int d = body("d", a, JointType::Revolute, Vec3(1, 0, 0), Vec3(0, -0.2, 0.4), 1.3);
-  body("e", d, JointType::Revolute, Vec3(0, 1, 0), Vec3(0.1, 0.1, 0.1), 0.4);
-  return m;
-}
 
 // The 5-link pendulum with springs, dampers and two actuators.
 Model forced_pendulum() {
@@ -123,7 +98,7 @@ void check_rnea_derivatives(const Model& model, std::mt19937& rng) {
 TEST(HermiteSimpson, RneaDerivativesMatchFiniteDifferences) {
   std::mt19937 rng(1);
   check_rnea_derivatives(models::pendulum(5), rng);
-  check_rnea_derivatives(hs_branched_tree(), rng);
+  check_rnea_derivatives(test_models::branched_tree(), rng);
 }
 
 // (b) The returned x_{k+1} satisfies the collocation conditions in their state form, with f from
@@ -131,7 +106,7 @@ TEST(HermiteSimpson, RneaDerivativesMatchFiniteDifferences) {
 // dampers and controls; both Jacobians give the same step.
 TEST(HermiteSimpson, CollocationResidualVanishesAtSolution) {
   std::mt19937 rng(2);
-  for (const Model& model : {models::pendulum(5), forced_pendulum(), hs_branched_tree()}) {
+  for (const Model& model : {models::pendulum(5), forced_pendulum(), test_models::branched_tree()}) {
     const int n = model.n(), m = model.n_controls();
     for (double dt : {0.002, 0.01, 0.05}) {
       HermiteSimpsonOptions opt;

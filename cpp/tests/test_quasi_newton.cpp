@@ -13,6 +13,7 @@
 #include <limits>
 #include <random>
 
+#include "test_models.hpp"
 #include "hovi/algorithms/del_residual.hpp"
 #include "hovi/algorithms/dynamics.hpp"
 #include "hovi/algorithms/kinematics.hpp"
@@ -45,29 +46,6 @@ MatX dense_mass_matrix(const Model& model, const VecX& q) {
 // The matrix the quasi-Newton step claims to invert: J̃ = -(1/dt) M(q^k) ≈ ∂r/∂q^{k+1}.
 MatX approximate_jacobian(const Model& model, const VecX& qk, double dt) { return -dense_mass_matrix(model, qk) / dt; }
 
-// A branched tree with a prismatic joint, a skewed axis and offset, rotated inertial frames.
-Model branched_tree() {
-  Model m;
-  auto body = [&](const char* name, int parent, JointType t, Vec3 axis, Vec3 pos, double mass) {
-    BodySpec s;
-    s.name = name;
-    s.joint_name = std::string(name) + "_joint";
-    s.parent = parent;
-    s.type = t;
-    s.axis = axis;
-    s.placement = SE3(exp_twist((Twist() << 0.3, -0.2, 0.5, 0, 0, 0).finished(), 1.0).R, pos);
-    s.mass = mass;
-    s.com = Vec3(0.05, -0.1, 0.2);
-    s.inertia = Vec3(0.1, 0.2, 0.15).asDiagonal();
-    return m.add_body(s);
-  };
-  const int a = body("a", -1, JointType::Revolute, Vec3(0, 0, 1), Vec3(0, 0, 0), 2.0);
-  const int b = body("b", a, JointType::Prismatic, Vec3(1, 1, 0), Vec3(0.2, 0, 0.1), 1.0);
-  body("c", b, JointType::Revolute, Vec3(0.2, 1, 0.3), Vec3(0, 0.3, 0), 0.7);
-  const int d = body("d", a, JointType::Revolute, Vec3(1, 0, 0), Vec3(0, -0.2, 0.4), 1.3);
-  body("e", d, JointType::Revolute, Vec3(0, 1, 0), Vec3(0.1, 0.1, 0.1), 0.4);
-  return m;
-}
 
 struct State {
   VecX q, qdot, p;
@@ -154,7 +132,7 @@ TEST(QuasiNewton, MatchesNewtonOnPendulum) {
 TEST(QuasiNewton, DirectionIsDenseSolveOfMassMatrix) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> U(-kPi, kPi);
-  for (const Model& model : {models::pendulum(4), models::pendulum(32), branched_tree()}) {
+  for (const Model& model : {models::pendulum(4), models::pendulum(32), test_models::branched_tree()}) {
     const int n = model.n();
     const double dt = 0.02;
     QuasiNewtonSolver qn(model, dt);

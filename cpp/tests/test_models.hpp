@@ -1,0 +1,40 @@
+// Models shared by the C++ tests.
+#pragma once
+#include <string>
+
+#include "hovi/model/model.hpp"
+
+namespace hovi::test_models {
+
+// A branched tree exercising everything the algorithms must handle: two prismatic joints, skewed
+// axes, rotated joint frames, offset centres of mass and full (non-diagonal) rotational inertias.
+inline Model branched_tree() {
+  Model m;
+  int count = 0;
+  auto body = [&](const char* name, int parent, JointType t, Vec3 axis, Vec3 pos, double mass) {
+    BodySpec s;
+    s.name = name;
+    s.joint_name = std::string(name) + "_joint";
+    s.parent = parent;
+    s.type = t;
+    s.axis = axis;
+    s.placement = SE3(exp_twist((Twist() << 0.3, -0.2, 0.5, 0, 0, 0).finished(), 1.0 + 0.1 * count).R, pos);
+    s.mass = mass;
+    s.com = Vec3(0.05, -0.1, 0.2) * (1 + 0.2 * count);
+    Mat3 A;
+    A << 0.3, 0.1, -0.2, 0.05, 0.4, 0.1, -0.1, 0.2, 0.5;
+    A += 0.1 * count * Mat3::Identity();
+    s.inertia = 0.1 * (A * A.transpose() + Mat3::Identity());
+    ++count;
+    return m.add_body(s);
+  };
+  const int a = body("a", -1, JointType::Revolute, Vec3(0, 0, 1), Vec3(0, 0, 0), 2.0);
+  const int b = body("b", a, JointType::Prismatic, Vec3(1, 1, 0), Vec3(0.2, 0, 0.1), 1.0);
+  body("c", b, JointType::Revolute, Vec3(0.2, 1, 0.3), Vec3(0, 0.3, 0), 0.7);
+  const int d = body("d", a, JointType::Revolute, Vec3(1, 0, 0), Vec3(0, -0.2, 0.4), 1.3);
+  body("e", d, JointType::Revolute, Vec3(0, 1, 0), Vec3(0.1, 0.1, 0.1), 0.4);
+  body("f", d, JointType::Prismatic, Vec3(0, 0.3, 1), Vec3(-0.1, 0.2, 0.0), 0.6);
+  return m;
+}
+
+}  // namespace hovi::test_models
