@@ -183,3 +183,13 @@ def test_model_is_copied():
     model.add_spring(0, 100.0)
     traj = integ.rollout(np.zeros(2), 10)
     np.testing.assert_allclose(traj.q, 0, atol=1e-14)  # the spring added later has no effect
+
+
+def test_jacobian_reuse_reaches_the_same_trajectory_with_fewer_factorizations():
+    model = hovi.models.pendulum(8)
+    q0 = np.random.default_rng(8).uniform(-np.pi / 12, np.pi / 12, 8)
+    exact = hovi.Integrator(model, s=2, dt=0.01, tol=1e-12).rollout(q0, 200)
+    reuse = hovi.Integrator(model, s=2, dt=0.01, tol=1e-12, reuse_jacobian=True).rollout(q0, 200)
+    np.testing.assert_allclose(reuse.q, exact.q, atol=1e-9)
+    assert np.all(exact.factorizations == exact.iterations)
+    assert reuse.factorizations.sum() < 0.5 * exact.factorizations.sum()

@@ -17,6 +17,7 @@ py::dict info_dict(const SolveInfo& info) {
   d["status"] = to_string(info.status);
   d["converged"] = info.converged();
   d["iterations"] = info.iterations;
+  d["factorizations"] = info.factorizations;
   d["residual_evaluations"] = info.residual_evaluations;
   d["residual"] = info.residual;
   return d;
@@ -27,8 +28,9 @@ py::dict info_dict(const SolveInfo& info) {
 void bind_integrator(py::module_& m) {
   py::class_<PyIntegrator>(m, "Integrator")
       .def(py::init([](const PyModel& model, int s, double dt, double tol, int max_iterations, int max_backtracks,
-                       bool line_search) {
+                       bool line_search, bool reuse_jacobian) {
              SolverOptions opt;
+             opt.reuse_jacobian = reuse_jacobian;
              opt.tol = tol;
              opt.max_iterations = max_iterations;
              opt.max_backtracks = max_backtracks;
@@ -36,7 +38,7 @@ void bind_integrator(py::module_& m) {
              return new PyIntegrator(model, s, dt, opt);
            }),
            py::arg("model"), py::arg("s"), py::arg("dt"), py::arg("tol"), py::arg("max_iterations"),
-           py::arg("max_backtracks"), py::arg("line_search"))
+           py::arg("max_backtracks"), py::arg("line_search"), py::arg("reuse_jacobian"))
       .def_property_readonly("s", &PyIntegrator::s)
       .def_property_readonly("n", &PyIntegrator::n)
       .def_property_readonly("n_controls", &PyIntegrator::m)
@@ -138,6 +140,7 @@ void bind_integrator(py::module_& m) {
             d["control_points"] = MatX(r.control_points.topRows(r.steps));
             const int attempted = static_cast<int>(r.status.size());
             d["iterations"] = Eigen::VectorXi(r.iterations.head(attempted));
+            d["factorizations"] = Eigen::VectorXi(r.factorizations.head(attempted));
             d["residual"] = VecX(r.residual.head(attempted));
             py::list st;
             for (SolveStatus x : r.status) st.append(to_string(x));

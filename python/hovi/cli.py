@@ -51,11 +51,13 @@ def cmd_simulate(args) -> int:
         "model": args.model, "dof": model.n, "order": integ.order, "dt": args.dt, "steps": traj.steps,
         "wall_time_s": wall, "steps_per_second": traj.steps / wall,
         "newton_iterations_mean": float(traj.iterations.mean()), "newton_iterations_max": int(traj.iterations.max()),
+        "factorizations_mean": float(traj.factorizations.mean()),
         "energy_initial": float(energy[0]), "energy_error_max_relative": float(rel.max()),
         "energy_error_final_relative": float(rel[-1]), "converged": traj.converged,
     }
     print(f"{summary['steps_per_second']:.0f} steps/s ({wall:.2f} s wall), Newton iterations per step: "
-          f"mean {summary['newton_iterations_mean']:.2f}, max {summary['newton_iterations_max']}")
+          f"mean {summary['newton_iterations_mean']:.2f}, max {summary['newton_iterations_max']} "
+          f"(Jacobian factorisations per step: mean {summary['factorizations_mean']:.2f})")
     print(f"energy E0 = {energy[0]:.6g} J, max relative error {rel.max():.2e}, final {rel[-1]:.2e}")
     os.makedirs(args.output, exist_ok=True)
     with open(os.path.join(args.output, "simulate.json"), "w") as f:

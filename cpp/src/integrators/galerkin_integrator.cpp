@@ -107,6 +107,7 @@ SolveInfo GalerkinIntegrator::robust_step(const Eigen::Ref<const VecX>& p, const
     const SolveInfo info = step(p, u, qc, p_next);
     total.status = info.status;
     total.iterations += info.iterations;
+    total.factorizations += info.factorizations;
     total.residual_evaluations += info.residual_evaluations;
     total.residual = info.residual;
     if (info.converged()) break;
@@ -142,6 +143,7 @@ Rollout GalerkinIntegrator::rollout(const VecX& q0, const VecX& p0, int N, const
   out.p.resize(N + 1, n);
   out.control_points.resize(N, S1 * n);
   out.iterations.resize(N);
+  out.factorizations.resize(N);
   out.multipliers.resize(N, quad_.s * model_.n_constraints());
   out.residual.resize(N);
   out.status.reserve(N);
@@ -157,6 +159,7 @@ Rollout GalerkinIntegrator::rollout(const VecX& q0, const VecX& p0, int N, const
     const SolveInfo info = robust_step(p, uk, prev, qc, p_next);
     out.status.push_back(info.status);
     out.iterations[k] = info.iterations;
+    out.factorizations[k] = info.factorizations;
     out.residual[k] = info.residual;
     if (!info.converged()) break;
     out.q.row(k + 1) = qc.col(s).transpose();

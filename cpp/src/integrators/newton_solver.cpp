@@ -1,5 +1,7 @@
 #include "hovi/integrators/newton_solver.hpp"
 
+#include <cmath>
+
 namespace hovi {
 
 const char* to_string(SolveStatus status) {
@@ -14,7 +16,8 @@ const char* to_string(SolveStatus status) {
 }
 
 NewtonSolver::NewtonSolver(const Model& model, const Quadrature& quad)
-    : del(model, quad), newton(model, quad), del_trial_(model, quad), r_(model.n(), quad.s),
+    : del(model, quad), newton(model, quad), del_trial_(model, quad), del_factor_(model, quad), factor_(model, quad),
+      r_(model.n(), quad.s),
       r_trial_(model.n(), quad.s), dq_(model.n(), quad.s), dbar_(model.n(), quad.s), q_trial_(model.n(), quad.s + 1),
       p_trial_(model.n()) {}
 
@@ -28,6 +31,8 @@ SolveInfo NewtonSolver::solve(const Model& model, const Quadrature& quad, const 
   info.residual_evaluations = 1;
   info.residual = r_.size() ? r_.cwiseAbs().maxCoeff() : 0.0;
   double norm2 = r_.norm();
+  bool reuse = true;                // may the kept factorisation serve this iteration?
+  double previous_dq_norm = INFINITY;  // the first reused step of a solve is always tried
   for (;;) {
     if (!std::isfinite(norm2) || !p_next.allFinite()) {
       info.status = SolveStatus::NonFinite;
@@ -41,13 +46,27 @@ SolveInfo NewtonSolver::solve(const Model& model, const Quadrature& quad, const 
       info.status = SolveStatus::MaxIterations;
       return info;
     }
-    if (!newton_factor(model, quad, del, newton)) {
-      info.status = SolveStatus::SingularJacobian;
-      return info;
+    // A fresh factorisation unless the kept one still serves (a simplified Newton step).
+    const bool fresh = !(opt.reuse_jacobian && factor_valid_ && reuse);
+    if (fresh) {
+      factor_valid_ = false;
+      if (!newton_factor(model, quad, del, factor_)) {
+        info.status = SolveStatus::SingularJacobian;
+        return info;
+      }
+      del_factor_.Sbar = del.Sbar;  // newton_solve reads the kinematics of the factorisation
+      del_factor_.Sdot = del.Sdot;
+      del_factor_.dt = del.dt;
+      factor_valid_ = true;
+      ++info.factorizations;
     }
-    newton_solve(model, quad, del, newton, r_, dq_);
+    newton_solve(model, quad, del_factor_, factor_, r_, dq_);
     ++info.iterations;
     if (!dq_.allFinite()) {
+      if (!fresh) {  // the kept Jacobian no longer fits: refactor here
+        reuse = false;
+        continue;
+      }
       info.status = SolveStatus::NonFinite;
       return info;
     }
@@ -58,6 +77,10 @@ SolveInfo NewtonSolver::solve(const Model& model, const Quadrature& quad, const 
       return info;
     }
     const double dq_norm = dq_.norm();
+    if (!fresh && !(dq_norm <= 0.25 * previous_dq_norm)) {  // slow contraction: refactor
+      reuse = false;
+      continue;
+    }
     double lambda = 1;
     bool accepted = false;
     for (int bt = 0; bt <= (opt.line_search ? opt.max_backtracks : 0); ++bt, lambda *= 0.5) {
@@ -75,16 +98,22 @@ SolveInfo NewtonSolver::solve(const Model& model, const Quadrature& quad, const 
         accepted = true;
         break;
       }
-      newton_solve(model, quad, del, newton, r_trial_, dbar_);  // simplified correction, J(x) kept
-      if (dbar_.norm() <= (1 - 0.25 * lambda) * dq_norm) {     // natural monotonicity
+      newton_solve(model, quad, del_factor_, factor_, r_trial_, dbar_);  // simplified correction
+      if (dbar_.norm() <= (1 - 0.25 * lambda) * dq_norm) {              // natural monotonicity
         accepted = true;
         break;
       }
     }
     if (!accepted) {
+      if (!fresh) {  // a kept Jacobian may mislead the search: retry with a fresh one
+        reuse = false;
+        continue;
+      }
       info.status = SolveStatus::LineSearchFailed;
       return info;
     }
+    reuse = lambda == 1;  // after a damped step the Jacobian is refactored
+    previous_dq_norm = dq_norm;
     std::swap(del, del_trial_);
     qc = q_trial_;
     r_.swap(r_trial_);

@@ -19,6 +19,7 @@ struct Rollout {
   MatX control_points;         // N x ((s+1) n): row k = vec(q^{k,0..s}) column-major (n per point)
   MatX multipliers;            // N x (s m_c): row k = vec(λ^{k,0..s-1}) column-major (constrained)
   Eigen::VectorXi iterations;  // Newton iterations per step
+  Eigen::VectorXi factorizations;  // of them, those with a fresh Jacobian factorisation
   VecX residual;               // final ||r||_inf per step
   std::vector<SolveStatus> status;
   int steps = 0;               // steps completed (less than N if a solve failed)
