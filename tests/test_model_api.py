@@ -68,3 +68,23 @@ def test_pendulum_rejects_bad_parameters():
         hovi.models.pendulum(0)
     with pytest.raises(hovi.ModelError, match="positive"):
         hovi.models.pendulum(3, length=-1)
+
+
+def test_force_elements_reject_bad_input():
+    model = hovi.models.pendulum(3)
+    with pytest.raises(hovi.ModelError, match="no joint named 'elbow'"):
+        model.add_spring("elbow", 1.0)
+    with pytest.raises(hovi.ModelError, match="joint index 7 out of range"):
+        model.add_damper(7, 0.1)
+    with pytest.raises(hovi.ModelError, match="no body named 'hand'"):
+        model.add_drag("hand", 0.1)
+    with pytest.raises(hovi.ModelError, match="non-negative"):
+        model.add_drag(0, -1.0)
+    with pytest.raises(ValueError, match="frame must be 'world' or 'body'"):
+        model.add_point_wrench(0, force=[1, 0, 0], frame="tool")
+    with pytest.raises(hovi.ModelError, match="control index 0 does not exist"):
+        model.add_point_wrench(0, force=[1, 0, 0], control=0)
+    with pytest.raises(hovi.ModelError, match="must be finite"):
+        model.add_spring(0, float("nan"))
+    k = model.add_actuator("joint2", gear=2.0)
+    np.testing.assert_array_equal(model.actuation[:, k], [0, 2.0, 0])
