@@ -16,26 +16,28 @@
 
 namespace hovi::py_bind {
 
-int joint_arg(const Model& model, const py::handle& joint) {
-  if (py::isinstance<py::str>(joint)) {
-    const int i = model.joint_index(joint.cast<std::string>());
-    if (i < 0) throw ModelError("no joint named '" + joint.cast<std::string>() + "'");
+namespace {
+// The index of a joint or body given by name (looked up by `index_of`) or by number.
+template <class Lookup>
+int index_arg(const Model& model, const py::handle& obj, const char* what, Lookup&& index_of) {
+  if (py::isinstance<py::str>(obj)) {
+    const std::string name = obj.cast<std::string>();
+    const int i = index_of(name);
+    if (i < 0) throw ModelError(std::string("no ") + what + " named '" + name + "'");
     return i;
   }
-  const int i = joint.cast<int>();
-  if (i < 0 || i >= model.n()) throw ModelError("joint index " + std::to_string(i) + " out of range");
+  const int i = obj.cast<int>();
+  if (i < 0 || i >= model.n()) throw ModelError(std::string(what) + " index " + std::to_string(i) + " out of range");
   return i;
+}
+}  // namespace
+
+int joint_arg(const Model& model, const py::handle& joint) {
+  return index_arg(model, joint, "joint", [&](const std::string& n) { return model.joint_index(n); });
 }
 
 int body_arg(const Model& model, const py::handle& body) {
-  if (py::isinstance<py::str>(body)) {
-    const int i = model.body_index(body.cast<std::string>());
-    if (i < 0) throw ModelError("no body named '" + body.cast<std::string>() + "'");
-    return i;
-  }
-  const int i = body.cast<int>();
-  if (i < 0 || i >= model.n()) throw ModelError("body index " + std::to_string(i) + " out of range");
-  return i;
+  return index_arg(model, body, "body", [&](const std::string& n) { return model.body_index(n); });
 }
 
 namespace {

@@ -95,6 +95,7 @@ SolveInfo ConstrainedSolver::solve(const SolverOptions& opt, const Eigen::Ref<co
       return info;
     }
     ++info.iterations;
+    ++info.factorizations;  // every constrained iteration refactors
     // A step below round-off of q: the residuals are at their floor (as in NewtonSolver).
     if (dz_.cwiseAbs().maxCoeff() <= 1e-14 * (1 + qc.cwiseAbs().maxCoeff()) &&
         (sm == 0 || H_.cwiseAbs().maxCoeff() <= opt.constraint_tol)) {
