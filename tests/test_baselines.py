@@ -62,3 +62,21 @@ def test_hermite_simpson_rejects_bad_input():
     hs = hovi.baselines.HermiteSimpson(hovi.models.pendulum(2), 0.01)
     with pytest.raises(ValueError, match="q0 must be a 1-D array of length 2"):
         hs.rollout(np.zeros(3), np.zeros(2), 5)
+
+
+def test_baseline_batches_and_autodiff_reject_bad_input():
+    import pytest
+    model = hovi.models.pendulum(3)
+    with pytest.raises(ValueError, match="method must be 'newton' or 'quasi_newton'"):
+        hovi.baselines.one_step_batch(model, 0.01, np.zeros((1, 3)), np.zeros((1, 3)), "bisection")
+    with pytest.raises(ValueError, match=r"qdot0 must be a 2-D array of shape \(1, 3\)"):
+        hovi.baselines.one_step_batch(model, 0.01, np.zeros((1, 3)), np.zeros((2, 3)), "newton")
+    with pytest.raises(ValueError, match="method must be 'recursive' or 'autodiff'"):
+        hovi.baselines.fig3_batch(model, 2, 0.01, np.zeros((1, 3)), np.zeros((1, 3)), "symbolic")
+    ad = hovi.baselines.AutodiffDel(model, 2, 0.01)
+    with pytest.raises(ValueError, match=r"control_points must be a 2-D array of shape \(3, 3\)"):
+        ad.residual(np.zeros((2, 3)), np.zeros(3))
+    forced = hovi.models.pendulum(3)
+    forced.add_drag(0, 0.1)
+    with pytest.raises(hovi.ModelError):
+        hovi.baselines.AutodiffDel(forced, 2, 0.01)
