@@ -21,3 +21,13 @@ def erd_urdf(rel):
 def rng():
     """A fixed-seed random generator (a fresh one per test, so tests are order-independent)."""
     return np.random.default_rng(20180611)
+
+
+def observed_order(integrator_for, q0, qd0, reference, dts, T=1.0):
+    """Fitted log-log slope of ||q(T) - reference|| over the time steps dts, each run by
+    integrator_for(dt).rollout from (q0, qd0); returns (slope, errors)."""
+    errors = []
+    for dt in dts:
+        traj = integrator_for(dt).rollout(q0, int(round(T / dt)), qdot0=qd0)
+        errors.append(np.linalg.norm(traj.q[-1] - reference))
+    return np.polyfit(np.log(dts), np.log(errors), 1)[0], errors

@@ -6,6 +6,7 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import hovi
+from conftest import observed_order
 from mechanisms import fourbar, pinned_chain, rod, translate
 
 
@@ -152,11 +153,7 @@ def test_fourbar_converges_at_order_2s_to_an_independent_reference(s, dts):
     integ = hovi.Integrator(model, s=s, dt=dts[0])
     q0, qd0 = integ.project(np.array([-2.0, 1.2, -1.5]), np.array([1.0, 0, 0]))
     ref = fourbar_reference(model, q0, qd0, 1.0)
-    errors = []
-    for dt in dts:
-        traj = hovi.Integrator(model, s=s, dt=dt, tol=1e-13).rollout(q0, int(round(1 / dt)), qdot0=qd0)
-        errors.append(np.linalg.norm(traj.q[-1] - ref))
-    slope = np.polyfit(np.log(dts), np.log(errors), 1)[0]
+    slope, errors = observed_order(lambda dt: hovi.Integrator(model, s=s, dt=dt, tol=1e-13), q0, qd0, ref, dts)
     assert abs(slope - 2 * s) <= 0.3, (slope, errors)
 
 

@@ -17,16 +17,11 @@ namespace hovi {
 class ConstrainedSolver {
  public:
   ConstrainedSolver(const Model& model, const Quadrature& quad);
-  const Model& augmented() const { return aug_; }
-  int n_multipliers() const { return mc_; }
 
   // qc (n x (s+1)): column 0 = q^k, columns 1..s the guess / solution; lambda (mc x s): guess /
   // solution; u: m x (s+1) user controls; p_next gets p^{k+1}.
   SolveInfo solve(const SolverOptions& opt, const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u,
                   double dt, Eigen::Ref<MatX> qc, Eigen::Ref<MatX> lambda, Eigen::Ref<VecX> p_next);
-
-  // h at the control points 1..s of the last residual evaluation (mc x s), for reporting.
-  const MatX& constraint_residual() const { return H_; }
 
   // The constrained residual (r: n x s with the constraint forces, H: mc x s) and p^{k+1}.
   void evaluate(const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u, const Eigen::Ref<const MatX>& lambda,
