@@ -4,7 +4,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-APT_PACKAGES="g++ make cmake libeigen3-dev liburdfdom-dev libgtest-dev"
+# IPOPT (trajectory optimisation, through cyipopt built from its PyPI source against it)
+APT_PACKAGES="g++ make cmake libeigen3-dev liburdfdom-dev libtinyxml-dev libgtest-dev coinor-libipopt-dev liblapack-dev libblas-dev pkg-config"
 missing=""
 for p in $APT_PACKAGES; do
   dpkg -s "$p" >/dev/null 2>&1 || missing="$missing $p"

@@ -1,4 +1,4 @@
-"""The command line: hovi simulate / hovi info."""
+"""The command line: hovi simulate / optimize / info."""
 import json
 import subprocess
 import sys
@@ -44,3 +44,24 @@ def test_bad_model_or_option_is_a_clean_error(capsys):
     assert "cannot open URDF file" in capsys.readouterr().err
     assert main(["simulate", "pendulum:3", "--order", "3", "--no-progress"]) == 2
     assert "order must be an even number" in capsys.readouterr().err
+
+
+def test_optimize_solves_writes_and_replays(tmp_path, capsys):
+    pytest.importorskip("cyipopt")
+    assert main(["optimize", "pendulum", "--N", "20", "--quiet", "--output", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "cost" in out and "replayed with the integrator" in out
+    summary = json.loads((tmp_path / "optimize_pendulum.json").read_text())
+    assert summary["success"] and summary["N"] == 20 and summary["replay_max_error"] < 1e-8
+    assert (tmp_path / "optimize_pendulum.png").stat().st_size > 1000
+    help_text = subprocess.run([sys.executable, "-m", "hovi", "optimize", "--help"], capture_output=True, text=True).stdout
+    for opt in ("--transcription", "--order", "--N", "--T", "--controls", "--max-iter", "--output"):
+        assert opt in help_text
+    with pytest.raises(SystemExit):
+        main(["optimize", "pendulum", "--order", "3"])
+
+
+def test_optimize_lists_every_example():
+    from hovi.cli import EXAMPLE_NAMES
+    from hovi.trajopt.examples import EXAMPLES
+    assert set(EXAMPLE_NAMES) == set(EXAMPLES)

@@ -1,10 +1,13 @@
 """URDF loading: fixed-joint merging, base expansion, metadata and every bad input."""
+import glob
+import os
+
 import numpy as np
 import pinocchio as pin
 import pytest
 
 import hovi
-from urdf_snippets import joint, link, robot
+from urdf_snippets import NUMBER_ATTRIBUTES, full_robot, joint, link, robot
 
 RNG = np.random.default_rng(7)
 
@@ -130,3 +133,68 @@ def test_point_mass_link_is_accepted():
                 joint("weld", "b", "tip", kind="fixed", xyz="0 0 -1"))
     model = hovi.Model.from_urdf(xml)
     assert model.total_mass == pytest.approx(2.0)
+
+
+# ---- Numbers: every number attribute must hold finite numbers, as many as it takes ----------------
+
+BAD_NUMBERS = ["nan", "inf", "-inf", "1e999", "abc", "1.0.0"]
+
+
+def bad_values(good):
+    """Replacements for the good value `good`: each bad number in place of one of its numbers, no value,
+    one number too many and (for lists) one too few."""
+    numbers = good.split()
+    k = len(numbers) // 2
+    values = [" ".join(numbers[:k] + [bad] + numbers[k + 1:]) for bad in BAD_NUMBERS]
+    values += ["", " ".join(numbers + ["1"])]
+    if len(numbers) > 1:
+        values.append(" ".join(numbers[:-1]))
+    return values
+
+
+@pytest.mark.parametrize("key, value", [(key, value) for key, (good, _, _) in NUMBER_ATTRIBUTES.items()
+                                        for value in bad_values(good)])
+def test_bad_number_raises_error_naming_element_and_attribute(key, value):
+    _, where, attribute = NUMBER_ATTRIBUTES[key]
+    with pytest.raises(hovi.URDFError) as err:
+        hovi.Model.from_urdf(full_robot(**{key: value}))
+    message = str(err.value)
+    assert message.startswith(f'{where} {attribute}="{value}">: not '), message
+    assert "finite number" in message
+
+
+def test_bad_number_message():
+    with pytest.raises(hovi.URDFError) as err:
+        hovi.Model.from_urdf(full_robot(ixx="nan"))
+    assert str(err.value) == 'link \'arm\': <inertial><inertia ixx="nan">: not a finite number'
+    with pytest.raises(hovi.URDFError) as err:
+        hovi.Model.from_urdf(full_robot(axis="1 2"))
+    assert str(err.value) == 'joint \'j1\': <axis xyz="1 2">: not 3 finite numbers'
+
+
+def test_robot_with_every_number_attribute_loads():
+    model = hovi.Model.from_urdf(full_robot())
+    assert model.joint_names == ["j1", "j2"] and model.total_mass == pytest.approx(2.0)
+    assert model.mimic == {"j2": ("j1", 2.0, 0.1)} and model.damping[0] == 0.5
+    # Other spellings urdfdom reads as finite numbers still load, to the same model.
+    same = hovi.Model.from_urdf(full_robot(mass="+1", ixx=" 0.1", ixy="1e-400", iyy="1E-1", damping="5e-1",
+                                           inertial_xyz=" 0  0 -0.1 ", axis="1.0 0 0", visual_box="1 1 1 "))
+    q, qd = np.array([0.3, -0.2]), np.array([0.1, 0.4])
+    np.testing.assert_array_equal(same.mass_matrix(q), model.mass_matrix(q))
+    np.testing.assert_array_equal(same.forward_dynamics(q, qd, np.zeros(2)), model.forward_dynamics(q, qd, np.zeros(2)))
+    assert same.damping[0] == 0.5
+
+
+def test_example_robot_data_urdfs_pass_the_number_check():
+    erd = pytest.importorskip("example_robot_data")
+    root = erd.getModelPath("panda_description/urdf/panda.urdf")
+    paths = glob.glob(os.path.join(root, "**", "*.urdf"), recursive=True)
+    assert paths
+    loaded = 0
+    for path in paths:
+        try:
+            hovi.Model.from_urdf(path)
+            loaded += 1
+        except hovi.URDFError as e:  # some are refused for other reasons (no movable joint, bad inertia, ...)
+            assert "finite number" not in str(e), path
+    assert loaded >= len(paths) // 2

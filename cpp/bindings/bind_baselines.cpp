@@ -2,6 +2,7 @@
 // quasi-Newton of Lee et al. 2016, automatic differentiation, Hermite-Simpson collocation, and
 // batch runners that time each solve in C++ (no Python overhead in the measurements).
 #include <chrono>
+#include <mutex>
 
 #include "hovi/algorithms/mass_matrix.hpp"
 #include "hovi/algorithms/del_jacobian.hpp"
@@ -127,6 +128,25 @@ py::dict fig3_batch(const PyModel& pm, int s, double dt, const py::object& Q0, c
   d["d2Ld"] = t_d2;
   return d;
 }
+// A baseline object with a watch on the model it copied and a lock: a baseline keeps one
+// workspace, so concurrent calls on one object take turns (one object per thread runs in
+// parallel). Lock only with the GIL released (or in calls that never release it).
+template <class B>
+struct PyBaseline {
+  template <class... Args>
+  PyBaseline(std::shared_ptr<const PyModel> m, const char* name, Args&&... args)
+      : b(m->model, std::forward<Args>(args)...), watch(std::move(m), name) {}
+  B b;
+  ModelWatch watch;
+  std::mutex mutex;
+};
+template <class B>
+B& checked(PyBaseline<B>& self) {
+  self.watch.check();
+  return self.b;
+}
+using PyHermiteSimpson = PyBaseline<HermiteSimpson>;
+using PyAutodiffDel = PyBaseline<AutodiffDel>;
 }  // namespace
 
 void bind_baselines(py::module_& m) {
@@ -144,19 +164,20 @@ Per-state times (seconds, timed in C++) of the DEL evaluation, the Newton direct
 'recursive' (hovi: Algorithm 1, A.1/A.2, Algorithms 2/3 + chain rule) or 'autodiff' (Eigen
 AutoDiffScalar on a scalar-templated Lagrangian, dense LU), at control points q + c^a dt qdot.
 )doc");
-  py::class_<HermiteSimpson>(b, "HermiteSimpson", R"doc(
+  py::class_<PyHermiteSimpson>(b, "HermiteSimpson", R"doc(
 Hermite-Simpson direct collocation as an implicit simulator (the paper's Sec. 5.3 baseline): the
 implicit formulation with the end and midpoint accelerations as unknowns and inverse-dynamics
 defects, Newton with an analytic dense Jacobian (RNEA derivatives) and LU; state (q, v).
 )doc")
-      .def(py::init([](const PyModel& m, double dt, double tol, int max_iterations) {
+      .def(py::init([](std::shared_ptr<PyModel> m, double dt, double tol, int max_iterations) {
              HermiteSimpsonOptions opt;
              opt.tol = tol;
              opt.max_iterations = max_iterations;
-             return new HermiteSimpson(m.model, dt, opt);
+             return new PyHermiteSimpson(std::move(m), "baselines.HermiteSimpson", dt, opt);
            }),
            py::arg("model"), py::arg("dt"), py::arg("tol") = 1e-10, py::arg("max_iterations") = 30)
-      .def("rollout", [](HermiteSimpson& hs, const py::object& q0, const py::object& v0, int steps) {
+      .def("rollout", [](PyHermiteSimpson& self, const py::object& q0, const py::object& v0, int steps) {
+            HermiteSimpson& hs = checked(self);
             const int n = hs.model().n();
             const VecX q = as_vector(q0, "q0", n), v = as_vector(v0, "v0", n);
             if (steps < 0) throw InputError("steps must be non-negative");
@@ -164,6 +185,7 @@ defects, Newton with an analytic dense Jacobian (RNEA derivatives) and LU; state
             double seconds;
             {
               py::gil_scoped_release release;
+              std::lock_guard<std::mutex> lock(self.mutex);
               const auto t0 = Clock::now();
               r = hs.rollout(q, v, steps);
               seconds = std::chrono::duration<double>(Clock::now() - t0).count();
@@ -179,23 +201,28 @@ defects, Newton with an analytic dense Jacobian (RNEA derivatives) and LU; state
             d["seconds"] = seconds;
             return d;
           }, py::arg("q0"), py::arg("v0"), py::arg("steps"), "Simulate `steps` steps in C++ (GIL released); stops at a failed solve.");
-  py::class_<AutodiffDel>(b, "AutodiffDel", "The automatic-differentiation baseline (dense, O(n^2)..O(n^3)).")
-      .def(py::init([](const PyModel& m, int s, double dt) { return new AutodiffDel(m.model, Quadrature(s), dt); }),
+  py::class_<PyAutodiffDel>(b, "AutodiffDel", "The automatic-differentiation baseline (dense, O(n^2)..O(n^3)).")
+      .def(py::init([](std::shared_ptr<PyModel> m, int s, double dt) {
+             return new PyAutodiffDel(std::move(m), "baselines.AutodiffDel", Quadrature(s), dt);
+           }),
            py::arg("model"), py::arg("s"), py::arg("dt"))
-      .def("residual", [](AutodiffDel& ad, const py::object& qc, const py::object& p) {
+      .def("residual", [](PyAutodiffDel& self, const py::object& qc, const py::object& p) {
+            AutodiffDel& ad = checked(self);  // holds the GIL: calls never overlap
             const int n = ad.n(), s = ad.s();
             MatX r(n, s), u = MatX::Zero(0, s + 1);
             VecX pn(n);
             ad.residual(as_matrix(qc, "control_points", s + 1, n).transpose(), as_vector(p, "p", n), u, r, pn);
             return py::make_tuple(MatX(r.transpose()), pn);
           }, py::arg("control_points"), py::arg("p"))
-      .def("newton_direction", [](AutodiffDel& ad, const py::object& qc, const py::object& p) {
+      .def("newton_direction", [](PyAutodiffDel& self, const py::object& qc, const py::object& p) {
+            AutodiffDel& ad = checked(self);  // holds the GIL: calls never overlap
             const int n = ad.n(), s = ad.s();
             MatX dq(n, s), u = MatX::Zero(0, s + 1);
             ad.newton_direction(as_matrix(qc, "control_points", s + 1, n).transpose(), as_vector(p, "p", n), u, dq);
             return MatX(dq.transpose());
           }, py::arg("control_points"), py::arg("p"))
-      .def("d2Ld", [](AutodiffDel& ad, const py::object& qc) {
+      .def("d2Ld", [](PyAutodiffDel& self, const py::object& qc) {
+            AutodiffDel& ad = checked(self);  // holds the GIL: calls never overlap
             const int n = ad.n(), s = ad.s();
             MatX H((s + 1) * n, (s + 1) * n);
             ad.d2Ld(as_matrix(qc, "control_points", s + 1, n).transpose(), H);

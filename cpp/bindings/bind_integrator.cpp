@@ -3,7 +3,6 @@
 // are (s+1, n) on the Python side (row a = q^{k,a}); controls (s+1, m).
 #include <chrono>
 
-#include "hovi/algorithms/energy.hpp"
 #include "hovi/errors.hpp"
 #include "hovi/integrators/galerkin_integrator.hpp"
 #include "py_integrator.hpp"
@@ -27,7 +26,7 @@ py::dict info_dict(const SolveInfo& info) {
 
 void bind_integrator(py::module_& m) {
   py::class_<PyIntegrator>(m, "Integrator")
-      .def(py::init([](const PyModel& model, int s, double dt, double tol, int max_iterations, int max_backtracks,
+      .def(py::init([](std::shared_ptr<PyModel> model, int s, double dt, double tol, int max_iterations, int max_backtracks,
                        bool line_search, bool reuse_jacobian) {
              SolverOptions opt;
              opt.reuse_jacobian = reuse_jacobian;
@@ -42,96 +41,96 @@ void bind_integrator(py::module_& m) {
       .def_property_readonly("s", &PyIntegrator::s)
       .def_property_readonly("n", &PyIntegrator::n)
       .def_property_readonly("n_controls", &PyIntegrator::m)
-      .def_property_readonly("n_constraints", [](const PyIntegrator& p) { return p.integ.model().n_constraints(); })
-      .def_property_readonly("multipliers", [](PyIntegrator& p) { return MatX(p.integ.multipliers().transpose()); },
-                             "λ^{k,0..s-1} of the last step, (s, n_constraints).")
+      .def_property_readonly("n_constraints", &PyIntegrator::mc)
       .def("project", [](PyIntegrator& p, const py::object& q, const py::object& qd, double tol) {
-            auto qv = p.integ.project(as_vector(q, "q", p.n()), as_vector(qd, "qdot", p.n()), tol);
+            auto qv = p.integ().project(as_vector(q, "q", p.n()), as_vector(qd, "qdot", p.n()), tol);
             return py::make_tuple(qv.first, qv.second);
           }, py::arg("q"), py::arg("qdot"), py::arg("tol") = 1e-12)
       .def("constrained_residual", [](PyIntegrator& p, const py::object& qc, const py::object& lam,
                                       const py::object& mom, const py::object& u) {
-            ConstrainedSolver& cs = p.constrained();
             MatX r, H;
             VecX p_next(p.n());
-            cs.evaluate(as_vector(mom, "p", p.n()), p.controls(u), p.multipliers_arg(lam), p.integ.dt(),
-                        p.control_points(qc, "control_points"), r, H, p_next);
+            p.integ().constrained_residual(p.control_points(qc, "control_points"), p.multipliers_arg(lam),
+                                           as_vector(mom, "p", p.n()), p.controls(u), r, H, p_next);
             return py::make_tuple(MatX(r.transpose()), MatX(H.transpose()), p_next);
           }, py::arg("control_points"), py::arg("multipliers"), py::arg("p"), py::arg("u") = py::none())
       .def("constrained_direction", [](PyIntegrator& p, const py::object& qc, const py::object& lam,
                                        const py::object& mom, const py::object& u) {
-            ConstrainedSolver& cs = p.constrained();
-            MatX r, H, dz, dl;
-            VecX p_next(p.n());
-            cs.evaluate(as_vector(mom, "p", p.n()), p.controls(u), p.multipliers_arg(lam), p.integ.dt(),
-                        p.control_points(qc, "control_points"), r, H, p_next);
-            if (!cs.direction(p.integ.dt(), r, H, dz, dl))
+            MatX dz, dl;
+            if (!p.integ().constrained_direction(p.control_points(qc, "control_points"), p.multipliers_arg(lam),
+                                                 as_vector(mom, "p", p.n()), p.controls(u), dz, dl))
               throw InputError("the constrained DEL Jacobian (or its Schur complement) is singular here");
             return py::make_tuple(MatX(dz.transpose()), MatX(dl.transpose()));
           }, py::arg("control_points"), py::arg("multipliers"), py::arg("p"), py::arg("u") = py::none())
-      .def_property_readonly("dt", [](const PyIntegrator& p) { return p.integ.dt(); })
-      .def_property_readonly("nodes", [](const PyIntegrator& p) { return VecX(p.integ.quadrature().c); })
-      .def_property_readonly("weights", [](const PyIntegrator& p) { return VecX(p.integ.quadrature().w); })
-      .def_property_readonly("differentiation_matrix", [](const PyIntegrator& p) { return MatX(p.integ.quadrature().b); })
+      .def_property_readonly("dt", &PyIntegrator::dt)
+      .def_property_readonly("nodes", [](const PyIntegrator& p) { return VecX(p.quad().c); })
+      .def_property_readonly("weights", [](const PyIntegrator& p) { return VecX(p.quad().w); })
+      .def_property_readonly("differentiation_matrix", [](const PyIntegrator& p) { return MatX(p.quad().b); })
       .def("momentum", [](PyIntegrator& p, const py::object& q, const py::object& qd) {
-            return p.integ.momentum(as_vector(q, "q", p.n()), as_vector(qd, "qdot", p.n()));
+            return p.integ().momentum(as_vector(q, "q", p.n()), as_vector(qd, "qdot", p.n()));
           }, py::arg("q"), py::arg("qdot"))
       .def("velocity", [](PyIntegrator& p, const py::object& q, const py::object& mom) {
-            return p.integ.velocity(as_vector(q, "q", p.n()), as_vector(mom, "p", p.n()));
+            return p.integ().velocity(as_vector(q, "q", p.n()), as_vector(mom, "p", p.n()));
           }, py::arg("q"), py::arg("p"))
       .def("energy", [](PyIntegrator& p, const py::object& q, const py::object& mom) {
-            return p.energy(as_vector(q, "q", p.n()), as_vector(mom, "p", p.n()));
+            return p.integ().energy(as_vector(q, "q", p.n()), as_vector(mom, "p", p.n()));
           }, py::arg("q"), py::arg("p"))
       .def("energies", [](PyIntegrator& p, const py::object& Q, const py::object& P) {
             const MatX q = as_matrix(Q, "q", -1, p.n()), mom = as_matrix(P, "p", q.rows(), p.n());
+            const GalerkinIntegrator& integ = p.integ();
             VecX E(q.rows());
             py::gil_scoped_release release;
-            for (int k = 0; k < q.rows(); ++k) E[k] = p.energy(q.row(k).transpose(), mom.row(k).transpose());
+            for (int k = 0; k < q.rows(); ++k) E[k] = integ.energy(q.row(k).transpose(), mom.row(k).transpose());
             return E;
           }, py::arg("q"), py::arg("p"))
       .def("del_residual", [](PyIntegrator& p, const py::object& qc, const py::object& mom, const py::object& u) {
             MatX r(p.n(), p.s());
             VecX p_next(p.n());
-            p.integ.residual(p.control_points(qc, "control_points"), as_vector(mom, "p", p.n()), p.controls(u), r, p_next);
+            p.integ().residual(p.control_points(qc, "control_points"), as_vector(mom, "p", p.n()), p.controls(u), r, p_next);
             return py::make_tuple(MatX(r.transpose()), p_next);
           }, py::arg("control_points"), py::arg("p"), py::arg("u") = py::none())
       .def("newton_direction", [](PyIntegrator& p, const py::object& qc, const py::object& mom, const py::object& u) {
             MatX dq(p.n(), p.s());
-            if (!p.integ.direction(p.control_points(qc, "control_points"), as_vector(mom, "p", p.n()), p.controls(u), dq))
+            if (!p.integ().direction(p.control_points(qc, "control_points"), as_vector(mom, "p", p.n()), p.controls(u), dq))
               throw InputError("the DEL Jacobian is singular at these control points (a pivot block is not invertible)");
             return MatX(dq.transpose());
           }, py::arg("control_points"), py::arg("p"), py::arg("u") = py::none())
-      .def("step", [](PyIntegrator& p, const py::object& q, const py::object& mom, const py::object& u, const py::object& guess) {
+      .def("step", [](PyIntegrator& p, const py::object& q, const py::object& mom, const py::object& u,
+                      const py::object& guess, const py::object& multipliers) {
+            const GalerkinIntegrator& integ = p.integ();
             const VecX qk = as_vector(q, "q", p.n()), pk = as_vector(mom, "p", p.n());
             const MatX uk = p.controls(u);
             MatX qc(p.n(), p.s() + 1);
+            if (!guess.is_none()) qc = p.control_points(guess, "guess");
             qc.col(0) = qk;
+            MatX lambda = multipliers.is_none() ? MatX::Zero(p.mc(), p.s()) : p.multipliers_arg(multipliers);
             VecX p_next(p.n());
             SolveInfo info;
-            if (guess.is_none()) {
+            {
               py::gil_scoped_release release;
-              info = p.integ.robust_step(pk, uk, MatX(), qc, p_next);
-            } else {
-              qc = p.control_points(guess, "guess");
-              qc.col(0) = qk;
-              py::gil_scoped_release release;
-              info = p.integ.step(pk, uk, qc, p_next);
+              info = guess.is_none() ? integ.robust_step(pk, uk, MatX(), qc, p_next, &lambda)
+                                     : integ.step(pk, uk, qc, p_next, &lambda);
             }
-            return py::make_tuple(MatX(qc.transpose()), p_next, info_dict(info));
-          }, py::arg("q"), py::arg("p"), py::arg("u") = py::none(), py::arg("guess") = py::none())
+            py::dict d = info_dict(info);
+            d["multipliers"] = MatX(lambda.transpose());
+            return py::make_tuple(MatX(qc.transpose()), p_next, d);
+          }, py::arg("q"), py::arg("p"), py::arg("u") = py::none(), py::arg("guess") = py::none(),
+          py::arg("multipliers") = py::none())
       .def("rollout", [](PyIntegrator& p, const py::object& q0, const py::object& p0, int steps, const py::object& u,
-                         const py::object& previous) {
+                         const py::object& previous, const py::object& multipliers) {
+            const GalerkinIntegrator& integ = p.integ();
             const VecX q = as_vector(q0, "q0", p.n()), mom = as_vector(p0, "p0", p.n());
             MatX U(0, 0), prev;
             if (!u.is_none()) U = as_matrix(u, "u", steps, (p.s() + 1) * p.m());
             else if (p.m() > 0) U = MatX::Zero(steps, (p.s() + 1) * p.m());
             if (!previous.is_none()) prev = p.control_points(previous, "previous");
+            const MatX lambda0 = multipliers.is_none() ? MatX() : p.multipliers_arg(multipliers);
             Rollout r;
             double seconds;
             {
               py::gil_scoped_release release;
               const auto t0 = std::chrono::steady_clock::now();
-              r = p.integ.rollout(q, mom, steps, U, prev);
+              r = integ.rollout(q, mom, steps, U, prev, lambda0);
               seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
             }
             py::dict d;
@@ -149,7 +148,8 @@ void bind_integrator(py::module_& m) {
             d["steps"] = r.steps;
             d["seconds"] = seconds;
             return d;
-          }, py::arg("q0"), py::arg("p0"), py::arg("steps"), py::arg("u") = py::none(), py::arg("previous") = py::none());
+          }, py::arg("q0"), py::arg("p0"), py::arg("steps"), py::arg("u") = py::none(), py::arg("previous") = py::none(),
+          py::arg("multipliers") = py::none());
 }
 
 }  // namespace hovi::py_bind

@@ -6,11 +6,19 @@
 namespace hovi::py_bind {
 
 namespace {
+// The Linearizer of an integrator (safe for concurrent calls); lin() raises, as the integrator's
+// calls do, once the model the integrator copied has changed.
 struct PyLinearizer {
   explicit PyLinearizer(PyIntegrator& integ)
-      : integ(integ), lin(integ.integ.model(), integ.integ.quadrature(), integ.integ.dt()) {}
+      : integ(integ), lin_(integ.integ().model(), integ.integ().quadrature(), integ.integ().dt()) {}
   PyIntegrator& integ;
-  Linearizer lin;
+  const Linearizer& lin() const {
+    integ.integ();
+    return lin_;
+  }
+
+ private:
+  Linearizer lin_;
 };
 }  // namespace
 
@@ -19,15 +27,16 @@ void bind_linearizer(py::module_& m) {
       .def(py::init<PyIntegrator&>(), py::arg("integrator"), py::keep_alive<1, 2>())
       .def("del_jacobian", [](PyLinearizer& L, const py::object& qc, const py::object& u, bool with_u,
                               const py::object& multipliers) {
+            const Linearizer& lin = L.lin();
             MatX Jq, Ju, Dh;
             const MatX q = L.integ.control_points(qc, "control_points"), uu = L.integ.controls(u);
             const bool constrained = !multipliers.is_none();
-            if (constrained && L.integ.integ.model().n_constraints() == 0)
+            if (constrained && L.integ.mc() == 0)
               throw InputError("multipliers were given but the model has no constraints");
             const MatX lam = constrained ? L.integ.multipliers_arg(multipliers) : MatX();
             {
               py::gil_scoped_release release;
-              L.lin.del_jacobian(q, uu, Jq, (with_u || constrained) ? &Ju : nullptr, lam, constrained ? &Dh : nullptr);
+              lin.del_jacobian(q, uu, Jq, (with_u || constrained) ? &Ju : nullptr, lam, constrained ? &Dh : nullptr);
             }
             return py::make_tuple(Jq, (with_u || constrained) ? py::cast(Ju) : py::none(),
                                   constrained ? py::cast(Dh) : py::none());
@@ -35,15 +44,16 @@ void bind_linearizer(py::module_& m) {
           py::arg("multipliers") = py::none())
       .def("step_jacobians", [](PyLinearizer& L, const py::object& qc, const py::object& u, bool want_A, bool want_B,
                                 const py::object& multipliers) {
+            const Linearizer& lin = L.lin();
             const MatX q = L.integ.control_points(qc, "control_points"), uu = L.integ.controls(u);
-            const int mc = L.integ.integ.model().n_constraints();
+            const int mc = L.integ.mc();
             if (mc && multipliers.is_none()) throw InputError("a constrained model needs the step's multipliers");
             const MatX lam = mc ? L.integ.multipliers_arg(multipliers) : MatX();
             MatX A, B;
             bool ok;
             {
               py::gil_scoped_release release;
-              ok = L.lin.step_jacobians(q, uu, want_A ? &A : nullptr, want_B ? &B : nullptr, lam);
+              ok = lin.step_jacobians(q, uu, want_A ? &A : nullptr, want_B ? &B : nullptr, lam);
             }
             if (!ok) throw InputError("the DEL Jacobian dR/dq^{k,1..s} is singular at these control points");
             return py::make_tuple(want_A ? py::cast(A) : py::none(), want_B ? py::cast(B) : py::none());
@@ -51,12 +61,13 @@ void bind_linearizer(py::module_& m) {
           py::arg("multipliers") = py::none())
       .def("rollout_jacobians", [](PyLinearizer& L, const py::object& cps, const py::object& u, bool want_A, bool want_B,
                                    const py::object& multipliers) {
+            const Linearizer& lin = L.lin();
             const int n = L.integ.n(), S1 = L.integ.s() + 1, m = L.integ.m();
             const MatX C = as_matrix(cps, "control_points (steps, (s+1) n)", -1, S1 * n);
             const int N = static_cast<int>(C.rows());
             MatX U = MatX::Zero(N, S1 * m);
             if (!u.is_none()) U = as_matrix(u, "u (steps, (s+1) m)", N, S1 * m);
-            const int mc = L.integ.integ.model().n_constraints(), s = S1 - 1;
+            const int mc = L.integ.mc(), s = S1 - 1;
             MatX LAM;
             if (mc) {
               if (multipliers.is_none()) throw InputError("a constrained model needs the multipliers of every step");
@@ -74,7 +85,7 @@ void bind_linearizer(py::module_& m) {
                 for (int c = 0; c < S1; ++c) qc.col(c) = C.row(k).segment(c * n, n).transpose();
                 for (int c = 0; c < S1; ++c) uk.col(c) = U.row(k).segment(c * m, m).transpose();
                 for (int c = 0; c < s && mc; ++c) lk.col(c) = LAM.row(k).segment(c * mc, mc).transpose();
-                if (!L.lin.step_jacobians(qc, uk, want_A ? &A : nullptr, want_B ? &B : nullptr, lk)) {
+                if (!lin.step_jacobians(qc, uk, want_A ? &A : nullptr, want_B ? &B : nullptr, lk)) {
                   failed = k;
                   break;
                 }

@@ -32,6 +32,14 @@ int index_arg(const Model& model, const py::handle& obj, const char* what, Looku
 }
 }  // namespace
 
+void ModelWatch::check() const {
+  if (source_->revision != revision_)
+    throw ModelError(std::string("the model was changed (") + source_->last_change + ") after this " + owner_ +
+                     " was made from it; the " + owner_ + " works on a copy of the model and would ignore the "
+                     "change: make a new hovi." + owner_ + " from the changed model (copy the model with "
+                     "Model.copy() first to keep both versions)");
+}
+
 int joint_arg(const Model& model, const py::handle& joint) {
   return index_arg(model, joint, "joint", [&](const std::string& n) { return model.joint_index(n); });
 }
@@ -77,6 +85,13 @@ std::string summary(const Model& model) {
     os << line;
   }
   return os.str();
+}
+
+// The force elements and constraints are immutable and shared; everything else is copied.
+std::shared_ptr<PyModel> copy_of(const PyModel& s) {
+  auto pm = std::make_shared<PyModel>();
+  pm->model = s.model;
+  return pm;
 }
 
 template <class F>
@@ -149,7 +164,9 @@ continuous joints become revolute joints without limits; mimic joints are kept a
             s.inertia = as_matrix(inertia, "inertia", 3, 3);
             s.limits.lower = lower;
             s.limits.upper = upper;
-            return self.model.add_body(s);
+            const int i = self.model.add_body(s);
+            self.changed("add_body");
+            return i;
           },
           py::arg("name"), py::arg("parent"), py::arg("joint_type") = "revolute", py::arg("axis") = py::make_tuple(0.0, 0.0, 1.0),
           py::arg("placement") = py::none(), py::arg("mass") = 0.0, py::arg("com") = py::make_tuple(0.0, 0.0, 0.0),
@@ -161,13 +178,19 @@ placement: 4x4 pose of the joint frame in the parent's joint frame at q = 0. axi
 the joint frame. com: centre of mass in the joint frame. inertia: 3x3 rotational inertia about
 the COM (joint-frame axes). Raises hovi.ModelError naming the body on invalid input.
 )doc")
+      .def("copy", &copy_of, "An independent copy (later changes to either do not affect the other).")
+      .def("__copy__", &copy_of)
+      .def("__deepcopy__", [](const PyModel& s, const py::object&) { return copy_of(s); }, py::arg("memo"))
       .def_property_readonly("n", [](const PyModel& s) { return s.model.n(); }, "Number of joints = DoF = bodies.")
       .def_property_readonly("nq", [](const PyModel& s) { return s.model.n(); })
       .def_property_readonly("nv", [](const PyModel& s) { return s.model.n(); })
       .def_property_readonly("total_mass", [](const PyModel& s) { return s.model.total_mass(); })
       .def_property(
           "gravity", [](const PyModel& s) { return Vec3(s.model.gravity); },
-          [](PyModel& s, const py::object& g) { s.model.gravity = as_vector(g, "gravity", 3); },
+          [](PyModel& s, const py::object& g) {
+            s.model.gravity = as_vector(g, "gravity", 3);
+            s.changed("gravity");
+          },
           "Gravity in the world frame (default (0, 0, -9.81)).")
       .def_property_readonly("body_names", [](const PyModel& s) { return per_body(s.model, [](const BodySpec& b) { return b.name; }); })
       .def_property_readonly("joint_names", [](const PyModel& s) { return per_body(s.model, [](const BodySpec& b) { return b.joint_name; }); })
@@ -188,16 +211,24 @@ the COM (joint-frame axes). Raises hovi.ModelError naming the body on invalid in
           }, "{joint: (leader, multiplier, offset)} for URDF mimic joints (metadata only).")
       .def("add_spring", [](PyModel& s, const py::object& joint, double k, double rest) {
             s.model.add_spring(joint_arg(s.model, joint), k, rest);
+            s.changed("add_spring");
           }, py::arg("joint"), py::arg("stiffness"), py::arg("rest") = 0.0,
           "Linear joint spring Q = -stiffness (q - rest) (joint index or name); adds 1/2 k (q - rest)^2 to V.")
       .def("add_damper", [](PyModel& s, const py::object& joint, double c) {
             s.model.add_damper(joint_arg(s.model, joint), c);
+            s.changed("add_damper");
           }, py::arg("joint"), py::arg("damping"), "Linear joint damper Q = -damping q̇.")
       .def("add_actuator", [](PyModel& s, const py::object& joint, double gear) {
-            return s.model.add_actuator(joint_arg(s.model, joint), gear);
+            const int k = s.model.add_actuator(joint_arg(s.model, joint), gear);
+            s.changed("add_actuator");
+            return k;
           }, py::arg("joint"), py::arg("gear") = 1.0,
           "A new control input u[k] acting on the joint as Q += gear u[k]; returns k.")
-      .def("add_control", [](PyModel& s) { return s.model.add_control(); },
+      .def("add_control", [](PyModel& s) {
+            const int k = s.model.add_control();
+            s.changed("add_control");
+            return k;
+          },
            "A new control input with no joint actuation (for control-scaled wrenches); returns its index.")
       .def("add_point_wrench", [](PyModel& s, const py::object& body, const py::object& force, const py::object& torque,
                                   const py::object& point, const std::string& frame, const py::object& control) {
@@ -210,6 +241,7 @@ the COM (joint-frame axes). Raises hovi.ModelError naming the body on invalid in
             const int c = control.is_none() ? -1 : control.cast<int>();
             if (control.is_none() == false && c < 0) throw ModelError("add_point_wrench: control index must be >= 0");
             s.model.add_wrench(std::make_shared<PointWrench>(i, r, as_vector(force, "force", 3), as_vector(torque, "torque", 3), f, c));
+            s.changed("add_point_wrench");
           }, py::arg("body"), py::arg("force") = py::make_tuple(0.0, 0.0, 0.0), py::arg("torque") = py::make_tuple(0.0, 0.0, 0.0),
           py::arg("point") = py::none(), py::arg("frame") = "world", py::arg("control") = py::none(), R"doc(
 A force (and torque) on a body, applied at `point` (in the body's joint frame; default: its centre
@@ -219,6 +251,7 @@ body (a follower force). control=k scales the wrench by the control input u[k].
       .def("add_drag", [](PyModel& s, const py::object& body, double linear, double angular) {
             if (linear < 0 || angular < 0) throw ModelError("add_drag: coefficients must be non-negative");
             s.model.add_wrench(std::make_shared<BodyDrag>(body_arg(s.model, body), linear, angular));
+            s.changed("add_drag");
           }, py::arg("body"), py::arg("linear"), py::arg("angular") = 0.0,
           "Linear drag at the centre of mass in the body frame: F = -(angular w, linear v_com).")
       .def("add_point_constraint", [](PyModel& s, const py::object& body, const py::object& point,
@@ -226,6 +259,7 @@ body (a follower force). control=k scales the wrench by the control input u[k].
             const int i = body_arg(s.model, body);
             const Vec3 r = point.is_none() ? Vec3::Zero() : Vec3(as_vector(point, "point", 3) - s.model.spec[i].com);
             s.model.add_constraint(std::make_shared<PointConstraint>(i, r, as_vector(target, "target", 3), axes));
+            s.changed("add_point_constraint");
           }, py::arg("body"), py::arg("point") = py::none(), py::arg("target"), py::arg("axes") = "xyz", R"doc(
 Hold a point of a body (in its joint frame; default the centre of mass) at a world point:
 h = P (x(q) - target) with P the rows of `axes` ('xyz', or e.g. 'xz' for planar use).
@@ -235,13 +269,16 @@ h = P (x(q) - target) with P the rows of `axes` ('xyz', or e.g. 'xz' for planar 
             const int i = body_arg(s.model, b1), j = body_arg(s.model, b2);
             const Vec3 r1 = as_vector(p1, "point1", 3) - s.model.spec[i].com, r2 = as_vector(p2, "point2", 3) - s.model.spec[j].com;
             s.model.add_constraint(std::make_shared<LoopConstraint>(i, r1, j, r2, axes));
+            s.changed("add_loop_constraint");
           }, py::arg("body1"), py::arg("point1"), py::arg("body2"), py::arg("point2"), py::arg("axes") = "xyz",
           "Make point1 of body1 and point2 of body2 (each in its body's joint frame) coincide: a loop closure.")
       .def("add_orientation_constraint", [](PyModel& s, const py::object& body, const py::object& R0) {
             s.model.add_constraint(std::make_shared<OrientationConstraint>(body_arg(s.model, body), as_matrix(R0, "rotation", 3, 3)));
+            s.changed("add_orientation_constraint");
           }, py::arg("body"), py::arg("rotation"), "Hold a body's orientation at the world rotation `rotation` (3 equations).")
       .def("add_joint_coupling", [](PyModel& s, const py::object& c, double offset) {
             s.model.add_constraint(std::make_shared<JointCoupling>(as_vector(c, "coefficients", s.model.n()), offset));
+            s.changed("add_joint_coupling");
           }, py::arg("coefficients"), py::arg("offset") = 0.0, "A linear coupling of joint coordinates: coefficients . q = offset.")
       .def_property_readonly("n_constraints", [](const PyModel& s) { return s.model.n_constraints(); },
                              "Number of constraint equations.")

@@ -22,5 +22,6 @@ void bind_model(py::module_& m);
 void bind_integrator(py::module_& m);
 void bind_linearizer(py::module_& m);
 void bind_baselines(py::module_& m);
+void bind_trajopt(py::module_& m);
 
 }  // namespace hovi::py_bind

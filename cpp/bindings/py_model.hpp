@@ -7,15 +7,36 @@
 
 namespace hovi::py_bind {
 
-// The Python-side model: the immutable core Model plus a lazily (re)sized workspace.
+// The Python-side model: the core Model plus a lazily (re)sized workspace, and a count of the
+// changes made to it so that objects built from a copy of it (integrators) can tell they are stale.
 struct PyModel {
   Model model;
   std::unique_ptr<Data> data;
+  long revision = 0;
+  std::string last_change;
+  void changed(const char* what) {
+    ++revision;
+    last_change = what;
+  }
   Data& ws() {
     if (!data || static_cast<int>(data->g.size()) != model.n()) data = std::make_unique<Data>(model);
     return *data;
   }
   VecX vec(const py::handle& x, const char* name) { return as_vector(x, name, model.n()); }
+};
+
+// What an object built from a PyModel (it copies the model) remembers of it: a later change to
+// the model makes every call of that object raise ModelError instead of silently using the copy.
+class ModelWatch {
+ public:
+  ModelWatch(std::shared_ptr<const PyModel> source, const char* owner)
+      : source_(std::move(source)), revision_(source_->revision), owner_(owner) {}
+  void check() const;
+
+ private:
+  std::shared_ptr<const PyModel> source_;
+  long revision_;
+  const char* owner_;
 };
 
 // Index of a joint given as int or name; ModelError otherwise.

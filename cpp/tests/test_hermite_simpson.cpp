@@ -20,25 +20,8 @@ using namespace hovi;
 
 namespace {
 
-VecX uniform(std::mt19937& rng, int n, double lo, double hi) {
-  std::uniform_real_distribution<double> dist(lo, hi);
-  VecX x(n);
-  for (int i = 0; i < n; ++i) x[i] = dist(rng);
-  return x;
-}
-
-
-// The 5-link pendulum with springs, dampers and two actuators.
-Model forced_pendulum() {
-  Model m = models::pendulum(5);
-  m.add_spring(0, 3.0, 0.2);
-  m.add_spring(3, 1.5, -0.1);
-  m.add_damper(1, 0.4);
-  m.add_damper(4, 0.2);
-  m.add_actuator(2, 1.0);
-  m.add_actuator(4, 2.0);
-  return m;
-}
+using test_models::forced_pendulum;
+using test_models::uniform;
 
 // ẋ = f(x) = (v, FD(q, v, preload - k q - c v + B u)) with a constant control u (empty: none).
 void rhs(const Model& model, Data& data, const VecX& u, const VecX& q, const VecX& v, VecX& qd, VecX& vd) {

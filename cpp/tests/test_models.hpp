@@ -1,8 +1,10 @@
 // Models shared by the C++ tests.
 #pragma once
+#include <random>
 #include <string>
 
 #include "hovi/model/model.hpp"
+#include "hovi/models/pendulum.hpp"
 
 namespace hovi::test_models {
 
@@ -34,6 +36,27 @@ inline Model branched_tree() {
   const int d = body("d", a, JointType::Revolute, Vec3(1, 0, 0), Vec3(0, -0.2, 0.4), 1.3);
   body("e", d, JointType::Revolute, Vec3(0, 1, 0), Vec3(0.1, 0.1, 0.1), 0.4);
   body("f", d, JointType::Prismatic, Vec3(0, 0.3, 1), Vec3(-0.1, 0.2, 0.0), 0.6);
+  return m;
+}
+
+// n numbers uniform in [lo, hi].
+inline VecX uniform(std::mt19937& rng, int n, double lo, double hi) {
+  std::uniform_real_distribution<double> dist(lo, hi);
+  VecX x(n);
+  for (int i = 0; i < n; ++i) x[i] = dist(rng);
+  return x;
+}
+
+// The 5-link pendulum with springs (one with a nonzero rest angle, i.e. a preload), dampers and
+// two actuators (one geared).
+inline Model forced_pendulum() {
+  Model m = models::pendulum(5);
+  m.add_spring(0, 3.0, 0.2);
+  m.add_spring(3, 1.5, -0.1);
+  m.add_damper(1, 0.4);
+  m.add_damper(4, 0.2);
+  m.add_actuator(2, 1.0);
+  m.add_actuator(4, 2.0);
   return m;
 }
 

@@ -1,4 +1,4 @@
-"""The ``hovi`` command line: ``hovi simulate`` (the main job) and ``hovi info``."""
+"""The ``hovi`` command line: ``hovi simulate`` (the main job), ``hovi optimize`` and ``hovi info``."""
 from __future__ import annotations
 
 import argparse
@@ -11,6 +11,8 @@ import numpy as np
 
 from . import Model, models
 from .integrator import ConvergenceError, Integrator
+
+EXAMPLE_NAMES = ("pendulum", "acrobot", "cartpole", "slider_crank")  # hovi.trajopt.examples.EXAMPLES
 
 
 def load_model(spec: str, base: str = "fixed") -> Model:
@@ -84,6 +86,48 @@ def cmd_info(args) -> int:
     return 0
 
 
+def cmd_optimize(args) -> int:
+    from . import trajopt
+    from .trajopt import examples
+    make = examples.EXAMPLES[args.example]
+    kwargs = {"controls": args.controls}
+    if args.N:
+        kwargs["N"] = args.N
+    if args.T:
+        kwargs["T"] = args.T
+    prob = make(**kwargs)
+    s = args.order // 2
+    label = f"VI order {args.order}" if args.transcription == "vi" else args.transcription
+    print(f"{args.example}: {prob.model.n} DoF, {prob.model.n_controls} controls, {prob.model.n_constraints} "
+          f"constraint equations; N = {prob.N} stages over T = {prob.T} s; {label}")
+    guess = "linear" if args.example == "acrobot" else None
+    result = trajopt.solve(prob, args.transcription, s=s, guess=guess, verbose=not args.quiet,
+                           options={"max_iter": args.max_iter})
+    summary = {"example": args.example, "transcription": args.transcription, "order": args.order, "N": prob.N,
+               "T": prob.T, "status": result.status, "success": result.success, "cost": result.cost,
+               "constraint_violation": result.constraint_violation, "iterations": result.iterations,
+               "wall_seconds": result.wall_seconds, **result.sizes, **{f"time_{k}": v for k, v in result.timing.items()}}
+    if args.transcription == "vi":
+        replay = result.replay()
+        if replay.steps == prob.N:
+            Q = np.vstack([replay.control_points[:, :s, :].reshape(-1, prob.model.n), replay.q[-1:]])
+            summary["replay_max_error"] = float(np.abs(Q - result.trajectory["q"]).max())
+            print(f"replayed with the integrator: largest difference from the optimised states "
+                  f"{summary['replay_max_error']:.2e}")
+    print(f"{result.status}\ncost {result.cost:.8g}, constraint violation {result.constraint_violation:.2e}, "
+          f"{result.iterations} iterations in {result.wall_seconds:.2f} s ({1e3 * result.timing['per_iteration']:.2f} "
+          f"ms each; {100 * result.timing['callbacks'] / result.wall_seconds:.0f}% in hovi's callbacks)")
+    os.makedirs(args.output, exist_ok=True)
+    with open(os.path.join(args.output, f"optimize_{args.example}.json"), "w") as f:
+        json.dump(summary, f, indent=2)
+    if not args.no_plot:
+        from .plotting import plot_optimized
+        path = os.path.join(args.output, f"optimize_{args.example}.png")
+        plot_optimized(result, prob, path, f"{args.example}, {label}, N = {prob.N}")
+        print(f"wrote {path} and optimize_{args.example}.json")
+    return 0 if result.success else 1
+
+
 def add_model_args(p):
     p.add_argument("model", nargs="?", default="pendulum:32",
                    help="'pendulum:N' (the built-in N-link pendulum) or a URDF path (default: pendulum:32)")
@@ -112,12 +156,33 @@ def main(argv=None) -> int:
     sim.add_argument("--no-plot", action="store_true", help="skip the plots")
     sim.add_argument("--no-progress", action="store_true", help="no progress bar")
     sim.set_defaults(func=cmd_simulate)
+    opt = sub.add_parser("optimize", help="solve a built-in trajectory optimisation with IPOPT",
+                         description="Solve a built-in trajectory-optimisation example (swing-ups with torque "
+                                     "limits and a fixed final time; a slider-crank driven to a target) with the "
+                                     "variational integrator or Hermite-Simpson collocation as the dynamics; print "
+                                     "IPOPT's progress and a summary; replay the optimised controls with the "
+                                     "integrator; write a plot and a JSON summary.")
+    opt.add_argument("example", choices=sorted(EXAMPLE_NAMES), help="the example")
+    opt.add_argument("--transcription", default="vi", choices=["vi", "hs-implicit", "hs-explicit"],
+                     help="the dynamics: the Galerkin VI (default) or Hermite-Simpson collocation")
+    opt.add_argument("--order", type=int, default=4, help="VI order 2s (default 4: Simpson)")
+    opt.add_argument("--N", type=int, default=0, help="number of stages (default: the example's)")
+    opt.add_argument("--T", type=float, default=0.0, help="final time in s (default: the example's)")
+    opt.add_argument("--controls", default="per_point", choices=["per_point", "held"],
+                     help="controls at every sample point (default) or held over each stage")
+    opt.add_argument("--max-iter", type=int, default=3000, help="IPOPT iteration limit (default 3000)")
+    opt.add_argument("--quiet", action="store_true", help="no per-iteration progress")
+    opt.add_argument("--output", default="results", help="folder for the plot and JSON (default: results)")
+    opt.add_argument("--no-plot", action="store_true", help="skip the plot")
+    opt.set_defaults(func=cmd_optimize)
     info = sub.add_parser("info", help="describe a model and print its energy at a random state")
     add_model_args(info)
     info.set_defaults(func=cmd_info)
     args = parser.parse_args(argv)
     if getattr(args, "dt", 1) <= 0 or getattr(args, "duration", 1) <= 0:
         parser.error("--dt and --duration must be positive")
+    if args.command == "optimize" and (args.order < 2 or args.order % 2 or args.N < 0 or args.T < 0):
+        parser.error("--order must be an even number >= 2, --N and --T non-negative")
     try:
         return args.func(args)
     except (ValueError, OSError) as e:  # bad model file, bad option value: a clean message, no traceback

@@ -52,12 +52,13 @@ class Trajectory:
 
     @property
     def qdot(self) -> np.ndarray:
-        """Velocity estimates q̇^k = M(q^k)^{-1} p^k (discrete Legendre transform)."""
+        """Velocities q̇^k read back from (q^k, p^k) by ``Integrator.velocity`` (M^{-1} p, projected
+        onto Dh(q) q̇ = 0 for a constrained model)."""
         return np.array([self.integrator.velocity(q, p) for q, p in zip(self.q, self.p)])
 
     @property
     def energy(self) -> np.ndarray:
-        """Total energy K + V at every step, with q̇ = M^{-1} p."""
+        """Total energy K + V at every step, with q̇ as in ``qdot``."""
         return self.integrator.energies(self.q, self.p)
 
 
@@ -74,7 +75,13 @@ class Integrator:
     10^4 steps that solver error shows as a slow energy drift (s = 3: 7e-9 -> 2e-8 at tol 1e-12)
     that the default exact Newton does not have.
 
-    The model is copied: later changes to it do not affect the integrator.
+    The model is copied: after a change to the model (a force, a constraint, gravity, a body),
+    every call of this integrator (and of Linearizers made from it) raises hovi.ModelError; make
+    a new Integrator from the changed model (``model.copy()`` keeps the old version).
+
+    Threads: one Integrator may be used from several threads at once (each call runs on its own
+    workspace, with the GIL released in rollouts and steps); results are those of the same calls
+    made in sequence. Each call depends on its arguments only.
 
     Controls ``u`` are given per control point, shape (s+1, m), or held constant over a step,
     shape (m,). Samples of a smooth u(t) keep order 2s; a zero-order hold is first-order
@@ -149,17 +156,27 @@ class Integrator:
 
     # --- momentum and energy -----------------------------------------------------------------
     def momentum(self, q, qdot) -> np.ndarray:
-        """p = dL/dq̇ = M(q) q̇: the discrete momentum to start from."""
+        """p = dL/dq̇ = M(q) q̇: the discrete momentum to start from (for a constrained model give a
+        q̇ with Dh(q) q̇ = 0, e.g. from ``project``)."""
         return self._core.momentum(q, qdot)
 
     def velocity(self, q, p) -> np.ndarray:
-        """q̇ = M(q)^{-1} p, O(n)."""
+        """The velocity q̇ of a discrete momentum p: M(q)^{-1} p, O(n).
+
+        For a constrained model, the q̇ with Dh(q) q̇ = 0 nearest to M^{-1} p in the kinetic-energy
+        metric: [M Dh^T; Dh 0] [q̇; μ] = [p; 0], solved in O(n m + m^3) with the recursive
+        mass-matrix solve (the momentum projection of RATTLE-type methods). The discrete momentum
+        p^k of a constrained step is defined up to Dh(q^k)^T μ (the next step's constraint impulse
+        absorbs that part), so M^{-1} p alone is not a tangent velocity.
+        """
         return self._core.velocity(q, p)
 
     def energy(self, q, p) -> float:
+        """K + V at (q, ``velocity(q, p)``)."""
         return self._core.energy(q, p)
 
     def energies(self, q, p) -> np.ndarray:
+        """``energy`` of every row of q, p (arrays (K, n)), in C++."""
         return self._core.energies(q, p)
 
     # --- the DEL equations ---------------------------------------------------------------------
@@ -172,21 +189,24 @@ class Integrator:
         return self._core.newton_direction(control_points, p, u)
 
     # --- stepping --------------------------------------------------------------------------------
-    def step(self, q, p, u=None, *, guess=None, raise_on_failure: bool = True):
-        """One step: returns (q_next, p_next, info). ``info.control_points`` holds q^{k,0..s}.
+    def step(self, q, p, u=None, *, guess=None, multipliers=None, raise_on_failure: bool = True):
+        """One step: returns (q_next, p_next, info). ``info.control_points`` holds q^{k,0..s} and,
+        for a constrained model, ``info.multipliers`` λ^{k,0..s-1} (s, n_constraints).
 
         guess: initial control points (s+1, n) for a single Newton solve; by default Newton starts
-        from q + c^a dt M^{-1} p and, if that fails, from q^{k,a} = q.
+        from q + c^a dt q̇ (q̇ = ``velocity(q, p)``) and, if that fails, from q^{k,a} = q.
+        multipliers: the first guess of λ^{k,0..s-1} of a constrained model (default zero).
         Raises ConvergenceError if the solve fails and raise_on_failure (else check info.converged).
         """
-        qc, p_next, info = self._core.step(q, p, u, guess)
+        qc, p_next, info = self._core.step(q, p, u, guess, multipliers)
+        lam = info.pop("multipliers")
         info = StepInfo(**info)
         if not info.converged and raise_on_failure:
             raise ConvergenceError(f"Newton solve did not converge ({info.status}) after {info.iterations} "
                                    f"iterations, residual {info.residual:.3e}; try a smaller dt", info=info)
         info.control_points = qc
         if self.n_constraints:
-            info.multipliers = self._core.multipliers
+            info.multipliers = lam
         return qc[-1].copy(), p_next, info
 
     def rollout(self, q0, steps: int, *, p0=None, qdot0=None, u=None, raise_on_failure: bool = True,
@@ -194,7 +214,9 @@ class Integrator:
         """Simulate ``steps`` steps from q0 with p0 (or qdot0, default zero velocity), in C++.
 
         Each step starts Newton from the previous step's polynomial extrapolated; if that solve
-        fails it retries from q^k + c^a dt M^{-1} p^k, then from q^{k,a} = q^k.
+        fails it retries from q^k + c^a dt q̇^k (q̇^k = ``velocity(q^k, p^k)``), then from
+        q^{k,a} = q^k. A constrained model's multipliers start from zero and then from the
+        previous step's.
 
         u: None, (m,) constant, (steps, m) held per step, or (steps, s+1, m) per control point.
         progress: show a progress bar (the C++ loop runs in chunks of ``chunk`` steps).
@@ -218,10 +240,10 @@ class Integrator:
         if progress:
             from tqdm import tqdm
             bar = tqdm(total=steps, unit="step", desc="simulating")
-        parts, previous, q, p, done = [], None, q0, np.asarray(p0, dtype=float), 0
+        parts, previous, lam, q, p, done = [], None, None, q0, np.asarray(p0, dtype=float), 0
         while True:
             n_chunk = min(chunk, steps - done) if progress else steps - done
-            res = self._core.rollout(q, p, n_chunk, None if U is None else U[done:done + n_chunk], previous)
+            res = self._core.rollout(q, p, n_chunk, None if U is None else U[done:done + n_chunk], previous, lam)
             parts.append(res)
             done += res["steps"]
             if bar is not None:
@@ -230,6 +252,8 @@ class Integrator:
                 break
             q, p = res["q"][-1], res["p"][-1]
             previous = res["control_points"][-1].reshape(self.s + 1, self.n)
+            if self.n_constraints:
+                lam = res["multipliers"][-1].reshape(self.s, self.n_constraints)
         if bar is not None:
             bar.close()
         traj = self._join(parts)

@@ -55,3 +55,28 @@ def plot_configuration(model, q, path, title=""):
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
+
+
+def plot_optimized(result, problem, path, title=""):
+    """An optimised trajectory: joint positions at the configuration points and the controls."""
+    plt = _plt()
+    tr = result.trajectory
+    fig, axes = plt.subplots(1, 2, figsize=(11, 3.8))
+    for j, name in enumerate(problem.model.joint_names):
+        axes[0].plot(tr["t"], tr["q"][:, j], ".-", ms=3, lw=0.8, label=name)
+    axes[0].set_xlabel("time [s]")
+    axes[0].set_ylabel("q")
+    axes[0].legend(fontsize=8)
+    t = np.linspace(0, problem.T, 400)
+    u = result.control_function()(t)
+    for k in range(problem.model.n_controls):
+        axes[1].plot(t, u[:, k], lw=1, label=f"u[{k}]")
+    axes[1].set_xlabel("time [s]")
+    axes[1].set_ylabel("control")
+    axes[1].legend(fontsize=8)
+    for ax in axes:
+        ax.grid(True, alpha=0.3)
+    fig.suptitle(title)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)

@@ -4,10 +4,11 @@
 #include <Eigen/LU>
 #include <cmath>
 
-#include "hovi/algorithms/dynamics.hpp"
+#include "hovi/algorithms/energy.hpp"
 #include "hovi/algorithms/kinematics.hpp"
 #include "hovi/algorithms/mass_matrix.hpp"
 #include "hovi/constraints/constraint.hpp"
+#include "hovi/constraints/tangent_velocity.hpp"
 #include "hovi/errors.hpp"
 
 namespace hovi {
@@ -19,54 +20,88 @@ Model checked(Model model) {
 }
 }  // namespace
 
+IntegratorWorkspace::IntegratorWorkspace(const Model& model, const Quadrature& quad)
+    : solver(model, quad),
+      constrained(model.n_constraints() ? std::make_unique<ConstrainedSolver>(model, quad) : nullptr),
+      data(model) {}
+
 GalerkinIntegrator::GalerkinIntegrator(Model model, int s, double dt, SolverOptions opt)
-    : options(opt), model_(checked(std::move(model))), quad_(s), dt_(dt), solver_(model_, quad_), data_(model_) {
+    : options(opt), model_(checked(std::move(model))), quad_(s), dt_(dt),
+      pool_([this] { return std::make_unique<IntegratorWorkspace>(model_, quad_); }) {
   if (!(dt > 0) || !std::isfinite(dt)) throw InputError("dt must be positive and finite, got " + std::to_string(dt));
   if (!(opt.tol > 0)) throw InputError("tol must be positive");
   if (opt.max_iterations < 1) throw InputError("max_iterations must be at least 1");
   if (opt.max_backtracks < 0) throw InputError("max_backtracks must be non-negative");
-  if (model_.n_constraints() > 0) {
-    constrained_ = std::make_unique<ConstrainedSolver>(model_, quad_);
-    lambda_.setZero(model_.n_constraints(), s);
-  }
   // E(b, a) = l_b(1 + c^a): the previous step's polynomial evaluated at this step's points.
   extrapolate_.resize(s + 1, s + 1);
   for (int a = 0; a <= s; ++a) extrapolate_.col(a) = quad_.basis(1 + quad_.c[a]);
+  pool_.acquire();  // one workspace made up front: a bad model fails here, not in the first call
 }
 
-VecX GalerkinIntegrator::momentum(const VecX& q, const VecX& qdot) {
+VecX GalerkinIntegrator::momentum(const VecX& q, const VecX& qdot) const {
   check_vector("qdot", qdot, model_.n());
-  return mass_matrix(model_, data_, q) * qdot;  // O(n^2); used once per trajectory
+  auto ws = pool_.acquire();
+  return mass_matrix(model_, ws->data, q) * qdot;  // O(n^2); used once per trajectory
 }
 
-VecX GalerkinIntegrator::velocity(const VecX& q, const VecX& p) { return mass_matrix_solve(model_, data_, q, p); }
+VecX GalerkinIntegrator::velocity(const VecX& q, const VecX& p) const {
+  auto ws = pool_.acquire();
+  return velocity_from_momentum(model_, ws->data, q, p);
+}
 
-SolveInfo GalerkinIntegrator::step(const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u,
-                                   Eigen::Ref<MatX> qc, Eigen::Ref<VecX> p_next) {
-  if (constrained_) {
-    MatX lambda = lambda_;
-    const SolveInfo info = constrained_->solve(options, p, u, dt_, qc, lambda, p_next);
-    if (info.converged()) lambda_ = lambda;
+double GalerkinIntegrator::energy(const VecX& q, const VecX& p) const {
+  auto ws = pool_.acquire();
+  const VecX qdot = velocity_from_momentum(model_, ws->data, q, p);
+  return kinetic_energy(model_, ws->data, q, qdot) + potential_energy(model_, ws->data, q);
+}
+
+MatX GalerkinIntegrator::lambda_guess(const MatX* lambda) const {
+  const int mc = model_.n_constraints();
+  if (!lambda || !mc) return MatX::Zero(mc, quad_.s);
+  if (lambda->rows() != mc || lambda->cols() != quad_.s)
+    throw InputError("multipliers must have shape (s, m_c) = (" + std::to_string(quad_.s) + ", " + std::to_string(mc) + ")");
+  return *lambda;
+}
+
+SolveInfo GalerkinIntegrator::step(IntegratorWorkspace& ws, const Eigen::Ref<const VecX>& p,
+                                   const Eigen::Ref<const MatX>& u, Eigen::Ref<MatX> qc, Eigen::Ref<VecX> p_next,
+                                   MatX& lambda) const {
+  if (ws.constrained) {
+    MatX trial = lambda;
+    const SolveInfo info = ws.constrained->solve(options, p, u, dt_, qc, trial, p_next);
+    if (info.converged()) lambda = trial;
     return info;
   }
-  return solver_.solve(model_, quad_, options, p, u, dt_, qc, p_next);
+  return ws.solver.solve(model_, quad_, options, p, u, dt_, qc, p_next);
 }
 
-VecX GalerkinIntegrator::constraint_values(const VecX& q) {
-  forward_kinematics(model_, data_, q);
+SolveInfo GalerkinIntegrator::step(const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u,
+                                   Eigen::Ref<MatX> qc, Eigen::Ref<VecX> p_next, MatX* lambda) const {
+  MatX lam = lambda_guess(lambda);
+  auto ws = pool_.acquire();
+  ws->solver.forget_factorization();
+  const SolveInfo info = step(*ws, p, u, qc, p_next, lam);
+  if (lambda && model_.n_constraints()) *lambda = lam;
+  return info;
+}
+
+VecX GalerkinIntegrator::constraint_values(const VecX& q) const {
+  auto ws = pool_.acquire();
+  forward_kinematics(model_, ws->data, q);
   VecX h(model_.n_constraints());
-  hovi::constraint_values(model_, KinematicsView{model_, data_.g.data(), data_.Sbar.data(), 1}, q, h);
+  hovi::constraint_values(model_, KinematicsView{model_, ws->data.g.data(), ws->data.Sbar.data(), 1}, q, h);
   return h;
 }
 
-MatX GalerkinIntegrator::constraint_jacobian(const VecX& q) {
-  forward_kinematics(model_, data_, q);
+MatX GalerkinIntegrator::constraint_jacobian(const VecX& q) const {
+  auto ws = pool_.acquire();
+  forward_kinematics(model_, ws->data, q);
   MatX J(model_.n_constraints(), model_.n());
-  hovi::constraint_jacobian(model_, KinematicsView{model_, data_.g.data(), data_.Sbar.data(), 1}, J);
+  hovi::constraint_jacobian(model_, KinematicsView{model_, ws->data.g.data(), ws->data.Sbar.data(), 1}, J);
   return J;
 }
 
-std::pair<VecX, VecX> GalerkinIntegrator::project(const VecX& q0, const VecX& qdot0, double tol) {
+std::pair<VecX, VecX> GalerkinIntegrator::project(const VecX& q0, const VecX& qdot0, double tol) const {
   const int n = model_.n(), m = model_.n_constraints();
   check_vector("q", q0, n);
   check_vector("qdot", qdot0, n);
@@ -87,24 +122,19 @@ std::pair<VecX, VecX> GalerkinIntegrator::project(const VecX& q0, const VecX& qd
                        "inconsistent): Gauss-Newton left |h| = " + std::to_string(h.cwiseAbs().maxCoeff()));
     q -= J.transpose() * (J * J.transpose()).ldlt().solve(h);  // minimum-norm correction
   }
-  // q̇ - M^{-1} Dh^T (Dh M^{-1} Dh^T)^{-1} Dh q̇
-  const MatX J = constraint_jacobian(q);
-  const MatX M = mass_matrix(model_, data_, q);
-  const Eigen::LLT<MatX> Mc(M);
-  const MatX MinvJT = Mc.solve(J.transpose());
-  const VecX qdot = qdot0 - MinvJT * (J * MinvJT).ldlt().solve(J * qdot0);
-  return {q, qdot};
+  auto ws = pool_.acquire();
+  return {q, tangent_velocity(model_, ws->data, q, qdot0)};
 }
 
-SolveInfo GalerkinIntegrator::robust_step(const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u,
-                                          const Eigen::Ref<const MatX>& previous, Eigen::Ref<MatX> qc,
-                                          Eigen::Ref<VecX> p_next) {
+SolveInfo GalerkinIntegrator::robust_step(IntegratorWorkspace& ws, const Eigen::Ref<const VecX>& p,
+                                          const Eigen::Ref<const MatX>& u, const Eigen::Ref<const MatX>& previous,
+                                          Eigen::Ref<MatX> qc, Eigen::Ref<VecX> p_next, MatX& lambda) const {
   SolveInfo total;
   for (int attempt = previous.size() ? 0 : 1; attempt < 3; ++attempt) {
     if (attempt == 0) guess_from_previous(previous, qc);
-    else if (attempt == 1) guess_from_velocity(velocity(qc.col(0), p), qc);
+    else if (attempt == 1) guess_from_velocity(velocity_from_momentum(model_, ws.data, qc.col(0), p), qc);
     else qc.rightCols(quad_.s).colwise() = VecX(qc.col(0));
-    const SolveInfo info = step(p, u, qc, p_next);
+    const SolveInfo info = step(ws, p, u, qc, p_next, lambda);
     total.status = info.status;
     total.iterations += info.iterations;
     total.factorizations += info.factorizations;
@@ -113,6 +143,17 @@ SolveInfo GalerkinIntegrator::robust_step(const Eigen::Ref<const VecX>& p, const
     if (info.converged()) break;
   }
   return total;
+}
+
+SolveInfo GalerkinIntegrator::robust_step(const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u,
+                                          const Eigen::Ref<const MatX>& previous, Eigen::Ref<MatX> qc,
+                                          Eigen::Ref<VecX> p_next, MatX* lambda) const {
+  MatX lam = lambda_guess(lambda);
+  auto ws = pool_.acquire();
+  ws->solver.forget_factorization();
+  const SolveInfo info = robust_step(*ws, p, u, previous, qc, p_next, lam);
+  if (lambda && model_.n_constraints()) *lambda = lam;
+  return info;
 }
 
 void GalerkinIntegrator::guess_from_velocity(const VecX& qdot, Eigen::Ref<MatX> qc) const {
@@ -127,8 +168,9 @@ void GalerkinIntegrator::guess_from_previous(const Eigen::Ref<const MatX>& previ
   qc.colwise() += shift;
 }
 
-Rollout GalerkinIntegrator::rollout(const VecX& q0, const VecX& p0, int N, const MatX& u, const MatX& previous) {
-  const int n = model_.n(), s = quad_.s, S1 = s + 1, m = model_.n_controls();
+Rollout GalerkinIntegrator::rollout(const VecX& q0, const VecX& p0, int N, const MatX& u, const MatX& previous,
+                                    const MatX& lambda0) const {
+  const int n = model_.n(), s = quad_.s, S1 = s + 1, m = model_.n_controls(), mc = model_.n_constraints();
   check_vector("q0", q0, n);
   check_vector("p0", p0, n);
   if (N < 0) throw InputError("the number of steps must be non-negative");
@@ -138,17 +180,20 @@ Rollout GalerkinIntegrator::rollout(const VecX& q0, const VecX& p0, int N, const
   if (m > 0 && !u.allFinite()) throw InputError("controls contain NaN or infinity");
   if (previous.size() && (previous.rows() != n || previous.cols() != S1))
     throw InputError("previous control points must have shape (n, s+1)");
+  MatX lambda = lambda_guess(lambda0.size() ? &lambda0 : nullptr);
   Rollout out;
   out.q.resize(N + 1, n);
   out.p.resize(N + 1, n);
   out.control_points.resize(N, S1 * n);
   out.iterations.resize(N);
   out.factorizations.resize(N);
-  out.multipliers.resize(N, quad_.s * model_.n_constraints());
+  out.multipliers.resize(N, s * mc);
   out.residual.resize(N);
   out.status.reserve(N);
   out.q.row(0) = q0.transpose();
   out.p.row(0) = p0.transpose();
+  auto ws = pool_.acquire();
+  ws->solver.forget_factorization();
   MatX qc(n, S1), prev = previous, uk(m, S1);
   VecX p = p0, p_next(n);
   for (int k = 0; k < N; ++k) {
@@ -156,7 +201,7 @@ Rollout GalerkinIntegrator::rollout(const VecX& q0, const VecX& p0, int N, const
     if (m > 0)
       for (int a = 0; a < S1; ++a)
         for (int j = 0; j < m; ++j) uk(j, a) = u(k, a * m + j);
-    const SolveInfo info = robust_step(p, uk, prev, qc, p_next);
+    const SolveInfo info = robust_step(*ws, p, uk, prev, qc, p_next, lambda);
     out.status.push_back(info.status);
     out.iterations[k] = info.iterations;
     out.factorizations[k] = info.factorizations;
@@ -165,7 +210,7 @@ Rollout GalerkinIntegrator::rollout(const VecX& q0, const VecX& p0, int N, const
     out.q.row(k + 1) = qc.col(s).transpose();
     out.p.row(k + 1) = p_next.transpose();
     out.control_points.row(k) = Eigen::Map<const VecX>(qc.data(), S1 * n).transpose();
-    if (constrained_) out.multipliers.row(k) = Eigen::Map<const VecX>(lambda_.data(), lambda_.size()).transpose();
+    if (mc) out.multipliers.row(k) = Eigen::Map<const VecX>(lambda.data(), lambda.size()).transpose();
     p = p_next;
     prev = qc;
     out.steps = k + 1;
@@ -174,16 +219,37 @@ Rollout GalerkinIntegrator::rollout(const VecX& q0, const VecX& p0, int N, const
 }
 
 void GalerkinIntegrator::residual(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const VecX>& p,
-                                  const Eigen::Ref<const MatX>& u, Eigen::Ref<MatX> r, Eigen::Ref<VecX> p_next) {
-  del_residual(model_, quad_, solver_.del, qc, p, u, dt_, r, p_next);
+                                  const Eigen::Ref<const MatX>& u, Eigen::Ref<MatX> r, Eigen::Ref<VecX> p_next) const {
+  auto ws = pool_.acquire();
+  del_residual(model_, quad_, ws->solver.del, qc, p, u, dt_, r, p_next);
 }
 
 bool GalerkinIntegrator::direction(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const VecX>& p,
-                                   const Eigen::Ref<const MatX>& u, Eigen::Ref<MatX> dq) {
+                                   const Eigen::Ref<const MatX>& u, Eigen::Ref<MatX> dq) const {
   MatX r(model_.n(), quad_.s);
   VecX p_next(model_.n());
-  residual(qc, p, u, r, p_next);
-  return newton_direction(model_, quad_, solver_.del, solver_.newton, r, dq);
+  auto ws = pool_.acquire();
+  del_residual(model_, quad_, ws->solver.del, qc, p, u, dt_, r, p_next);
+  return newton_direction(model_, quad_, ws->solver.del, ws->solver.newton, r, dq);
+}
+
+void GalerkinIntegrator::constrained_residual(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& lambda,
+                                              const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u,
+                                              MatX& r, MatX& H, Eigen::Ref<VecX> p_next) const {
+  auto ws = pool_.acquire();
+  if (!ws->constrained) throw InputError("the model has no constraints");
+  ws->constrained->evaluate(p, u, lambda, dt_, qc, r, H, p_next);
+}
+
+bool GalerkinIntegrator::constrained_direction(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& lambda,
+                                               const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u,
+                                               MatX& dz, MatX& dlambda) const {
+  auto ws = pool_.acquire();
+  if (!ws->constrained) throw InputError("the model has no constraints");
+  MatX r, H;
+  VecX p_next(model_.n());
+  ws->constrained->evaluate(p, u, lambda, dt_, qc, r, H, p_next);
+  return ws->constrained->direction(dt_, r, H, dz, dlambda);
 }
 
 }  // namespace hovi

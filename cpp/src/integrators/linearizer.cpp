@@ -8,78 +8,82 @@ namespace hovi {
 
 Linearizer::Linearizer(const Model& model, const Quadrature& quad, double dt)
     : model_(model), quad_(quad), dt_(dt), mc_(model.n_constraints()),
-      aug_(mc_ ? with_constraint_forces(model) : model), ws_(aug_, quad), data_(model) {}
+      aug_(mc_ ? with_constraint_forces(model) : model),
+      pool_([this] { return std::make_unique<Workspace>(aug_, model_, quad_); }) {}
 
 void Linearizer::del_jacobian(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u, MatX& Jq, MatX* Ju,
-                              const Eigen::Ref<const MatX>& lambda, MatX* Dh) {
+                              const Eigen::Ref<const MatX>& lambda, MatX* Dh) const {
+  auto w = pool_.acquire();
   const int n = model_.n(), s = quad_.s, S1 = s + 1, m = model_.n_controls();
   Jq.resize(S1 * n, S1 * n);
   if (!mc_) {
-    hovi::del_jacobian(model_, quad_, ws_, qc, u, dt_, Jq, Ju);
+    hovi::del_jacobian(model_, quad_, w->ws, qc, u, dt_, Jq, Ju);
     return;
   }
-  uaug_.setZero(m + mc_, S1);
-  uaug_.topRows(m) = u;
-  uaug_.bottomLeftCorner(mc_, s) = lambda;
-  hovi::del_jacobian(aug_, quad_, ws_, qc, uaug_, dt_, Jq, Ju);
+  w->uaug.setZero(m + mc_, S1);
+  w->uaug.topRows(m) = u;
+  w->uaug.bottomLeftCorner(mc_, s) = lambda;
+  hovi::del_jacobian(aug_, quad_, w->ws, qc, w->uaug, dt_, Jq, Ju);
   if (Dh) {
     Dh->setZero(s * mc_, S1 * n);
     for (int a = 1; a <= s; ++a) {
-      forward_kinematics(model_, data_, qc.col(a));
-      constraint_jacobian(model_, KinematicsView{model_, data_.g.data(), data_.Sbar.data(), 1},
+      forward_kinematics(model_, w->data, qc.col(a));
+      constraint_jacobian(model_, KinematicsView{model_, w->data.g.data(), w->data.Sbar.data(), 1},
                           Dh->block((a - 1) * mc_, a * n, mc_, n));
     }
   }
 }
 
 bool Linearizer::step_jacobians(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u, MatX* A, MatX* B,
-                                const Eigen::Ref<const MatX>& lambda) {
+                                const Eigen::Ref<const MatX>& lambda) const {
+  auto w = pool_.acquire();
+  MatX &uaug = w->uaug, &Jq = w->Jq, &Ju = w->Ju, &K = w->K, &rhs = w->rhs, &sol = w->sol, &Dh = w->Dh;
   const int n = model_.n(), s = quad_.s, S1 = s + 1, m = model_.n_controls(), mc = mc_;
   const int sn = s * n, ny = sn + s * mc, ma = m + mc;  // unknowns y = (q^{k,1..s}, λ^{k,0..s-1})
   const bool want_u = B != nullptr && m > 0;
   // The augmented controls [u; λ] (λ^{k,s} = 0) and the Jacobians of the augmented equations.
-  uaug_.setZero(ma, S1);
-  uaug_.topRows(m) = u;
-  if (mc) uaug_.bottomLeftCorner(mc, s) = lambda;
-  Jq_.resize(S1 * n, S1 * n);
-  hovi::del_jacobian(aug_, quad_, ws_, qc, uaug_, dt_, Jq_, (want_u || mc) ? &Ju_ : nullptr);
+  uaug.setZero(ma, S1);
+  uaug.topRows(m) = u;
+  if (mc) uaug.bottomLeftCorner(mc, s) = lambda;
+  Jq.resize(S1 * n, S1 * n);
+  hovi::del_jacobian(aug_, quad_, w->ws, qc, uaug, dt_, Jq, (want_u || mc) ? &Ju : nullptr);
   // dR/dy: [[dr/dz, dr/dλ], [Dh, 0]]
-  K_.setZero(ny, ny);
-  K_.topLeftCorner(sn, sn) = Jq_.topRightCorner(sn, sn);
+  K.setZero(ny, ny);
+  K.topLeftCorner(sn, sn) = Jq.topRightCorner(sn, sn);
   if (mc) {
-    Dh_.resize(mc, n);
+    Dh.resize(mc, n);
     for (int a = 0; a < S1; ++a) {
-      forward_kinematics(model_, data_, qc.col(a));
-      constraint_jacobian(model_, KinematicsView{model_, data_.g.data(), data_.Sbar.data(), 1}, Dh_);
+      forward_kinematics(model_, w->data, qc.col(a));
+      constraint_jacobian(model_, KinematicsView{model_, w->data.g.data(), w->data.Sbar.data(), 1}, Dh);
       if (a < s)  // dr^a/dλ^a: the multiplier columns of Ju at control point a
-        K_.block(a * n, sn + a * mc, n, mc) = Ju_.block(a * n, a * ma + m, n, mc);
-      if (a >= 1) K_.block(sn + (a - 1) * mc, (a - 1) * n, mc, n) = Dh_;  // dh(q^a)/dq^a
+        K.block(a * n, sn + a * mc, n, mc) = Ju.block(a * n, a * ma + m, n, mc);
+      if (a >= 1) K.block(sn + (a - 1) * mc, (a - 1) * n, mc, n) = Dh;  // dh(q^a)/dq^a
     }
   }
-  const Eigen::PartialPivLU<MatX> lu(K_);
-  const double scale = K_.cwiseAbs().maxCoeff();
+  const Eigen::PartialPivLU<MatX> lu(K);
+  const double scale = K.cwiseAbs().maxCoeff();
   if (!(lu.matrixLU().diagonal().cwiseAbs().minCoeff() > 1e-14 * scale)) return false;
-  const auto P_z = Jq_.bottomRightCorner(n, sn);  // dp^{k+1}/dz; p^{k+1} has no λ (λ^{k,s} = 0)
+  const auto P_z = Jq.bottomRightCorner(n, sn);  // dp^{k+1}/dz; p^{k+1} has no λ (λ^{k,s} = 0)
   if (A) {
     // right-hand sides: dR/dq^k (first block column) and dR/dp^k = [I; 0]
-    rhs_.setZero(ny, 2 * n);
-    rhs_.topLeftCorner(sn, n) = Jq_.topLeftCorner(sn, n);
-    rhs_.block(0, n, n, n).setIdentity();
-    sol_ = -lu.solve(rhs_);
+    rhs.setZero(ny, 2 * n);
+    rhs.topLeftCorner(sn, n) = Jq.topLeftCorner(sn, n);
+    rhs.block(0, n, n, n).setIdentity();
+    sol = -lu.solve(rhs);
     A->resize(2 * n, 2 * n);
-    A->topRows(n) = sol_.middleRows(sn - n, n);
-    A->bottomRows(n).noalias() = P_z * sol_.topRows(sn);
-    A->bottomLeftCorner(n, n) += Jq_.bottomLeftCorner(n, n);
+    A->topRows(n) = sol.middleRows(sn - n, n);
+    A->bottomRows(n).noalias() = P_z * sol.topRows(sn);
+    A->bottomLeftCorner(n, n) += Jq.bottomLeftCorner(n, n);
   }
   if (B) {
     B->setZero(2 * n, S1 * m);
     if (want_u) {
-      rhs_.setZero(ny, S1 * m);
-      for (int a = 0; a < S1; ++a) rhs_.block(0, a * m, sn, m) = Ju_.block(0, a * ma, sn, m);
-      sol_ = -lu.solve(rhs_);
-      B->topRows(n) = sol_.middleRows(sn - n, n);
-      B->bottomRows(n).noalias() = P_z * sol_.topRows(sn);
-      for (int a = 0; a < S1; ++a) B->block(n, a * m, n, m) += Ju_.block(sn, a * ma, n, m);
+      rhs.setZero(ny, S1 * m);
+      for (int a = 0; a < S1; ++a) rhs.block(0, a * m, sn, m) = Ju.block(0, a * ma, sn, m);
+      sol = -lu.solve(rhs);
+      B->topRows(n) = sol.middleRows(sn - n, n);
+      B->bottomRows(n).noalias() = P_z * sol.topRows(sn);
+      for (int a = 0; a < S1; ++a) B->block(n, a * m, n, m) += Ju.block(sn, a * ma, n, m);
     }
   }
   return true;

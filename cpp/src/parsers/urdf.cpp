@@ -1,10 +1,13 @@
 #include "hovi/parsers/urdf.hpp"
 
 #include <console_bridge/console.h>
+#include <tinyxml.h>
 
 #include <Eigen/Geometry>
+#include <cmath>
 #include <fstream>
 #include <sstream>
+#include <urdf_model/utils.h>
 #include <urdf_parser/urdf_parser.h>
 
 #include "hovi/errors.hpp"
@@ -21,6 +24,90 @@ struct MessageCapture : console_bridge::OutputHandler {
     if (level >= console_bridge::CONSOLE_BRIDGE_LOG_WARN) text += (text.empty() ? "" : "; ") + msg;
   }
 };
+
+// The number attributes urdfdom reads: element path below <robot>, attribute names, numbers in each.
+struct NumberAttributes {
+  const char* path;
+  const char* names;
+  std::size_t count;
+};
+const NumberAttributes kNumberAttributes[] = {
+    {"link/inertial/origin", "xyz rpy", 3},
+    {"link/inertial/mass", "value", 1},
+    {"link/inertial/inertia", "ixx ixy ixz iyy iyz izz", 1},
+    {"link/visual/origin", "xyz rpy", 3},
+    {"link/visual/geometry/box", "size", 3},
+    {"link/visual/geometry/cylinder", "radius length", 1},
+    {"link/visual/geometry/sphere", "radius", 1},
+    {"link/visual/geometry/mesh", "scale", 3},
+    {"link/visual/material/color", "rgba", 4},
+    {"link/collision/origin", "xyz rpy", 3},
+    {"link/collision/geometry/box", "size", 3},
+    {"link/collision/geometry/cylinder", "radius length", 1},
+    {"link/collision/geometry/sphere", "radius", 1},
+    {"link/collision/geometry/mesh", "scale", 3},
+    {"joint/origin", "xyz rpy", 3},
+    {"joint/axis", "xyz", 3},
+    {"joint/limit", "lower upper effort velocity", 1},
+    {"joint/dynamics", "damping friction", 1},
+    {"joint/mimic", "multiplier offset", 1},
+    {"joint/safety_controller", "soft_lower_limit soft_upper_limit k_position k_velocity", 1},
+    {"joint/calibration", "rising falling", 1},
+    {"material/color", "rgba", 4},
+};
+
+// True if `text` is `count` finite numbers as urdfdom reads them (a scalar whole, a list split at spaces).
+bool is_number_list(const std::string& text, std::size_t count) {
+  std::vector<std::string> pieces;
+  if (count == 1) pieces.push_back(text);
+  else urdf::split_string(pieces, text, " ");
+  std::size_t n = 0;
+  for (const std::string& piece : pieces) {
+    if (piece.empty()) continue;
+    try {
+      if (!std::isfinite(urdf::strToDouble(piece.c_str()))) return false;
+    } catch (const std::runtime_error&) {
+      return false;
+    }
+    ++n;
+  }
+  return n == count;
+}
+
+// Checks the number attributes of `e` (at `path`) and of its descendants; `where` names the
+// enclosing link, joint or material and the elements above `e`, e.g. "link 'arm': <inertial>".
+void check_element_numbers(const TiXmlElement& e, const std::string& path, const std::string& where) {
+  const std::string tag = where + "<" + e.Value();
+  for (const NumberAttributes& row : kNumberAttributes) {
+    if (path != row.path) continue;
+    std::vector<std::string> names;
+    urdf::split_string(names, row.names, " ");
+    for (const std::string& name : names) {
+      const char* text = e.Attribute(name.c_str());
+      if (text && !is_number_list(text, row.count))
+        throw UrdfError(tag + " " + name + "=\"" + text + "\">: " +
+                        (row.count == 1 ? "not a finite number"
+                                        : "not " + std::to_string(row.count) + " finite numbers"));
+    }
+  }
+  for (const TiXmlElement* child = e.FirstChildElement(); child; child = child->NextSiblingElement())
+    check_element_numbers(*child, path + "/" + child->Value(), tag + ">");
+}
+
+// urdfdom refuses some bad numbers but silently zeroes or drops others (a bad <inertial> leaves the
+// link with zero inertia): refuse them all first, naming the element. Malformed XML is left to urdfdom.
+void check_numbers(const std::string& xml) {
+  TiXmlDocument doc;
+  doc.Parse(xml.c_str());
+  const TiXmlElement* robot = doc.FirstChildElement("robot");
+  if (doc.Error() || !robot) return;
+  for (const TiXmlElement* top = robot->FirstChildElement(); top; top = top->NextSiblingElement()) {
+    const char* name = top->Attribute("name");
+    const std::string where = std::string(top->Value()) + " '" + (name ? name : "") + "': ";
+    for (const TiXmlElement* child = top->FirstChildElement(); child; child = child->NextSiblingElement())
+      check_element_numbers(*child, std::string(top->Value()) + "/" + child->Value(), where);
+  }
+}
 
 SE3 to_se3(const urdf::Pose& pose) {
   const Eigen::Quaterniond quat(pose.rotation.w, pose.rotation.x, pose.rotation.y, pose.rotation.z);
@@ -214,6 +301,7 @@ std::string read_source(const std::string& source) {
 
 Model model_from_urdf(const std::string& source, const UrdfOptions& options) {
   const std::string xml = read_source(source);
+  check_numbers(xml);
   urdf::ModelInterfaceSharedPtr urdf;
   std::string messages;
   {

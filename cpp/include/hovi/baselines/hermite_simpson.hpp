@@ -28,7 +28,7 @@
 //
 // Jacobian: ANALYTIC by default, O(n^2): the derivatives of recursive Newton-Euler in spatial
 // coordinates (Carpentier & Mansard 2018, re-derived in hovi's world-frame conventions; see
-// rnea_derivatives below), plus M(q) from the same composite inertias. FiniteDifference
+// algorithms/rnea_derivatives.hpp), plus M(q) from the same composite inertias. FiniteDifference
 // instead differentiates the reduced residual by central differences (8n RNEA passes, O(n^2)).
 // The 2n x 2n Newton system is solved densely by partial-pivoting LU, O(n^3); it is reported
 // singular when min|U_ii| <= 1e-14 max|U_ii|.
@@ -39,6 +39,7 @@
 #pragma once
 #include <vector>
 
+#include "hovi/algorithms/rnea_derivatives.hpp"
 #include "hovi/integrators/newton_solver.hpp"
 #include "hovi/model/data.hpp"
 
@@ -63,20 +64,6 @@ struct HermiteSimpsonRollout {
   std::vector<SolveStatus> status;
   int steps = 0;               // steps completed (less than N if a solve failed)
 };
-
-// Derivatives of inverse dynamics tau = ID(q, v, a) (recursive Newton-Euler, gravity included,
-// joint forces NOT included): value, ∂tau/∂q, ∂tau/∂v and ∂tau/∂a = M(q), O(n^2).
-struct RneaDerivatives {
-  explicit RneaDerivatives(const Model& model);
-  VecX tau;
-  MatX dq, dv, M;
-  // Scratch, per body (spatial/world frame)
-  std::vector<Twist> v, a, Sdot, psi;  // v̄_i, ā_i (with ā_0 = -g), Ṡ̄_i, ψ_i = ad_{ā_par} S̄_i + ad_{v̄_par} Ṡ̄_i
-  std::vector<Wrench> F;               // F̄_i: net wrench transmitted by joint i (subtree sum)
-  std::vector<Mat6> Ic, Bc;            // composite inertia and composite B_i = -M̄ ad_v - ad_v^T M̄ - ad^D_{M̄ v}
-};
-void rnea_derivatives(const Model& model, Data& data, const Eigen::Ref<const VecX>& q,
-                      const Eigen::Ref<const VecX>& v, const Eigen::Ref<const VecX>& a, RneaDerivatives& out);
 
 class HermiteSimpson {
  public:

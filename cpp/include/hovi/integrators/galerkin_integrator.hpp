@@ -11,6 +11,7 @@
 #include "hovi/integrators/constrained_solver.hpp"
 #include "hovi/integrators/newton_solver.hpp"
 #include "hovi/model/data.hpp"
+#include "hovi/util/workspace_pool.hpp"
 
 namespace hovi {
 
@@ -25,6 +26,18 @@ struct Rollout {
   int steps = 0;               // steps completed (less than N if a solve failed)
 };
 
+// The scratch memory of one call: every public call of GalerkinIntegrator leases one from a pool,
+// so that one integrator can be used from several threads at once (each call gets its own).
+struct IntegratorWorkspace {
+  IntegratorWorkspace(const Model& model, const Quadrature& quad);
+  NewtonSolver solver;
+  std::unique_ptr<ConstrainedSolver> constrained;  // when the model has constraints
+  Data data;
+};
+
+// Thread safety: the model, quadrature, dt and options are fixed at construction (do not change
+// `options` while calls are running); every other call may run concurrently on one object, and
+// each call's result depends on its arguments only.
 class GalerkinIntegrator {
  public:
   GalerkinIntegrator(Model model, int s, double dt, SolverOptions options = {});
@@ -34,33 +47,35 @@ class GalerkinIntegrator {
   double dt() const { return dt_; }
   SolverOptions options;
 
-  // p = dL/dq̇ = M(q) q̇ and its inverse q̇ = M(q)^{-1} p, O(n).
-  VecX momentum(const VecX& q, const VecX& qdot);
-  VecX velocity(const VecX& q, const VecX& p);
+  // p = dL/dq̇ = M(q) q̇, O(n^2). Its inverse reads a velocity back from a momentum: q̇ = M(q)^{-1} p,
+  // and for a constrained model the q̇ with Dh(q) q̇ = 0 nearest to M^{-1} p in the kinetic-energy
+  // metric (tangent_velocity.hpp), O(n m + m^3). The total energy K + V at (q, q̇(q, p)).
+  VecX momentum(const VecX& q, const VecX& qdot) const;
+  VecX velocity(const VecX& q, const VecX& p) const;
+  double energy(const VecX& q, const VecX& p) const;
 
-  // Constraints (the model's, if any): their number of equations m_c, the multipliers of the
-  // last step (m_c x s, also the next step's first guess), and a consistent initial state: q
-  // projected onto h(q) = 0 by Gauss-Newton (minimum-norm corrections), q̇ onto Dh q̇ = 0 in the
-  // kinetic-energy metric (q̇ - M^{-1} Dh^T (Dh M^{-1} Dh^T)^{-1} Dh q̇). Throws InputError for
-  // redundant or inconsistent constraints, a state too far off the manifold, or constraints
-  // that lock every degree of freedom.
+  // Constraints (the model's, if any): their number of equations m_c and a consistent initial
+  // state: q projected onto h(q) = 0 by Gauss-Newton (minimum-norm corrections), q̇ onto
+  // Dh q̇ = 0 in the kinetic-energy metric. Throws InputError for redundant or inconsistent
+  // constraints, a state too far off the manifold, or constraints that lock every degree of
+  // freedom.
   int n_constraints() const { return model_.n_constraints(); }
-  MatX& multipliers() { return lambda_; }
-  ConstrainedSolver* constrained() { return constrained_.get(); }  // null without constraints
-  std::pair<VecX, VecX> project(const VecX& q, const VecX& qdot, double tol = 1e-12);
-  VecX constraint_values(const VecX& q);
-  MatX constraint_jacobian(const VecX& q);
+  std::pair<VecX, VecX> project(const VecX& q, const VecX& qdot, double tol = 1e-12) const;
+  VecX constraint_values(const VecX& q) const;
+  MatX constraint_jacobian(const VecX& q) const;
 
   // One step. qc: n x (s+1), column 0 must be q^k; on entry columns 1..s are the initial guess,
-  // on exit the solution. u: m x (s+1). Constrained models also update multipliers().
+  // on exit the solution. u: m x (s+1). Constrained models: lambda (m_c x s) holds the guess of
+  // λ^{k,0..s-1} on entry and the solution on exit (kept on failure); null: guess 0, not returned.
   SolveInfo step(const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u, Eigen::Ref<MatX> qc,
-                 Eigen::Ref<VecX> p_next);
+                 Eigen::Ref<VecX> p_next, MatX* lambda = nullptr) const;
 
   // One step with fallbacks: Newton from the extrapolated previous polynomial (if `previous` is
   // given), then from the velocity guess, then from q^{k,a} = q^k, stopping at the first that
   // converges. qc column 0 must hold q^k. Iterations add up over the attempts.
   SolveInfo robust_step(const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u,
-                        const Eigen::Ref<const MatX>& previous, Eigen::Ref<MatX> qc, Eigen::Ref<VecX> p_next);
+                        const Eigen::Ref<const MatX>& previous, Eigen::Ref<MatX> qc, Eigen::Ref<VecX> p_next,
+                        MatX* lambda = nullptr) const;
 
   // Initial guesses for columns 1..s of qc (column 0 = q^k already set): from a velocity
   // estimate, q^k + c^a dt q̇; or by extrapolating the previous step's polynomial.
@@ -69,25 +84,39 @@ class GalerkinIntegrator {
 
   // N steps from (q0, p0). u: N x ((s+1) m), row k = vec(u^{k,0..s}) column-major; may have 0
   // columns when the model has no controls. previous: control points of the step before
-  // (n x (s+1)) for the first guess, or empty to start from M^{-1} p0. Stops at the first failed
-  // solve.
-  Rollout rollout(const VecX& q0, const VecX& p0, int N, const MatX& u, const MatX& previous = MatX());
+  // (n x (s+1)) for the first guess, or empty to start from M^{-1} p0; lambda0: the first
+  // multiplier guess (m_c x s; empty: zero). Stops at the first failed solve.
+  Rollout rollout(const VecX& q0, const VecX& p0, int N, const MatX& u, const MatX& previous = MatX(),
+                  const MatX& lambda0 = MatX()) const;
 
   // The DEL residual and Newton direction at given control points (for tests and tools).
   void residual(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u,
-                Eigen::Ref<MatX> r, Eigen::Ref<VecX> p_next);
+                Eigen::Ref<MatX> r, Eigen::Ref<VecX> p_next) const;
   bool direction(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u,
-                 Eigen::Ref<MatX> dq);
+                 Eigen::Ref<MatX> dq) const;
+  // The constrained residual (r: n x s with the constraint forces, H: m_c x s) and direction
+  // (ConstrainedSolver); the direction returns false if the KKT system is singular. Throws
+  // InputError without constraints.
+  void constrained_residual(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& lambda,
+                            const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u, MatX& r, MatX& H,
+                            Eigen::Ref<VecX> p_next) const;
+  bool constrained_direction(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& lambda,
+                             const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u, MatX& dz,
+                             MatX& dlambda) const;
 
  private:
+  SolveInfo step(IntegratorWorkspace& ws, const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u,
+                 Eigen::Ref<MatX> qc, Eigen::Ref<VecX> p_next, MatX& lambda) const;
+  SolveInfo robust_step(IntegratorWorkspace& ws, const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u,
+                        const Eigen::Ref<const MatX>& previous, Eigen::Ref<MatX> qc, Eigen::Ref<VecX> p_next,
+                        MatX& lambda) const;
+  MatX lambda_guess(const MatX* lambda) const;
+
   Model model_;
   Quadrature quad_;
   double dt_;
-  NewtonSolver solver_;
-  std::unique_ptr<ConstrainedSolver> constrained_;  // when the model has constraints
-  MatX lambda_;                                     // λ^{k,0..s-1}, m_c x s
-  Data data_;
   MatX extrapolate_;  // E(b, a) = l_b(1 + c^a), for guess_from_previous
+  mutable WorkspacePool<IntegratorWorkspace> pool_;
 };
 
 }  // namespace hovi

@@ -17,6 +17,7 @@
 
 namespace hovi {
 
+// Thread safety: every call leases its own workspace, so one Linearizer serves several threads.
 class Linearizer {
  public:
   Linearizer(const Model& model, const Quadrature& quad, double dt);
@@ -26,21 +27,26 @@ class Linearizer {
   // λ·d²h terms), Ju gains the columns of the multipliers (controls [u; λ] at each control
   // point, λ^{k,s} = 0), and Dh (m_c s x n (s+1)) gets h(q^{k,1..s})'s Jacobian.
   void del_jacobian(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u, MatX& Jq, MatX* Ju,
-                    const Eigen::Ref<const MatX>& lambda = MatX(), MatX* Dh = nullptr);
+                    const Eigen::Ref<const MatX>& lambda = MatX(), MatX* Dh = nullptr) const;
   // A and/or B (null: not computed, and no work done for it) at converged control points qc
   // and, for a constrained model, multipliers lambda (m_c x s). Returns false if dR/dy is singular.
   bool step_jacobians(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u, MatX* A, MatX* B,
-                      const Eigen::Ref<const MatX>& lambda = MatX());
+                      const Eigen::Ref<const MatX>& lambda = MatX()) const;
 
  private:
+  struct Workspace {
+    Workspace(const Model& aug, const Model& model, const Quadrature& quad) : ws(aug, quad), data(model) {}
+    DelJacobianWorkspace ws;
+    Data data;
+    MatX Jq, Ju, K, rhs, sol, uaug, Dh;
+  };
+
   const Model& model_;
   const Quadrature& quad_;
   double dt_;
   int mc_;
   Model aug_;  // the model with its constraint forces (constraint.hpp); == model_ without constraints
-  DelJacobianWorkspace ws_;
-  Data data_;
-  MatX Jq_, Ju_, K_, rhs_, sol_, uaug_, Dh_;
+  mutable WorkspacePool<Workspace> pool_;
 };
 
 }  // namespace hovi

@@ -49,6 +49,10 @@ class NewtonSolver {
                   const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u, double dt,
                   Eigen::Ref<MatX> qc, Eigen::Ref<VecX> p_next);
 
+  // Drops the kept factorisation (reuse_jacobian), so that the next solve depends on its
+  // arguments only.
+  void forget_factorization() { factor_valid_ = false; }
+
   DelWorkspace del;          // Algorithm 1 at the current iterate (also for direct callers)
   NewtonWorkspace newton;    // for direct callers of newton_direction
 

@@ -6,7 +6,10 @@
 //    joints: floating = prismatic x, y, z then revolute z, y, x (Z-Y-X Euler angles, singular
 //    at pitch = ±pi/2); planar with normal n = prismatic t1, prismatic t2 = t1 x n, revolute n,
 //    with t1 the first of x, y, z not parallel to n (the x-z plane for n = y);
-//  - mimic joints, limits and <dynamics> are kept as metadata.
+//  - mimic joints, limits and <dynamics> are kept as metadata;
+//  - every number attribute urdfdom reads (origins, axes, inertials, limits, geometry, colours, ...)
+//    must hold finite numbers, as many as it takes: checked before urdfdom, which silently zeroes
+//    or drops some bad ones (a bad <inertial> would leave its link with zero mass or inertia).
 // Errors raise UrdfError naming the link or joint at fault.
 #pragma once
 #include <string>

@@ -1,0 +1,94 @@
+"""The nonlinear program of a transcribed Problem: objective and gradient from the cost terms
+through the transcription's sample map, constraints and their sparse Jacobian from the C++
+transcription (one call each), path constraints (one vectorised call each) and linear boundary
+rows. Knows nothing of the solver. Times its C++ evaluations for the solver's report."""
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from .transcription import Transcription
+
+
+class NLP:
+    def __init__(self, tr: Transcription):
+        self.tr, self.problem, self.core = tr, tr.problem, tr.core
+        self.samples = tr.sample_map()
+        self.lower, self.upper = tr.bounds()
+        tq, offsets = tr.q_points()
+        n, nv = tr.n, self.core.n_variables
+        rows, cols = [np.asarray(a, dtype=np.int64) for a in self.core.structure]
+        cl, cu = [np.zeros(self.core.n_constraints)], [np.zeros(self.core.n_constraints)]
+        row0 = self.core.n_constraints
+        self.paths = []  # (constraint, point indices, first row, rows per point)
+        for c in self.problem.path_constraints:
+            idx = c.points(tq)
+            r = len(c.lower)
+            self.paths.append((c, idx, row0, r))
+            prow = row0 + np.arange(len(idx) * r)
+            rows_c = np.repeat(prow, n)
+            cols_c = (np.repeat(offsets[idx], r)[:, None] + np.arange(n)).ravel()
+            rows, cols = np.concatenate([rows, rows_c]), np.concatenate([cols, cols_c])
+            cl.append(np.tile(c.lower, len(idx)))
+            cu.append(np.tile(c.upper, len(idx)))
+            row0 += len(idx) * r
+        self.A, b = tr.linear_rows()
+        A = self.A.tocoo()
+        rows, cols = np.concatenate([rows, row0 + A.row]), np.concatenate([cols, A.col])
+        cl.append(b)
+        cu.append(b)
+        self.A_values = A.data
+        self.jac_rows, self.jac_cols = rows, cols
+        self.cl, self.cu = np.concatenate(cl), np.concatenate(cu)
+        self.n_variables, self.n_constraints = nv, len(self.cl)
+        self.tq = tq
+        self.offsets = offsets
+        self.eval_seconds = 0.0  # time in the C++ transcription calls
+        bad = np.nonzero(self.lower > self.upper)[0]
+        if len(bad):
+            raise ValueError(f"inconsistent bounds on {len(bad)} variables (e.g. a boundary state outside the "
+                             f"joint or control bounds)")
+
+    @property
+    def nnz(self) -> int:
+        return len(self.jac_rows)
+
+    def _timed(self, f, x):
+        t0 = time.perf_counter()
+        out = f(x)
+        self.eval_seconds += time.perf_counter() - t0
+        return out
+
+    def objective(self, x) -> float:
+        s = self.samples.evaluate(x)
+        return sum(c(s)[0] for c in self.problem.costs)
+
+    def gradient(self, x) -> np.ndarray:
+        s = self.samples.evaluate(x)
+        g = np.zeros(self.n_variables)
+        for c in self.problem.costs:
+            _, dq, dv, du = c(s)
+            g += self.samples.pullback(dq, dv, du)
+        return g
+
+    def _path(self, x, with_jacobian):
+        n = self.tr.n
+        out = []
+        for c, idx, _, r in self.paths:
+            Q = x[self.offsets[idx][:, None] + np.arange(n)]
+            values, jac = c.evaluate(self.problem.model, self.tq[idx], Q)
+            out.append(jac.ravel() if with_jacobian else values.ravel())
+        return out
+
+    def constraints(self, x) -> np.ndarray:
+        return np.concatenate([self._timed(self.core.constraints, x), *self._path(x, False), self.A @ x])
+
+    def jacobian(self, x) -> np.ndarray:
+        return np.concatenate([self._timed(self.core.jacobian, x), *self._path(x, True), self.A_values])
+
+    def violation(self, x) -> float:
+        """Largest violation of the constraints and bounds at x."""
+        g = self.constraints(x)
+        return float(max(np.max(np.maximum(self.cl - g, 0), initial=0), np.max(np.maximum(g - self.cu, 0), initial=0),
+                         np.max(np.maximum(self.lower - x, 0), initial=0), np.max(np.maximum(x - self.upper, 0), initial=0)))

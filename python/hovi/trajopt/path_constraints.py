@@ -1,0 +1,131 @@
+"""Path constraints: conditions on the configuration at the transcription's configuration points
+(the VI's control points, Hermite-Simpson's knots and midpoints) at one time or over a window,
+``lower <= c(q) <= upper``. Each is evaluated for all its points in one vectorised call."""
+from __future__ import annotations
+
+from typing import Callable
+
+import numpy as np
+
+from .. import _core
+
+
+def _body(model, body) -> int:
+    if isinstance(body, str):
+        if body not in model.body_names:
+            raise ValueError(f"unknown body '{body}' (the model's bodies: {', '.join(model.body_names)})")
+        return model.body_index(body)
+    b = int(body)
+    if not 0 <= b < model.n:
+        raise ValueError(f"body index {b} out of range (the model has {model.n} bodies)")
+    return b
+
+
+_AXES = {"x": 0, "y": 1, "z": 2}
+
+
+def _axes(axes: str):
+    if not axes or any(a not in _AXES for a in axes) or len(set(axes)) != len(axes):
+        raise ValueError(f"axes must be a combination of 'x', 'y', 'z', got '{axes}'")
+    return [_AXES[a] for a in axes]
+
+
+class PathConstraint:
+    """Base: ``at`` a time (the configuration point nearest to it) or ``window`` (t0, t1) (every
+    configuration point in it); ``evaluate(model, t, Q) -> (values (P, r), jacobians (P, r, n))``
+at the points' times t (P,) and configurations Q (P, n)."""
+
+    def __init__(self, at=None, window=None):
+        if (at is None) == (window is None):
+            raise ValueError("give exactly one of at= (a time) or window= (t0, t1)")
+        if window is not None and not window[0] <= window[1]:
+            raise ValueError(f"window must satisfy t0 <= t1, got {window}")
+        self.at, self.window = at, window
+
+    def points(self, t: np.ndarray) -> np.ndarray:
+        """Indices of the configuration points (times t) where the constraint applies."""
+        if self.at is not None:
+            if not t[0] - 1e-12 <= self.at <= t[-1] + 1e-12:
+                raise ValueError(f"time {self.at} lies outside the horizon [{t[0]}, {t[-1]}]")
+            return np.array([int(np.argmin(np.abs(t - self.at)))])
+        eps = 1e-9 * max(t[-1], 1.0)
+        idx = np.nonzero((t >= self.window[0] - eps) & (t <= self.window[1] + eps))[0]
+        if len(idx) == 0:
+            raise ValueError(f"no configuration point lies in the window {self.window}")
+        return idx
+
+    def bind(self, model):
+        """Resolve names against the model (raises ValueError naming what is unknown)."""
+        return self
+
+    lower: np.ndarray
+    upper: np.ndarray
+
+
+class BodyPoint(PathConstraint):
+    """A point of a body (in its joint frame) with world coordinates ``axes`` (e.g. 'z', 'xz')
+    equal to ``target`` (a hand at a target) or within [lower, upper] (a foot above an obstacle:
+    axes='z', lower=height)."""
+
+    def __init__(self, body, point=(0.0, 0.0, 0.0), *, target=None, lower=None, upper=None, axes="xyz",
+                 at=None, window=None):
+        super().__init__(at, window)
+        self.body, self.point, self.rows = body, np.asarray(point, float), _axes(axes)
+        r = len(self.rows)
+        if target is not None:
+            if lower is not None or upper is not None:
+                raise ValueError("give target= or lower=/upper=, not both")
+            self.lower = self.upper = np.broadcast_to(np.asarray(target, float), (r,)).copy()
+        else:
+            self.lower = np.broadcast_to(np.asarray(-np.inf if lower is None else lower, float), (r,)).copy()
+            self.upper = np.broadcast_to(np.asarray(np.inf if upper is None else upper, float), (r,)).copy()
+        if np.any(self.lower > self.upper):
+            raise ValueError(f"lower > upper in a body-point constraint: {self.lower} > {self.upper}")
+        if self.point.shape != (3,):
+            raise ValueError("point must have 3 coordinates")
+
+    def bind(self, model):
+        self.index = _body(model, self.body)
+        return self
+
+    def evaluate(self, model, t, Q):
+        P = len(Q)
+        X, J = _core.trajopt.body_point_kinematics(model, Q, [self.index] * P, np.tile(self.point, (P, 1)))
+        return X[:, self.rows], J[:, self.rows, :]
+
+
+class Clearance(BodyPoint):
+    """A point of a body stays at least ``radius`` from a world point ``center`` (a spherical
+    obstacle; with axes='xz', a circle in that plane): |P (x - center)|^2 >= radius^2."""
+
+    def __init__(self, body, point=(0.0, 0.0, 0.0), *, center, radius, axes="xyz", at=None, window=None):
+        super().__init__(body, point, axes=axes, at=at, window=window)
+        self.center = np.asarray(center, float)
+        if radius <= 0:
+            raise ValueError("radius must be positive")
+        self.lower, self.upper = np.array([radius ** 2]), np.array([np.inf])
+
+    def evaluate(self, model, t, Q):
+        X, J = super().evaluate(model, t, Q)
+        d = X - self.center[self.rows]
+        return np.sum(d * d, axis=1, keepdims=True), 2 * np.einsum("pr,prn->pn", d, J)[:, None, :]
+
+
+class CallbackPathConstraint(PathConstraint):
+    """A user condition ``lower <= fun(t, Q) <= upper`` on configurations, vectorised over the points:
+    ``fun(t (P,), Q (P, n)) -> (P, r)`` and ``jac(t, Q) -> (P, r, n)``."""
+
+    def __init__(self, fun: Callable, jac: Callable, lower, upper, *, at=None, window=None):
+        super().__init__(at, window)
+        self.fun, self.jac = fun, jac
+        self.lower, self.upper = np.atleast_1d(np.asarray(lower, float)), np.atleast_1d(np.asarray(upper, float))
+        if self.lower.shape != self.upper.shape or np.any(self.lower > self.upper):
+            raise ValueError("lower and upper must have the same shape with lower <= upper")
+
+    def evaluate(self, model, t, Q):
+        P, r = len(Q), len(self.lower)
+        values, jac = np.asarray(self.fun(t, Q), float), np.asarray(self.jac(t, Q), float)
+        if values.shape != (P, r) or jac.shape != (P, r, Q.shape[1]):
+            raise ValueError(f"CallbackPathConstraint: fun must return ({P}, {r}) and jac ({P}, {r}, {Q.shape[1]}), "
+                             f"got {values.shape} and {jac.shape}")
+        return values, jac

@@ -1,0 +1,119 @@
+"""A trajectory-optimisation problem, independent of how it is transcribed and solved: the model,
+the horizon, boundary conditions, bounds, costs and path constraints."""
+from __future__ import annotations
+
+import numpy as np
+
+from .. import _core
+from .costs import Cost
+from .path_constraints import PathConstraint
+
+
+class Problem:
+    """Minimise the sum of ``costs`` over a fixed horizon ``T`` split into ``N`` stages, subject to
+    the model's dynamics (transcribed by the solver's chosen transcription), the boundary
+    conditions, bounds and path constraints.
+
+    Bounds default to the model's URDF metadata: joint limits on q, effort limits on the controls
+    of single-joint actuators (|u_k| <= effort_j / |gear|); override with ``q_bounds`` and
+    ``u_bounds`` ((lower, upper) arrays or scalars; None for the default).
+
+    controls: 'per_point' (a value at every sample point, continuous across stages) or 'held'
+    (one value per stage).
+    """
+
+    def __init__(self, model: _core.Model, N: int, T: float, *, controls: str = "per_point", q_bounds=None,
+                 u_bounds=None):
+        if not isinstance(model, _core.Model):
+            raise TypeError(f"model must be a hovi.Model, got {type(model).__name__}")
+        if int(N) != N or N < 1:
+            raise ValueError(f"N must be a positive integer, got {N}")
+        if not (np.isfinite(T) and T > 0):
+            raise ValueError(f"T must be positive and finite, got {T}")
+        if controls not in ("per_point", "held"):
+            raise ValueError(f"controls must be 'per_point' or 'held', got '{controls}'")
+        self.model, self.N, self.T, self.controls = model, int(N), float(T), controls
+        self.costs: list[Cost] = []
+        self.path_constraints: list[PathConstraint] = []
+        self.q0 = self.qdot0 = self.qT = self.qdotT = None
+        self.q_lower, self.q_upper = self._bounds(q_bounds, model.lower_limits, model.upper_limits, model.n, "q")
+        self.u_lower, self.u_upper = self._bounds(u_bounds, *self._effort_bounds(), model.n_controls, "u")
+
+    @property
+    def dt(self) -> float:
+        return self.T / self.N
+
+    @staticmethod
+    def _bounds(given, lo_default, hi_default, size, name):
+        lo, hi = (lo_default, hi_default) if given is None else given
+        lo = np.broadcast_to(np.asarray(lo, float), (size,)).copy()
+        hi = np.broadcast_to(np.asarray(hi, float), (size,)).copy()
+        if np.any(lo > hi) or np.any(np.isnan(lo)) or np.any(np.isnan(hi)):
+            bad = np.nonzero(~(lo <= hi))[0]
+            raise ValueError(f"{name} bounds with lower > upper (or NaN) at indices {bad.tolist()}")
+        return lo, hi
+
+    def _effort_bounds(self):
+        """|u_k| <= effort_j / |gear| for a control acting on one joint j with a finite effort limit."""
+        B, effort = self.model.actuation, self.model.effort_limits
+        hi = np.full(self.model.n_controls, np.inf)
+        for k in range(self.model.n_controls):
+            joints = np.nonzero(B[:, k])[0]
+            if len(joints) == 1 and np.isfinite(effort[joints[0]]) and effort[joints[0]] > 0:
+                hi[k] = effort[joints[0]] / abs(B[joints[0], k])
+        return -hi, hi
+
+    def _state(self, q, qdot, what):
+        n = self.model.n
+        q = np.asarray(q, float)
+        if q.shape != (n,) or not np.all(np.isfinite(q)):
+            raise ValueError(f"the {what} configuration must be {n} finite numbers, got shape {q.shape}")
+        if qdot is not None:
+            qdot = np.asarray(qdot, float)
+            if qdot.shape != (n,) or not np.all(np.isfinite(qdot)):
+                raise ValueError(f"the {what} velocity must be {n} finite numbers, got shape {qdot.shape}")
+        if self.model.n_constraints:
+            h = self.model.constraint_values(q)
+            if np.abs(h).max() > 1e-8:
+                raise ValueError(f"the {what} configuration violates the model's constraints (|h| = "
+                                 f"{np.abs(h).max():.2e}); use Integrator.project for a consistent state")
+            if qdot is not None:
+                v = self.model.constraint_jacobian(q) @ qdot
+                if np.abs(v).max() > 1e-8 * (1 + np.abs(qdot).max()):
+                    raise ValueError(f"the {what} velocity violates the model's constraints (|Dh qdot| = "
+                                     f"{np.abs(v).max():.2e}); use Integrator.project for a consistent state")
+        return q, qdot
+
+    def initial_state(self, q0, qdot0=None) -> "Problem":
+        """Fix the initial configuration and velocity (default: at rest)."""
+        self.q0, self.qdot0 = self._state(q0, np.zeros(self.model.n) if qdot0 is None else qdot0, "initial")
+        return self
+
+    def final_state(self, q=None, qdot=None) -> "Problem":
+        """Fix the final configuration and/or velocity (a final velocity needs a final configuration)."""
+        if q is None and qdot is not None:
+            raise ValueError("a final velocity needs a final configuration (give q as well, or use a TerminalCost)")
+        self.qT, self.qdotT = (None, None) if q is None else self._state(q, qdot, "final")
+        return self
+
+    def add_cost(self, cost: Cost) -> "Problem":
+        if not isinstance(cost, Cost):
+            raise TypeError(f"expected a hovi.trajopt cost term, got {type(cost).__name__}")
+        self.costs.append(cost)
+        return self
+
+    def add_constraint(self, constraint: PathConstraint) -> "Problem":
+        if not isinstance(constraint, PathConstraint):
+            raise TypeError(f"expected a hovi.trajopt path constraint, got {type(constraint).__name__}")
+        self.path_constraints.append(constraint.bind(self.model))
+        return self
+
+    def check(self):
+        """Raise ValueError if the problem is incomplete."""
+        if self.q0 is None:
+            raise ValueError("the problem has no initial state: call initial_state(q0, qdot0)")
+        if not self.costs:
+            raise ValueError("the problem has no cost: add one with add_cost (e.g. ControlEffort())")
+        for name, q in (("initial", self.q0), ("final", self.qT)):
+            if q is not None and (np.any(q < self.q_lower - 1e-12) or np.any(q > self.q_upper + 1e-12)):
+                raise ValueError(f"the {name} configuration lies outside the joint bounds")

@@ -1,0 +1,97 @@
+"""What every transcription offers the NLP (nlp.py), on top of its C++ constraint function and
+sparse Jacobian: the samples where costs are evaluated, the configuration points where path
+constraints apply, the bounds and boundary conditions of a Problem in its variables, an initial
+guess, and the trajectory read back from a solution."""
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+
+from .problem import Problem
+from .samples import SampleMap
+
+
+class Transcription:
+    name = "?"
+
+    def __init__(self, problem: Problem, core):
+        problem.check()
+        self.problem, self.core = problem, core
+        self.model = problem.model
+        self.n, self.m, self.mc = self.model.n, self.model.n_controls, self.model.n_constraints
+
+    # --- implemented by each transcription ----------------------------------------------------
+    def sample_map(self) -> SampleMap:
+        raise NotImplementedError
+
+    def q_points(self):
+        """(t (P,), offsets (P,)): times of the configuration variables and their offsets in x."""
+        raise NotImplementedError
+
+    def bounds(self):
+        """(lower, upper) of x: joint and control bounds, boundary conditions as fixed variables."""
+        raise NotImplementedError
+
+    def linear_rows(self):
+        """(A (r, n_variables) sparse, b (r,)): boundary conditions that are linear equalities A x = b."""
+        return sp.csr_matrix((0, self.core.n_variables)), np.zeros(0)
+
+    def guess(self, q_of_t, v_of_t, u_of_t) -> np.ndarray:
+        """x from functions of time (vectorised: t (K,) -> (K, n) / (K, m))."""
+        raise NotImplementedError
+
+    def trajectory(self, x) -> dict:
+        raise NotImplementedError
+
+    def control_function(self, x):
+        """u(t) of a solution: the controls as the transcription interprets them, vectorised."""
+        raise NotImplementedError
+
+    def interpolants(self, x):
+        """(q(t), v(t), u(t)) of a solution, vectorised: a guess for another transcription or N."""
+        raise NotImplementedError
+
+    # --- shared helpers ---------------------------------------------------------------------
+    def _tile_bounds(self, lower, upper, count):
+        return np.tile(lower, count), np.tile(upper, count)
+
+
+def lagrange_basis(nodes: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """L[k, b] = l_b(x_k) for the Lagrange polynomials through ``nodes``."""
+    x = np.atleast_1d(x)[:, None]
+    L = np.ones((x.shape[0], len(nodes)))
+    for b, nb in enumerate(nodes):
+        for c, nc in enumerate(nodes):
+            if c != b:
+                L[:, b] *= (x[:, 0] - nc) / (nb - nc)
+    return L
+
+
+def lagrange_derivative(nodes: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """D[k, b] = l_b'(x_k)."""
+    x = np.atleast_1d(x)
+    D = np.zeros((len(x), len(nodes)))
+    for b, nb in enumerate(nodes):
+        for j, nj in enumerate(nodes):
+            if j == b:
+                continue
+            term = np.full(len(x), 1.0 / (nb - nj))
+            for c, nc in enumerate(nodes):
+                if c not in (b, j):
+                    term *= (x - nc) / (nb - nc)
+            D[:, b] += term
+    return D
+
+
+def piecewise_polynomial(t_stage: float, nodes: np.ndarray, values: np.ndarray, t: np.ndarray, derivative=False):
+    """Evaluate the piecewise polynomial with values[k, a] (stages k, nodes a on [0, 1]) at t."""
+    N = values.shape[0]
+    t = np.atleast_1d(np.asarray(t, float))
+    k = np.clip(np.floor(t / t_stage).astype(int), 0, N - 1)
+    x = t / t_stage - k
+    out = np.zeros((len(t),) + values.shape[2:])
+    for kk in np.unique(k):
+        sel = k == kk
+        B = (lagrange_derivative(nodes, x[sel]) / t_stage) if derivative else lagrange_basis(nodes, x[sel])
+        out[sel] = np.tensordot(B, values[kk], axes=(1, 0))
+    return out

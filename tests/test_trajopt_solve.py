@@ -1,0 +1,181 @@
+"""Trajectory optimisation end to end: swing-ups and a closed chain solved by IPOPT with the VI
+transcription; the optimised controls replayed with the Integrator reproduce the optimised
+states (the optimiser and the simulator are the same integrator); bad problems raise."""
+import numpy as np
+import pytest
+
+import hovi
+from hovi import trajopt
+from hovi.trajopt import examples
+
+pytest.importorskip("cyipopt")
+
+
+def replayed_points(result, s):
+    traj = result.replay()
+    assert traj.steps == result.transcription.N, "the replay failed"
+    n = traj.q.shape[1]
+    return np.vstack([traj.control_points[:, :s, :].reshape(-1, n), traj.q[-1:]])
+
+
+@pytest.mark.parametrize("s", [1, 2, 3])
+@pytest.mark.parametrize("name,N", [("pendulum", 20), ("cartpole", 30)])
+def test_swingups_converge_and_replay(name, N, s):
+    prob = examples.EXAMPLES[name](N=N)
+    r = trajopt.solve(prob, "vi", s=s, verbose=False)
+    assert r.success, r.status
+    assert r.constraint_violation < 1e-9
+    q = r.trajectory["q"]
+    np.testing.assert_allclose(q[-1], prob.qT, atol=1e-9)
+    assert np.all(np.abs(r.trajectory["u"]) <= prob.u_upper + 1e-8)
+    np.testing.assert_allclose(replayed_points(r, s), q, rtol=0, atol=1e-8)
+
+
+@pytest.mark.parametrize("method,s", [("vi", 1), ("vi", 3), ("hs-implicit", 2), ("hs-explicit", 2)])
+def test_acrobot_swingup_converges(method, s):
+    prob = trajopt.Problem(hovi.models.acrobot(), 100, 5.0, u_bounds=(-10, 10))
+    prob.initial_state([0.0, 0.0]).final_state([np.pi, 0.0], qdot=[0.0, 0.0]).add_cost(trajopt.ControlEffort())
+    r = trajopt.solve(prob, method, s=s, guess="linear", verbose=False)
+    assert r.success and r.constraint_violation < 1e-9, r.status
+    np.testing.assert_allclose(r.trajectory["q"][-1], [np.pi, 0.0], atol=1e-9)
+
+
+def test_acrobot_swingup_each_step_replays():
+    """The acrobot's swing-up passes near its unstable upright equilibria, where a whole-horizon
+    replay amplifies round-off (its error grows to ~1e-6 over 5 s); each step replayed from the
+    optimised state reproduces the next to round-off."""
+    prob = trajopt.Problem(hovi.models.acrobot(), 100, 5.0, u_bounds=(-10, 10))
+    prob.initial_state([0.0, 0.0]).final_state([np.pi, 0.0], qdot=[0.0, 0.0]).add_cost(trajopt.ControlEffort())
+    r = trajopt.solve(prob, "vi", s=2, guess="linear", verbose=False)
+    assert r.success, r.status
+    tr, integ = r.transcription, r.transcription.integrator
+    q, p, U = r.trajectory["q"], r.trajectory["p"], tr.stage_controls(r.x)
+    for k in range(prob.N):
+        q_next, p_next, _ = integ.step(q[2 * k], p[k], U[k], guess=q[2 * k:2 * k + 3])
+        np.testing.assert_allclose(q_next, q[2 * k + 2], rtol=0, atol=1e-9)
+        np.testing.assert_allclose(p_next, p[k + 1], rtol=0, atol=1e-8)
+
+
+@pytest.mark.parametrize("s", [1, 2, 3])
+def test_constrained_slider_crank_holds_its_constraint(s):
+    prob = examples.slider_crank_to_target(N=15)
+    r = trajopt.solve(prob, "vi", s=s, verbose=False)
+    assert r.success, r.status
+    h = np.array([prob.model.constraint_values(q) for q in r.trajectory["q"]])
+    assert np.abs(h).max() < 1e-9
+    assert r.trajectory["multipliers"].shape == (15, s, prob.model.n_constraints)
+    np.testing.assert_allclose(replayed_points(r, s), r.trajectory["q"], rtol=0, atol=1e-8)
+
+
+@pytest.mark.parametrize("name,N", [("pendulum", 40), ("cartpole", 50), ("slider_crank", 30)])
+def test_transcriptions_agree_at_fine_N(name, N):
+    """Every transcription converges, from its own default guess and warm-started from the VI's
+    solution (the same local optimum); the optimal costs agree to 1e-3."""
+    base = trajopt.solve(examples.EXAMPLES[name](N=N), "vi", s=2, verbose=False)
+    assert base.success, base.status
+    for method, s in (("vi", 1), ("vi", 3), ("hs-implicit", 2), ("hs-explicit", 2)):
+        cold = trajopt.solve(examples.EXAMPLES[name](N=N), method, s=s, verbose=False)
+        assert cold.success and cold.constraint_violation < 1e-9, (method, s, cold.status)
+        warm = trajopt.solve(examples.EXAMPLES[name](N=N), method, s=s, guess=base.as_guess(), verbose=False)
+        assert warm.success, (method, s, warm.status)
+        tol = 2e-2 if s == 1 else 1e-3  # the trapezoidal VI is second order: 1% off at these N
+        assert abs(warm.cost - base.cost) <= tol * base.cost, (method, s, warm.cost, base.cost)
+
+
+def test_path_constraints_hold_at_the_solution():
+    """The tip at a target at t = 1 (an equality) and above z = -0.45 after t = 1.5 (a bound)."""
+    prob = examples.pendulum_swingup(N=20)
+    free = trajopt.solve(prob, "vi", s=2, verbose=False).cost
+    tip = [0, 0, -0.5]
+    target, _ = hovi._core.trajopt.body_point_kinematics(prob.model, [[-1.0]], [0], [tip])
+    prob.add_constraint(trajopt.BodyPoint(0, tip, target=target[0], at=1.0))
+    prob.add_constraint(trajopt.BodyPoint(0, tip, axes="z", lower=-0.45, window=(1.5, 2.0)))
+    r = trajopt.solve(prob, "vi", s=2, verbose=False)
+    assert r.success, r.status
+    t, Q = r.trajectory["t"], r.trajectory["q"]
+    X, _ = hovi._core.trajopt.body_point_kinematics(prob.model, Q, [0] * len(Q), np.tile(tip, (len(Q), 1)))
+    np.testing.assert_allclose(X[np.argmin(np.abs(t - 1.0))], target[0], atol=1e-9)
+    assert X[t >= 1.5, 2].min() >= -0.45 - 1e-9
+    assert r.cost > free * (1 + 1e-3)  # the constraints cost effort
+
+
+def test_bad_problems_raise_clear_errors():
+    model = hovi.models.pendulum(2)
+    model.add_actuator(0)
+    with pytest.raises(ValueError, match="lower > upper"):
+        trajopt.Problem(model, 10, 1.0, u_bounds=(1.0, -1.0))
+    with pytest.raises(ValueError, match="N must be"):
+        trajopt.Problem(model, 0, 1.0)
+    prob = trajopt.Problem(model, 10, 1.0)
+    with pytest.raises(ValueError, match="2 finite numbers"):
+        prob.initial_state([0.0])
+    with pytest.raises(ValueError, match="no initial state"):
+        trajopt.solve(prob.add_cost(trajopt.ControlEffort()), verbose=False)
+    with pytest.raises(ValueError, match="unknown body 'hand'"):
+        prob.add_constraint(trajopt.BodyPoint("hand", target=[0, 0, 0], at=0.5))
+    with pytest.raises(ValueError, match="outside the horizon"):
+        prob.initial_state([0.0, 0.0])
+        prob.add_constraint(trajopt.BodyPoint(1, target=[0, 0, 0], at=2.0))
+        trajopt.solve(prob, verbose=False)
+    with pytest.raises(ValueError, match="violates the model's constraints"):
+        trajopt.Problem(hovi.models.fourbar(), 10, 1.0).initial_state([0.0, 0.0, 0.0])
+    with pytest.raises(ValueError, match="transcription must be"):
+        trajopt.solve(examples.pendulum_swingup(N=5), "rk4", verbose=False)
+
+
+def test_bad_costs_and_path_constraints_raise_clear_errors():
+    with pytest.raises(ValueError, match="lower > upper"):
+        trajopt.BodyPoint(0, axes="z", lower=1.0, upper=0.0, at=0.5)
+    with pytest.raises(ValueError, match="not both"):
+        trajopt.BodyPoint(0, target=[0, 0, 0], lower=0.0, at=0.5)
+    with pytest.raises(ValueError, match="exactly one of at="):
+        trajopt.BodyPoint(0, target=[0, 0, 0])
+    with pytest.raises(ValueError, match="t0 <= t1"):
+        trajopt.BodyPoint(0, target=[0, 0, 0], window=(1.0, 0.5))
+    with pytest.raises(ValueError, match="axes must be"):
+        trajopt.BodyPoint(0, target=[0, 0], axes="xw", at=0.5)
+    with pytest.raises(ValueError, match="radius must be positive"):
+        trajopt.Clearance(0, center=[0, 0, 0], radius=0.0, at=0.5)
+    with pytest.raises(hovi.ModelError, match="out of range"):
+        hovi._core.trajopt.body_point_kinematics(hovi.models.pendulum(2), np.zeros((1, 2)), [5], np.zeros((1, 3)))
+    with pytest.raises(ValueError, match="controls must be"):
+        hovi._core.trajopt.VariationalTranscription(hovi.models.pendulum(2), 2, 5, 0.1, "sometimes")
+    prob = examples.pendulum_swingup(N=5)
+    prob.add_constraint(trajopt.CallbackPathConstraint(lambda t, Q: Q, lambda t, Q: np.ones((len(Q), 2, 1)),
+                                                       lower=0.0, upper=1.0, window=(0, 2)))
+    with pytest.raises(ValueError, match="CallbackPathConstraint: fun must return"):
+        trajopt.solve(prob, verbose=False)
+    prob = examples.pendulum_swingup(N=5).add_cost(trajopt.CallbackCost(lambda t, w, q, v, u: (0.0, q, v, np.zeros((len(t), 3)))))
+    with pytest.raises(ValueError, match="CallbackCost: du must have shape"):
+        trajopt.solve(prob, verbose=False)
+    with pytest.raises(ValueError, match="vectorised function"):
+        trajopt.solve(examples.pendulum_swingup(N=5).add_cost(trajopt.StateTracking(lambda t: np.zeros(3))),
+                      verbose=False)
+
+
+@pytest.mark.parametrize("fail_in", ["cost", "path constraint"])
+def test_a_callback_failing_mid_solve_stops_ipopt_and_raises_its_error(fail_in):
+    """An exception after IPOPT has started (here on the fifth evaluation) must come back as the
+    same exception from solve(), never cross into IPOPT's C code."""
+    calls = []
+
+    def fail_late():
+        calls.append(1)
+        if len(calls) >= 5:
+            raise RuntimeError("user callback failed on purpose")
+
+    prob = examples.pendulum_swingup(N=5)
+    if fail_in == "cost":
+        def cost(t, w, q, v, u):
+            fail_late()
+            return 0.0, np.zeros_like(q), np.zeros_like(v), np.zeros_like(u)
+        prob.add_cost(trajopt.CallbackCost(cost))
+    else:
+        def fun(t, Q):
+            fail_late()
+            return Q[:, :1]
+        prob.add_constraint(trajopt.CallbackPathConstraint(fun, lambda t, Q: np.ones((len(Q), 1, Q.shape[1])),
+                                                           lower=-10.0, upper=10.0, window=(0, 2)))
+    with pytest.raises(RuntimeError, match="failed on purpose"):
+        trajopt.solve(prob, verbose=False)
+    assert len(calls) >= 5
