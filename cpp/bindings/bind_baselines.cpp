@@ -37,7 +37,8 @@ py::dict one_step_batch(const PyModel& pm, double dt, const py::object& Q0, cons
     SolverOptions opt;
     opt.tol = tol;
     opt.max_iterations = max_iterations;
-    opt.reuse_jacobian = false;  // the paper's exact Newton: a fresh Jacobian every iteration
+    opt.reuse = Reuse::Never;  // the paper's exact Newton: a fresh recursive Jacobian every iteration
+    opt.direction = Direction::Recursive;
     NewtonSolver newton(model, quad);
     QuasiNewtonOptions qopt;
     qopt.tol = tol;

@@ -26,18 +26,24 @@ py::dict info_dict(const SolveInfo& info) {
 
 void bind_integrator(py::module_& m) {
   py::class_<PyIntegrator>(m, "Integrator")
-      .def(py::init([](std::shared_ptr<PyModel> model, int s, double dt, double tol, int max_iterations, int max_backtracks,
-                       bool line_search, bool reuse_jacobian) {
+      .def(py::init([](std::shared_ptr<PyModel> model, int s, double dt, double tol, double step_tol, int max_iterations,
+                       int max_backtracks, bool line_search, const std::string& direction, bool reuse_jacobian,
+                       double reuse_contraction) {
              SolverOptions opt;
-             opt.reuse_jacobian = reuse_jacobian;
+             opt.reuse = reuse_jacobian ? Reuse::WithinStep : Reuse::Never;
+             opt.reuse_contraction = reuse_contraction;
+             opt.direction = direction == "dense" ? Direction::Dense
+                             : direction == "recursive" ? Direction::Recursive : Direction::Auto;
              opt.tol = tol;
+             opt.step_tol = step_tol;
              opt.max_iterations = max_iterations;
              opt.max_backtracks = max_backtracks;
              opt.line_search = line_search;
              return new PyIntegrator(model, s, dt, opt);
            }),
-           py::arg("model"), py::arg("s"), py::arg("dt"), py::arg("tol"), py::arg("max_iterations"),
-           py::arg("max_backtracks"), py::arg("line_search"), py::arg("reuse_jacobian"))
+           py::arg("model"), py::arg("s"), py::arg("dt"), py::arg("tol"), py::arg("step_tol"), py::arg("max_iterations"),
+           py::arg("max_backtracks"), py::arg("line_search"), py::arg("direction"), py::arg("reuse_jacobian"),
+           py::arg("reuse_contraction"))
       .def_property_readonly("s", &PyIntegrator::s)
       .def_property_readonly("n", &PyIntegrator::n)
       .def_property_readonly("n_controls", &PyIntegrator::m)

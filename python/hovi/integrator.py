@@ -66,14 +66,22 @@ class Integrator:
     """Galerkin variational integrator of order 2s on s+1 Lobatto points (Fan et al. 2018).
 
     Give either ``s`` (s = 1 trapezoidal, s = 2 Simpson, any s up to 16) or ``order`` = 2s.
-    Each step solves the DEL equations for q^{k,1..s} by Newton's method with the exact
-    O(s^3 n) direction (appendix Algorithms A.1/A.2) and a backtracking line search; a step has
-    converged when ||r||_inf <= tol (1 + ||p^k||_inf). reuse_jacobian=True keeps the Jacobian's
-    factorisation across iterations and steps while the iteration contracts fast (simplified
-    Newton: an O(s^2 n) solve instead of an O(s^3 n) factorisation; 15-40% faster rollouts on
-    the 12-link pendulum), at a price: its linear convergence stops just below tol, and over
-    10^4 steps that solver error shows as a slow energy drift (s = 3: 7e-9 -> 2e-8 at tol 1e-12)
-    that the default exact Newton does not have.
+    Each step solves the DEL equations for q^{k,1..s} by Newton's method with a backtracking
+    line search. The direction is exact: ``direction="recursive"`` is the paper's O(s^3 n)
+    recursion (appendix Algorithms A.1/A.2), ``"dense"`` an LU of the DEL Jacobian from the
+    linearisation (O(s^2 n^2) + O(s^3 n^3), cheaper for small n) and ``"auto"`` (default) the
+    faster of the two for this model and s (crossover measured in bench/direction_crossover.py).
+    ``reuse_jacobian`` (default True, simplified Newton) factors the Jacobian once per step at the
+    predicted control points and keeps it while the iteration contracts by at least
+    ``reuse_contraction`` per iteration, refactoring otherwise; False refactors every iteration
+    (the paper's Newton). The predictor of rollouts extrapolates the last two steps' control
+    points, so that most steps converge in two iterations at accuracy-relevant dt.
+
+    A step has converged when the next Newton correction, the estimated error of the iterate,
+    is below ``step_tol`` (1 + ||q||_inf): by default 1e-14, round-off, so that neither the
+    trajectory error nor the energy carries a solver floor over long runs (whichever Jacobian
+    was used). ``tol`` > 0 adds a looser residual test, ||r||_inf <= tol (1 + ||p^k||_inf), for
+    speed at the cost of accuracy.
 
     The model is copied: after a change to the model (a force, a constraint, gravity, a body),
     every call of this integrator (and of Linearizers made from it) raises hovi.ModelError; make
@@ -89,8 +97,9 @@ class Integrator:
     """
 
     def __init__(self, model: _core.Model, s: int | None = None, *, order: int | None = None, dt: float = 0.01,
-                 tol: float = 1e-10, max_iterations: int = 30, max_backtracks: int = 12, line_search: bool = True,
-                 reuse_jacobian: bool = False):
+                 tol: float = 0.0, step_tol: float = 1e-14, max_iterations: int = 30, max_backtracks: int = 12,
+                 line_search: bool = True, direction: str = "auto", reuse_jacobian: bool = True,
+                 reuse_contraction: float = 0.25):
         if s is None and order is None:
             s = 2
         elif s is not None and order is not None and order != 2 * s:
@@ -101,8 +110,11 @@ class Integrator:
             s = order // 2
         if not isinstance(model, _core.Model):
             raise TypeError(f"model must be a hovi.Model, got {type(model).__name__}")
-        self._core = _core.Integrator(model, int(s), float(dt), float(tol), int(max_iterations), int(max_backtracks),
-                                      bool(line_search), bool(reuse_jacobian))
+        if direction not in ("auto", "recursive", "dense"):
+            raise ValueError(f"direction must be 'auto', 'recursive' or 'dense', got {direction!r}")
+        self._core = _core.Integrator(model, int(s), float(dt), float(tol), float(step_tol), int(max_iterations),
+                                      int(max_backtracks), bool(line_search), direction, bool(reuse_jacobian),
+                                      float(reuse_contraction))
         self.model = model
 
     # --- properties -------------------------------------------------------------------------
@@ -185,7 +197,8 @@ class Integrator:
         return self._core.del_residual(control_points, p, u)
 
     def newton_direction(self, control_points, p, u=None) -> np.ndarray:
-        """Algorithms A.1/A.2: dq of shape (s, n) (row gamma-1 = δq^{k,gamma}) with J dq = -r."""
+        """The Newton direction dq of shape (s, n) (row gamma-1 = δq^{k,gamma}) with J dq = -r, on
+        this integrator's ``direction`` path (Algorithms A.1/A.2, or the dense LU)."""
         return self._core.newton_direction(control_points, p, u)
 
     # --- stepping --------------------------------------------------------------------------------

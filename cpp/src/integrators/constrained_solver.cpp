@@ -76,13 +76,15 @@ SolveInfo ConstrainedSolver::solve(const SolverOptions& opt, const Eigen::Ref<co
   info.residual_evaluations = 1;
   auto merit = [](const MatX& r, const MatX& H) { return std::sqrt(r.squaredNorm() + H.squaredNorm()); };
   double phi = merit(r_, H_);
+  double previous_dz = INFINITY;
   for (;;) {
     info.residual = std::max(r_.cwiseAbs().maxCoeff(), sm ? H_.cwiseAbs().maxCoeff() : 0.0);
     if (!std::isfinite(phi) || !p_next.allFinite()) {
       info.status = SolveStatus::NonFinite;
       return info;
     }
-    if (r_.cwiseAbs().maxCoeff() <= target && (sm == 0 || H_.cwiseAbs().maxCoeff() <= opt.constraint_tol)) {
+    const bool on_manifold = sm == 0 || H_.cwiseAbs().maxCoeff() <= opt.constraint_tol;
+    if (opt.tol > 0 && r_.cwiseAbs().maxCoeff() <= target && on_manifold) {
       info.status = SolveStatus::Converged;
       return info;
     }
@@ -96,12 +98,13 @@ SolveInfo ConstrainedSolver::solve(const SolverOptions& opt, const Eigen::Ref<co
     }
     ++info.iterations;
     ++info.factorizations;  // every constrained iteration refactors
-    // A step below round-off of q: the residuals are at their floor (as in NewtonSolver).
-    if (dz_.cwiseAbs().maxCoeff() <= 1e-14 * (1 + qc.cwiseAbs().maxCoeff()) &&
-        (sm == 0 || H_.cwiseAbs().maxCoeff() <= opt.constraint_tol)) {
+    // NewtonSolver's stopping rule on the next correction (every iteration here is fresh).
+    const double dz_max = dz_.cwiseAbs().maxCoeff();
+    if (on_manifold && correction_converged(opt, dz_max, previous_dz, qc.cwiseAbs().maxCoeff(), true)) {
       info.status = SolveStatus::Converged;
       return info;
     }
+    previous_dz = dz_max;
     // Backtracking on the merit ||(r, h)||.
     double step = 1;
     bool accepted = false;

@@ -2,6 +2,8 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
+#include <Eigen/QR>
+#include <algorithm>
 #include <cmath>
 
 #include "hovi/algorithms/energy.hpp"
@@ -29,12 +31,26 @@ GalerkinIntegrator::GalerkinIntegrator(Model model, int s, double dt, SolverOpti
     : options(opt), model_(checked(std::move(model))), quad_(s), dt_(dt),
       pool_([this] { return std::make_unique<IntegratorWorkspace>(model_, quad_); }) {
   if (!(dt > 0) || !std::isfinite(dt)) throw InputError("dt must be positive and finite, got " + std::to_string(dt));
-  if (!(opt.tol > 0)) throw InputError("tol must be positive");
+  if (!(opt.tol >= 0) || !std::isfinite(opt.tol)) throw InputError("tol must be zero (off) or positive");
+  if (!(opt.step_tol > 0) || !std::isfinite(opt.step_tol)) throw InputError("step_tol must be positive");
+  if (!(opt.reuse_contraction > 0 && opt.reuse_contraction < 1))
+    throw InputError("reuse_contraction must lie in (0, 1)");
   if (opt.max_iterations < 1) throw InputError("max_iterations must be at least 1");
   if (opt.max_backtracks < 0) throw InputError("max_backtracks must be non-negative");
   // E(b, a) = l_b(1 + c^a): the previous step's polynomial evaluated at this step's points.
   extrapolate_.resize(s + 1, s + 1);
   for (int a = 0; a <= s; ++a) extrapolate_.col(a) = quad_.basis(1 + quad_.c[a]);
+  // Least-squares extrapolation from the points of the last two steps, at times (in steps)
+  // -2 + c^a (a = 0..s) and -1 + c^a (a = 1..s), to this step's c^a.
+  const int degree = std::min(std::max(2, 2 * s - 1), 7);
+  MatX V(2 * s + 1, degree + 1), Vt(s + 1, degree + 1);
+  for (int i = 0; i <= 2 * s; ++i) {
+    const double t = i <= s ? -2 + quad_.c[i] : -1 + quad_.c[i - s];
+    for (int d = 0; d <= degree; ++d) V(i, d) = std::pow(t, d);
+  }
+  for (int a = 0; a <= s; ++a)
+    for (int d = 0; d <= degree; ++d) Vt(a, d) = std::pow(quad_.c[a], d);
+  extrapolate2_ = (Vt * V.completeOrthogonalDecomposition().pseudoInverse()).transpose();
   pool_.acquire();  // one workspace made up front: a bad model fails here, not in the first call
 }
 
@@ -79,7 +95,6 @@ SolveInfo GalerkinIntegrator::step(const Eigen::Ref<const VecX>& p, const Eigen:
                                    Eigen::Ref<MatX> qc, Eigen::Ref<VecX> p_next, MatX* lambda) const {
   MatX lam = lambda_guess(lambda);
   auto ws = pool_.acquire();
-  ws->solver.forget_factorization();
   const SolveInfo info = step(*ws, p, u, qc, p_next, lam);
   if (lambda && model_.n_constraints()) *lambda = lam;
   return info;
@@ -127,11 +142,13 @@ std::pair<VecX, VecX> GalerkinIntegrator::project(const VecX& q0, const VecX& qd
 }
 
 SolveInfo GalerkinIntegrator::robust_step(IntegratorWorkspace& ws, const Eigen::Ref<const VecX>& p,
-                                          const Eigen::Ref<const MatX>& u, const Eigen::Ref<const MatX>& previous,
-                                          Eigen::Ref<MatX> qc, Eigen::Ref<VecX> p_next, MatX& lambda) const {
+                                          const Eigen::Ref<const MatX>& u, const Eigen::Ref<const MatX>& before_previous,
+                                          const Eigen::Ref<const MatX>& previous, Eigen::Ref<MatX> qc,
+                                          Eigen::Ref<VecX> p_next, MatX& lambda) const {
   SolveInfo total;
   for (int attempt = previous.size() ? 0 : 1; attempt < 3; ++attempt) {
-    if (attempt == 0) guess_from_previous(previous, qc);
+    if (attempt == 0 && before_previous.size()) guess_from_history(before_previous, previous, qc);
+    else if (attempt == 0) guess_from_previous(previous, qc);
     else if (attempt == 1) guess_from_velocity(velocity_from_momentum(model_, ws.data, qc.col(0), p), qc);
     else qc.rightCols(quad_.s).colwise() = VecX(qc.col(0));
     const SolveInfo info = step(ws, p, u, qc, p_next, lambda);
@@ -150,14 +167,22 @@ SolveInfo GalerkinIntegrator::robust_step(const Eigen::Ref<const VecX>& p, const
                                           Eigen::Ref<VecX> p_next, MatX* lambda) const {
   MatX lam = lambda_guess(lambda);
   auto ws = pool_.acquire();
-  ws->solver.forget_factorization();
-  const SolveInfo info = robust_step(*ws, p, u, previous, qc, p_next, lam);
+  const SolveInfo info = robust_step(*ws, p, u, MatX(), previous, qc, p_next, lam);
   if (lambda && model_.n_constraints()) *lambda = lam;
   return info;
 }
 
 void GalerkinIntegrator::guess_from_velocity(const VecX& qdot, Eigen::Ref<MatX> qc) const {
   for (int a = 1; a <= quad_.s; ++a) qc.col(a) = qc.col(0) + (quad_.c[a] * dt_) * qdot;
+}
+
+void GalerkinIntegrator::guess_from_history(const Eigen::Ref<const MatX>& before_previous,
+                                            const Eigen::Ref<const MatX>& previous, Eigen::Ref<MatX> qc) const {
+  const int s = quad_.s;
+  const VecX q0 = qc.col(0);
+  qc.noalias() = before_previous * extrapolate2_.topRows(s + 1) + previous.rightCols(s) * extrapolate2_.bottomRows(s);
+  const VecX shift = q0 - qc.col(0);
+  qc.colwise() += shift;
 }
 
 void GalerkinIntegrator::guess_from_previous(const Eigen::Ref<const MatX>& previous, Eigen::Ref<MatX> qc) const {
@@ -193,15 +218,14 @@ Rollout GalerkinIntegrator::rollout(const VecX& q0, const VecX& p0, int N, const
   out.q.row(0) = q0.transpose();
   out.p.row(0) = p0.transpose();
   auto ws = pool_.acquire();
-  ws->solver.forget_factorization();
-  MatX qc(n, S1), prev = previous, uk(m, S1);
+  MatX qc(n, S1), prev = previous, prev2, uk(m, S1);
   VecX p = p0, p_next(n);
   for (int k = 0; k < N; ++k) {
     qc.col(0) = out.q.row(k).transpose();
     if (m > 0)
       for (int a = 0; a < S1; ++a)
         for (int j = 0; j < m; ++j) uk(j, a) = u(k, a * m + j);
-    const SolveInfo info = robust_step(*ws, p, uk, prev, qc, p_next, lambda);
+    const SolveInfo info = robust_step(*ws, p, uk, prev2, prev, qc, p_next, lambda);
     out.status.push_back(info.status);
     out.iterations[k] = info.iterations;
     out.factorizations[k] = info.factorizations;
@@ -212,6 +236,7 @@ Rollout GalerkinIntegrator::rollout(const VecX& q0, const VecX& p0, int N, const
     out.control_points.row(k) = Eigen::Map<const VecX>(qc.data(), S1 * n).transpose();
     if (mc) out.multipliers.row(k) = Eigen::Map<const VecX>(lambda.data(), lambda.size()).transpose();
     p = p_next;
+    if (prev.size()) prev2.swap(prev);
     prev = qc;
     out.steps = k + 1;
   }
@@ -230,7 +255,8 @@ bool GalerkinIntegrator::direction(const Eigen::Ref<const MatX>& qc, const Eigen
   VecX p_next(model_.n());
   auto ws = pool_.acquire();
   del_residual(model_, quad_, ws->solver.del, qc, p, u, dt_, r, p_next);
-  return newton_direction(model_, quad_, ws->solver.del, ws->solver.newton, r, dq);
+  const bool ok = ws->solver.direction(model_, quad_, options, qc, u, dt_, r, dq);
+  return ok;
 }
 
 void GalerkinIntegrator::constrained_residual(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& lambda,

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "hovi/integrators/dense_direction.hpp"
+
 namespace hovi {
 
 const char* to_string(SolveStatus status) {
@@ -21,6 +23,41 @@ NewtonSolver::NewtonSolver(const Model& model, const Quadrature& quad)
       r_trial_(model.n(), quad.s), dq_(model.n(), quad.s), dbar_(model.n(), quad.s), q_trial_(model.n(), quad.s + 1),
       p_trial_(model.n()) {}
 
+NewtonSolver::~NewtonSolver() = default;
+
+bool NewtonSolver::factor(const Model& model, const Quadrature& quad, const SolverOptions& opt,
+                          const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u, double dt) {
+  factor_valid_ = false;
+  factor_dense_ = opt.direction == Direction::Dense ||
+                  (opt.direction == Direction::Auto && dense_direction_is_faster(model, quad.s));
+  if (factor_dense_) {
+    if (!dense_) dense_ = std::make_unique<DenseDirection>(model, quad);
+    if (!dense_->factor(model, quad, qc, u, dt)) return false;
+  } else {
+    if (!newton_factor(model, quad, del, factor_)) return false;
+    del_factor_.Sbar = del.Sbar;  // newton_solve reads the kinematics of the factorisation
+    del_factor_.Sdot = del.Sdot;
+    del_factor_.dt = del.dt;
+  }
+  factor_valid_ = true;
+  return true;
+}
+
+void NewtonSolver::solve_direction(const Model& model, const Quadrature& quad, const Eigen::Ref<const MatX>& r,
+                                   Eigen::Ref<MatX> dq) {
+  if (factor_dense_) dense_->solve(r, dq);
+  else newton_solve(model, quad, del_factor_, factor_, r, dq);
+}
+
+bool NewtonSolver::direction(const Model& model, const Quadrature& quad, const SolverOptions& opt,
+                             const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u, double dt,
+                             const Eigen::Ref<const MatX>& r, Eigen::Ref<MatX> dq) {
+  const bool ok = factor(model, quad, opt, qc, u, dt);
+  if (ok) solve_direction(model, quad, r, dq);
+  factor_valid_ = false;
+  return ok && dq.allFinite();
+}
+
 SolveInfo NewtonSolver::solve(const Model& model, const Quadrature& quad, const SolverOptions& opt,
                               const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u, double dt,
                               Eigen::Ref<MatX> qc, Eigen::Ref<VecX> p_next) {
@@ -31,14 +68,15 @@ SolveInfo NewtonSolver::solve(const Model& model, const Quadrature& quad, const 
   info.residual_evaluations = 1;
   info.residual = r_.size() ? r_.cwiseAbs().maxCoeff() : 0.0;
   double norm2 = r_.norm();
-  bool reuse = true;                // may the kept factorisation serve this iteration?
-  double previous_dq_norm = INFINITY;  // the first reused step of a solve is always tried
+  factor_valid_ = false;  // every solve starts from a fresh factorisation at its guess
+  bool reuse = opt.reuse != Reuse::Never;  // may the kept factorisation serve this iteration?
+  double previous_dq = INFINITY;       // ||dq||_inf of the previous iteration of this solve
   for (;;) {
     if (!std::isfinite(norm2) || !p_next.allFinite()) {
       info.status = SolveStatus::NonFinite;
       return info;
     }
-    if (info.residual <= target) {
+    if (opt.tol > 0 && info.residual <= target) {
       info.status = SolveStatus::Converged;
       return info;
     }
@@ -46,21 +84,17 @@ SolveInfo NewtonSolver::solve(const Model& model, const Quadrature& quad, const 
       info.status = SolveStatus::MaxIterations;
       return info;
     }
-    // A fresh factorisation unless the kept one still serves (a simplified Newton step).
-    const bool fresh = !(opt.reuse_jacobian && factor_valid_ && reuse);
+    // A fresh factorisation at the current iterate unless the kept one still serves (a
+    // simplified Newton step).
+    const bool fresh = !(reuse && factor_valid_);
     if (fresh) {
-      factor_valid_ = false;
-      if (!newton_factor(model, quad, del, factor_)) {
+      if (!factor(model, quad, opt, qc, u, dt)) {
         info.status = SolveStatus::SingularJacobian;
         return info;
       }
-      del_factor_.Sbar = del.Sbar;  // newton_solve reads the kinematics of the factorisation
-      del_factor_.Sdot = del.Sdot;
-      del_factor_.dt = del.dt;
-      factor_valid_ = true;
       ++info.factorizations;
     }
-    newton_solve(model, quad, del_factor_, factor_, r_, dq_);
+    solve_direction(model, quad, r_, dq_);
     ++info.iterations;
     if (!dq_.allFinite()) {
       if (!fresh) {  // the kept Jacobian no longer fits: refactor here
@@ -70,17 +104,21 @@ SolveInfo NewtonSolver::solve(const Model& model, const Quadrature& quad, const 
       info.status = SolveStatus::NonFinite;
       return info;
     }
-    // A Newton step below round-off of q: the residual is at its floor (tol was set below what
-    // double precision can reach at this dt), so the iterate is as converged as it can be.
-    if (dq_.cwiseAbs().maxCoeff() <= 1e-14 * (1 + qc.cwiseAbs().maxCoeff())) {
+    // The next correction estimates the error of the iterate: stop when it is at round-off
+    // (without applying it, so that q^{k,1..s} and p^{k+1} stay consistent).
+    const double dq_max = dq_.cwiseAbs().maxCoeff();
+    // A kept factorisation from another iterate may give a small correction to a large
+    // residual: it is trusted only after it has been seen contracting in this solve.
+    const bool trusted = fresh || dq_max <= opt.reuse_contraction * previous_dq;
+    if (trusted && correction_converged(opt, dq_max, previous_dq, qc.cwiseAbs().maxCoeff(), fresh)) {
       info.status = SolveStatus::Converged;
       return info;
     }
-    const double dq_norm = dq_.norm();
-    if (!fresh && !(dq_norm <= 0.25 * previous_dq_norm)) {  // slow contraction: refactor
+    if (!fresh && previous_dq < INFINITY && !trusted) {  // slow contraction: refactor
       reuse = false;
       continue;
     }
+    const double dq_norm = dq_.norm();
     double lambda = 1;
     bool accepted = false;
     for (int bt = 0; bt <= (opt.line_search ? opt.max_backtracks : 0); ++bt, lambda *= 0.5) {
@@ -98,7 +136,7 @@ SolveInfo NewtonSolver::solve(const Model& model, const Quadrature& quad, const 
         accepted = true;
         break;
       }
-      newton_solve(model, quad, del_factor_, factor_, r_trial_, dbar_);  // simplified correction
+      solve_direction(model, quad, r_trial_, dbar_);                   // simplified correction
       if (dbar_.norm() <= (1 - 0.25 * lambda) * dq_norm) {              // natural monotonicity
         accepted = true;
         break;
@@ -112,14 +150,22 @@ SolveInfo NewtonSolver::solve(const Model& model, const Quadrature& quad, const 
       info.status = SolveStatus::LineSearchFailed;
       return info;
     }
-    reuse = lambda == 1;  // after a damped step the Jacobian is refactored
-    previous_dq_norm = dq_norm;
+    reuse = opt.reuse != Reuse::Never && lambda == 1;  // after a damped step the Jacobian is refactored
+    const bool have_theta = lambda == 1 && previous_dq < INFINITY;
+    const double theta = have_theta ? dq_max / previous_dq : 1;  // observed contraction
+    previous_dq = lambda == 1 ? dq_max : INFINITY;
     std::swap(del, del_trial_);
     qc = q_trial_;
     r_.swap(r_trial_);
     p_next = p_trial_;
     norm2 = r_.norm();
     info.residual = r_.cwiseAbs().maxCoeff();
+    // The error of the new iterate, estimated from the contraction: θ/(1-θ) ||dq_k||.
+    if (have_theta && theta < 0.5 &&
+        theta / (1 - theta) * dq_max <= opt.step_tol * (1 + qc.cwiseAbs().maxCoeff()) && p_next.allFinite()) {
+      info.status = SolveStatus::Converged;
+      return info;
+    }
   }
 }
 

@@ -71,7 +71,7 @@ class GalerkinIntegrator {
                  Eigen::Ref<VecX> p_next, MatX* lambda = nullptr) const;
 
   // One step with fallbacks: Newton from the extrapolated previous polynomial (if `previous` is
-  // given), then from the velocity guess, then from q^{k,a} = q^k, stopping at the first that
+  // given; in rollouts, from guess_from_history once two steps are known), then from the velocity guess, then from q^{k,a} = q^k, stopping at the first that
   // converges. qc column 0 must hold q^k. Iterations add up over the attempts.
   SolveInfo robust_step(const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u,
                         const Eigen::Ref<const MatX>& previous, Eigen::Ref<MatX> qc, Eigen::Ref<VecX> p_next,
@@ -81,6 +81,12 @@ class GalerkinIntegrator {
   // estimate, q^k + c^a dt q̇; or by extrapolating the previous step's polynomial.
   void guess_from_velocity(const VecX& qdot, Eigen::Ref<MatX> qc) const;
   void guess_from_previous(const Eigen::Ref<const MatX>& previous, Eigen::Ref<MatX> qc) const;
+  // The predictor of rollouts: the least-squares polynomial of degree max(2, 2s-1) (at most 7)
+  // through the 2s+1 control points of the last two steps, extrapolated to this step's points
+  // and shifted through q^k. Measured on the 12-link pendulum (bench/README.md): 10 to 100
+  // times closer to the solution than extrapolating the previous step alone (s = 2..4).
+  void guess_from_history(const Eigen::Ref<const MatX>& before_previous, const Eigen::Ref<const MatX>& previous,
+                          Eigen::Ref<MatX> qc) const;
 
   // N steps from (q0, p0). u: N x ((s+1) m), row k = vec(u^{k,0..s}) column-major; may have 0
   // columns when the model has no controls. previous: control points of the step before
@@ -108,14 +114,15 @@ class GalerkinIntegrator {
   SolveInfo step(IntegratorWorkspace& ws, const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u,
                  Eigen::Ref<MatX> qc, Eigen::Ref<VecX> p_next, MatX& lambda) const;
   SolveInfo robust_step(IntegratorWorkspace& ws, const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u,
-                        const Eigen::Ref<const MatX>& previous, Eigen::Ref<MatX> qc, Eigen::Ref<VecX> p_next,
-                        MatX& lambda) const;
+                        const Eigen::Ref<const MatX>& before_previous, const Eigen::Ref<const MatX>& previous,
+                        Eigen::Ref<MatX> qc, Eigen::Ref<VecX> p_next, MatX& lambda) const;
   MatX lambda_guess(const MatX* lambda) const;
 
   Model model_;
   Quadrature quad_;
   double dt_;
-  MatX extrapolate_;  // E(b, a) = l_b(1 + c^a), for guess_from_previous
+  MatX extrapolate_;   // E(b, a) = l_b(1 + c^a), for guess_from_previous
+  MatX extrapolate2_;  // (2s+1) x (s+1), for guess_from_history
   mutable WorkspacePool<IntegratorWorkspace> pool_;
 };
 

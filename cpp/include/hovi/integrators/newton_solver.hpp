@@ -8,23 +8,53 @@
 #include "hovi/algorithms/del_residual.hpp"
 #include "hovi/algorithms/newton_direction.hpp"
 
+#include <memory>
+
 namespace hovi {
 
+// The Newton direction: Algorithms A.1/A.2 (recursive, O(s^3 n)), a dense LU of the DEL
+// Jacobian from the linearisation (O(s^2 n^2) + O(s^3 n^3), cheaper for small n), or the
+// cheaper of the two for this model and s (dense_direction.hpp's measured crossover).
+enum class Direction { Auto, Recursive, Dense };
+enum class Reuse { Never, WithinStep };
+
 struct SolverOptions {
-  double tol = 1e-10;        // converged when ||r||_inf <= tol * (1 + ||p^k||_inf), or when the
-                             // Newton step falls below round-off, 1e-14 (1 + ||q||_inf)
+  // Converged when the estimated error of the iterate, the size of the next Newton correction
+  // ||Δq||_inf, is at most step_tol (1 + ||q||_inf): by default at round-off, so that the
+  // solver's error does not accumulate over long runs (no energy drift, no error floor under
+  // the method's own error). If the corrections stop shrinking at a level below 1e-10 (1 + ||q||)
+  // with a fresh Jacobian, the iterate is at the round-off floor of its residual: converged.
+  double step_tol = 1e-14;
+  // Optional residual test (0: off): also converged when ||r||_inf <= tol (1 + ||p^k||_inf).
+  // A looser tol trades accuracy for fewer iterations.
+  double tol = 0;
   int max_iterations = 30;
   int max_backtracks = 12;   // halvings of the step before the line search gives up
   bool line_search = true;   // false: always take the full Newton step
   double constraint_tol = 1e-12;  // constrained steps: also ||h(q^{k,1..s})||_inf <= this
-  // Simplified Newton (opt-in): keep the factorisation of the DEL Jacobian (Algorithm A.2's
-  // residual-independent part) across iterations and steps while the iteration contracts fast
-  // (||dq_k|| <= 0.25 ||dq_{k-1}||) and full steps are accepted; refactor otherwise. Each reuse
-  // costs an O(s^2 n) solve instead of an O(s^3 n) factorisation. Off by default: the linear
-  // convergence stops just below tol, and over long runs that solver error shows as a slow
-  // energy drift that exact Newton (quadratic, landing far below tol) does not have.
-  bool reuse_jacobian = false;
+  Direction direction = Direction::Auto;
+  // Simplified Newton: keep the factorisation of the DEL Jacobian while the iteration contracts
+  // fast (||Δq_k|| <= reuse_contraction ||Δq_{k-1}||) and full steps are accepted; refactor
+  // otherwise. Never: a fresh factorisation every iteration (the paper's Newton); WithinStep:
+  // factor at the predicted control points of each step and keep it for the step. (Keeping it
+  // across steps as well was measured and dropped: on the 8- and 12-link pendulums at dt = 0.01
+  // it needed 7 to 11 iterations per step instead of 2 to 4, for 0.01 to 0.4 factorisations.)
+  // A reused factorisation costs an O(s^2 n) solve (recursive) or O(s^2 n^2) (dense) instead
+  // of a new factorisation. The stopping test above makes the converged step independent of
+  // which Jacobian was used, to round-off.
+  Reuse reuse = Reuse::WithinStep;
+  double reuse_contraction = 0.25;
 };
+
+// The stopping rule shared by the Galerkin solvers, on the next correction dq (||.||_inf) of an
+// iterate with ||q||_inf = q_norm: at most step_tol (1 + q_norm), or it stopped shrinking
+// (more than half the previous one, with a fresh Jacobian) below 1e-10 (1 + q_norm): the
+// round-off floor. (After a full step dq_k the error of the new iterate is also estimated
+// before its correction is computed: θ/(1-θ) ||dq_k|| with θ = ||dq_k|| / ||dq_{k-1}||.)
+inline bool correction_converged(const SolverOptions& opt, double dq, double previous_dq, double q_norm, bool fresh) {
+  const double scale = 1 + q_norm;
+  return dq <= opt.step_tol * scale || (fresh && dq > 0.5 * previous_dq && dq <= 1e-10 * scale);
+}
 
 enum class SolveStatus { Converged, MaxIterations, LineSearchFailed, SingularJacobian, NonFinite };
 const char* to_string(SolveStatus status);
@@ -38,29 +68,42 @@ struct SolveInfo {
   bool converged() const { return status == SolveStatus::Converged; }
 };
 
+class DenseDirection;
+
 class NewtonSolver {
  public:
   NewtonSolver(const Model& model, const Quadrature& quad);
+  ~NewtonSolver();
   // Solves r(q^{k,0..s}) = 0 for q^{k,1..s}. qc (n x (s+1)): column 0 is q^k, columns 1..s the
   // initial guess on entry and the solution (or last iterate) on exit; p_next gets p^{k+1}. With
-  // opt.reuse_jacobian the factorisation of an earlier iteration or step may serve as the
+  // opt.reuse the factorisation of an earlier iteration of this step may serve as the
   // Jacobian (a simplified Newton step), as long as the iteration contracts fast.
   SolveInfo solve(const Model& model, const Quadrature& quad, const SolverOptions& opt,
                   const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u, double dt,
                   Eigen::Ref<MatX> qc, Eigen::Ref<VecX> p_next);
 
-  // Drops the kept factorisation (reuse_jacobian), so that the next solve depends on its
-  // arguments only.
-  void forget_factorization() { factor_valid_ = false; }
+  // The Newton direction dq = -J^{-1} r at qc on the path opt.direction chooses, for the
+  // residual r of the last del_residual call into `del` at the same qc. False if J is singular.
+  bool direction(const Model& model, const Quadrature& quad, const SolverOptions& opt,
+                 const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u, double dt,
+                 const Eigen::Ref<const MatX>& r, Eigen::Ref<MatX> dq);
 
   DelWorkspace del;          // Algorithm 1 at the current iterate (also for direct callers)
   NewtonWorkspace newton;    // for direct callers of newton_direction
 
  private:
   DelWorkspace del_trial_;   // Algorithm 1 at the trial point; swapped with del on acceptance
-  DelWorkspace del_factor_;  // the kinematics the kept factorisation was computed at
-  NewtonWorkspace factor_;   // the kept factorisation (newton_factor)
-  bool factor_valid_ = false;
+  // Factors the Jacobian at the current iterate (del, qc) on the path chosen by opt.direction.
+  bool factor(const Model& model, const Quadrature& quad, const SolverOptions& opt,
+              const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u, double dt);
+  // dq = -J^{-1} r with the kept factorisation.
+  void solve_direction(const Model& model, const Quadrature& quad, const Eigen::Ref<const MatX>& r,
+                       Eigen::Ref<MatX> dq);
+
+  DelWorkspace del_factor_;  // the kinematics the kept recursive factorisation was computed at
+  NewtonWorkspace factor_;   // the kept recursive factorisation (newton_factor)
+  std::unique_ptr<DenseDirection> dense_;  // made on first use of the dense path
+  bool factor_valid_ = false, factor_dense_ = false;
   MatX r_, r_trial_, dq_, dbar_, q_trial_;
   VecX p_trial_;
 };

@@ -1,0 +1,34 @@
+// The Newton direction of the DEL equations by a dense solve: the Jacobian dr^{k,0..s-1} /
+// dq^{k,1..s} (an s n square block of del_jacobian.hpp's Jq, from the linearisation in
+// O(s^2 n^2)) and one LU factorisation, O(s^3 n^3); each further right-hand side costs
+// O(s^2 n^2). Below a crossover in n (per s, measured in bench/direction_crossover.py) this is
+// cheaper than the recursive O(s^3 n) direction of Algorithms A.1/A.2, whose constant is large.
+#pragma once
+#include <Eigen/LU>
+
+#include "hovi/algorithms/del_jacobian.hpp"
+
+namespace hovi {
+
+// True when the dense direction is the cheaper one for this model and s: n at most the
+// crossover measured per s by bench/direction_crossover.py (factorisation + one solve).
+bool dense_direction_is_faster(const Model& model, int s);
+
+class DenseDirection {
+ public:
+  DenseDirection(const Model& model, const Quadrature& quad);
+  // Factors J = dr/dq^{k,1..s} at the control points qc (n x (s+1)) with controls u (m x (s+1)).
+  // Returns false if J is singular to working precision.
+  bool factor(const Model& model, const Quadrature& quad, const Eigen::Ref<const MatX>& qc,
+              const Eigen::Ref<const MatX>& u, double dt);
+  // dq = -J^{-1} r, r and dq n x s (column gamma-1 = δq^{k,gamma}).
+  void solve(const Eigen::Ref<const MatX>& r, Eigen::Ref<MatX> dq);
+
+ private:
+  DelJacobianWorkspace ws_;
+  MatX Jq_;                      // ((s+1) n) square: the full DEL Jacobian of del_jacobian.hpp
+  Eigen::PartialPivLU<MatX> lu_;  // of its block rows 0..s-1, columns 1..s
+  VecX x_;
+};
+
+}  // namespace hovi
