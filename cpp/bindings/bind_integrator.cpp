@@ -4,6 +4,7 @@
 #include <chrono>
 
 #include "hovi/errors.hpp"
+#include "hovi/integrators/dense_direction.hpp"
 #include "hovi/integrators/galerkin_integrator.hpp"
 #include "py_integrator.hpp"
 
@@ -45,6 +46,10 @@ void bind_integrator(py::module_& m) {
            py::arg("max_backtracks"), py::arg("line_search"), py::arg("direction"), py::arg("reuse_jacobian"),
            py::arg("reuse_contraction"))
       .def_property_readonly("s", &PyIntegrator::s)
+      .def_property_readonly("direction_path", [](const PyIntegrator& p) {
+            const auto& g = p.integ();
+            return uses_dense_direction(g.options.direction, g.model(), g.quadrature().s) ? "dense" : "recursive";
+          })
       .def_property_readonly("n", &PyIntegrator::n)
       .def_property_readonly("n_controls", &PyIntegrator::m)
       .def_property_readonly("n_constraints", &PyIntegrator::mc)

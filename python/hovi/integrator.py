@@ -78,7 +78,7 @@ class Integrator:
     points, so that most steps converge in two iterations at accuracy-relevant dt.
 
     A step has converged when the next Newton correction, the estimated error of the iterate,
-    is below ``step_tol`` (1 + ||q||_inf): by default 1e-14, round-off, so that neither the
+    is below ``step_tol`` (1 + ||q||_inf): by default 1e-15, round-off, so that neither the
     trajectory error nor the energy carries a solver floor over long runs (whichever Jacobian
     was used). ``tol`` > 0 adds a looser residual test, ||r||_inf <= tol (1 + ||p^k||_inf), for
     speed at the cost of accuracy.
@@ -97,9 +97,9 @@ class Integrator:
     """
 
     def __init__(self, model: _core.Model, s: int | None = None, *, order: int | None = None, dt: float = 0.01,
-                 tol: float = 0.0, step_tol: float = 1e-14, max_iterations: int = 30, max_backtracks: int = 12,
+                 tol: float = 0.0, step_tol: float = 1e-15, max_iterations: int = 30, max_backtracks: int = 12,
                  line_search: bool = True, direction: str = "auto", reuse_jacobian: bool = True,
-                 reuse_contraction: float = 0.25):
+                 reuse_contraction: float = 0.1):
         if s is None and order is None:
             s = 2
         elif s is not None and order is not None and order != 2 * s:
@@ -120,6 +120,8 @@ class Integrator:
     # --- properties -------------------------------------------------------------------------
     s = property(lambda self: self._core.s, doc="Number of Lobatto intervals; s+1 control points.")
     order = property(lambda self: 2 * self._core.s, doc="Order of accuracy 2s.")
+    direction_path = property(lambda self: self._core.direction_path,
+                              doc="The Newton direction this integrator computes: 'dense' or 'recursive'.")
     dt = property(lambda self: self._core.dt)
     n = property(lambda self: self._core.n)
     nodes = property(lambda self: self._core.nodes, doc="Lobatto nodes c^a on [0, 1].")

@@ -28,8 +28,7 @@ NewtonSolver::~NewtonSolver() = default;
 bool NewtonSolver::factor(const Model& model, const Quadrature& quad, const SolverOptions& opt,
                           const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u, double dt) {
   factor_valid_ = false;
-  factor_dense_ = opt.direction == Direction::Dense ||
-                  (opt.direction == Direction::Auto && dense_direction_is_faster(model, quad.s));
+  factor_dense_ = uses_dense_direction(opt.direction, model, quad.s);
   if (factor_dense_) {
     if (!dense_) dense_ = std::make_unique<DenseDirection>(model, quad);
     if (!dense_->factor(model, quad, qc, u, dt)) return false;
@@ -147,7 +146,10 @@ SolveInfo NewtonSolver::solve(const Model& model, const Quadrature& quad, const 
         reuse = false;
         continue;
       }
-      info.status = SolveStatus::LineSearchFailed;
+      // The exact correction says the iterate is within 1e-10 (1 + ||q||) of the solution, yet
+      // no fraction of it reduces the residual: the residual is at its round-off floor.
+      const bool at_floor = dq_max <= 1e-10 * (1 + qc.cwiseAbs().maxCoeff());
+      info.status = at_floor ? SolveStatus::Converged : SolveStatus::LineSearchFailed;
       return info;
     }
     reuse = opt.reuse != Reuse::Never && lambda == 1;  // after a damped step the Jacobian is refactored

@@ -7,12 +7,17 @@
 #include <Eigen/LU>
 
 #include "hovi/algorithms/del_jacobian.hpp"
+#include "hovi/integrators/newton_solver.hpp"
 
 namespace hovi {
 
 // True when the dense direction is the cheaper one for this model and s: n at most the
 // crossover measured per s by bench/direction_crossover.py (factorisation + one solve).
 bool dense_direction_is_faster(const Model& model, int s);
+// The path a solver with this direction option takes for this model and s.
+inline bool uses_dense_direction(Direction direction, const Model& model, int s) {
+  return direction == Direction::Dense || (direction == Direction::Auto && dense_direction_is_faster(model, s));
+}
 
 class DenseDirection {
  public:
