@@ -151,7 +151,8 @@ def main(argv=None) -> int:
     sim.add_argument("--spread", type=float, default=np.pi / 12,
                      help="initial joint positions uniform in [-spread, spread] rad or m (default: pi/12, the "
                           "paper's Fig. 4 range; larger values make a long chain whip and need a smaller dt)")
-    sim.add_argument("--tol", type=float, default=1e-10, help="Newton tolerance on the scaled residual (default: 1e-10)")
+    sim.add_argument("--tol", type=float, default=0.0,
+                     help="optional residual tolerance ||r|| <= tol (1 + ||p||) (default 0: converge to round-off)")
     sim.add_argument("--output", default="results", help="folder for the plots and JSON (default: results)")
     sim.add_argument("--no-plot", action="store_true", help="skip the plots")
     sim.add_argument("--no-progress", action="store_true", help="no progress bar")
