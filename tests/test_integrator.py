@@ -217,3 +217,21 @@ def test_dense_and_recursive_directions_agree(s):
     assert np.abs(d_rec).max() > 1e-4
     np.testing.assert_allclose(d_den, d_rec, rtol=0, atol=1e-9 * np.abs(d_rec).max())
     np.testing.assert_allclose(q_den, q_rec, rtol=0, atol=1e-10)
+
+
+@pytest.mark.parametrize("direction", ["recursive", "dense"])
+def test_steps_stop_at_the_round_off_floor_on_a_long_chain(direction):
+    """On the 64-link pendulum the corrections bottom out near 1e-13, above step_tol: the solver
+    must recognise the floor (a fresh correction that no longer shrinks) instead of running to
+    max_iterations (it did on the dense path at step 177 before the floor test compared with the
+    smallest trusted correction)."""
+    model = hovi.models.pendulum(64)
+    q0 = np.random.default_rng(64).uniform(-np.pi / 12, np.pi / 12, 64)
+    integ = hovi.Integrator(model, s=1, dt=0.005, direction=direction)
+    traj = integ.rollout(q0, 200)
+    assert traj.steps == 200 and traj.converged
+    # converged means at round-off: one more exact Newton correction at the converged control
+    # points is below 1e-12 (checked at every tenth step)
+    for k in range(0, 200, 10):
+        dq = integ.newton_direction(traj.control_points[k], traj.p[k])
+        assert np.abs(dq).max() < 1e-12, (k, np.abs(dq).max())

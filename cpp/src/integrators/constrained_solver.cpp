@@ -1,6 +1,7 @@
 #include "hovi/integrators/constrained_solver.hpp"
 
 #include <Eigen/LU>
+#include <algorithm>
 #include <cmath>
 
 namespace hovi {
@@ -104,7 +105,7 @@ SolveInfo ConstrainedSolver::solve(const SolverOptions& opt, const Eigen::Ref<co
       info.status = SolveStatus::Converged;
       return info;
     }
-    previous_dz = dz_max;
+    previous_dz = std::min(previous_dz, dz_max);  // the smallest correction so far (all are fresh)
     // Backtracking on the merit ||(r, h)||.
     double step = 1;
     bool accepted = false;

@@ -1,5 +1,6 @@
 #include "hovi/integrators/newton_solver.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "hovi/integrators/dense_direction.hpp"
@@ -70,6 +71,7 @@ SolveInfo NewtonSolver::solve(const Model& model, const Quadrature& quad, const 
   factor_valid_ = false;  // every solve starts from a fresh factorisation at its guess
   bool reuse = opt.reuse != Reuse::Never;  // may the kept factorisation serve this iteration?
   double previous_dq = INFINITY;       // ||dq||_inf of the previous iteration of this solve
+  double smallest = INFINITY;          // the smallest trusted correction so far
   for (;;) {
     if (!std::isfinite(norm2) || !p_next.allFinite()) {
       info.status = SolveStatus::NonFinite;
@@ -109,10 +111,13 @@ SolveInfo NewtonSolver::solve(const Model& model, const Quadrature& quad, const 
     // A kept factorisation from another iterate may give a small correction to a large
     // residual: it is trusted only after it has been seen contracting in this solve.
     const bool trusted = fresh || dq_max <= opt.reuse_contraction * previous_dq;
-    if (trusted && correction_converged(opt, dq_max, previous_dq, qc.cwiseAbs().maxCoeff(), fresh)) {
+    // (The floor test compares with the smallest trusted correction so far: at the floor, noise
+    // can pass a damped step, after which the previous correction says nothing.)
+    if (trusted && correction_converged(opt, dq_max, smallest, qc.cwiseAbs().maxCoeff(), fresh)) {
       info.status = SolveStatus::Converged;
       return info;
     }
+    if (trusted) smallest = std::min(smallest, dq_max);
     if (!fresh && previous_dq < INFINITY && !trusted) {  // slow contraction: refactor
       reuse = false;
       continue;

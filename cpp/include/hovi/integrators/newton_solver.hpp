@@ -51,12 +51,12 @@ struct SolverOptions {
 
 // The stopping rule shared by the Galerkin solvers, on the next correction dq (||.||_inf) of an
 // iterate with ||q||_inf = q_norm: at most step_tol (1 + q_norm), or it stopped shrinking
-// (more than half the previous one, with a fresh Jacobian) below 1e-10 (1 + q_norm): the
-// round-off floor. (After a full step dq_k the error of the new iterate is also estimated
+// (with a fresh Jacobian, more than half the smallest earlier trusted correction `reference`)
+// below 1e-10 (1 + q_norm): the round-off floor. (After a full step dq_k the error of the new iterate is also estimated
 // before its correction is computed: θ/(1-θ) ||dq_k|| with θ = ||dq_k|| / ||dq_{k-1}||.)
-inline bool correction_converged(const SolverOptions& opt, double dq, double previous_dq, double q_norm, bool fresh) {
+inline bool correction_converged(const SolverOptions& opt, double dq, double reference, double q_norm, bool fresh) {
   const double scale = 1 + q_norm;
-  return dq <= opt.step_tol * scale || (fresh && dq > 0.5 * previous_dq && dq <= 1e-10 * scale);
+  return dq <= opt.step_tol * scale || (fresh && dq > 0.5 * reference && dq <= 1e-10 * scale);
 }
 
 enum class SolveStatus { Converged, MaxIterations, LineSearchFailed, SingularJacobian, NonFinite };
