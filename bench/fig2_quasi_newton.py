@@ -2,7 +2,10 @@
 al. (2016) on the trapezoidal variational integrator of the 32-link pendulum: one step from
 random initial conditions (q0, qdot0 uniform in [-pi/2, pi/2]) for dt from 0.001 to 0.06; time
 per solve and iterations over the successful solves, and the success rate. Both start from
-q0 + dt qdot0 and stop at ||r||_inf <= 1e-10 (1 + ||p0||_inf); at most 100 iterations.
+q0 + dt qdot0 and stop at ||r||_inf <= 1e-10 (1 + ||p0||_inf); at most 100 iterations. Beside
+them, the continuation in the step length (step_continuation.hpp), which returns the step on
+the solution branch through q0 or reports that the branch turns back before dt; Newton's roots
+are classified as on or off that branch.
 
     python bench/fig2_quasi_newton.py [--quick]
 
@@ -19,7 +22,8 @@ import hovi
 from common import RESULTS, write_json
 
 DTS = [0.001, 0.002, 0.005, 0.01, 0.02, 0.03, 0.04, 0.05, 0.06]
-METHODS = {"newton": "hovi exact Newton (Alg. 1 + A.1/A.2)", "quasi_newton": "quasi-Newton (Lee et al. 2016)"}
+METHODS = {"newton": "hovi exact Newton (Alg. 1 + A.1/A.2)", "quasi_newton": "quasi-Newton (Lee et al. 2016)",
+           "continuation": "continuation in the step length (physical branch)"}
 
 
 def run(n_links, n_states, dts, seed=0):
@@ -29,14 +33,21 @@ def run(n_links, n_states, dts, seed=0):
     qd0 = rng.uniform(-np.pi / 2, np.pi / 2, (n_states, n_links))
     out = {m: [] for m in METHODS}
     for dt in tqdm(dts, desc="dt"):
+        batch = {}
         for method in METHODS:
-            d = hovi._core.baselines.one_step_batch(model, dt, q0, qd0, method)
+            d = batch[method] = hovi._core.baselines.one_step_batch(model, dt, q0, qd0, method)
             ok = d["converged"].astype(bool)
             out[method].append({
                 "dt": dt, "success_rate": float(ok.mean()),
                 "mean_seconds": float(d["seconds"][ok].mean()) if ok.any() else None,
                 "mean_iterations": float(d["iterations"][ok].mean()) if ok.any() else None,
-                "iterations": d["iterations"].tolist(), "converged": ok.tolist()})
+                "iterations": d["iterations"].tolist(), "converged": ok.tolist(),
+                "status": list(d["status"])})
+        # Which of Newton's roots are the step on the physical branch (the continuation's root)?
+        newton_ok, cont_ok = batch["newton"]["converged"].astype(bool), batch["continuation"]["converged"].astype(bool)
+        same = np.abs(batch["newton"]["q_next"] - batch["continuation"]["q_next"]).max(axis=1) < 1e-6
+        out["newton"][-1]["roots_on_branch"] = int((newton_ok & cont_ok & same).sum())
+        out["newton"][-1]["roots_off_branch"] = int((newton_ok & ~(cont_ok & same)).sum())
     return out
 
 
@@ -78,7 +89,10 @@ def main():
         for r in out[method]:
             t = f"{r['mean_seconds'] * 1e6:.1f} µs" if r["mean_seconds"] else "-"
             it = f"{r['mean_iterations']:.2f}" if r["mean_iterations"] else "-"
-            print(f"{method:13s} dt={r['dt']:<6} success {100 * r['success_rate']:5.1f}%  iterations {it:>6}  time {t}")
+            branch = (f"  roots on / off the physical branch {r['roots_on_branch']} / {r['roots_off_branch']}"
+                      if "roots_on_branch" in r else "")
+            print(f"{method:13s} dt={r['dt']:<6} success {100 * r['success_rate']:5.1f}%  iterations {it:>6}  time {t}"
+                  f"{branch}")
 
 
 if __name__ == "__main__":

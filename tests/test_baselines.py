@@ -35,6 +35,26 @@ def test_quasi_newton_and_newton_reach_the_same_step():
     np.testing.assert_allclose(newton["q_next"][0], q1, atol=1e-10)
 
 
+def test_continuation_batch_reports_the_branch_or_an_explicit_failure():
+    model = hovi.models.pendulum(32)
+    rng = np.random.default_rng(0)
+    q0, qd0 = rng.uniform(-np.pi / 2, np.pi / 2, (2, 30, 32))
+    easy = hovi.baselines.one_step_batch(model, 0.005, q0, qd0, "continuation")
+    newton = hovi.baselines.one_step_batch(model, 0.005, q0, qd0, "newton")
+    assert easy["converged"].all() and newton["converged"].all()
+    np.testing.assert_allclose(easy["q_next"], newton["q_next"], atol=1e-9)
+    hard = hovi.baselines.one_step_batch(model, 0.06, q0, qd0, "continuation")
+    assert set(hard["status"]) <= {"converged", "continuation_stalled"} and "continuation_stalled" in hard["status"]
+    assert np.isfinite(hard["q_next"]).all() and np.isfinite(hard["residual"]).all()
+    integ = hovi.Integrator(model, s=1, dt=0.06)
+    for k in np.flatnonzero(hard["converged"]):
+        p0 = integ.momentum(q0[k], qd0[k])
+        r, _ = integ.del_residual(np.array([q0[k], hard["q_next"][k]]), p0)
+        assert np.abs(r).max() <= 1e-10 * (1 + np.abs(p0).max())
+    both = hovi.baselines.one_step_batch(model, 0.06, q0, qd0, "newton+continuation")
+    assert (both["converged"] >= hard["converged"]).all()
+
+
 def test_hermite_simpson_converges_at_order_3_or_better_against_dop853():
     from scipy.integrate import solve_ivp
     model = hovi.models.pendulum(5)
@@ -67,7 +87,7 @@ def test_hermite_simpson_rejects_bad_input():
 def test_baseline_batches_and_autodiff_reject_bad_input():
     import pytest
     model = hovi.models.pendulum(3)
-    with pytest.raises(ValueError, match="method must be 'newton' or 'quasi_newton'"):
+    with pytest.raises(ValueError, match="method must be 'newton', 'quasi_newton', 'continuation' or 'newton"):
         hovi.baselines.one_step_batch(model, 0.01, np.zeros((1, 3)), np.zeros((1, 3)), "bisection")
     with pytest.raises(ValueError, match=r"qdot0 must be a 2-D array of shape \(1, 3\)"):
         hovi.baselines.one_step_batch(model, 0.01, np.zeros((1, 3)), np.zeros((2, 3)), "newton")

@@ -2,6 +2,7 @@
 // quasi-Newton of Lee et al. 2016, automatic differentiation, Hermite-Simpson collocation, and
 // batch runners that time each solve in C++ (no Python overhead in the measurements).
 #include <chrono>
+#include <cmath>
 #include <mutex>
 
 #include "hovi/algorithms/mass_matrix.hpp"
@@ -12,6 +13,7 @@
 #include "hovi/baselines/hermite_simpson.hpp"
 #include "hovi/baselines/quasi_newton.hpp"
 #include "hovi/errors.hpp"
+#include "hovi/integrators/step_continuation.hpp"
 #include "py_model.hpp"
 
 namespace hovi::py_bind {
@@ -20,16 +22,21 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 // One trapezoidal step from each state (rows of Q0, QD0) by hovi's Newton or the quasi-Newton,
-// from the same initial guess q + dt q̇ and with the same stopping rule.
+// from the same initial guess q + dt q̇ and with the same stopping rule; or by continuation in
+// the step length (step_continuation.hpp), alone or as the fallback of a failed Newton solve.
 py::dict one_step_batch(const PyModel& pm, double dt, const py::object& Q0, const py::object& QD0,
                         const std::string& method, double tol, int max_iterations) {
   const Model& model = pm.model;
   const int n = model.n();
   const MatX q0 = as_matrix(Q0, "q0", -1, n), qd0 = as_matrix(QD0, "qdot0", q0.rows(), n);
   const int N = static_cast<int>(q0.rows());
-  if (method != "newton" && method != "quasi_newton") throw InputError("method must be 'newton' or 'quasi_newton'");
-  Eigen::VectorXi iterations(N), converged(N);
-  VecX seconds(N), residual(N);
+  const bool newton_first = method == "newton" || method == "newton+continuation";
+  const bool continuation = method == "continuation" || method == "newton+continuation";
+  if (!newton_first && !continuation && method != "quasi_newton")
+    throw InputError("method must be 'newton', 'quasi_newton', 'continuation' or 'newton+continuation'");
+  Eigen::VectorXi iterations(N), converged(N), residual_evaluations(N);
+  std::vector<std::string> status(N);
+  VecX seconds(N), residual(N), h_reached = VecX::Constant(N, NAN);
   MatX q_next(N, n);
   {
     py::gil_scoped_release release;
@@ -44,6 +51,7 @@ py::dict one_step_batch(const PyModel& pm, double dt, const py::object& Q0, cons
     qopt.tol = tol;
     qopt.max_iterations = max_iterations;
     QuasiNewtonSolver qn(model, dt, qopt);
+    ContinuationWorkspace cws(model, quad);
     Data data(model);
     MatX qc(n, 2), u(model.n_controls(), 2);
     u.setZero();
@@ -54,9 +62,21 @@ py::dict one_step_batch(const PyModel& pm, double dt, const py::object& Q0, cons
       qc.col(0) = q;
       qc.col(1) = q + dt * qd;
       const auto t0 = Clock::now();
-      const SolveInfo info = method == "newton" ? newton.solve(model, quad, opt, p, u, dt, qc, p_next)
-                                                : qn.solve(p, u, qc, p_next);
+      SolveInfo info;
+      if (newton_first) info = newton.solve(model, quad, opt, p, u, dt, qc, p_next);
+      else if (!continuation) info = qn.solve(p, u, qc, p_next);
+      if (continuation && !info.converged()) {
+        const SolveInfo first = info;
+        ContinuationReport rep;
+        info = step_continuation(newton, cws, model, quad, opt, p, u, dt, qc, p_next, {}, &rep);
+        h_reached[k] = rep.h_reached;
+        info.iterations += first.iterations;
+        info.factorizations += first.factorizations;
+        info.residual_evaluations += first.residual_evaluations;
+      }
       seconds[k] = std::chrono::duration<double>(Clock::now() - t0).count();
+      status[k] = to_string(info.status);
+      residual_evaluations[k] = info.residual_evaluations;
       iterations[k] = info.iterations;
       converged[k] = info.converged();
       residual[k] = info.residual;
@@ -66,6 +86,9 @@ py::dict one_step_batch(const PyModel& pm, double dt, const py::object& Q0, cons
   py::dict d;
   d["converged"] = converged;
   d["iterations"] = iterations;
+  d["residual_evaluations"] = residual_evaluations;
+  d["status"] = status;
+  d["h_reached"] = h_reached;
   d["seconds"] = seconds;
   d["residual"] = residual;
   d["q_next"] = q_next;
@@ -156,8 +179,13 @@ void bind_baselines(py::module_& m) {
         py::arg("method"), py::arg("tol") = 1e-10, py::arg("max_iterations") = 100, R"doc(
 One trapezoidal (s = 1) step from every state (rows of q0, qdot0; p0 = M(q0) qdot0) by 'newton'
 (hovi's exact O(n) Newton with line search) or 'quasi_newton' (Lee et al. 2016), both from the
-guess q0 + dt qdot0 and converged when ||r||_inf <= tol (1 + ||p0||_inf). Returns per-state
-arrays converged, iterations, seconds (timed in C++), residual, q_next (the last iterate).
+guess q0 + dt qdot0, or by 'continuation' in the step length (the step on the solution branch
+continuously connected to q0, or the status 'continuation_stalled' when that branch turns back
+before dt), or 'newton+continuation' (continuation when Newton fails); all converged when
+||r||_inf <= tol (1 + ||p0||_inf). Returns per-state arrays converged, iterations (Newton
+directions), residual_evaluations, status, seconds (timed in C++), residual, q_next (the last
+iterate; after a stalled continuation the last point of the branch, at h_reached < dt) and
+h_reached (continuation: how far in the step length the branch went; NaN otherwise).
 )doc");
   b.def("fig3_batch", &fig3_batch, py::arg("model"), py::arg("s"), py::arg("dt"), py::arg("q0"), py::arg("qdot0"),
         py::arg("method"), py::arg("min_seconds") = 0.002, R"doc(

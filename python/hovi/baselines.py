@@ -5,7 +5,9 @@
 - ``AutodiffDel(model, s, dt)``: the DEL residual, Newton direction (dense LU) and D^2 L_d by
   automatic differentiation of a scalar-templated Lagrangian.
 - ``one_step_batch(model, dt, q0, qdot0, method)``: one trapezoidal step from many states by hovi's
-  exact Newton ('newton') or the quasi-Newton of Lee et al. 2016 ('quasi_newton'), timed in C++.
+  exact Newton ('newton'), the quasi-Newton of Lee et al. 2016 ('quasi_newton'), continuation in
+  the step length ('continuation') or Newton with continuation when it fails
+  ('newton+continuation'), timed in C++.
 - ``fig3_batch(...)``: per-call times of the recursive algorithms or their AD counterparts.
 """
 from ._core.baselines import AutodiffDel, HermiteSimpson, fig3_batch, one_step_batch

@@ -19,7 +19,8 @@ class ConvergenceError(RuntimeError):
 
 @dataclass
 class StepInfo:
-    status: str            # 'converged', 'max_iterations', 'line_search_failed', 'singular_jacobian', 'non_finite'
+    status: str            # 'converged', 'max_iterations', 'line_search_failed', 'singular_jacobian', 'non_finite',
+                           # 'continuation_stalled' (no step on the solution branch from q^k: it turns back before dt)
     converged: bool
     iterations: int        # Newton directions computed
     factorizations: int    # of them, those with a fresh Jacobian factorisation (the rest reused one)
@@ -209,7 +210,9 @@ class Integrator:
         for a constrained model, ``info.multipliers`` λ^{k,0..s-1} (s, n_constraints).
 
         guess: initial control points (s+1, n) for a single Newton solve; by default Newton starts
-        from q + c^a dt q̇ (q̇ = ``velocity(q, p)``) and, if that fails, from q^{k,a} = q.
+        from q + c^a dt q̇ (q̇ = ``velocity(q, p)``) and, if that fails, from q^{k,a} = q, and last
+        (without constraints) the step is continued in its length from h = 0 to dt along the
+        solution branch through q (status 'continuation_stalled' if that branch turns back first).
         multipliers: the first guess of λ^{k,0..s-1} of a constrained model (default zero).
         Raises ConvergenceError if the solve fails and raise_on_failure (else check info.converged).
         """
@@ -228,10 +231,11 @@ class Integrator:
                 progress: bool = False, chunk: int = 500) -> Trajectory:
         """Simulate ``steps`` steps from q0 with p0 (or qdot0, default zero velocity), in C++.
 
-        Each step starts Newton from the previous step's polynomial extrapolated; if that solve
+        Each step starts Newton from the control points of the last two steps extrapolated; if that solve
         fails it retries from q^k + c^a dt q̇^k (q̇^k = ``velocity(q^k, p^k)``), then from
-        q^{k,a} = q^k. A constrained model's multipliers start from zero and then from the
-        previous step's.
+        q^{k,a} = q^k, then (without constraints) by continuation in the step length along the
+        solution branch through q^k. A constrained model's multipliers start from zero and then
+        from the previous step's.
 
         u: None, (m,) constant, (steps, m) held per step, or (steps, s+1, m) per control point.
         progress: show a progress bar (the C++ loop runs in chunks of ``chunk`` steps).

@@ -159,6 +159,17 @@ SolveInfo GalerkinIntegrator::robust_step(IntegratorWorkspace& ws, const Eigen::
     total.residual = info.residual;
     if (info.converged()) break;
   }
+  if (!total.converged() && !ws.constrained) {
+    // Last attempt: follow the solution branch from q^k in the step length.
+    if (!ws.continuation) ws.continuation = std::make_unique<ContinuationWorkspace>(model_, quad_);
+    const SolveInfo info =
+        step_continuation(ws.solver, *ws.continuation, model_, quad_, options, p, u, dt_, qc, p_next);
+    total.status = info.status;
+    total.iterations += info.iterations;
+    total.factorizations += info.factorizations;
+    total.residual_evaluations += info.residual_evaluations;
+    total.residual = info.residual;
+  }
   return total;
 }
 

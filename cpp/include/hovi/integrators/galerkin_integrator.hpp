@@ -10,6 +10,7 @@
 
 #include "hovi/integrators/constrained_solver.hpp"
 #include "hovi/integrators/newton_solver.hpp"
+#include "hovi/integrators/step_continuation.hpp"
 #include "hovi/model/data.hpp"
 #include "hovi/util/workspace_pool.hpp"
 
@@ -32,6 +33,7 @@ struct IntegratorWorkspace {
   IntegratorWorkspace(const Model& model, const Quadrature& quad);
   NewtonSolver solver;
   std::unique_ptr<ConstrainedSolver> constrained;  // when the model has constraints
+  std::unique_ptr<ContinuationWorkspace> continuation;  // made at the first step_continuation
   Data data;
 };
 
@@ -71,8 +73,11 @@ class GalerkinIntegrator {
                  Eigen::Ref<VecX> p_next, MatX* lambda = nullptr) const;
 
   // One step with fallbacks: Newton from the extrapolated previous polynomial (if `previous` is
-  // given; in rollouts, from guess_from_history once two steps are known), then from the velocity guess, then from q^{k,a} = q^k, stopping at the first that
-  // converges. qc column 0 must hold q^k. Iterations add up over the attempts.
+  // given; in rollouts, from guess_from_history once two steps are known), then from the
+  // velocity guess, then from q^{k,a} = q^k, and last (models without constraints) by
+  // continuation in the step length (step_continuation.hpp), which either finds the step on the
+  // branch continuously connected to q^k or ends with ContinuationStalled; stopping at the first
+  // that converges. qc column 0 must hold q^k. Iterations add up over the attempts.
   SolveInfo robust_step(const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u,
                         const Eigen::Ref<const MatX>& previous, Eigen::Ref<MatX> qc, Eigen::Ref<VecX> p_next,
                         MatX* lambda = nullptr) const;

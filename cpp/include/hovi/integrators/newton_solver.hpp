@@ -59,7 +59,9 @@ inline bool correction_converged(const SolverOptions& opt, double dq, double ref
   return dq <= opt.step_tol * scale || (fresh && dq > 0.5 * reference && dq <= 1e-10 * scale);
 }
 
-enum class SolveStatus { Converged, MaxIterations, LineSearchFailed, SingularJacobian, NonFinite };
+// ContinuationStalled: step_continuation (step_continuation.hpp) found no solution at dt on the
+// branch continuously connected to q^k (the branch turns back in the step length before dt).
+enum class SolveStatus { Converged, MaxIterations, LineSearchFailed, SingularJacobian, NonFinite, ContinuationStalled };
 const char* to_string(SolveStatus status);
 
 struct SolveInfo {
