@@ -19,7 +19,7 @@ import numpy as np
 from tqdm import tqdm
 
 import hovi
-from common import RESULTS, write_json
+from common import RESULTS, update_readme_section, write_json
 
 DTS = [0.001, 0.002, 0.005, 0.01, 0.02, 0.03, 0.04, 0.05, 0.06]
 METHODS = {"newton": "hovi exact Newton (Alg. 1 + A.1/A.2)", "quasi_newton": "quasi-Newton (Lee et al. 2016)",
@@ -76,6 +76,16 @@ def plot(out, path):
     plt.close(fig)
 
 
+def table(out) -> str:
+    lines = ["| dt | Newton: success | its roots on / off the physical branch | continuation: step on the branch "
+             "(iterations) | quasi-Newton: success |", "|---|---|---|---|---|"]
+    for nw, ct, qn in zip(out["newton"], out["continuation"], out["quasi_newton"]):
+        it = f" ({ct['mean_iterations']:.1f})" if ct["mean_iterations"] else ""
+        lines.append(f"| {nw['dt']} | {100 * nw['success_rate']:.1f}% | {nw['roots_on_branch']} / {nw['roots_off_branch']} | "
+                     f"{100 * ct['success_rate']:.1f}%{it} | {100 * qn['success_rate']:.1f}% |")
+    return "\n".join(lines)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--quick", action="store_true", help="20 states, 3 time steps")
@@ -85,6 +95,8 @@ def main():
     name = "fig2_quasi_newton_quick" if args.quick else "fig2_quasi_newton"
     write_json(f"{name}.json", {"n_links": 32, "n_states": n_states, "results": out})
     plot(out, f"{RESULTS}/{name}.png")
+    if not args.quick:
+        update_readme_section("fig2", table(out))
     for method in METHODS:
         for r in out[method]:
             t = f"{r['mean_seconds'] * 1e6:.1f} µs" if r["mean_seconds"] else "-"
