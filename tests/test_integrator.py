@@ -236,3 +236,19 @@ def test_steps_stop_at_the_round_off_floor_on_a_long_chain(direction):
     for k in range(0, 200, 10):
         dq = integ.newton_direction(traj.control_points[k], traj.p[k])
         assert np.abs(dq).max() < 1e-12, (k, np.abs(dq).max())
+
+
+def test_automatic_direction_follows_the_measured_crossover():
+    """direction='auto' takes the path that was faster in bench/direction_crossover.py wherever
+    the two differ by more than 10% (the committed measurement; no timing here)."""
+    import json
+    import os
+    path = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "bench", "results",
+                        "direction_crossover.json")
+    rows = json.load(open(path))["rows"]
+    assert len(rows) >= 16
+    for row in rows:
+        auto = hovi.Integrator(hovi.models.pendulum(row["n"]), s=row["s"], dt=0.005).direction_path
+        ratio = row["dense_us"] / row["recursive_us"]
+        if abs(ratio - 1) > 0.1:
+            assert auto == ("dense" if ratio < 1 else "recursive"), row
