@@ -92,14 +92,14 @@ def method(name, model, dt, inertias):
     return run_vi
 
 
-def sweep(n, T, n_states, points=None):
+def sweep(n, T, n_states, points=None, methods=None):
     model, inertias = hovi.models.pendulum(n), mjm.pendulum_inertias(n)
     agreement = mjm.check(model, inertias)
     print(f"n = {n}: MuJoCo vs hovi, largest relative difference {agreement}")
     q0s = np.random.default_rng(0).uniform(-np.pi / 12, np.pi / 12, (n_states, n))
     refs = [dop853(model, q0, T) for q0 in tqdm(q0s, desc=f"DOP853 references, n = {n}")]
     runs = []
-    for name in METHODS:
+    for name in methods or METHODS:
         for dt in tqdm(dts_for(name, n, T, points), desc=f"{name}, n = {n}"):
             run, steps = method(name, model, dt, inertias), round(T / dt)
             run(q0s[0], min(steps, 100))  # warm-up (caches, first calls), not recorded
@@ -144,18 +144,20 @@ def fmt(hit):
 
 def table(runs, ns):
     """Per n and error level: the run time of hovi's VI envelope (the fastest s) and of MuJoCo RK4."""
-    lines = ["| n | error | hovi VI (best s) | MuJoCo RK4 | VI / RK4 run time |", "|---|---|---|---|---|"]
+    lines = ["| n | error | hovi VI (best s) | MuJoCo RK4 | VI / RK4 run time | Hermite-Simpson (hovi) |",
+             "|---|---|---|---|---|---|"]
     rows = []
     for n in ns:
         for level in LEVELS:
             hits = [(time_to_reach(curve(runs, name, n), level), s) for s, name in enumerate(VI_NAMES, 1)]
             vi, s = min(((h, s) for h, s in hits if h), key=lambda x: x[0][0], default=(None, None))
             rk4 = time_to_reach(curve(runs, "MuJoCo RK4", n), level)
+            hs = time_to_reach(curve(runs, "Hermite-Simpson", n), level)
             ratio = vi[0] / rk4[0] if vi and rk4 else None
             rows.append({"n": n, "level": level, "vi_seconds": vi and vi[0], "vi_s": s, "rk4_seconds": rk4 and rk4[0],
-                         "ratio": ratio})
+                         "ratio": ratio, "hs_seconds": hs and hs[0]})
             lines.append(f"| {n} | {level:.0e} | {fmt(vi)}{f' (s={s})' if vi else ''} | {fmt(rk4)} | "
-                         f"{f'{ratio:.3g}' if ratio else '–'} |")
+                         f"{f'{ratio:.3g}' if ratio else '–'} | {fmt(hs)} |")
     lines += ["", "Median over the initial states of the run time to reach each error level (log-log interpolation "
               "along each method's dt sweep; ≤: already reached at the sweep's largest dt). Ratio > 1: MuJoCo RK4 is faster."]
     return "\n".join(lines), rows
@@ -210,15 +212,16 @@ def main():
                     "written to pareto_partial.json/.png, README untouched")
     ap.add_argument("--T", type=float, help="horizon of a partial run (default: the full run's for each n)")
     ap.add_argument("--points", type=int, help="a partial run: this many dts per method (the largest ones)")
+    ap.add_argument("--methods", nargs="+", choices=METHODS, help="a partial run: these methods only")
     args = ap.parse_args()
-    partial = bool(args.links or args.T or args.points)
+    partial = bool(args.links or args.T or args.points or args.methods)
     problems = QUICK_PROBLEMS if args.quick else PROBLEMS
     if partial and not args.quick:
         problems = {n: args.T or PROBLEMS.get(n, 1.0) for n in (args.links or PROBLEMS)}
     n_states = 2 if args.quick else args.states
     agreement, runs = {}, []
     for n, T in problems.items():
-        agreement[n], r = sweep(n, T, n_states, 2 if args.quick else args.points)
+        agreement[n], r = sweep(n, T, n_states, 2 if args.quick else args.points, args.methods)
         runs += r
     text, rows = table(runs, list(problems))
     text += "\n\n" + mjm.describe(agreement)

@@ -75,6 +75,17 @@ def test_hermite_simpson_converges_at_order_3_or_better_against_dop853():
     assert slope >= 3.0, (slope, errors)
 
 
+def test_hermite_simpson_simplified_newton_gives_the_full_newton_trajectory():
+    """Keeping the Jacobian within a step (the default, as for the VI) reaches the same steps."""
+    model = hovi.models.pendulum(8)
+    q0 = np.random.default_rng(3).uniform(-np.pi / 12, np.pi / 12, 8)
+    full = hovi.baselines.HermiteSimpson(model, 0.01, tol=1e-12, reuse_jacobian=False).rollout(q0, np.zeros(8), 500)
+    kept = hovi.baselines.HermiteSimpson(model, 0.01, tol=1e-12).rollout(q0, np.zeros(8), 500)
+    assert full["steps"] == kept["steps"] == 500
+    np.testing.assert_allclose(kept["q"], full["q"], rtol=0, atol=1e-10)
+    np.testing.assert_allclose(kept["v"], full["v"], rtol=0, atol=1e-9)
+
+
 def test_hermite_simpson_rejects_bad_input():
     import pytest
     with pytest.raises(ValueError, match="dt"):

@@ -198,13 +198,15 @@ Hermite-Simpson direct collocation as an implicit simulator (the paper's Sec. 5.
 implicit formulation with the end and midpoint accelerations as unknowns and inverse-dynamics
 defects, Newton with an analytic dense Jacobian (RNEA derivatives) and LU; state (q, v).
 )doc")
-      .def(py::init([](std::shared_ptr<PyModel> m, double dt, double tol, int max_iterations) {
+      .def(py::init([](std::shared_ptr<PyModel> m, double dt, double tol, int max_iterations, bool reuse_jacobian) {
              HermiteSimpsonOptions opt;
              opt.tol = tol;
              opt.max_iterations = max_iterations;
+             opt.reuse_jacobian = reuse_jacobian;
              return new PyHermiteSimpson(std::move(m), "baselines.HermiteSimpson", dt, opt);
            }),
-           py::arg("model"), py::arg("dt"), py::arg("tol") = 1e-10, py::arg("max_iterations") = 30)
+           py::arg("model"), py::arg("dt"), py::arg("tol") = 1e-10, py::arg("max_iterations") = 30,
+           py::arg("reuse_jacobian") = true)
       .def("rollout", [](PyHermiteSimpson& self, const py::object& q0, const py::object& v0, int steps) {
             HermiteSimpson& hs = checked(self);
             const int n = hs.model().n();

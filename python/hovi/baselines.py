@@ -1,7 +1,8 @@
 """The comparison baselines of the paper's Section 5, for benchmarks and studies.
 
-- ``HermiteSimpson(model, dt, tol=1e-10)``: Hermite-Simpson direct collocation used as an implicit
-  simulator; ``.rollout(q0, v0, steps)`` returns a dict with q, v, iterations, status, seconds.
+- ``HermiteSimpson(model, dt, tol=1e-10, reuse_jacobian=True)``: Hermite-Simpson direct collocation
+  used as an implicit simulator (simplified Newton within each step by default, as hovi's VIs);
+  ``.rollout(q0, v0, steps)`` returns a dict with q, v, iterations, status, seconds.
 - ``AutodiffDel(model, s, dt)``: the DEL residual, Newton direction (dense LU) and D^2 L_d by
   automatic differentiation of a scalar-templated Lagrangian.
 - ``one_step_batch(model, dt, q0, qdot0, method)``: one trapezoidal step from many states by hovi's

@@ -135,6 +135,8 @@ SolveInfo HermiteSimpson::newton(VecX& z) {
   info.residual = r_.cwiseAbs().maxCoeff();
   double norm2 = r_.norm();
   Eigen::PartialPivLU<MatX> lu(2 * model_.n());
+  bool factored = false;              // is lu a factorisation of a Jacobian of this solve?
+  double previous = INFINITY;         // ||δz||_inf of the previous iteration
   for (;;) {
     if (!std::isfinite(norm2) || !z.allFinite()) {
       info.status = SolveStatus::NonFinite;
@@ -148,26 +150,35 @@ SolveInfo HermiteSimpson::newton(VecX& z) {
       info.status = SolveStatus::MaxIterations;
       break;
     }
-    if (!have_jacobian) jacobian(z);
+    const bool fresh = !(options.reuse_jacobian && factored);
+    if (fresh) {
+      if (!have_jacobian) jacobian(z);
+      if (!J_.allFinite()) {
+        info.status = SolveStatus::NonFinite;
+        break;
+      }
+      lu.compute(J_);
+      const VecX pivots = lu.matrixLU().diagonal().cwiseAbs();  // |U_ii|
+      if (!(pivots.minCoeff() > 1e-14 * pivots.maxCoeff())) {
+        info.status = SolveStatus::SingularJacobian;
+        break;
+      }
+      factored = true;
+    }
     have_jacobian = false;
-    if (!J_.allFinite()) {
-      info.status = SolveStatus::NonFinite;
-      break;
-    }
-    lu.compute(J_);
-    const VecX pivots = lu.matrixLU().diagonal().cwiseAbs();  // |U_ii|
-    if (!(pivots.minCoeff() > 1e-14 * pivots.maxCoeff())) {
-      info.status = SolveStatus::SingularJacobian;
-      break;
-    }
-    dz_ = lu.solve(-r_);  // δz = -J^{-1} r
+    dz_ = lu.solve(-r_);  // δz = -J^{-1} r (J of this or an earlier iterate)
     ++info.iterations;
+    const double dz_max = dz_.cwiseAbs().maxCoeff();
+    if (!fresh && !(dz_max <= 0.1 * previous)) {  // not contracting fast: refactor here
+      factored = false;
+      continue;
+    }
     if (!dz_.allFinite()) {
       info.status = SolveStatus::NonFinite;
       break;
     }
     // A Newton step below round-off: the residual is at its floor for this dt.
-    if (dz_.cwiseAbs().maxCoeff() <= 1e-14 * (1 + z.cwiseAbs().maxCoeff())) {
+    if (dz_max <= 1e-14 * (1 + z.cwiseAbs().maxCoeff())) {
       info.status = SolveStatus::Converged;
       break;
     }
@@ -185,9 +196,15 @@ SolveInfo HermiteSimpson::newton(VecX& z) {
       }
     }
     if (!accepted) {
+      if (!fresh) {  // a kept Jacobian may mislead the search: retry with a fresh one
+        factored = false;
+        continue;
+      }
       info.status = SolveStatus::LineSearchFailed;
       break;
     }
+    if (lambda < 1) factored = false;  // after a damped step the Jacobian is recomputed
+    previous = lambda == 1 ? dz_max : INFINITY;
     z = z_trial_;
     r_.swap(r_trial_);
     norm2 = r_.norm();

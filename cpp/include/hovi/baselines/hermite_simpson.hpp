@@ -53,6 +53,9 @@ struct HermiteSimpsonOptions {
   int max_backtracks = 12;  // halvings of the step before the line search gives up
   bool line_search = true;  // Armijo backtracking on ||r||_2; false: full Newton steps
   HermiteSimpsonJacobian jacobian = HermiteSimpsonJacobian::Analytic;
+  // Simplified Newton within a step, as the VI's solver: the Jacobian and its LU from the first
+  // iteration are kept while each correction is at most 0.1 of the previous one.
+  bool reuse_jacobian = true;
 };
 
 struct HermiteSimpsonRollout {
