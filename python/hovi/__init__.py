@@ -8,7 +8,8 @@ from ._core import Model, ModelError, URDFError
 from . import models
 from .integrator import ConvergenceError, Integrator, StepInfo, Trajectory
 from .linearizer import DelJacobian, Linearizer, StepLinearization
+from .trajectory_io import load_trajectory
 
 __all__ = ["Model", "ModelError", "URDFError", "models", "Integrator", "ConvergenceError", "StepInfo", "Trajectory",
-           "Linearizer", "DelJacobian", "StepLinearization"]
+           "Linearizer", "DelJacobian", "StepLinearization", "load_trajectory"]
 __version__ = "0.1.0"

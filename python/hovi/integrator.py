@@ -62,6 +62,12 @@ class Trajectory:
         """Total energy K + V at every step, with q̇ as in ``qdot``."""
         return self.integrator.energies(self.q, self.p)
 
+    def save(self, path) -> None:
+        """Write to ``path`` (.npz): the arrays, solver statistics, joint names, s and dt
+        (``hovi.load_trajectory`` reads it back)."""
+        from .trajectory_io import save_trajectory
+        save_trajectory(self, path)
+
 
 class Integrator:
     """Galerkin variational integrator of order 2s on s+1 Lobatto points (Fan et al. 2018).

@@ -1,0 +1,55 @@
+"""Trajectories saved to .npz and read back: every array identical, the statistics kept, and
+files that do not fit the integrator rejected with a clear error."""
+import numpy as np
+import pytest
+
+import hovi
+
+
+def rollout(model, s=2):
+    integ = hovi.Integrator(model, s=s, dt=0.01)
+    q0 = np.random.default_rng(0).uniform(-0.3, 0.3, model.n)
+    return integ, integ.rollout(q0, 50)
+
+
+def test_round_trip_keeps_every_array_and_the_statistics(tmp_path):
+    integ, traj = rollout(hovi.models.pendulum(4))
+    path = tmp_path / "pendulum.npz"
+    traj.save(path)
+    back = hovi.load_trajectory(path, integ)
+    for name in ("t", "q", "p", "control_points", "iterations", "residuals", "factorizations"):
+        np.testing.assert_array_equal(getattr(back, name), getattr(traj, name), err_msg=name)
+    assert back.status == traj.status and back.solve_seconds == traj.solve_seconds
+    assert back.multipliers is None
+    np.testing.assert_array_equal(back.energy, traj.energy)  # the integrator is attached
+
+
+def test_constrained_multipliers_round_trip(tmp_path):
+    model = hovi.models.fourbar()
+    integ = hovi.Integrator(model, s=1, dt=0.01)
+    q, qd = integ.project(np.full(model.n, 0.3), np.zeros(model.n))
+    traj = integ.rollout(q, 20, qdot0=qd)
+    traj.save(tmp_path / "fourbar.npz")
+    back = hovi.load_trajectory(tmp_path / "fourbar.npz")
+    assert traj.multipliers is not None and traj.multipliers.size > 0
+    np.testing.assert_array_equal(back.multipliers, traj.multipliers)
+    assert back.integrator is None
+
+
+def test_files_that_do_not_fit_are_rejected(tmp_path):
+    integ, traj = rollout(hovi.models.pendulum(4))
+    path = tmp_path / "t.npz"
+    traj.save(path)
+    with pytest.raises(ValueError, match="joint names"):
+        hovi.load_trajectory(path, hovi.Integrator(hovi.models.pendulum(5), s=2, dt=0.01))
+    with pytest.raises(ValueError, match="s = 2, dt = 0.01 differ"):
+        hovi.load_trajectory(path, hovi.Integrator(hovi.models.pendulum(4), s=3, dt=0.01))
+    np.savez(tmp_path / "other.npz", x=np.zeros(3))
+    with pytest.raises(ValueError, match="not a hovi trajectory"):
+        hovi.load_trajectory(tmp_path / "other.npz")
+    (tmp_path / "junk.npz").write_bytes(b"not a zip file")
+    with pytest.raises(ValueError, match="not a trajectory file"):
+        hovi.load_trajectory(tmp_path / "junk.npz")
+    with pytest.raises(ValueError, match="no integrator"):
+        hovi.Trajectory(t=traj.t, q=traj.q, p=traj.p, control_points=traj.control_points,
+                        iterations=traj.iterations, residuals=traj.residuals).save(tmp_path / "x.npz")
