@@ -94,6 +94,7 @@ TEST(HermiteSimpson, CollocationResidualVanishesAtSolution) {
     for (double dt : {0.002, 0.01, 0.05}) {
       HermiteSimpsonOptions opt;
       opt.tol = 1e-13;
+      opt.reuse_jacobian = false;  // full Newton: quadratic convergence, a few iterations
       HermiteSimpson hs(model, dt, opt);
       const VecX q = uniform(rng, n, -1, 1), v = uniform(rng, n, -1, 1);
       const MatX u = m ? MatX(uniform(rng, 3 * m, -1, 1).reshaped(m, 3)) : MatX();
@@ -101,6 +102,14 @@ TEST(HermiteSimpson, CollocationResidualVanishesAtSolution) {
       const SolveInfo info = hs.step(q, v, u, q1, v1);
       ASSERT_TRUE(info.converged()) << to_string(info.status) << " dt " << dt;
       EXPECT_LE(info.iterations, 6);
+      // Simplified Newton (the default) reaches the same step.
+      HermiteSimpsonOptions kept = opt;
+      kept.reuse_jacobian = true;
+      HermiteSimpson hs_kept(model, dt, kept);
+      VecX q1k(n), v1k(n);
+      ASSERT_TRUE(hs_kept.step(q, v, u, q1k, v1k).converged());
+      EXPECT_LT((q1k - q1).cwiseAbs().maxCoeff(), 1e-12 * (1 + q1.cwiseAbs().maxCoeff()));
+      EXPECT_LT((v1k - v1).cwiseAbs().maxCoeff(), 1e-10 * (1 + v1.cwiseAbs().maxCoeff()));
       const VecX r = hs.collocation_residual(q, v, q1, v1, u);
       const double x_norm = std::max(q.cwiseAbs().maxCoeff(), v.cwiseAbs().maxCoeff());
       EXPECT_LT(r.cwiseAbs().maxCoeff(), 1e-12 * (1 + x_norm)) << "n " << n << " dt " << dt;
