@@ -27,7 +27,7 @@ from common import RESULTS, update_readme_section, write_json
 from fig4_hermite_simpson import dop853, mean_error
 
 # Keyword options of each hovi method, in one place (a new solver option is one more entry). The
-# Integrator's defaults converge each step to round-off (step_tol = 1e-14, residual test tol = 0
+# Integrator's defaults converge each step to round-off (step_tol = 1e-15, residual test tol = 0
 # off), so that the errors measure the discretisation; a tol > 0 would add a looser residual test.
 # (Builds before the step_tol option stopped on the residual: give them {"tol": 1e-12}.)
 VI_OPTIONS = {}

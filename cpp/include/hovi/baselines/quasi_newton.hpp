@@ -28,7 +28,7 @@
 namespace hovi {
 
 struct QuasiNewtonOptions {
-  double tol = 1e-10;       // NewtonSolver's rule: converged when ||r||_inf <= tol * (1 + ||p^k||_inf), or
+  double tol = 1e-10;       // the Fig. 2 batch's rule: converged when ||r||_inf <= tol * (1 + ||p^k||_inf), or
                             // when the step falls below round-off, 1e-14 (1 + ||q||_inf)
   int max_iterations = 100; // quasi-Newton steps (linear convergence needs more than Newton's 30)
 };
