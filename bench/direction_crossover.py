@@ -18,7 +18,7 @@ import numpy as np
 import hovi
 from common import update_readme_section, write_json
 
-NS = [2, 4, 8, 12, 16, 24, 32, 48]  # n = 64: the dense path hit max_iterations at the round-off floor (s = 1, dt = 0.005)
+NS = [2, 4, 8, 12, 16, 24, 32, 48]
 
 
 def per_step_seconds(model, s, direction, q0, steps, repeats):

@@ -33,8 +33,10 @@ void bind_integrator(py::module_& m) {
              SolverOptions opt;
              opt.reuse = reuse_jacobian ? Reuse::WithinStep : Reuse::Never;
              opt.reuse_contraction = reuse_contraction;
-             opt.direction = direction == "dense" ? Direction::Dense
-                             : direction == "recursive" ? Direction::Recursive : Direction::Auto;
+             if (direction == "dense") opt.direction = Direction::Dense;
+             else if (direction == "recursive") opt.direction = Direction::Recursive;
+             else if (direction == "auto") opt.direction = Direction::Auto;
+             else throw InputError("direction must be 'auto', 'recursive' or 'dense', got '" + direction + "'");
              opt.tol = tol;
              opt.step_tol = step_tol;
              opt.max_iterations = max_iterations;

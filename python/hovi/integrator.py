@@ -117,8 +117,6 @@ class Integrator:
             s = order // 2
         if not isinstance(model, _core.Model):
             raise TypeError(f"model must be a hovi.Model, got {type(model).__name__}")
-        if direction not in ("auto", "recursive", "dense"):
-            raise ValueError(f"direction must be 'auto', 'recursive' or 'dense', got {direction!r}")
         self._core = _core.Integrator(model, int(s), float(dt), float(tol), float(step_tol), int(max_iterations),
                                       int(max_backtracks), bool(line_search), direction, bool(reuse_jacobian),
                                       float(reuse_contraction))

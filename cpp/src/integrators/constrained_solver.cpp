@@ -77,7 +77,7 @@ SolveInfo ConstrainedSolver::solve(const SolverOptions& opt, const Eigen::Ref<co
   info.residual_evaluations = 1;
   auto merit = [](const MatX& r, const MatX& H) { return std::sqrt(r.squaredNorm() + H.squaredNorm()); };
   double phi = merit(r_, H_);
-  double previous_dz = INFINITY;
+  double smallest_dz = INFINITY;  // the smallest correction so far (every one is fresh)
   for (;;) {
     info.residual = std::max(r_.cwiseAbs().maxCoeff(), sm ? H_.cwiseAbs().maxCoeff() : 0.0);
     if (!std::isfinite(phi) || !p_next.allFinite()) {
@@ -101,11 +101,11 @@ SolveInfo ConstrainedSolver::solve(const SolverOptions& opt, const Eigen::Ref<co
     ++info.factorizations;  // every constrained iteration refactors
     // NewtonSolver's stopping rule on the next correction (every iteration here is fresh).
     const double dz_max = dz_.cwiseAbs().maxCoeff();
-    if (on_manifold && correction_converged(opt, dz_max, previous_dz, qc.cwiseAbs().maxCoeff(), true)) {
+    if (on_manifold && correction_converged(opt, dz_max, smallest_dz, qc.cwiseAbs().maxCoeff(), true)) {
       info.status = SolveStatus::Converged;
       return info;
     }
-    previous_dz = std::min(previous_dz, dz_max);  // the smallest correction so far (all are fresh)
+    smallest_dz = std::min(smallest_dz, dz_max);
     // Backtracking on the merit ||(r, h)||.
     double step = 1;
     bool accepted = false;

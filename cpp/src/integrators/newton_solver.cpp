@@ -119,7 +119,7 @@ SolveInfo NewtonSolver::solve(const Model& model, const Quadrature& quad, const 
       return info;
     }
     if (trusted) smallest = std::min(smallest, dq_max);
-    if (!fresh && previous_dq < INFINITY && !trusted) {  // slow contraction: refactor
+    if (!trusted) {  // a kept Jacobian contracting slowly: refactor here
       reuse = false;
       continue;
     }
