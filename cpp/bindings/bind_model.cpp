@@ -87,6 +87,42 @@ std::string summary(const Model& model) {
   return os.str();
 }
 
+const char* const kShapeNames[] = {"box", "cylinder", "sphere", "mesh"};
+
+py::dict visual_dict(const Visual& v) {
+  py::dict d;
+  d["body"] = v.body;
+  d["link"] = v.link;
+  d["shape"] = kShapeNames[static_cast<int>(v.shape)];
+  d["size"] = VecX(v.size);
+  d["filename"] = v.filename;
+  d["scale"] = VecX(v.scale);
+  d["origin"] = Mat4(v.origin.matrix());
+  d["rgba"] = v.rgba ? py::cast(VecX(*v.rgba)) : py::none();
+  return d;
+}
+
+// A Visual from add_visual's arguments; sizes as the shape takes them (box 3, cylinder 2, sphere 1).
+Visual make_visual(const Model& model, const py::object& body, const std::string& shape, const py::object& size,
+                   const py::object& origin, const py::object& rgba, const std::string& filename,
+                   const py::object& scale, const std::string& link) {
+  Visual v;
+  v.body = body.is_none() ? -1 : body_arg(model, body);
+  v.link = link.empty() ? (v.body >= 0 ? model.spec[v.body].name : std::string("world")) : link;
+  int k = 0;
+  while (k < 4 && shape != kShapeNames[k]) ++k;
+  if (k == 4) throw InputError("shape must be 'box', 'cylinder', 'sphere' or 'mesh', got '" + shape + "'");
+  v.shape = static_cast<VisualShape>(k);
+  const int n_size[] = {3, 2, 1, 0};
+  const bool scalar = py::isinstance<py::float_>(size) || py::isinstance<py::int_>(size);
+  if (n_size[k] > 0) v.size.head(n_size[k]) = as_vector(scalar ? py::make_tuple(size) : size, "size", n_size[k]);
+  if (!origin.is_none()) v.origin = as_se3(origin, "origin");
+  if (!rgba.is_none()) v.rgba = Eigen::Vector4d(as_vector(rgba, "rgba", 4));
+  v.filename = filename;
+  v.scale = as_vector(scale, "scale", 3);
+  return v;
+}
+
 // The force elements and constraints are immutable and shared; everything else is copied.
 std::shared_ptr<PyModel> copy_of(const PyModel& s) {
   auto pm = std::make_shared<PyModel>();
@@ -209,6 +245,29 @@ the COM (joint-frame axes). Raises hovi.ModelError naming the body on invalid in
               if (b.mimic) d[py::str(b.joint_name)] = py::make_tuple(b.mimic->joint, b.mimic->multiplier, b.mimic->offset);
             return d;
           }, "{joint: (leader, multiplier, offset)} for URDF mimic joints (metadata only).")
+      .def_property_readonly("visuals", [](const PyModel& s) {
+            py::list out;
+            for (const Visual& v : s.model.visuals) out.append(visual_dict(v));
+            return out;
+          }, R"doc(
+The visual geometry (URDF <visual>, or add_visual), metadata for viewers: a list of dicts with
+body (index, -1 = the world), link, shape ('box', 'cylinder', 'sphere', 'mesh'), size (3,)
+(box: x, y, z; cylinder: radius, length, 0 along z; sphere: radius, 0, 0), filename (meshes:
+package://..., or absolute), scale (3,), origin (4, 4) (the shape in the body's joint frame,
+see joint_placements) and rgba ((4,) or None).
+)doc")
+      .def("add_visual", [](PyModel& s, const py::object& body, const std::string& shape, const py::object& size,
+                            const py::object& origin, const py::object& rgba, const std::string& filename,
+                            const py::object& scale, const std::string& link) {
+            s.model.add_visual(make_visual(s.model, body, shape, size, origin, rgba, filename, scale, link));
+          }, py::arg("body"), py::arg("shape"), py::arg("size") = py::none(), py::arg("origin") = py::none(),
+          py::arg("rgba") = py::none(), py::arg("filename") = "", py::arg("scale") = py::make_tuple(1.0, 1.0, 1.0),
+          py::arg("link") = "", R"doc(
+Attach a visual shape to a body (index or name; None = the world). shape: 'box' (size: x, y, z),
+'cylinder' (size: radius, length; axis z), 'sphere' (size: radius) or 'mesh' (filename, scale).
+origin: (4, 4) pose in the body's joint frame (default identity); rgba: (4,) in [0, 1].
+Metadata only: the dynamics and existing integrators are unaffected. Raises ModelError on bad input.
+)doc")
       .def("add_spring", [](PyModel& s, const py::object& joint, double k, double rest) {
             s.model.add_spring(joint_arg(s.model, joint), k, rest);
             s.changed("add_spring");

@@ -56,6 +56,11 @@ void check_inertia(const std::string& what, double mass, const Mat3& inertia) {
   }
 }
 
+void Model::add_visual(const Visual& visual) {
+  check_visual(visual, n());
+  visuals.push_back(visual);
+}
+
 int Model::add_body(const BodySpec& spec_in) {
   validate(spec_in, n());
   BodySpec s = spec_in;

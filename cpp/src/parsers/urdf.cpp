@@ -5,6 +5,7 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <urdf_model/utils.h>
@@ -152,9 +153,66 @@ JointChain planar_chain(Vec3 n) {
 const char* const kFloatingSuffix[] = {"_x", "_y", "_z", "_rz", "_ry", "_rx"};
 const char* const kPlanarSuffix[] = {"_t1", "_t2", "_r"};
 
+// A mesh file name as the model keeps it: package:// names stay (a viewer resolves them through
+// its search path), file:// is dropped, a relative name is made absolute against the URDF's directory.
+std::string mesh_path(const std::string& filename, const std::string& urdf_dir) {
+  const std::string file_scheme = "file://";
+  if (filename.rfind(file_scheme, 0) == 0) return filename.substr(file_scheme.size());
+  if (filename.rfind("package://", 0) == 0 || filename.empty() || filename[0] == '/' || urdf_dir.empty())
+    return filename;
+  return urdf_dir + "/" + filename;
+}
+
+// The <visual> elements of `link` attached to `body` (-1 = world), the link frame being X in its frame.
+std::vector<Visual> link_visuals(const urdf::Link& link, int body, const SE3& X, const std::string& urdf_dir) {
+  std::vector<Visual> out;
+  for (const urdf::VisualSharedPtr& uv : link.visual_array) {
+    if (!uv || !uv->geometry) continue;
+    Visual v;
+    v.body = body;
+    v.link = link.name;
+    v.origin = X * to_se3(uv->origin);
+    switch (uv->geometry->type) {
+      case urdf::Geometry::BOX: {
+        const auto& g = static_cast<const urdf::Box&>(*uv->geometry);
+        v.shape = VisualShape::Box;
+        v.size = to_vec(g.dim);
+        break;
+      }
+      case urdf::Geometry::CYLINDER: {
+        const auto& g = static_cast<const urdf::Cylinder&>(*uv->geometry);
+        v.shape = VisualShape::Cylinder;
+        v.size = Vec3(g.radius, g.length, 0);
+        break;
+      }
+      case urdf::Geometry::SPHERE: {
+        v.shape = VisualShape::Sphere;
+        v.size = Vec3(static_cast<const urdf::Sphere&>(*uv->geometry).radius, 0, 0);
+        break;
+      }
+      case urdf::Geometry::MESH: {
+        const auto& g = static_cast<const urdf::Mesh&>(*uv->geometry);
+        v.shape = VisualShape::Mesh;
+        v.filename = mesh_path(g.filename, urdf_dir);
+        v.scale = to_vec(g.scale);
+        break;
+      }
+      default:
+        continue;
+    }
+    if (uv->material && uv->material->texture_filename.empty()) {
+      const urdf::Color& c = uv->material->color;
+      v.rgba = Eigen::Vector4d(c.r, c.g, c.b, c.a);
+    }
+    out.push_back(v);
+  }
+  return out;
+}
+
 class TreeBuilder {
  public:
-  TreeBuilder(const urdf::ModelInterface& urdf, const UrdfOptions& opt) : urdf_(urdf), opt_(opt) {}
+  TreeBuilder(const urdf::ModelInterface& urdf, const UrdfOptions& opt, std::string urdf_dir)
+      : urdf_(urdf), opt_(opt), urdf_dir_(std::move(urdf_dir)) {}
 
   Model build() {
     const urdf::LinkConstSharedPtr root = urdf_.getRoot();
@@ -181,6 +239,13 @@ class TreeBuilder {
       s.inertia = 0.5 * (s.inertia + s.inertia.transpose()).eval();
       model.add_body(s);
     }
+    for (const Visual& v : visuals_) {
+      try {
+        model.add_visual(v);
+      } catch (const ModelError& e) {
+        throw UrdfError(e.what());
+      }
+    }
     return model;
   }
 
@@ -202,6 +267,7 @@ class TreeBuilder {
   void visit(const urdf::Link& link, int body, const SE3& X) {
     if (body >= 0) inertia_[body] += link_inertia(link).transformed(X);
     else link_inertia(link);  // still validated when welded to the world
+    for (Visual& v : link_visuals(link, body, X, urdf_dir_)) visuals_.push_back(std::move(v));
     for (const urdf::JointSharedPtr& joint : link.child_joints) {
       const urdf::LinkConstSharedPtr child = urdf_.getLink(joint->child_link_name);
       const SE3 Xj = X * to_se3(joint->parent_to_joint_origin_transform);
@@ -283,13 +349,24 @@ class TreeBuilder {
 
   const urdf::ModelInterface& urdf_;
   const UrdfOptions& opt_;
+  const std::string urdf_dir_;  // directory of the URDF file, empty for XML text
+  std::vector<Visual> visuals_;
   std::vector<BodySpec> specs_;
   std::vector<SpatialInertia> inertia_;  // lumped inertia of each body about its joint frame
 };
 
-std::string read_source(const std::string& source) {
+bool is_xml(const std::string& source) {
   const auto first = source.find_first_not_of(" \t\r\n");
-  if (first != std::string::npos && source[first] == '<') return source;
+  return first != std::string::npos && source[first] == '<';
+}
+
+// The absolute directory of a URDF file, for relative mesh names.
+std::string source_directory(const std::string& path) {
+  return std::filesystem::absolute(path).parent_path().string();
+}
+
+std::string read_source(const std::string& source) {
+  if (is_xml(source)) return source;
   std::ifstream in(source);
   if (!in) throw UrdfError("cannot open URDF file '" + source + "'");
   std::stringstream ss;
@@ -314,7 +391,7 @@ Model model_from_urdf(const std::string& source, const UrdfOptions& options) {
     messages = capture.text;
   }
   if (!urdf) throw UrdfError("malformed or invalid URDF: " + (messages.empty() ? "urdfdom could not parse it" : messages));
-  return TreeBuilder(*urdf, options).build();
+  return TreeBuilder(*urdf, options, is_xml(source) ? std::string() : source_directory(source)).build();
 }
 
 }  // namespace hovi

@@ -12,6 +12,7 @@
 
 #include "hovi/forces/body_wrench.hpp"
 #include "hovi/forces/joint_forces.hpp"
+#include "hovi/model/visual.hpp"
 #include "hovi/spatial/algebra.hpp"
 
 namespace hovi {
@@ -74,6 +75,7 @@ class Model {
   void add_constraint(std::shared_ptr<const Constraint> constraint);  // checked against the model
   int n_constraints() const;                                          // equations, sum of dims
   bool has_gravity() const { return gravity.squaredNorm() > 0; }
+  void add_visual(const Visual& visual);  // checked (check_visual); metadata only
 
   // Topology
   std::vector<int> parent;                 // par(i), -1 for the world {0}
@@ -88,6 +90,7 @@ class Model {
   JointForces joint_forces;                // springs, dampers, actuation map
   std::vector<std::shared_ptr<const BodyWrench>> wrenches;  // external wrenches on bodies
   std::vector<std::shared_ptr<const Constraint>> constraints;  // holonomic constraints h(q) = 0
+  std::vector<Visual> visuals;             // geometry for viewers (URDF <visual>), not dynamics
 };
 
 }  // namespace hovi

@@ -1,0 +1,161 @@
+"""What a viewer draws: a model's visual shapes, with mesh files found, or default shapes.
+
+A model's visuals (URDF ``<visual>`` elements, or ``Model.add_visual``) are attached to bodies
+(or to the world) with an origin in the body's joint frame, so a shape's world pose at q is
+``joint_placements(q)[body] @ origin``. A model without visuals (``hovi.models.pendulum(n)``)
+gets default shapes: a capsule (a cylinder with spherical ends) from each joint to each child
+joint, or to the far end of a leaf body (twice its centre of mass), and a sphere at each centre
+of mass with a radius growing as mass^(1/3).
+"""
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Iterable, List, Optional, Sequence
+
+import numpy as np
+
+from ._core import Model
+
+#: Colours of the default shapes (links, centres of mass) and of visuals without a material.
+LINK_RGBA = np.array([0.55, 0.6, 0.68, 1.0])
+COM_RGBA = np.array([0.95, 0.45, 0.1, 1.0])
+
+
+@dataclass(frozen=True)
+class Shape:
+    """One shape to draw, attached to a body (-1: the world)."""
+
+    body: int
+    name: str
+    kind: str                 #: 'box', 'cylinder' (axis z, centred), 'sphere' or 'mesh'
+    size: np.ndarray          #: (3,) box x, y, z; cylinder radius, length, 0; sphere radius, 0, 0
+    origin: np.ndarray        #: (4, 4) pose in the body's joint frame
+    rgba: np.ndarray          #: (4,) colour in [0, 1]
+    mesh_path: Optional[str] = None  #: an existing file (meshes only)
+    scale: np.ndarray = field(default_factory=lambda: np.ones(3))  #: (3,) mesh scale
+
+
+def package_search_path(package_dirs: Iterable[str | os.PathLike[str]] = ()) -> List[Path]:
+    """The directories searched for ``package://NAME/...``: ``package_dirs``, then ``ROS_PACKAGE_PATH``."""
+    dirs = [Path(d) for d in package_dirs]
+    dirs += [Path(d) for d in os.environ.get("ROS_PACKAGE_PATH", "").split(os.pathsep) if d]
+    return dirs
+
+
+def resolve_mesh(filename: str, package_dirs: Iterable[str | os.PathLike[str]] = ()) -> str:
+    """The file a URDF mesh name refers to.
+
+    ``package://NAME/rest`` is looked up as ``DIR/NAME/rest`` or, when DIR is itself named NAME,
+    ``DIR/rest`` for each DIR of ``package_search_path(package_dirs)``; other names must exist
+    as given (the URDF loader already made relative names absolute). Raises FileNotFoundError
+    naming the file and the directories searched.
+    """
+    prefix = "package://"
+    if not filename.startswith(prefix):
+        if Path(filename).is_file():
+            return filename
+        raise FileNotFoundError(f"mesh file '{filename}' does not exist")
+    package, _, rest = filename[len(prefix):].partition("/")
+    dirs = package_search_path(package_dirs)
+    for d in dirs:
+        for candidate in (d / package / rest, d / rest if d.name == package else None):
+            if candidate is not None and candidate.is_file():
+                return str(candidate)
+    searched = ", ".join(str(d) for d in dirs) or "(none: pass package_dirs or set ROS_PACKAGE_PATH)"
+    raise FileNotFoundError(f"mesh '{filename}': package '{package}' not found in {searched}")
+
+
+def model_shapes(model: Model, package_dirs: Iterable[str | os.PathLike[str]] = ()) -> List[Shape]:
+    """The shapes to draw for ``model``: its visuals (meshes resolved), or default shapes if it has none."""
+    if not model.visuals:
+        return default_shapes(model)
+    dirs = list(package_dirs)
+    shapes = []
+    for k, v in enumerate(model.visuals):
+        rgba = LINK_RGBA if v["rgba"] is None else np.asarray(v["rgba"], dtype=float)
+        mesh = resolve_mesh(v["filename"], dirs) if v["shape"] == "mesh" else None
+        shapes.append(Shape(v["body"], f"{v['link']}_{k}", v["shape"], np.asarray(v["size"]), np.asarray(v["origin"]),
+                            rgba, mesh, np.asarray(v["scale"])))
+    return shapes
+
+
+def segment_frame(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """(4, 4) frame centred between a and b with z along b - a (a cylinder's frame)."""
+    d = (b - a) / np.linalg.norm(b - a)
+    helper = np.array([1.0, 0.0, 0.0]) if abs(d[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    x = np.cross(helper, d)
+    x /= np.linalg.norm(x)
+    T = np.eye(4)
+    T[:3, :3] = np.column_stack([x, np.cross(d, x), d])
+    T[:3, 3] = (a + b) / 2
+    return T
+
+
+def _translation(p: np.ndarray) -> np.ndarray:
+    T = np.eye(4)
+    T[:3, 3] = p
+    return T
+
+
+def default_shapes(model: Model, radius: Optional[float] = None) -> List[Shape]:
+    """Capsules between joints (to twice the centre of mass for leaves) and spheres at centres of mass.
+
+    radius: the capsules' radius; default 4% of the longest segment (at least 1 mm).
+    """
+    q0 = np.zeros(model.n)
+    joints = model.joint_placements(q0)
+    coms = model.body_poses(q0)[:, :3, 3]
+    parents = model.parents
+    segments: List[tuple[int, np.ndarray, np.ndarray]] = []  # (body, a, b) in the body's joint frame
+    com_local = []
+    for i in range(model.n):
+        inv = np.linalg.inv(joints[i])
+        com_local.append(inv[:3, :3] @ coms[i] + inv[:3, 3])
+        children = [c for c in range(model.n) if parents[c] == i]
+        ends = [inv[:3, :3] @ joints[c][:3, 3] + inv[:3, 3] for c in children] or [2 * com_local[i]]
+        segments += [(i, np.zeros(3), e) for e in ends if np.linalg.norm(e) > 1e-9]
+    longest = max((float(np.linalg.norm(b - a)) for _, a, b in segments), default=0.0)
+    r = radius if radius is not None else max(0.04 * longest, 1e-3)
+    shapes = []
+    for k, (body, a, b) in enumerate(segments):
+        length = float(np.linalg.norm(b - a))
+        shapes.append(Shape(body, f"link{body}_{k}", "cylinder", np.array([r, length, 0.0]), segment_frame(a, b), LINK_RGBA))
+        for end, p in (("a", a), ("b", b)):
+            shapes.append(Shape(body, f"link{body}_{k}{end}", "sphere", np.array([r, 0.0, 0.0]), _translation(p), LINK_RGBA))
+    masses = np.asarray(model.masses, dtype=float)
+    m_max = masses.max() if masses.size and masses.max() > 0 else 1.0
+    for i in range(model.n):
+        if masses[i] > 0:
+            rc = 1.6 * r * (masses[i] / m_max) ** (1 / 3)
+            shapes.append(Shape(i, f"com{i}", "sphere", np.array([rc, 0.0, 0.0]), _translation(com_local[i]), COM_RGBA))
+    return shapes
+
+
+def body_frames(model: Model, q: Sequence[float] | np.ndarray) -> np.ndarray:
+    """(n + 1, 4, 4) world poses of the joint frames at q, the world (identity) last: index with body, -1 included."""
+    frames = np.empty((model.n + 1, 4, 4))
+    frames[:-1] = model.joint_placements(np.asarray(q, dtype=float))
+    frames[-1] = np.eye(4)
+    return frames
+
+
+def sample_configurations(q: np.ndarray, t: np.ndarray, fps: float) -> tuple[np.ndarray, np.ndarray]:
+    """Configurations at ``fps`` frames per second over [t[0], t[-1]] (linear interpolation in q).
+
+    q: (N, n) configurations at increasing times t: (N,). Returns (frame times (F,), (F, n)).
+    """
+    q = np.asarray(q, dtype=float)
+    t = np.asarray(t, dtype=float)
+    if q.ndim != 2 or t.shape != (q.shape[0],):
+        raise ValueError(f"q must be (N, n) and t (N,), got {q.shape} and {t.shape}")
+    if q.shape[0] < 1 or not np.all(np.isfinite(q)) or not np.all(np.isfinite(t)):
+        raise ValueError("q and t must be non-empty and finite")
+    if np.any(np.diff(t) <= 0):
+        raise ValueError("times must be strictly increasing")
+    if not fps > 0:
+        raise ValueError(f"fps must be positive, got {fps}")
+    count = int(np.floor((t[-1] - t[0]) * fps + 1e-9)) + 1
+    frame_t = t[0] + np.arange(count) / fps
+    return frame_t, np.column_stack([np.interp(frame_t, t, q[:, j]) for j in range(q.shape[1])])

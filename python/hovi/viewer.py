@@ -1,0 +1,295 @@
+"""hovi.viewer: a model and its motions in the browser, through meshcat (``pip install hovi[viewer]``).
+
+``Viewer(model)`` starts meshcat's local server (it serves its own JavaScript: no internet
+needed) and shows the model; ``display(q)`` poses it, ``play(trajectory)`` loads an animation
+with meshcat's play / pause / reset buttons and time scrubber (the "Animations" folder of its
+controls), ``add_marker`` / ``add_arrow`` draw points (contacts, targets) and forces, and
+``export_html(path)`` writes everything shown so far as one standalone HTML file that opens
+without a server. ``Viewer(model, server=False)`` records without starting a server (scripts,
+tests, the command line); ``animation_html`` does that in one call.
+
+In an exported HTML file, an address ending in ``#t=1.5`` pauses the animation at 1.5 s.
+"""
+from __future__ import annotations
+
+import base64
+import os
+from collections import OrderedDict
+from pathlib import Path
+from typing import Any, Iterable, Optional, Sequence, Union
+
+import numpy as np
+
+from ._core import Model
+from .geometry import Shape, body_frames, model_shapes, sample_configurations, segment_frame
+
+Motion = Any  # a hovi.Trajectory (its t and q) or an (N, n) array of configurations
+
+
+def _meshcat() -> Any:
+    try:
+        import meshcat  # noqa: F401
+        import meshcat.animation
+        import meshcat.commands
+        import meshcat.geometry
+        import umsgpack  # noqa: F401  (meshcat's message encoding)
+    except ImportError as e:  # pragma: no cover - exercised only without the extra
+        raise ImportError("hovi.viewer needs meshcat: pip install 'hovi[viewer]'") from e
+    return meshcat
+
+
+def _colour(rgba: np.ndarray) -> tuple[int, float]:
+    r, g, b = (np.clip(np.asarray(rgba[:3]), 0, 1) * 255).round().astype(int)
+    return (int(r) << 16) | (int(g) << 8) | int(b), float(rgba[3])
+
+
+def _geometry(shape: Shape) -> Any:
+    g = _meshcat().geometry
+    if shape.kind == "box":
+        return g.Box(list(shape.size))
+    if shape.kind == "sphere":
+        return g.Sphere(float(shape.size[0]))
+    if shape.kind == "cylinder":
+        return g.Cylinder(float(shape.size[1]), float(shape.size[0]))
+    suffix = Path(str(shape.mesh_path)).suffix.lower()
+    readers = {".stl": g.StlMeshGeometry, ".obj": g.ObjMeshGeometry, ".dae": g.DaeMeshGeometry}
+    if suffix not in readers:
+        raise ValueError(f"mesh '{shape.mesh_path}': meshcat reads .stl, .obj and .dae files, not '{suffix}'")
+    return readers[suffix].from_file(shape.mesh_path)
+
+
+# meshcat's (three.js's) cylinders run along y, URDF's along z: turn y into z.
+_Y_TO_Z = np.array([[1.0, 0, 0, 0], [0, 0, -1, 0], [0, 1, 0, 0], [0, 0, 0, 1]])
+
+
+def _local_transform(shape: Shape) -> np.ndarray:
+    """The shape node's pose in its body node (its origin, turned for cylinders, scaled for meshes)."""
+    if shape.kind == "cylinder":
+        return shape.origin @ _Y_TO_Z
+    if shape.kind == "mesh":
+        return shape.origin @ np.diag(np.append(shape.scale, 1.0))
+    return shape.origin
+
+
+def _motion(model: Model, motion: Motion, times: Optional[Sequence[float]]) -> tuple[np.ndarray, np.ndarray]:
+    """(times (N,), configurations (N, n)) of a Trajectory or an array with times (default 0, 1/30, ...)."""
+    if hasattr(motion, "q") and hasattr(motion, "t"):
+        q, t = np.asarray(motion.q, dtype=float), np.asarray(motion.t, dtype=float)
+    else:
+        q = np.atleast_2d(np.asarray(motion, dtype=float))
+        t = np.arange(q.shape[0]) / 30.0 if times is None else np.asarray(times, dtype=float)
+    if q.ndim != 2 or q.shape[1] != model.n:
+        raise ValueError(f"configurations must be (N, {model.n}) for this model, got shape {q.shape}")
+    return t, q
+
+
+class Viewer:
+    """A meshcat scene of one model: pose it, animate motions, draw markers, export HTML.
+
+    model: the hovi.Model to draw (its visuals, or default capsules and centre-of-mass spheres).
+    package_dirs: directories searched for ``package://`` meshes (then ROS_PACKAGE_PATH).
+    server: start meshcat's server (default); False records the scene for ``export_html`` only.
+    zmq_url: connect to a running meshcat server instead of starting one.
+    """
+
+    def __init__(self, model: Model, package_dirs: Iterable[Union[str, os.PathLike[str]]] = (), *,
+                 server: bool = True, zmq_url: Optional[str] = None) -> None:
+        mc = _meshcat()
+        self.model = model
+        self.shapes = model_shapes(model, package_dirs)
+        self._visualizer = mc.Visualizer(zmq_url=zmq_url) if server or zmq_url else None
+        self._commands: "OrderedDict[tuple[str, str], Any]" = OrderedDict()
+        self._camera: Optional[tuple[np.ndarray, np.ndarray]] = None
+        self._body_paths = [self._path("hovi", "bodies", f"{i:03d}_{self._safe(name)}")
+                            for i, name in enumerate(model.body_names)] + [self._path("hovi", "world")]
+        for shape in self.shapes:
+            path = self._body_paths[shape.body].append(self._safe(shape.name))
+            colour, opacity = _colour(shape.rgba)
+            material = mc.geometry.MeshLambertMaterial(color=colour, opacity=opacity)
+            self._send(mc.commands.SetObject(_geometry(shape), material, path))
+            self._send(mc.commands.SetTransform(_local_transform(shape), path))
+        self.display(np.zeros(model.n))
+
+    @staticmethod
+    def _safe(name: str) -> str:
+        return "".join(c if c.isalnum() or c in "-_." else "_" for c in name)
+
+    @staticmethod
+    def _path(*entries: str) -> Any:
+        return _meshcat().path.Path(("meshcat",) + entries)
+
+    def _send(self, command: Any) -> None:
+        lowered = command.lower()
+        self._commands[(lowered["type"], lowered["path"])] = command
+        if self._visualizer is not None:
+            self._visualizer.window.send(command)
+
+    @property
+    def url(self) -> Optional[str]:
+        """The address of the live view (None without a server)."""
+        return None if self._visualizer is None else self._visualizer.url()
+
+    def display(self, q: Sequence[float] | np.ndarray) -> None:
+        """Pose the model at q: (n,) joint positions."""
+        q = np.asarray(q, dtype=float)
+        if q.shape != (self.model.n,) or not np.all(np.isfinite(q)):
+            raise ValueError(f"q must be {self.model.n} finite numbers, got shape {q.shape}")
+        commands = _meshcat().commands
+        for path, frame in zip(self._body_paths, body_frames(self.model, q)):
+            self._send(commands.SetTransform(frame, path))
+
+    def play(self, motion: Motion, times: Optional[Sequence[float]] = None, fps: float = 30.0,
+             repetitions: int = 1) -> "Viewer":
+        """Animate a motion: a hovi.Trajectory, or (N, n) configurations at ``times`` (N,) seconds.
+
+        The motion is sampled at ``fps`` frames per second (linear interpolation in q). meshcat's
+        controls play, pause, reset and scrub it. Returns the viewer.
+        """
+        t, q = _motion(self.model, motion, times)
+        frame_t, frames_q = sample_configurations(q, t, fps)
+        mc = _meshcat()
+        anim = mc.animation.Animation(default_framerate=fps)
+        for k, qk in enumerate(frames_q):
+            for path, frame in zip(self._body_paths[:-1], body_frames(self.model, qk)):
+                mc.animation.AnimationFrameVisualizer(anim, path, k).set_transform(frame)
+        self.display(frames_q[0])
+        self._send(mc.commands.SetAnimation(anim, play=True, repetitions=int(repetitions)))
+        self.duration = float(frame_t[-1] - frame_t[0])
+        return self
+
+    def add_marker(self, name: str, position: Sequence[float], radius: float = 0.03,
+                   rgba: Sequence[float] = (0.1, 0.8, 0.2, 1.0)) -> None:
+        """A sphere at a world position (3,), e.g. a contact point or a target."""
+        mc = _meshcat()
+        path = self._path("hovi", "markers", self._safe(name))
+        colour, opacity = _colour(np.asarray(rgba, dtype=float))
+        self._send(mc.commands.SetObject(mc.geometry.Sphere(float(radius)),
+                                         mc.geometry.MeshLambertMaterial(color=colour, opacity=opacity), path))
+        T = np.eye(4)
+        T[:3, 3] = _finite3(position, "position")
+        self._send(mc.commands.SetTransform(T, path))
+
+    def add_arrow(self, name: str, origin: Sequence[float], vector: Sequence[float], radius: float = 0.01,
+                  rgba: Sequence[float] = (0.85, 0.1, 0.1, 1.0)) -> None:
+        """An arrow from a world point (3,) along a vector (3,) (its length in metres), e.g. a force."""
+        mc = _meshcat()
+        a, v = _finite3(origin, "origin"), _finite3(vector, "vector")
+        length = float(np.linalg.norm(v))
+        if length == 0:
+            raise ValueError("vector must be non-zero")
+        colour, opacity = _colour(np.asarray(rgba, dtype=float))
+        material = mc.geometry.MeshLambertMaterial(color=colour, opacity=opacity)
+        head = min(0.3 * length, 6 * radius)
+        base = self._path("hovi", "markers", self._safe(name))
+        shaft_end = a + v * (1 - head / length)
+        for part, (p0, p1, geometry) in {
+            "shaft": (a, shaft_end, mc.geometry.Cylinder(length - head, radius)),
+            "head": (shaft_end, a + v, mc.geometry.Cylinder(head, 0.0, radiusTop=0.0, radiusBottom=2.5 * radius)),
+        }.items():
+            path = base.append(part)
+            self._send(mc.commands.SetObject(geometry, material, path))
+            self._send(mc.commands.SetTransform(segment_frame(p0, p1) @ _Y_TO_Z, path))
+
+    def delete_markers(self) -> None:
+        """Remove every marker and arrow."""
+        path = self._path("hovi", "markers")
+        prefix = path.lower()
+        for key in [k for k in self._commands if k[1] == prefix or k[1].startswith(prefix + "/")]:
+            del self._commands[key]
+        if self._visualizer is not None:
+            self._visualizer.window.send(_meshcat().commands.Delete(path))
+
+    def set_camera(self, target: Sequence[float], position: Sequence[float]) -> None:
+        """Look at a world point (3,) from a world position (3,).
+
+        Exported HTML uses both; a live meshcat view (whose orbit centre stays at the origin)
+        takes the position only.
+        """
+        self._camera = (_finite3(target, "target"), _finite3(position, "position"))
+        mc = _meshcat()
+        self._send(mc.commands.SetProperty("position", _y_up(self._camera[1]).tolist(),
+                                           mc.path.Path(("Cameras", "default", "rotated", "<object>"))))
+
+    def frame_model(self, q: Optional[np.ndarray] = None) -> None:
+        """Point the camera at the model from the side, keeping it in view.
+
+        q: (n,) one configuration, or (N, n) configurations (a motion) to keep in view; default zeros.
+        """
+        qs = np.atleast_2d(np.zeros(self.model.n) if q is None else np.asarray(q, dtype=float))
+        points = []
+        for qk in qs[:: max(1, len(qs) // 50)]:
+            frames = body_frames(self.model, qk)
+            points += [(frames[s.body] @ s.origin)[:3, 3] for s in self.shapes] + [frames[-1][:3, 3]]
+        points_array = np.array(points)
+        centre = (points_array.min(axis=0) + points_array.max(axis=0)) / 2
+        radius = max(float(np.linalg.norm(points_array - centre, axis=1).max()), 0.1)
+        direction = np.array([0.4, -1.0, 0.5])
+        self.set_camera(centre, centre + 1.7 * radius * direction / np.linalg.norm(direction))
+
+    def html(self) -> str:
+        """The standalone HTML of everything shown so far (meshcat's JavaScript included)."""
+        import umsgpack
+
+        script = (Path(_meshcat().__file__).parent / "viewer" / "dist" / "main.min.js").read_text()
+        blobs = ",\n".join('"' + base64.b64encode(umsgpack.packb(c.lower())).decode() + '"'
+                           for c in self._commands.values())
+        camera = ""
+        if self._camera is not None:
+            (tx, ty, tz), (px, py, pz) = (_y_up(p) for p in self._camera)
+            camera = (f"viewer.camera.position.set({px}, {py}, {pz});\n"
+                      f"viewer.controls.target.set({tx}, {ty}, {tz});\n")
+        return _HTML.format(script=script.replace("</script", "<\\/script"), commands=blobs, camera=camera)
+
+    def export_html(self, path: Union[str, os.PathLike[str]]) -> Path:
+        """Write ``html()`` to a file; returns its path. Open it in any browser, no server needed."""
+        out = Path(path)
+        out.parent.mkdir(parents=True, exist_ok=True)
+        out.write_text(self.html())
+        return out
+
+
+def _y_up(p: np.ndarray) -> np.ndarray:
+    """A world point (z up) in the frame of meshcat's camera (three.js, y up)."""
+    return np.array([p[0], p[2], -p[1]], dtype=float)
+
+
+def _finite3(x: Sequence[float], name: str) -> np.ndarray:
+    a = np.asarray(x, dtype=float)
+    if a.shape != (3,) or not np.all(np.isfinite(a)):
+        raise ValueError(f"{name} must be 3 finite numbers, got {x!r}")
+    return a
+
+
+def animation_html(model: Model, motion: Motion, path: Union[str, os.PathLike[str]],
+                   times: Optional[Sequence[float]] = None, fps: float = 30.0,
+                   package_dirs: Iterable[Union[str, os.PathLike[str]]] = ()) -> Path:
+    """Write a standalone HTML animation of a motion (see Viewer.play) without starting a server."""
+    viewer = Viewer(model, package_dirs, server=False)
+    viewer.frame_model(_motion(model, motion, times)[1])
+    viewer.play(motion, times, fps)
+    return viewer.export_html(path)
+
+
+_HTML = """<!DOCTYPE html>
+<html>
+<head><meta charset="utf-8"><title>hovi</title>
+<style>html, body {{ margin: 0; height: 100%; overflow: hidden; }} #meshcat-pane {{ width: 100%; height: 100%; }}</style>
+</head>
+<body>
+<div id="meshcat-pane"></div>
+<script>{script}</script>
+<script>
+var viewer = new MeshCat.Viewer(document.getElementById("meshcat-pane"));
+for (const blob of [{commands}]) {{
+  const text = atob(blob), bytes = new Uint8Array(text.length);
+  for (let i = 0; i < text.length; ++i) bytes[i] = text.charCodeAt(i);
+  viewer.handle_command_bytearray(bytes);
+}}
+{camera}viewer.controls.update();
+// An address ending in #t=SECONDS pauses the animation there (stills, tests).
+const at = /[#&]t=([0-9.eE+-]+)/.exec(window.location.hash);
+if (at) {{ viewer.animator.pause(); viewer.animator.seek(parseFloat(at[1])); }}
+</script>
+</body>
+</html>
+"""
