@@ -7,10 +7,13 @@ PY := $(VENV)/bin/python
 JOBS ?= $(shell nproc)
 SOURCES := $(shell find cpp python -type f \( -name '*.cpp' -o -name '*.hpp' -o -name '*.py' \)) CMakeLists.txt pyproject.toml
 
-.PHONY: setup build demo test ctest pytest bench clean
+.PHONY: setup setup-test build demo test ctest pytest bench clean
 
 setup:
 	@./scripts/setup.sh
+
+setup-test:
+	@./scripts/setup.sh test
 
 # The Python package, rebuilt (incrementally, in build/) when a source changed.
 $(VENV)/.hovi.stamp: $(SOURCES) | setup
@@ -26,11 +29,11 @@ ctest: setup build/cpp/CMakeCache.txt
 	cmake --build build/cpp -j $(JOBS)
 	cd build/cpp && ctest --output-on-failure -j $(JOBS)
 
-pytest: build
+pytest: build setup-test
 	$(PY) -m pytest -q tests
 
 demo: build
-	$(PY) -m hovi simulate pendulum:32 --order 4 --dt 0.01 --duration 10 --output results
+	$(PY) -m hovi simulate pendulum:32 --order 4 --dt 0.01 --duration 10 --output results --animate
 
 test: ctest pytest
 

@@ -1,11 +1,14 @@
 #!/usr/bin/env bash
 # Installs what is missing on a Debian machine: system packages (apt-get) and a .venv with
 # the Python dependencies. Idempotent: does nothing when everything is present.
+# `scripts/setup.sh test` also installs what only the tests need (chromium: the headless browser
+# that renders the viewer's HTML in tests/test_viewer.py).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 # IPOPT (trajectory optimisation, through cyipopt built from its PyPI source against it)
 APT_PACKAGES="g++ make cmake libeigen3-dev liburdfdom-dev libtinyxml-dev libgtest-dev coinor-libipopt-dev liblapack-dev libblas-dev pkg-config"
+[ "${1:-}" = "test" ] && APT_PACKAGES="$APT_PACKAGES chromium"
 missing=""
 for p in $APT_PACKAGES; do
   dpkg -s "$p" >/dev/null 2>&1 || missing="$missing $p"

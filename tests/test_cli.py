@@ -26,9 +26,21 @@ def test_simulate_urdf(tmp_path):
     assert main(["simulate", path, "--duration", "0.1", "--no-progress", "--no-plot", "--output", str(tmp_path)]) == 0
 
 
+def test_simulate_animate_writes_html_and_video(tmp_path, capsys):
+    pytest.importorskip("hovi.viewer", reason="hovi[viewer] is not installed")
+    import imageio.v3 as iio
+    assert main(["simulate", "pendulum:3", "--duration", "0.5",
+                 "--no-progress", "--no-plot", "--animate", "--fps", "10", "--output", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert f"wrote {tmp_path / 'animation.html'}" in out and f"wrote {tmp_path / 'animation.mp4'}" in out
+    assert "MeshCat.Viewer" in (tmp_path / "animation.html").read_text()
+    assert iio.imread(tmp_path / "animation.mp4", index=None).shape[0] == 6  # 0.5 s at 10 frames per second
+
+
 def test_help_explains_every_option():
     out = subprocess.run([sys.executable, "-m", "hovi", "simulate", "--help"], capture_output=True, text=True).stdout
-    for opt in ("--order", "--dt", "--duration", "--spread", "--tol", "--output", "--no-plot", "--base", "--seed"):
+    for opt in ("--order", "--dt", "--duration", "--spread", "--tol", "--output", "--no-plot", "--base", "--seed",
+                "--animate", "--fps", "--package-dir"):
         assert opt in out
 
 

@@ -72,7 +72,23 @@ def cmd_simulate(args) -> int:
         plot_configuration(model, traj.q[-1], os.path.join(args.output, "final_configuration.png"),
                            f"{name} at t = {traj.t[-1]:.3g} s")
         print(f"wrote {args.output}/energy_error.png, final_configuration.png, simulate.json")
+    if args.animate:
+        write_animation(model, traj, args)
     return 0 if traj.converged else 1
+
+
+def write_animation(model: Model, traj, args) -> None:
+    """animation.html (meshcat, standalone) and animation.mp4 (offline render) in args.output."""
+    from .video import render_video
+    from .viewer import animation_html
+
+    html = animation_html(model, traj, os.path.join(args.output, "animation.html"), fps=args.fps,
+                          package_dirs=args.package_dir)
+    t0 = time.perf_counter()
+    video = render_video(model, traj, os.path.join(args.output, "animation.mp4"), fps=args.fps,
+                         package_dirs=args.package_dir)
+    print(f"wrote {html} (open it in a browser: play, pause and scrub under Open Controls > Animations)")
+    print(f"wrote {video} ({time.perf_counter() - t0:.1f} s to render)")
 
 
 def cmd_info(args) -> int:
@@ -156,6 +172,12 @@ def main(argv=None) -> int:
     sim.add_argument("--output", default="results", help="folder for the plots and JSON (default: results)")
     sim.add_argument("--no-plot", action="store_true", help="skip the plots")
     sim.add_argument("--no-progress", action="store_true", help="no progress bar")
+    sim.add_argument("--animate", action="store_true",
+                     help="also write animation.html (3D view, opens without a server) and animation.mp4 "
+                          "(needs hovi[viewer]: meshcat, imageio-ffmpeg, trimesh)")
+    sim.add_argument("--fps", type=float, default=20.0, help="frames per second of the animation (default: 20)")
+    sim.add_argument("--package-dir", action="append", default=[], metavar="DIR",
+                     help="directory searched for package:// meshes (repeatable; then ROS_PACKAGE_PATH)")
     sim.set_defaults(func=cmd_simulate)
     opt = sub.add_parser("optimize", help="solve a built-in trajectory optimisation with IPOPT",
                          description="Solve a built-in trajectory-optimisation example (swing-ups with torque "
@@ -180,8 +202,8 @@ def main(argv=None) -> int:
     add_model_args(info)
     info.set_defaults(func=cmd_info)
     args = parser.parse_args(argv)
-    if getattr(args, "dt", 1) <= 0 or getattr(args, "duration", 1) <= 0:
-        parser.error("--dt and --duration must be positive")
+    if getattr(args, "dt", 1) <= 0 or getattr(args, "duration", 1) <= 0 or getattr(args, "fps", 1) <= 0:
+        parser.error("--dt, --duration and --fps must be positive")
     if args.command == "optimize" and (args.order < 2 or args.order % 2 or args.N < 0 or args.T < 0):
         parser.error("--order must be an even number >= 2, --N and --T non-negative")
     try:

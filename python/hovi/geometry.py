@@ -12,7 +12,7 @@ from __future__ import annotations
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Iterable, List, Optional, Sequence
+from typing import Any, Iterable, List, Optional, Sequence
 
 import numpy as np
 
@@ -102,33 +102,35 @@ def _translation(p: np.ndarray) -> np.ndarray:
 def default_shapes(model: Model, radius: Optional[float] = None) -> List[Shape]:
     """Capsules between joints (to twice the centre of mass for leaves) and spheres at centres of mass.
 
-    radius: the capsules' radius; default 4% of the longest segment (at least 1 mm).
+    radius: the capsules' radius; default the larger of 5% of the longest segment and 1.5% of the
+    model's size at q = 0 (at least 1 mm).
     """
     q0 = np.zeros(model.n)
     joints = model.joint_placements(q0)
     coms = model.body_poses(q0)[:, :3, 3]
     parents = model.parents
-    segments: List[tuple[int, np.ndarray, np.ndarray]] = []  # (body, a, b) in the body's joint frame
+    segments: List[tuple[int, np.ndarray, np.ndarray, bool]] = []  # (body, a, b, b is a leaf end), joint frame
     com_local = []
     for i in range(model.n):
         inv = np.linalg.inv(joints[i])
         com_local.append(inv[:3, :3] @ coms[i] + inv[:3, 3])
         children = [c for c in range(model.n) if parents[c] == i]
-        ends = [inv[:3, :3] @ joints[c][:3, 3] + inv[:3, 3] for c in children] or [2 * com_local[i]]
-        segments += [(i, np.zeros(3), e) for e in ends if np.linalg.norm(e) > 1e-9]
-    longest = max((float(np.linalg.norm(b - a)) for _, a, b in segments), default=0.0)
-    r = radius if radius is not None else max(0.04 * longest, 1e-3)
-    shapes = []
-    for k, (body, a, b) in enumerate(segments):
+        ends = [(inv[:3, :3] @ joints[c][:3, 3] + inv[:3, 3], False) for c in children] or [(2 * com_local[i], True)]
+        segments += [(i, np.zeros(3), e, leaf) for e, leaf in ends if np.linalg.norm(e) > 1e-9]
+    longest = max((float(np.linalg.norm(b - a)) for _, a, b, _ in segments), default=0.0)
+    points = np.vstack([joints[:, :3, 3], coms])
+    r = radius if radius is not None else max(0.05 * longest, 0.015 * float(np.ptp(points, axis=0).max()), 1e-3)
+    shapes = [Shape(i, f"joint{i}", "sphere", np.array([r, 0.0, 0.0]), np.eye(4), LINK_RGBA) for i in range(model.n)]
+    for k, (body, a, b, leaf) in enumerate(segments):
         length = float(np.linalg.norm(b - a))
         shapes.append(Shape(body, f"link{body}_{k}", "cylinder", np.array([r, length, 0.0]), segment_frame(a, b), LINK_RGBA))
-        for end, p in (("a", a), ("b", b)):
-            shapes.append(Shape(body, f"link{body}_{k}{end}", "sphere", np.array([r, 0.0, 0.0]), _translation(p), LINK_RGBA))
+        if leaf:
+            shapes.append(Shape(body, f"link{body}_{k}_end", "sphere", np.array([r, 0.0, 0.0]), _translation(b), LINK_RGBA))
     masses = np.asarray(model.masses, dtype=float)
     m_max = masses.max() if masses.size and masses.max() > 0 else 1.0
     for i in range(model.n):
         if masses[i] > 0:
-            rc = 1.6 * r * (masses[i] / m_max) ** (1 / 3)
+            rc = 1.3 * r * (masses[i] / m_max) ** (1 / 3)
             shapes.append(Shape(i, f"com{i}", "sphere", np.array([rc, 0.0, 0.0]), _translation(com_local[i]), COM_RGBA))
     return shapes
 
@@ -139,6 +141,23 @@ def body_frames(model: Model, q: Sequence[float] | np.ndarray) -> np.ndarray:
     frames[:-1] = model.joint_placements(np.asarray(q, dtype=float))
     frames[-1] = np.eye(4)
     return frames
+
+
+#: What viewers animate: a hovi.Trajectory (its t and q) or an (N, n) array of configurations.
+Motion = Any
+
+
+def motion_arrays(model: Model, motion: Motion, times: Optional[Sequence[float]] = None,
+                  rate: float = 30.0) -> tuple[np.ndarray, np.ndarray]:
+    """(times (N,), configurations (N, n)) of a Trajectory, or of an array at ``times`` (default 1/rate apart)."""
+    if hasattr(motion, "q") and hasattr(motion, "t"):
+        q, t = np.asarray(motion.q, dtype=float), np.asarray(motion.t, dtype=float)
+    else:
+        q = np.atleast_2d(np.asarray(motion, dtype=float))
+        t = np.arange(q.shape[0]) / rate if times is None else np.asarray(times, dtype=float)
+    if q.ndim != 2 or q.shape[1] != model.n:
+        raise ValueError(f"configurations must be (N, {model.n}) for this model, got shape {q.shape}")
+    return t, q
 
 
 def sample_configurations(q: np.ndarray, t: np.ndarray, fps: float) -> tuple[np.ndarray, np.ndarray]:

@@ -21,10 +21,7 @@ from typing import Any, Iterable, Optional, Sequence, Union
 import numpy as np
 
 from ._core import Model
-from .geometry import Shape, body_frames, model_shapes, sample_configurations, segment_frame
-
-Motion = Any  # a hovi.Trajectory (its t and q) or an (N, n) array of configurations
-
+from .geometry import Motion, Shape, body_frames, model_shapes, motion_arrays, sample_configurations, segment_frame
 
 def _meshcat() -> Any:
     try:
@@ -69,18 +66,6 @@ def _local_transform(shape: Shape) -> np.ndarray:
     if shape.kind == "mesh":
         return shape.origin @ np.diag(np.append(shape.scale, 1.0))
     return shape.origin
-
-
-def _motion(model: Model, motion: Motion, times: Optional[Sequence[float]]) -> tuple[np.ndarray, np.ndarray]:
-    """(times (N,), configurations (N, n)) of a Trajectory or an array with times (default 0, 1/30, ...)."""
-    if hasattr(motion, "q") and hasattr(motion, "t"):
-        q, t = np.asarray(motion.q, dtype=float), np.asarray(motion.t, dtype=float)
-    else:
-        q = np.atleast_2d(np.asarray(motion, dtype=float))
-        t = np.arange(q.shape[0]) / 30.0 if times is None else np.asarray(times, dtype=float)
-    if q.ndim != 2 or q.shape[1] != model.n:
-        raise ValueError(f"configurations must be (N, {model.n}) for this model, got shape {q.shape}")
-    return t, q
 
 
 class Viewer:
@@ -129,6 +114,15 @@ class Viewer:
         """The address of the live view (None without a server)."""
         return None if self._visualizer is None else self._visualizer.url()
 
+    def close(self) -> None:
+        """Stop the meshcat server this viewer started (the recorded scene stays exportable)."""
+        if self._visualizer is not None:
+            process = getattr(self._visualizer.window, "server_proc", None)
+            if process is not None:
+                process.kill()
+                process.wait()
+            self._visualizer = None
+
     def display(self, q: Sequence[float] | np.ndarray) -> None:
         """Pose the model at q: (n,) joint positions."""
         q = np.asarray(q, dtype=float)
@@ -145,7 +139,7 @@ class Viewer:
         The motion is sampled at ``fps`` frames per second (linear interpolation in q). meshcat's
         controls play, pause, reset and scrub it. Returns the viewer.
         """
-        t, q = _motion(self.model, motion, times)
+        t, q = motion_arrays(self.model, motion, times, fps)
         frame_t, frames_q = sample_configurations(q, t, fps)
         mc = _meshcat()
         anim = mc.animation.Animation(default_framerate=fps)
@@ -189,6 +183,12 @@ class Viewer:
             path = base.append(part)
             self._send(mc.commands.SetObject(geometry, material, path))
             self._send(mc.commands.SetTransform(segment_frame(p0, p1) @ _Y_TO_Z, path))
+
+    def show_model(self, visible: bool = True) -> None:
+        """Show or hide the model (markers and arrows stay)."""
+        mc = _meshcat()
+        self._send(mc.commands.SetProperty("visible", bool(visible), self._path("hovi", "bodies")))
+        self._send(mc.commands.SetProperty("visible", bool(visible), self._path("hovi", "world")))
 
     def delete_markers(self) -> None:
         """Remove every marker and arrow."""
@@ -265,7 +265,7 @@ def animation_html(model: Model, motion: Motion, path: Union[str, os.PathLike[st
                    package_dirs: Iterable[Union[str, os.PathLike[str]]] = ()) -> Path:
     """Write a standalone HTML animation of a motion (see Viewer.play) without starting a server."""
     viewer = Viewer(model, package_dirs, server=False)
-    viewer.frame_model(_motion(model, motion, times)[1])
+    viewer.frame_model(motion_arrays(model, motion, times, fps)[1])
     viewer.play(motion, times, fps)
     return viewer.export_html(path)
 

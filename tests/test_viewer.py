@@ -1,0 +1,106 @@
+"""hovi.viewer: standalone HTML animations rendered by a headless browser (the robot is drawn and
+moves), markers, the live meshcat server, and clear errors."""
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import hovi
+from conftest import erd_urdf
+from headless_browser import changed_fraction, screenshot
+
+viewer = pytest.importorskip("hovi.viewer", reason="hovi[viewer] (meshcat) is not installed")
+
+UR5 = "ur_description/urdf/ur5_robot.urdf"
+
+
+def ur5_and_package_dir():
+    path = Path(erd_urdf(UR5))
+    return hovi.Model.from_urdf(str(path)), path.parents[3]  # .../share holds example-robot-data/robots/...
+
+
+def check_animation(model, traj, tmp_path, name, package_dirs=()):
+    """Screenshots at two times and with the model hidden: the model is drawn and moves."""
+    html = viewer.animation_html(model, traj, tmp_path / f"{name}.html", package_dirs=package_dirs)
+    early = screenshot(html, tmp_path / f"{name}_early.png", "t=0.1")
+    late = screenshot(html, tmp_path / f"{name}_late.png", "t=0.9")
+    hidden = viewer.Viewer(model, package_dirs, server=False)
+    hidden.frame_model(traj.q)
+    hidden.show_model(False)
+    background = screenshot(hidden.export_html(tmp_path / f"{name}_hidden.html"), tmp_path / f"{name}_hidden.png")
+    assert early.shape == (480, 640, 3)
+    pixels = early.shape[0] * early.shape[1]
+    for when, image in (("0.1", early), ("0.9", late)):
+        drawn = changed_fraction(image, background) * pixels
+        assert drawn > 500, f"{name} at t = {when} s: the model covers only {drawn:.0f} pixels"
+    moved = changed_fraction(early, late) * pixels
+    assert moved > 500, f"{name}: only {moved:.0f} pixels changed between t = 0.1 and 0.9 s"
+
+
+def test_pendulum_animation_is_drawn_and_moves(tmp_path):
+    model = hovi.models.pendulum(5)
+    traj = hovi.Integrator(model, order=4, dt=0.01).rollout(np.full(5, 0.6), 100)
+    check_animation(model, traj, tmp_path, "pendulum5")
+
+
+def test_urdf_with_meshes_animation_is_drawn_and_moves(tmp_path):
+    model, share = ur5_and_package_dir()
+    assert {v["shape"] for v in model.visuals} == {"mesh"}
+    traj = hovi.Integrator(model, order=4, dt=0.01).rollout(np.array([0, -1.0, 1.0, 0, 0.5, 0]), 100)
+    check_animation(model, traj, tmp_path, "ur5", package_dirs=[share])
+
+
+def test_markers_and_arrows_are_drawn(tmp_path):
+    model = hovi.models.pendulum(2)
+    plain = viewer.Viewer(model, server=False)
+    plain.frame_model()
+    marked = viewer.Viewer(model, server=False)
+    marked.frame_model()
+    marked.add_marker("target", [0.3, 0.0, -0.5], radius=0.08)
+    marked.add_arrow("force", [0.0, 0.0, -1.0], [0.5, 0.0, 0.0], radius=0.03)
+    a = screenshot(plain.export_html(tmp_path / "plain.html"), tmp_path / "plain.png")
+    b = screenshot(marked.export_html(tmp_path / "marked.html"), tmp_path / "marked.png")
+    assert changed_fraction(a, b) > 0.002
+    marked.delete_markers()
+    c = screenshot(marked.export_html(tmp_path / "cleared.html"), tmp_path / "cleared.png")
+    assert changed_fraction(a, c) < 0.0005
+
+
+def test_html_is_standalone():
+    model = hovi.models.pendulum(3)
+    html = viewer.Viewer(model, server=False).html()
+    assert "MeshCat.Viewer" in html and "<script src=" not in html  # meshcat's JavaScript is inlined
+
+
+def test_live_viewer_starts_a_local_server():
+    model = hovi.models.pendulum(3)
+    v = viewer.Viewer(model)
+    try:
+        assert v.url.startswith("http://127.0.0.1:")
+        v.display(np.full(3, 0.2))
+        v.play(np.zeros((10, 3)))
+        assert v.duration == pytest.approx(9 / 30)
+        v.close()
+        assert v.url is None and "MeshCat.Viewer" in v.html()  # the recording outlives the server
+    finally:
+        v.close()
+
+
+def test_bad_input_raises_clear_errors(tmp_path):
+    model = hovi.models.pendulum(3)
+    v = viewer.Viewer(model, server=False)
+    with pytest.raises(ValueError, match="3 finite numbers"):
+        v.display([0.0, np.nan, 0.0])
+    with pytest.raises(ValueError, match=r"\(N, 3\)"):
+        v.play(np.zeros((10, 4)))
+    with pytest.raises(ValueError, match="strictly increasing"):
+        v.play(np.zeros((3, 3)), times=[0.0, 0.2, 0.1])
+    with pytest.raises(ValueError, match="non-zero"):
+        v.add_arrow("f", [0, 0, 0], [0, 0, 0])
+    urdf = tmp_path / "mesh.urdf"
+    urdf.write_text('<robot name="r"><link name="base"/><link name="a"><inertial><mass value="1"/>'
+                    '<inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial><visual><geometry>'
+                    '<mesh filename="package://nowhere/a.stl"/></geometry></visual></link><joint name="j" '
+                    'type="continuous"><parent link="base"/><child link="a"/></joint></robot>')
+    with pytest.raises(FileNotFoundError, match="package 'nowhere' not found"):
+        viewer.Viewer(hovi.Model.from_urdf(str(urdf)), server=False)
