@@ -1,13 +1,14 @@
 # make demo   set up (apt + .venv), build, install and run the demo
 # make test   set up, build, then ctest and pytest
 # make bench  run the benchmarks in bench/ (slow; writes bench/results/)
+# make docs   build the documentation site into site/ (mkdocs build --strict: warnings fail)
 SHELL := /bin/bash
 VENV := .venv
 PY := $(VENV)/bin/python
 JOBS ?= $(shell nproc)
 SOURCES := $(shell find cpp python -type f \( -name '*.cpp' -o -name '*.hpp' -o -name '*.py' \)) CMakeLists.txt pyproject.toml
 
-.PHONY: setup setup-test build demo test ctest pytest bench clean
+.PHONY: setup setup-test build demo test ctest pytest bench docs clean
 
 setup:
 	@./scripts/setup.sh
@@ -39,6 +40,10 @@ test: ctest pytest
 
 bench: build
 	$(PY) bench/run_all.py
+
+# The API reference documents the installed package (hovi._core is inspected), hence `build`.
+docs: build
+	NO_MKDOCS_2_WARNING=1 $(PY) -m mkdocs build --strict --site-dir site
 
 clean:
 	rm -rf build $(VENV)/.hovi.stamp

@@ -237,8 +237,8 @@ the COM (joint-frame axes). Raises hovi.ModelError naming the body on invalid in
       .def_property_readonly("upper_limits", [](const PyModel& s) { return per_joint(s.model, [](const BodySpec& b) { return b.limits.upper; }); })
       .def_property_readonly("velocity_limits", [](const PyModel& s) { return per_joint(s.model, [](const BodySpec& b) { return b.limits.velocity; }); })
       .def_property_readonly("effort_limits", [](const PyModel& s) { return per_joint(s.model, [](const BodySpec& b) { return b.limits.effort; }); })
-      .def_property_readonly("damping", [](const PyModel& s) { return per_joint(s.model, [](const BodySpec& b) { return b.damping; }); }, "URDF <dynamics damping> per joint (metadata).")
-      .def_property_readonly("friction", [](const PyModel& s) { return per_joint(s.model, [](const BodySpec& b) { return b.friction; }); }, "URDF <dynamics friction> per joint (metadata).")
+      .def_property_readonly("damping", [](const PyModel& s) { return per_joint(s.model, [](const BodySpec& b) { return b.damping; }); }, "URDF ``<dynamics damping>`` per joint (metadata).")
+      .def_property_readonly("friction", [](const PyModel& s) { return per_joint(s.model, [](const BodySpec& b) { return b.friction; }); }, "URDF ``<dynamics friction>`` per joint (metadata).")
       .def_property_readonly("mimic", [](const PyModel& s) {
             py::dict d;
             for (const BodySpec& b : s.model.spec)

@@ -183,7 +183,7 @@ class Integrator:
         """The velocity q̇ of a discrete momentum p: M(q)^{-1} p, O(n).
 
         For a constrained model, the q̇ with Dh(q) q̇ = 0 nearest to M^{-1} p in the kinetic-energy
-        metric: [M Dh^T; Dh 0] [q̇; μ] = [p; 0], solved in O(n m + m^3) with the recursive
+        metric: ``[M Dh^T; Dh 0] [q̇; μ] = [p; 0]``, solved in O(n m + m^3) with the recursive
         mass-matrix solve (the momentum projection of RATTLE-type methods). The discrete momentum
         p^k of a constrained step is defined up to Dh(q^k)^T μ (the next step's constraint impulse
         absorbs that part), so M^{-1} p alone is not a tangent velocity.

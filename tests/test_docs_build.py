@@ -1,0 +1,84 @@
+"""The documentation site builds with warnings as errors (what `make docs` runs), and the pages that
+are generated rather than written hold what they should: the API reference of the compiled and
+the Python classes, and the benchmark headline included from bench/README.md."""
+import html
+import importlib.util
+import os
+import re
+import subprocess
+import sys
+
+import pytest
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+@pytest.fixture(scope="module")
+def site(tmp_path_factory):
+    if importlib.util.find_spec("mkdocs") is None:
+        pytest.skip("mkdocs is not installed: pip install 'hovi[docs]' (mkdocs-material, mkdocstrings-python), "
+                    "or make setup (requirements-dev.txt)")
+    out = tmp_path_factory.mktemp("site")
+    env = dict(os.environ, NO_MKDOCS_2_WARNING="1")
+    done = subprocess.run([sys.executable, "-m", "mkdocs", "build", "--strict", "--config-file",
+                           os.path.join(ROOT, "mkdocs.yml"), "--site-dir", str(out)],
+                          cwd=ROOT, env=env, capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, f"mkdocs build --strict failed ({done.returncode}):\n{done.stdout}\n{done.stderr}"
+    return out
+
+
+def _text(site, page):
+    """The visible text of a built page's article, tags removed."""
+    page_html = (site / page / "index.html").read_text(encoding="utf-8")
+    article = page_html[page_html.index("<article"):page_html.index("</article>")]
+    return re.sub(r"\s+", " ", html.unescape(re.sub(r"<[^>]+>", " ", article)))
+
+
+def _anchors(site, page):
+    return set(re.findall(r'id="(hovi\.[\w.]+)"', (site / page / "index.html").read_text(encoding="utf-8")))
+
+
+def test_build_strict(site):
+    """`mkdocs build --strict` exits 0 (in the fixture, which shows the output if not) with every page."""
+    for page in ["index.html", "getting-started/index.html", "benchmarks/index.html", "reference/hovi/index.html"] + [
+            f"tutorials/{t}/index.html" for t in ("simulate", "linearise", "constrain", "optimise")]:
+        assert (site / page).is_file(), page
+
+
+def test_api_reference_renders_compiled_and_python_members(site):
+    anchors = _anchors(site, "reference/hovi")
+    for name in ["hovi.Model", "hovi.Model.from_urdf", "hovi.Model.add_body", "hovi.Model.add_loop_constraint",
+                 "hovi.Model.mass_matrix", "hovi.Model.n", "hovi.Integrator", "hovi.Integrator.rollout",
+                 "hovi.Integrator.step", "hovi.Integrator.s", "hovi.Trajectory", "hovi.Trajectory.q",
+                 "hovi.Trajectory.energy", "hovi.Linearizer", "hovi.Linearizer.step_jacobians",
+                 "hovi.load_trajectory", "hovi.ModelError", "hovi.URDFError"]:
+        assert name in anchors, f"{name} is missing from the API reference"
+    text = _text(site, "reference/hovi")
+    # docstrings of the compiled module (read by inspection) and of the Python layer
+    assert "Load a URDF file (path) or XML string" in text           # Model.from_urdf (C++)
+    assert "Galerkin variational integrator of order 2s" in text     # Integrator (Python)
+    assert "Number of Lobatto intervals" in text                     # Integrator.s, a property(doc=...)
+    # a compiled method's signature comes from its pybind11 signature line, the line itself is gone
+    assert re.search(r"add_spring\s*\(\s*joint\s*:\s*object\s*,\s*stiffness\s*:\s*float", text), \
+        "Model.add_spring's parameters are not rendered"
+    assert "add_spring(self: hovi._core.Model" not in text
+    models = _anchors(site, "reference/models")
+    assert {"hovi.models.pendulum", "hovi.models.acrobot", "hovi.models.cartpole", "hovi.models.fourbar",
+            "hovi.models.slider_crank"} <= models
+    trajopt = _anchors(site, "reference/trajopt")
+    assert {"hovi.trajopt.Problem", "hovi.trajopt.solve", "hovi.trajopt.Result", "hovi.trajopt.ControlEffort",
+            "hovi.trajopt.BodyPoint", "hovi.trajopt.Problem.add_cost"} <= trajopt
+
+
+def test_benchmark_page_includes_the_headline(site):
+    """The headline section of bench/README.md appears on the page, whole and as it is there."""
+    readme = open(os.path.join(ROOT, "bench", "README.md"), encoding="utf-8").read()
+    section = readme[readme.index("[start:headline]"):readme.index("[end:headline]")]
+    rows = [line for line in section.splitlines() if line.startswith("| ") and not line.startswith("| comparison")]
+    assert len(rows) > 10
+    text = _text(site, "benchmarks")
+    assert "Headline results" in text
+    for row in (rows[0], rows[-1]):   # the first and the last row of the table, cell by cell
+        for cell in (c.strip().replace("**", "").replace("`", "") for c in row.strip("|").split("|")):
+            assert cell in text, f"benchmark page lacks {cell!r}"
+    assert "What they show." in text and "--8<--" not in text
