@@ -1,13 +1,15 @@
 # make demo   set up (apt + .venv), build, install and run the demo
 # make test   set up, build, then ctest and pytest
 # make bench  run the benchmarks in bench/ (slow; writes bench/results/)
+# make stubs  refresh the committed type stubs of hovi._core (python/hovi/_core/*.pyi) after a binding changed
 SHELL := /bin/bash
 VENV := .venv
 PY := $(VENV)/bin/python
 JOBS ?= $(shell nproc)
-SOURCES := $(shell find cpp python -type f \( -name '*.cpp' -o -name '*.hpp' -o -name '*.py' \)) CMakeLists.txt pyproject.toml
+SOURCES := $(shell find cpp python -type f \( -name '*.cpp' -o -name '*.hpp' -o -name '*.py' \)) CMakeLists.txt pyproject.toml \
+           cmake/stubs.cmake scripts/stubgen.py
 
-.PHONY: setup build demo test ctest pytest bench clean
+.PHONY: setup build demo test ctest pytest bench clean stubs
 
 setup:
 	@./scripts/setup.sh
@@ -36,6 +38,11 @@ test: ctest pytest
 
 bench: build
 	$(PY) bench/run_all.py
+
+# pybind11-stubgen on the installed hovi._core, with the build's options (tests/test_stubs.py checks the copy)
+stubs: build
+	$(PY) scripts/stubgen.py build/stubs
+	rm -rf python/hovi/_core && cp -r build/stubs/hovi/_core python/hovi/_core
 
 clean:
 	rm -rf build $(VENV)/.hovi.stamp
