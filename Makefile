@@ -2,6 +2,7 @@
 # make test   set up, build, then ctest and pytest
 # make bench  run the benchmarks in bench/ (slow; writes bench/results/)
 # make stubs  refresh the committed type stubs of hovi._core (python/hovi/_core/*.pyi) after a binding changed
+# make wheel-smoke  sdist -> wheel -> fresh venv -> smoke test (scripts/wheel_smoke.sh; a clean compile)
 SHELL := /bin/bash
 VENV := .venv
 PY := $(VENV)/bin/python
@@ -9,7 +10,7 @@ JOBS ?= $(shell nproc)
 SOURCES := $(shell find cpp python -type f \( -name '*.cpp' -o -name '*.hpp' -o -name '*.py' \)) CMakeLists.txt pyproject.toml \
            cmake/stubs.cmake scripts/stubgen.py
 
-.PHONY: setup build demo test ctest pytest bench clean stubs
+.PHONY: setup build demo test ctest pytest bench clean stubs wheel-smoke
 
 setup:
 	@./scripts/setup.sh
@@ -43,6 +44,9 @@ bench: build
 stubs: build
 	$(PY) scripts/stubgen.py build/stubs
 	rm -rf python/hovi/_core && cp -r build/stubs/hovi/_core python/hovi/_core
+
+wheel-smoke: setup
+	JOBS=$(JOBS) ./scripts/wheel_smoke.sh
 
 clean:
 	rm -rf build $(VENV)/.hovi.stamp
