@@ -76,3 +76,19 @@ def test_stubs_are_valid_and_typed():
     untyped = re.findall(r"(\w+): typing\.Any\b", "".join(stubs.values()))
     assert untyped == ["memo"], untyped
     assert re.search(r"def from_urdf\(source: str \| os\.PathLike\[str\]", core)
+
+
+def test_stubgen_failure_is_an_error_with_a_clear_message(tmp_path):
+    """A type pybind11-stubgen cannot resolve fails the generator (so the build), saying what to do."""
+    pytest.importorskip("pybind11_stubgen")
+    fake = tmp_path / "import" / "hovi"
+    fake.mkdir(parents=True)
+    (fake / "__init__.py").write_text("")
+    (fake / "_core.py").write_text("def f(x: 'no_such_module.Type') -> None:\n    '''f'''\n")
+    proc = subprocess.run([sys.executable, str(ROOT / "scripts" / "stubgen.py"), str(tmp_path / "out"),
+                           "--path", str(tmp_path / "import")], cwd=tmp_path, capture_output=True, text=True,
+                          timeout=300)
+    assert proc.returncode == 1, proc.stdout + proc.stderr
+    assert "Can't find/import 'no_such_module.Type'" in proc.stderr, proc.stderr
+    assert "generating the stubs of hovi._core failed" in proc.stderr and "-DHOVI_STUBS=OFF" in proc.stderr
+    assert not (tmp_path / "out" / "hovi" / "_core" / "__init__.pyi").exists()
