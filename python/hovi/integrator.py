@@ -323,7 +323,7 @@ class Integrator:
         U = self._rollout_controls(u, steps)
         bar = None
         if progress:
-            from tqdm import tqdm
+            from tqdm import tqdm  # type: ignore[import-untyped, unused-ignore]
             bar = tqdm(total=steps, unit="step", desc="simulating")
         parts: List[Dict[str, Any]] = []
         previous: Optional[FloatArray] = None
@@ -376,7 +376,7 @@ class Integrator:
         mult = None
         if self.n_constraints:
             mult = np.vstack([r["multipliers"] for r in parts]).reshape(-1, self.s, self.n_constraints)
-        return Trajectory(t=np.arange(len(q)) * self.dt, q=q, p=p, control_points=cp,
+        return Trajectory(t=np.arange(len(q), dtype=np.float64) * self.dt, q=q, p=p, control_points=cp,
                           iterations=np.concatenate([r["iterations"] for r in parts]),
                           residuals=np.concatenate([r["residual"] for r in parts]),
                           factorizations=np.concatenate([r["factorizations"] for r in parts]),

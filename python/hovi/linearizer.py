@@ -32,7 +32,8 @@ class DelJacobian:
     def blocks(self) -> FloatArray:
         """``dq`` as (s+1, s+1, n, n) blocks: [a, b] = d(row block a)/dq^{k,b}."""
         S1, n = self.s + 1, self.n
-        return self.dq.reshape(S1, n, S1, n).transpose(0, 2, 1, 3)
+        blocks: FloatArray = self.dq.reshape(S1, n, S1, n).transpose(0, 2, 1, 3)
+        return blocks
 
 
 @dataclass
@@ -52,7 +53,8 @@ class StepLinearization:
 
 def _hold(B: FloatArray, m: int) -> FloatArray:
     """Per-control-point columns -> one held control: sum the (s+1) column blocks."""
-    return B.reshape(*B.shape[:-1], -1, m).sum(axis=-2)
+    held: FloatArray = B.reshape(*B.shape[:-1], -1, m).sum(axis=-2)
+    return held
 
 
 class Linearizer:

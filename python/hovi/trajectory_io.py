@@ -8,7 +8,7 @@ Integrator when one is given (so that ``qdot`` and ``energy`` work on the loaded
 from __future__ import annotations
 
 import os
-from typing import TYPE_CHECKING, Optional
+from typing import TYPE_CHECKING, Any, Dict, Optional
 
 import numpy as np
 
@@ -23,7 +23,7 @@ def save_trajectory(trajectory: Trajectory, path: str | os.PathLike[str]) -> Non
     integ = trajectory.integrator
     if integ is None:
         raise ValueError("this trajectory has no integrator: its joint names, s and dt are unknown")
-    arrays = {
+    arrays: Dict[str, Any] = {
         "format_version": np.array(FORMAT_VERSION),
         "joint_names": np.array(integ.model.joint_names, dtype=str),
         "s": np.array(integ.s), "dt": np.array(integ.dt),
