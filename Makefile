@@ -2,13 +2,16 @@
 # make test   set up, build, then ctest and pytest
 # make bench  run the benchmarks in bench/ (slow; writes bench/results/)
 # make docs   build the documentation site into site/ (mkdocs build --strict: warnings fail)
+# make stubs  refresh the committed type stubs of hovi._core (python/hovi/_core/*.pyi) after a binding changed
+# make wheel-smoke  sdist -> wheel -> fresh venv -> smoke test (scripts/wheel_smoke.sh; a clean compile)
 SHELL := /bin/bash
 VENV := .venv
 PY := $(VENV)/bin/python
 JOBS ?= $(shell nproc)
-SOURCES := $(shell find cpp python -type f \( -name '*.cpp' -o -name '*.hpp' -o -name '*.py' \)) CMakeLists.txt pyproject.toml
+SOURCES := $(shell find cpp python -type f \( -name '*.cpp' -o -name '*.hpp' -o -name '*.py' \)) CMakeLists.txt pyproject.toml \
+           cmake/stubs.cmake scripts/stubgen.py
 
-.PHONY: setup setup-test build demo test ctest pytest bench docs clean
+.PHONY: setup setup-test build demo test ctest pytest bench docs clean stubs wheel-smoke
 
 setup:
 	@./scripts/setup.sh
@@ -44,6 +47,14 @@ bench: build
 # The API reference documents the installed package (hovi._core is inspected), hence `build`.
 docs: build
 	NO_MKDOCS_2_WARNING=1 $(PY) -m mkdocs build --strict --site-dir site
+
+# pybind11-stubgen on the installed hovi._core, with the build's options (tests/test_stubs.py checks the copy)
+stubs: build
+	$(PY) scripts/stubgen.py build/stubs
+	rm -rf python/hovi/_core && cp -r build/stubs/hovi/_core python/hovi/_core
+
+wheel-smoke: setup
+	JOBS=$(JOBS) ./scripts/wheel_smoke.sh
 
 clean:
 	rm -rf build $(VENV)/.hovi.stamp

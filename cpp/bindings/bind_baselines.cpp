@@ -24,7 +24,7 @@ using Clock = std::chrono::steady_clock;
 // One trapezoidal step from each state (rows of Q0, QD0) by hovi's Newton or the quasi-Newton,
 // from the same initial guess q + dt q̇ and with the same stopping rule; or by continuation in
 // the step length (step_continuation.hpp), alone or as the fallback of a failed Newton solve.
-py::dict one_step_batch(const PyModel& pm, double dt, const py::object& Q0, const py::object& QD0,
+StrDict one_step_batch(const PyModel& pm, double dt, const ArrayLike& Q0, const ArrayLike& QD0,
                         const std::string& method, double tol, int max_iterations) {
   const Model& model = pm.model;
   const int n = model.n();
@@ -83,7 +83,7 @@ py::dict one_step_batch(const PyModel& pm, double dt, const py::object& Q0, cons
       q_next.row(k) = qc.col(1).transpose();
     }
   }
-  py::dict d;
+  StrDict d;
   d["converged"] = converged;
   d["iterations"] = iterations;
   d["residual_evaluations"] = residual_evaluations;
@@ -112,7 +112,7 @@ double time_call(F&& f, double min_seconds) {
 // Paper Fig. 3: per-state times of the DEL evaluation, the Newton direction and D^2 L_d, by
 // hovi's recursive algorithms ('recursive') or automatic differentiation ('autodiff'), at
 // control points q + c^a dt q̇ for every state.
-py::dict fig3_batch(const PyModel& pm, int s, double dt, const py::object& Q0, const py::object& QD0,
+StrDict fig3_batch(const PyModel& pm, int s, double dt, const ArrayLike& Q0, const ArrayLike& QD0,
                     const std::string& method, double min_seconds) {
   const Model& model = pm.model;
   const int n = model.n();
@@ -146,7 +146,7 @@ py::dict fig3_batch(const PyModel& pm, int s, double dt, const py::object& Q0, c
       }
     }
   }
-  py::dict d;
+  StrDict d;
   d["del_residual"] = t_eval;
   d["newton_direction"] = t_dir;
   d["d2Ld"] = t_d2;
@@ -177,7 +177,7 @@ void bind_baselines(py::module_& m) {
   py::module_ b = m.def_submodule("baselines", "The paper's comparison baselines (Section 5)");
   b.def("one_step_batch", &one_step_batch, py::arg("model"), py::arg("dt"), py::arg("q0"), py::arg("qdot0"),
         py::arg("method"), py::arg("tol") = 1e-10, py::arg("max_iterations") = 100, R"doc(
-One trapezoidal (s = 1) step from every state (rows of q0, qdot0; p0 = M(q0) qdot0) by 'newton'
+One trapezoidal (s = 1) step from every state (rows of q0, qdot0, (N, n); p0 = M(q0) qdot0) by 'newton'
 (hovi's exact O(n) Newton with line search) or 'quasi_newton' (Lee et al. 2016), both from the
 guess q0 + dt qdot0, or by 'continuation' in the step length (the step on the solution branch
 continuously connected to q0, or the status 'continuation_stalled' when that branch turns back
@@ -189,7 +189,7 @@ h_reached (continuation: how far in the step length the branch went; NaN otherwi
 )doc");
   b.def("fig3_batch", &fig3_batch, py::arg("model"), py::arg("s"), py::arg("dt"), py::arg("q0"), py::arg("qdot0"),
         py::arg("method"), py::arg("min_seconds") = 0.002, R"doc(
-Per-state times (seconds, timed in C++) of the DEL evaluation, the Newton direction and D^2 L_d by
+Per-state times (N,) (seconds, timed in C++; states: rows of q0, qdot0 (N, n)) of the DEL evaluation, the Newton direction and D^2 L_d by
 'recursive' (hovi: Algorithm 1, A.1/A.2, Algorithms 2/3 + chain rule) or 'autodiff' (Eigen
 AutoDiffScalar on a scalar-templated Lagrangian, dense LU), at control points q + c^a dt qdot.
 )doc");
@@ -206,8 +206,8 @@ defects, Newton with an analytic dense Jacobian (RNEA derivatives) and LU; state
              return new PyHermiteSimpson(std::move(m), "baselines.HermiteSimpson", dt, opt);
            }),
            py::arg("model"), py::arg("dt"), py::arg("tol") = 1e-10, py::arg("max_iterations") = 30,
-           py::arg("reuse_jacobian") = true)
-      .def("rollout", [](PyHermiteSimpson& self, const py::object& q0, const py::object& v0, int steps) {
+           py::arg("reuse_jacobian") = true, "The simulator with step dt on a copy of `model`.")
+      .def("rollout", [](PyHermiteSimpson& self, const ArrayLike& q0, const ArrayLike& v0, int steps) {
             HermiteSimpson& hs = checked(self);
             const int n = hs.model().n();
             const VecX q = as_vector(q0, "q0", n), v = as_vector(v0, "v0", n);
@@ -221,7 +221,7 @@ defects, Newton with an analytic dense Jacobian (RNEA derivatives) and LU; state
               r = hs.rollout(q, v, steps);
               seconds = std::chrono::duration<double>(Clock::now() - t0).count();
             }
-            py::dict d;
+            StrDict d;
             d["q"] = MatX(r.q.topRows(r.steps + 1));
             d["v"] = MatX(r.v.topRows(r.steps + 1));
             d["iterations"] = Eigen::VectorXi(r.iterations.head(std::min<int>(steps, r.steps + 1)));
@@ -231,34 +231,39 @@ defects, Newton with an analytic dense Jacobian (RNEA derivatives) and LU; state
             d["steps"] = r.steps;
             d["seconds"] = seconds;
             return d;
-          }, py::arg("q0"), py::arg("v0"), py::arg("steps"), "Simulate `steps` steps in C++ (GIL released); stops at a failed solve.");
+          }, py::arg("q0"), py::arg("v0"), py::arg("steps"), R"doc(
+Simulate `steps` steps from q0, v0 (n,) in C++ (GIL released); stops at a failed solve. Returns a
+dict: q, v (K+1, n), iterations, status (per step), steps K, seconds.
+)doc");
   py::class_<PyAutodiffDel>(b, "AutodiffDel", "The automatic-differentiation baseline (dense, O(n^2)..O(n^3)).")
       .def(py::init([](std::shared_ptr<PyModel> m, int s, double dt) {
              return new PyAutodiffDel(std::move(m), "baselines.AutodiffDel", Quadrature(s), dt);
            }),
-           py::arg("model"), py::arg("s"), py::arg("dt"))
-      .def("residual", [](PyAutodiffDel& self, const py::object& qc, const py::object& p) {
+           py::arg("model"), py::arg("s"), py::arg("dt"), "The order-2s DEL equations with step dt on a copy of `model`.")
+      .def("residual", [](PyAutodiffDel& self, const ArrayLike& qc, const ArrayLike& p) {
             AutodiffDel& ad = checked(self);  // holds the GIL: calls never overlap
             const int n = ad.n(), s = ad.s();
             MatX r(n, s), u = MatX::Zero(0, s + 1);
             VecX pn(n);
             ad.residual(as_matrix(qc, "control_points", s + 1, n).transpose(), as_vector(p, "p", n), u, r, pn);
             return py::make_tuple(MatX(r.transpose()), pn);
-          }, py::arg("control_points"), py::arg("p"))
-      .def("newton_direction", [](PyAutodiffDel& self, const py::object& qc, const py::object& p) {
+          }, py::arg("control_points"), py::arg("p"),
+          "control_points (s+1, n), p (n,); returns (r (s, n), p_next (n,)), by automatic differentiation.")
+      .def("newton_direction", [](PyAutodiffDel& self, const ArrayLike& qc, const ArrayLike& p) {
             AutodiffDel& ad = checked(self);  // holds the GIL: calls never overlap
             const int n = ad.n(), s = ad.s();
             MatX dq(n, s), u = MatX::Zero(0, s + 1);
             ad.newton_direction(as_matrix(qc, "control_points", s + 1, n).transpose(), as_vector(p, "p", n), u, dq);
             return MatX(dq.transpose());
-          }, py::arg("control_points"), py::arg("p"))
-      .def("d2Ld", [](PyAutodiffDel& self, const py::object& qc) {
+          }, py::arg("control_points"), py::arg("p"),
+          "control_points (s+1, n), p (n,); returns the Newton direction dq (s, n) (dense LU of the AD Jacobian).")
+      .def("d2Ld", [](PyAutodiffDel& self, const ArrayLike& qc) {
             AutodiffDel& ad = checked(self);  // holds the GIL: calls never overlap
             const int n = ad.n(), s = ad.s();
             MatX H((s + 1) * n, (s + 1) * n);
             ad.d2Ld(as_matrix(qc, "control_points", s + 1, n).transpose(), H);
             return H;
-          }, py::arg("control_points"));
+          }, py::arg("control_points"), "control_points (s+1, n); returns D^2 L_d, ((s+1) n, (s+1) n), by automatic differentiation.");
 }
 
 }  // namespace hovi::py_bind

@@ -12,8 +12,8 @@ namespace hovi::py_bind {
 
 namespace {
 
-py::dict info_dict(const SolveInfo& info) {
-  py::dict d;
+StrDict info_dict(const SolveInfo& info) {
+  StrDict d;
   d["status"] = to_string(info.status);
   d["converged"] = info.converged();
   d["iterations"] = info.iterations;
@@ -26,7 +26,11 @@ py::dict info_dict(const SolveInfo& info) {
 }  // namespace
 
 void bind_integrator(py::module_& m) {
-  py::class_<PyIntegrator>(m, "Integrator")
+  py::class_<PyIntegrator>(m, "Integrator", R"doc(
+The core of hovi.Integrator (use that: it normalises arguments and returns Trajectory and
+StepInfo objects). Arrays: q, p (n,); control points (s+1, n), row a = q^{k,a}; controls u (m,)
+held over the step or (s+1, m) per control point; multipliers (s, n_constraints).
+)doc")
       .def(py::init([](std::shared_ptr<PyModel> model, int s, double dt, double tol, double step_tol, int max_iterations,
                        int max_backtracks, bool line_search, const std::string& direction, bool reuse_jacobian,
                        double reuse_contraction) {
@@ -46,70 +50,77 @@ void bind_integrator(py::module_& m) {
            }),
            py::arg("model"), py::arg("s"), py::arg("dt"), py::arg("tol"), py::arg("step_tol"), py::arg("max_iterations"),
            py::arg("max_backtracks"), py::arg("line_search"), py::arg("direction"), py::arg("reuse_jacobian"),
-           py::arg("reuse_contraction"))
-      .def_property_readonly("s", &PyIntegrator::s)
+           py::arg("reuse_contraction"),
+           "A Galerkin integrator of order 2s with step dt on a copy of `model` (options as hovi.Integrator's).")
+      .def_property_readonly("s", &PyIntegrator::s, "Number of Lobatto intervals; s+1 control points.")
       .def_property_readonly("direction_path", [](const PyIntegrator& p) {
             const auto& g = p.integ();
             return uses_dense_direction(g.options.direction, g.model(), g.quadrature().s) ? "dense" : "recursive";
-          })
-      .def_property_readonly("n", &PyIntegrator::n)
-      .def_property_readonly("n_controls", &PyIntegrator::m)
-      .def_property_readonly("n_constraints", &PyIntegrator::mc)
-      .def("project", [](PyIntegrator& p, const py::object& q, const py::object& qd, double tol) {
+          }, "The Newton direction computed: 'dense' or 'recursive'.")
+      .def_property_readonly("n", &PyIntegrator::n, "Number of joints n of the model.")
+      .def_property_readonly("n_controls", &PyIntegrator::m, "Number of control inputs m of the model.")
+      .def_property_readonly("n_constraints", &PyIntegrator::mc, "Number of constraint equations m_c of the model.")
+      .def("project", [](PyIntegrator& p, const ArrayLike& q, const ArrayLike& qd, double tol) {
             auto qv = p.integ().project(as_vector(q, "q", p.n()), as_vector(qd, "qdot", p.n()), tol);
             return py::make_tuple(qv.first, qv.second);
-          }, py::arg("q"), py::arg("qdot"), py::arg("tol") = 1e-12)
-      .def("constrained_residual", [](PyIntegrator& p, const py::object& qc, const py::object& lam,
-                                      const py::object& mom, const py::object& u) {
+          }, py::arg("q"), py::arg("qdot"), py::arg("tol") = 1e-12,
+          "q, qdot: (n,); returns (q, qdot), each (n,), projected onto h(q) = 0 and Dh(q) q̇ = 0.")
+      .def("constrained_residual", [](PyIntegrator& p, const ArrayLike& qc, const ArrayLike& lam,
+                                      const ArrayLike& mom, const OptArrayLike& u) {
             MatX r, H;
             VecX p_next(p.n());
             p.integ().constrained_residual(p.control_points(qc, "control_points"), p.multipliers_arg(lam),
                                            as_vector(mom, "p", p.n()), p.controls(u), r, H, p_next);
             return py::make_tuple(MatX(r.transpose()), MatX(H.transpose()), p_next);
-          }, py::arg("control_points"), py::arg("multipliers"), py::arg("p"), py::arg("u") = py::none())
-      .def("constrained_direction", [](PyIntegrator& p, const py::object& qc, const py::object& lam,
-                                       const py::object& mom, const py::object& u) {
+          }, py::arg("control_points"), py::arg("multipliers"), py::arg("p"), py::arg("u") = py::none(),
+          "control_points (s+1, n), multipliers (s, m_c), p (n,); returns (r (s, n), h (s, m_c), p_next (n,)).")
+      .def("constrained_direction", [](PyIntegrator& p, const ArrayLike& qc, const ArrayLike& lam,
+                                       const ArrayLike& mom, const OptArrayLike& u) {
             MatX dz, dl;
             if (!p.integ().constrained_direction(p.control_points(qc, "control_points"), p.multipliers_arg(lam),
                                                  as_vector(mom, "p", p.n()), p.controls(u), dz, dl))
               throw InputError("the constrained DEL Jacobian (or its Schur complement) is singular here");
             return py::make_tuple(MatX(dz.transpose()), MatX(dl.transpose()));
-          }, py::arg("control_points"), py::arg("multipliers"), py::arg("p"), py::arg("u") = py::none())
-      .def_property_readonly("dt", &PyIntegrator::dt)
-      .def_property_readonly("nodes", [](const PyIntegrator& p) { return VecX(p.quad().c); })
-      .def_property_readonly("weights", [](const PyIntegrator& p) { return VecX(p.quad().w); })
-      .def_property_readonly("differentiation_matrix", [](const PyIntegrator& p) { return MatX(p.quad().b); })
-      .def("momentum", [](PyIntegrator& p, const py::object& q, const py::object& qd) {
+          }, py::arg("control_points"), py::arg("multipliers"), py::arg("p"), py::arg("u") = py::none(),
+          "control_points (s+1, n), multipliers (s, m_c), p (n,); returns the Newton direction (dq (s, n), dλ (s, m_c)).")
+      .def_property_readonly("dt", &PyIntegrator::dt, "The time step (s).")
+      .def_property_readonly("nodes", [](const PyIntegrator& p) { return VecX(p.quad().c); }, "(s+1,) Lobatto nodes c^a on [0, 1].")
+      .def_property_readonly("weights", [](const PyIntegrator& p) { return VecX(p.quad().w); }, "(s+1,) Lobatto weights w^a.")
+      .def_property_readonly("differentiation_matrix", [](const PyIntegrator& p) { return MatX(p.quad().b); },
+                             "(s+1, s+1) b^{ab} = l_b'(c^a): q̇^a = (1/dt) sum_b b^{ab} q^b.")
+      .def("momentum", [](PyIntegrator& p, const ArrayLike& q, const ArrayLike& qd) {
             return p.integ().momentum(as_vector(q, "q", p.n()), as_vector(qd, "qdot", p.n()));
-          }, py::arg("q"), py::arg("qdot"))
-      .def("velocity", [](PyIntegrator& p, const py::object& q, const py::object& mom) {
+          }, py::arg("q"), py::arg("qdot"), "q, qdot: (n,); returns p = M(q) q̇, (n,).")
+      .def("velocity", [](PyIntegrator& p, const ArrayLike& q, const ArrayLike& mom) {
             return p.integ().velocity(as_vector(q, "q", p.n()), as_vector(mom, "p", p.n()));
-          }, py::arg("q"), py::arg("p"))
-      .def("energy", [](PyIntegrator& p, const py::object& q, const py::object& mom) {
+          }, py::arg("q"), py::arg("p"), "q, p: (n,); returns the velocity q̇ (n,) of momentum p (see hovi.Integrator.velocity).")
+      .def("energy", [](PyIntegrator& p, const ArrayLike& q, const ArrayLike& mom) {
             return p.integ().energy(as_vector(q, "q", p.n()), as_vector(mom, "p", p.n()));
-          }, py::arg("q"), py::arg("p"))
-      .def("energies", [](PyIntegrator& p, const py::object& Q, const py::object& P) {
+          }, py::arg("q"), py::arg("p"), "q, p: (n,); returns K + V at (q, velocity(q, p)), a float.")
+      .def("energies", [](PyIntegrator& p, const ArrayLike& Q, const ArrayLike& P) {
             const MatX q = as_matrix(Q, "q", -1, p.n()), mom = as_matrix(P, "p", q.rows(), p.n());
             const GalerkinIntegrator& integ = p.integ();
             VecX E(q.rows());
             py::gil_scoped_release release;
             for (int k = 0; k < q.rows(); ++k) E[k] = integ.energy(q.row(k).transpose(), mom.row(k).transpose());
             return E;
-          }, py::arg("q"), py::arg("p"))
-      .def("del_residual", [](PyIntegrator& p, const py::object& qc, const py::object& mom, const py::object& u) {
+          }, py::arg("q"), py::arg("p"), "q, p: (K, n); returns (K,) energy of every row, in C++ (GIL released).")
+      .def("del_residual", [](PyIntegrator& p, const ArrayLike& qc, const ArrayLike& mom, const OptArrayLike& u) {
             MatX r(p.n(), p.s());
             VecX p_next(p.n());
             p.integ().residual(p.control_points(qc, "control_points"), as_vector(mom, "p", p.n()), p.controls(u), r, p_next);
             return py::make_tuple(MatX(r.transpose()), p_next);
-          }, py::arg("control_points"), py::arg("p"), py::arg("u") = py::none())
-      .def("newton_direction", [](PyIntegrator& p, const py::object& qc, const py::object& mom, const py::object& u) {
+          }, py::arg("control_points"), py::arg("p"), py::arg("u") = py::none(),
+          "Algorithm 1. control_points (s+1, n), p (n,); returns (r (s, n), p_next (n,)).")
+      .def("newton_direction", [](PyIntegrator& p, const ArrayLike& qc, const ArrayLike& mom, const OptArrayLike& u) {
             MatX dq(p.n(), p.s());
             if (!p.integ().direction(p.control_points(qc, "control_points"), as_vector(mom, "p", p.n()), p.controls(u), dq))
               throw InputError("the DEL Jacobian is singular at these control points (a pivot block is not invertible)");
             return MatX(dq.transpose());
-          }, py::arg("control_points"), py::arg("p"), py::arg("u") = py::none())
-      .def("step", [](PyIntegrator& p, const py::object& q, const py::object& mom, const py::object& u,
-                      const py::object& guess, const py::object& multipliers) {
+          }, py::arg("control_points"), py::arg("p"), py::arg("u") = py::none(),
+          "control_points (s+1, n), p (n,); returns the Newton direction dq (s, n) with J dq = -r.")
+      .def("step", [](PyIntegrator& p, const ArrayLike& q, const ArrayLike& mom, const OptArrayLike& u,
+                      const OptArrayLike& guess, const OptArrayLike& multipliers) {
             const GalerkinIntegrator& integ = p.integ();
             const VecX qk = as_vector(q, "q", p.n()), pk = as_vector(mom, "p", p.n());
             const MatX uk = p.controls(u);
@@ -124,13 +135,17 @@ void bind_integrator(py::module_& m) {
               info = guess.is_none() ? integ.robust_step(pk, uk, MatX(), qc, p_next, &lambda)
                                      : integ.step(pk, uk, qc, p_next, &lambda);
             }
-            py::dict d = info_dict(info);
+            StrDict d = info_dict(info);
             d["multipliers"] = MatX(lambda.transpose());
             return py::make_tuple(MatX(qc.transpose()), p_next, d);
           }, py::arg("q"), py::arg("p"), py::arg("u") = py::none(), py::arg("guess") = py::none(),
-          py::arg("multipliers") = py::none())
-      .def("rollout", [](PyIntegrator& p, const py::object& q0, const py::object& p0, int steps, const py::object& u,
-                         const py::object& previous, const py::object& multipliers) {
+          py::arg("multipliers") = py::none(), R"doc(
+One step from q, p (n,) (GIL released): guess (s+1, n) for a single Newton solve, else the robust
+fallbacks of hovi.Integrator.step; returns (control points (s+1, n), p_next (n,), info dict with
+status, converged, iterations, factorizations, residual_evaluations, residual, multipliers (s, m_c)).
+)doc")
+      .def("rollout", [](PyIntegrator& p, const ArrayLike& q0, const ArrayLike& p0, int steps, const OptArrayLike& u,
+                         const OptArrayLike& previous, const OptArrayLike& multipliers) {
             const GalerkinIntegrator& integ = p.integ();
             const VecX q = as_vector(q0, "q0", p.n()), mom = as_vector(p0, "p0", p.n());
             MatX U(0, 0), prev;
@@ -146,7 +161,7 @@ void bind_integrator(py::module_& m) {
               r = integ.rollout(q, mom, steps, U, prev, lambda0);
               seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
             }
-            py::dict d;
+            StrDict d;
             d["q"] = MatX(r.q.topRows(r.steps + 1));
             d["p"] = MatX(r.p.topRows(r.steps + 1));
             d["control_points"] = MatX(r.control_points.topRows(r.steps));
@@ -162,7 +177,12 @@ void bind_integrator(py::module_& m) {
             d["seconds"] = seconds;
             return d;
           }, py::arg("q0"), py::arg("p0"), py::arg("steps"), py::arg("u") = py::none(), py::arg("previous") = py::none(),
-          py::arg("multipliers") = py::none());
+          py::arg("multipliers") = py::none(), R"doc(
+`steps` steps from q0, p0 (n,) in C++ (GIL released); u (steps, (s+1) m), previous: the control
+points (s+1, n) of the step before (for the predictor), multipliers (s, m_c) to start from.
+Returns a dict: q, p (K+1, n), control_points (K, (s+1) n), iterations, factorizations, residual,
+status (per attempted step), multipliers (K, s m_c), steps K, seconds.
+)doc");
 }
 
 }  // namespace hovi::py_bind

@@ -23,10 +23,14 @@ struct PyLinearizer {
 }  // namespace
 
 void bind_linearizer(py::module_& m) {
-  py::class_<PyLinearizer>(m, "Linearizer")
-      .def(py::init<PyIntegrator&>(), py::arg("integrator"), py::keep_alive<1, 2>())
-      .def("del_jacobian", [](PyLinearizer& L, const py::object& qc, const py::object& u, bool with_u,
-                              const py::object& multipliers) {
+  py::class_<PyLinearizer>(m, "Linearizer", R"doc(
+The core of hovi.Linearizer (use that): exact Jacobians of the DEL equations and of the step map
+of an Integrator; arrays as for hovi._core.Integrator.
+)doc")
+      .def(py::init<PyIntegrator&>(), py::arg("integrator"), py::keep_alive<1, 2>(),
+           "The linearisation of `integrator`'s DEL equations (the integrator is kept alive).")
+      .def("del_jacobian", [](PyLinearizer& L, const ArrayLike& qc, const OptArrayLike& u, bool with_u,
+                              const OptArrayLike& multipliers) -> Tuple<MatX, Optional<MatX>, Optional<MatX>> {
             const Linearizer& lin = L.lin();
             MatX Jq, Ju, Dh;
             const MatX q = L.integ.control_points(qc, "control_points"), uu = L.integ.controls(u);
@@ -41,9 +45,12 @@ void bind_linearizer(py::module_& m) {
             return py::make_tuple(Jq, (with_u || constrained) ? py::cast(Ju) : py::none(),
                                   constrained ? py::cast(Dh) : py::none());
           }, py::arg("control_points"), py::arg("u") = py::none(), py::arg("with_u") = true,
-          py::arg("multipliers") = py::none())
-      .def("step_jacobians", [](PyLinearizer& L, const py::object& qc, const py::object& u, bool want_A, bool want_B,
-                                const py::object& multipliers) {
+          py::arg("multipliers") = py::none(), R"doc(
+control_points (s+1, n), u (m,) or (s+1, m), multipliers (s, m_c) of a constrained model; returns
+(dq ((s+1) n, (s+1) n), du ((s+1) n, (s+1) (m + m_c)) or None, dh (s m_c, (s+1) n) or None).
+)doc")
+      .def("step_jacobians", [](PyLinearizer& L, const ArrayLike& qc, const OptArrayLike& u, bool want_A, bool want_B,
+                                const OptArrayLike& multipliers) -> Tuple<Optional<MatX>, Optional<MatX>> {
             const Linearizer& lin = L.lin();
             const MatX q = L.integ.control_points(qc, "control_points"), uu = L.integ.controls(u);
             const int mc = L.integ.mc();
@@ -58,9 +65,13 @@ void bind_linearizer(py::module_& m) {
             if (!ok) throw InputError("the DEL Jacobian dR/dq^{k,1..s} is singular at these control points");
             return py::make_tuple(want_A ? py::cast(A) : py::none(), want_B ? py::cast(B) : py::none());
           }, py::arg("control_points"), py::arg("u") = py::none(), py::arg("want_A") = true, py::arg("want_B") = true,
-          py::arg("multipliers") = py::none())
-      .def("rollout_jacobians", [](PyLinearizer& L, const py::object& cps, const py::object& u, bool want_A, bool want_B,
-                                   const py::object& multipliers) {
+          py::arg("multipliers") = py::none(), R"doc(
+At a converged step's control points (s+1, n) (and multipliers (s, m_c)): returns (A (2n, 2n) or
+None, B (2n, (s+1) m) or None), the Jacobians of (q^{k+1}, p^{k+1}) by (q^k, p^k) and u^{k,0..s}.
+)doc")
+      .def("rollout_jacobians", [](PyLinearizer& L, const ArrayLike& cps, const OptArrayLike& u, bool want_A, bool want_B,
+                                   const OptArrayLike& multipliers)
+                                   -> Tuple<Optional<py::array_t<double>>, Optional<py::array_t<double>>> {
             const Linearizer& lin = L.lin();
             const int n = L.integ.n(), S1 = L.integ.s() + 1, m = L.integ.m();
             const MatX C = as_matrix(cps, "control_points (steps, (s+1) n)", -1, S1 * n);
@@ -101,7 +112,10 @@ void bind_linearizer(py::module_& m) {
               throw InputError("the DEL Jacobian is singular at step " + std::to_string(failed));
             return py::make_tuple(want_A ? py::object(As) : py::none(), want_B ? py::object(Bs) : py::none());
           }, py::arg("control_points"), py::arg("u") = py::none(), py::arg("want_A") = true, py::arg("want_B") = true,
-          py::arg("multipliers") = py::none());
+          py::arg("multipliers") = py::none(), R"doc(
+control_points (K, (s+1) n) of K converged steps, u (K, (s+1) m), multipliers (K, s m_c); returns
+(A (K, 2n, 2n) or None, B (K, 2n, (s+1) m) or None), computed in C++ (GIL released).
+)doc");
 }
 
 }  // namespace hovi::py_bind

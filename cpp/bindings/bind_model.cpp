@@ -89,8 +89,8 @@ std::string summary(const Model& model) {
 
 const char* const kShapeNames[] = {"box", "cylinder", "sphere", "mesh"};
 
-py::dict visual_dict(const Visual& v) {
-  py::dict d;
+StrDict visual_dict(const Visual& v) {
+  StrDict d;
   d["body"] = v.body;
   d["link"] = v.link;
   d["shape"] = kShapeNames[static_cast<int>(v.shape)];
@@ -131,9 +131,9 @@ std::shared_ptr<PyModel> copy_of(const PyModel& s) {
 }
 
 template <class F>
-py::list per_body(const Model& model, F&& f) {
-  py::list out;
-  for (int i = 0; i < model.n(); ++i) out.append(f(model.spec[i]));
+std::vector<std::string> per_body(const Model& model, F&& f) {
+  std::vector<std::string> out;
+  for (int i = 0; i < model.n(); ++i) out.emplace_back(f(model.spec[i]));
   return out;
 }
 
@@ -158,7 +158,7 @@ Body frames sit at each body's centre of mass with the joint frame's orientation
   cls.def(py::init([]() { return std::make_shared<PyModel>(); }), "An empty model (add bodies with add_body).")
       .def_static(
           "from_urdf",
-          [](const py::object& source, const std::string& base, bool expand_joints, const py::object& planar_normal) {
+          [](const PathOrXml& source, const std::string& base, bool expand_joints, const ArrayLike& planar_normal) {
             UrdfOptions opt;
             opt.base = parse_base(base);
             opt.expand_joints = expand_joints;
@@ -170,20 +170,20 @@ Body frames sit at each body's centre of mass with the joint frame's orientation
           },
           py::arg("source"), py::arg("base") = "fixed", py::arg("expand_joints") = false,
           py::arg("planar_normal") = py::make_tuple(0.0, 1.0, 0.0), R"doc(
-Load a URDF file (path) or XML string.
+Load a URDF file (source: a path) or XML string (source: the text); returns a Model.
 
 base: 'fixed' (root link welded to the world), 'floating' (6 joints x, y, z, yaw, pitch, roll:
 Z-Y-X Euler angles, singular at pitch = ±pi/2) or 'planar' (2 prismatic + 1 revolute about
-planar_normal, default the x-z plane). expand_joints: expand URDF floating/planar joints the
+planar_normal (3,), default the x-z plane). expand_joints: expand URDF floating/planar joints the
 same way instead of raising. Fixed joints are merged (inertia lumped into the parent);
 continuous joints become revolute joints without limits; mimic joints are kept as metadata
 (integrated as independent joints). Raises hovi.URDFError naming the link or joint at fault.
 )doc")
       .def(
           "add_body",
-          [](PyModel& self, const std::string& name, const py::object& parent, const std::string& joint_type,
-             const py::object& axis, const py::object& placement, double mass, const py::object& com,
-             const py::object& inertia, const std::string& joint_name, double lower, double upper) {
+          [](PyModel& self, const std::string& name, const OptIndex& parent, const std::string& joint_type,
+             const ArrayLike& axis, const OptArrayLike& placement, double mass, const ArrayLike& com,
+             const ArrayLike& inertia, const std::string& joint_name, double lower, double upper) {
             BodySpec s;
             s.name = name;
             s.joint_name = joint_name.empty() ? name + "_joint" : joint_name;
@@ -210,55 +210,64 @@ continuous joints become revolute joints without limits; mimic joints are kept a
           py::arg("joint_name") = "", py::arg("lower") = -std::numeric_limits<double>::infinity(),
           py::arg("upper") = std::numeric_limits<double>::infinity(), R"doc(
 Append a body; returns its index. parent: index or body name, None for the world.
-placement: 4x4 pose of the joint frame in the parent's joint frame at q = 0. axis: joint axis in
-the joint frame. com: centre of mass in the joint frame. inertia: 3x3 rotational inertia about
-the COM (joint-frame axes). Raises hovi.ModelError naming the body on invalid input.
+placement: (4, 4) pose of the joint frame in the parent's joint frame at q = 0 (default identity).
+axis: (3,) joint axis in the joint frame. com: (3,) centre of mass in the joint frame. inertia:
+(3, 3) rotational inertia about the COM (joint-frame axes). lower, upper: joint position limits. Raises hovi.ModelError naming the body on invalid input.
 )doc")
       .def("copy", &copy_of, "An independent copy (later changes to either do not affect the other).")
-      .def("__copy__", &copy_of)
-      .def("__deepcopy__", [](const PyModel& s, const py::object&) { return copy_of(s); }, py::arg("memo"))
+      .def("__copy__", &copy_of, "The same as copy().")
+      .def("__deepcopy__", [](const PyModel& s, const py::object&) { return copy_of(s); }, py::arg("memo"),
+           "The same as copy().")
       .def_property_readonly("n", [](const PyModel& s) { return s.model.n(); }, "Number of joints = DoF = bodies.")
-      .def_property_readonly("nq", [](const PyModel& s) { return s.model.n(); })
-      .def_property_readonly("nv", [](const PyModel& s) { return s.model.n(); })
-      .def_property_readonly("total_mass", [](const PyModel& s) { return s.model.total_mass(); })
+      .def_property_readonly("nq", [](const PyModel& s) { return s.model.n(); }, "Size of q (= n: one coordinate per joint).")
+      .def_property_readonly("nv", [](const PyModel& s) { return s.model.n(); }, "Size of q̇ (= n).")
+      .def_property_readonly("total_mass", [](const PyModel& s) { return s.model.total_mass(); }, "Sum of the body masses (kg).")
       .def_property(
           "gravity", [](const PyModel& s) { return Vec3(s.model.gravity); },
-          [](PyModel& s, const py::object& g) {
+          [](PyModel& s, const ArrayLike& g) {
             s.model.gravity = as_vector(g, "gravity", 3);
             s.changed("gravity");
           },
           "Gravity in the world frame (default (0, 0, -9.81)).")
-      .def_property_readonly("body_names", [](const PyModel& s) { return per_body(s.model, [](const BodySpec& b) { return b.name; }); })
-      .def_property_readonly("joint_names", [](const PyModel& s) { return per_body(s.model, [](const BodySpec& b) { return b.joint_name; }); })
-      .def_property_readonly("joint_types", [](const PyModel& s) { return per_body(s.model, [](const BodySpec& b) { return type_name(b.type); }); })
-      .def_property_readonly("parents", [](const PyModel& s) { return s.model.parent; }, "Parent body index per body, -1 for the world.")
-      .def_property_readonly("masses", [](const PyModel& s) { return per_joint(s.model, [](const BodySpec& b) { return b.mass; }); })
-      .def_property_readonly("lower_limits", [](const PyModel& s) { return per_joint(s.model, [](const BodySpec& b) { return b.limits.lower; }); })
-      .def_property_readonly("upper_limits", [](const PyModel& s) { return per_joint(s.model, [](const BodySpec& b) { return b.limits.upper; }); })
-      .def_property_readonly("velocity_limits", [](const PyModel& s) { return per_joint(s.model, [](const BodySpec& b) { return b.limits.velocity; }); })
-      .def_property_readonly("effort_limits", [](const PyModel& s) { return per_joint(s.model, [](const BodySpec& b) { return b.limits.effort; }); })
-      .def_property_readonly("damping", [](const PyModel& s) { return per_joint(s.model, [](const BodySpec& b) { return b.damping; }); }, "URDF ``<dynamics damping>`` per joint (metadata).")
-      .def_property_readonly("friction", [](const PyModel& s) { return per_joint(s.model, [](const BodySpec& b) { return b.friction; }); }, "URDF ``<dynamics friction>`` per joint (metadata).")
+      .def_property_readonly("body_names", [](const PyModel& s) { return per_body(s.model, [](const BodySpec& b) { return b.name; }); },
+                             "(n,) list of the body (link) names, body i moved by joint i.")
+      .def_property_readonly("joint_names", [](const PyModel& s) { return per_body(s.model, [](const BodySpec& b) { return b.joint_name; }); },
+                             "(n,) list of the joint names.")
+      .def_property_readonly("joint_types", [](const PyModel& s) { return per_body(s.model, [](const BodySpec& b) { return type_name(b.type); }); },
+                             "(n,) list of the joint types, 'revolute' or 'prismatic'.")
+      .def_property_readonly("parents", [](const PyModel& s) { return s.model.parent; }, "(n,) list of the parent body index per body, -1 for the world.")
+      .def_property_readonly("masses", [](const PyModel& s) { return per_joint(s.model, [](const BodySpec& b) { return b.mass; }); },
+                             "(n,) body masses (kg).")
+      .def_property_readonly("lower_limits", [](const PyModel& s) { return per_joint(s.model, [](const BodySpec& b) { return b.limits.lower; }); },
+                             "(n,) lower joint position limits (URDF <limit>; -inf where none).")
+      .def_property_readonly("upper_limits", [](const PyModel& s) { return per_joint(s.model, [](const BodySpec& b) { return b.limits.upper; }); },
+                             "(n,) upper joint position limits (URDF <limit>; inf where none).")
+      .def_property_readonly("velocity_limits", [](const PyModel& s) { return per_joint(s.model, [](const BodySpec& b) { return b.limits.velocity; }); },
+                             "(n,) joint velocity limits (URDF metadata; inf where none).")
+      .def_property_readonly("effort_limits", [](const PyModel& s) { return per_joint(s.model, [](const BodySpec& b) { return b.limits.effort; }); },
+                             "(n,) joint effort limits (URDF metadata, the default control bounds of trajopt; inf where none).")
+      .def_property_readonly("damping", [](const PyModel& s) { return per_joint(s.model, [](const BodySpec& b) { return b.damping; }); }, "(n,) URDF <dynamics damping> per joint (metadata; see add_damper for a damper).")
+      .def_property_readonly("friction", [](const PyModel& s) { return per_joint(s.model, [](const BodySpec& b) { return b.friction; }); }, "(n,) URDF <dynamics friction> per joint (metadata).")
       .def_property_readonly("mimic", [](const PyModel& s) {
-            py::dict d;
+            py::typing::Dict<py::str, Tuple<std::string, double, double>> d;
             for (const BodySpec& b : s.model.spec)
               if (b.mimic) d[py::str(b.joint_name)] = py::make_tuple(b.mimic->joint, b.mimic->multiplier, b.mimic->offset);
             return d;
           }, "{joint: (leader, multiplier, offset)} for URDF mimic joints (metadata only).")
       .def_property_readonly("visuals", [](const PyModel& s) {
-            py::list out;
+            py::typing::List<StrDict> out;
             for (const Visual& v : s.model.visuals) out.append(visual_dict(v));
             return out;
           }, R"doc(
-The visual geometry (URDF <visual>, or add_visual), metadata for viewers: a list of dicts with
-body (index, -1 = the world), link, shape ('box', 'cylinder', 'sphere', 'mesh'), size (3,)
+(V,) list of the visual shapes (URDF ``<visual>``, or add_visual), metadata for viewers, as dicts
+with body (index, -1 = the world), link, shape ('box', 'cylinder', 'sphere', 'mesh'), size (3,)
 (box: x, y, z; cylinder: radius, length, 0 along z; sphere: radius, 0, 0), filename (meshes:
 package://..., or absolute), scale (3,), origin (4, 4) (the shape in the body's joint frame,
 see joint_placements) and rgba ((4,) or None).
 )doc")
-      .def("add_visual", [](PyModel& s, const py::object& body, const std::string& shape, const py::object& size,
-                            const py::object& origin, const py::object& rgba, const std::string& filename,
-                            const py::object& scale, const std::string& link) {
+      .def("add_visual", [](PyModel& s, const OptIndex& body, const std::string& shape, const OptArrayLike& size,
+                            const OptArrayLike& origin, const OptArrayLike& rgba, const std::string& filename,
+                            const ArrayLike& scale, const std::string& link) {
             s.model.add_visual(make_visual(s.model, body, shape, size, origin, rgba, filename, scale, link));
           }, py::arg("body"), py::arg("shape"), py::arg("size") = py::none(), py::arg("origin") = py::none(),
           py::arg("rgba") = py::none(), py::arg("filename") = "", py::arg("scale") = py::make_tuple(1.0, 1.0, 1.0),
@@ -268,16 +277,17 @@ Attach a visual shape to a body (index or name; None = the world). shape: 'box' 
 origin: (4, 4) pose in the body's joint frame (default identity); rgba: (4,) in [0, 1].
 Metadata only: the dynamics and existing integrators are unaffected. Raises ModelError on bad input.
 )doc")
-      .def("add_spring", [](PyModel& s, const py::object& joint, double k, double rest) {
+            .def("add_spring", [](PyModel& s, const Index& joint, double k, double rest) {
+
             s.model.add_spring(joint_arg(s.model, joint), k, rest);
             s.changed("add_spring");
           }, py::arg("joint"), py::arg("stiffness"), py::arg("rest") = 0.0,
-          "Linear joint spring Q = -stiffness (q - rest) (joint index or name); adds 1/2 k (q - rest)^2 to V.")
-      .def("add_damper", [](PyModel& s, const py::object& joint, double c) {
+          "Linear joint spring Q = -stiffness (q - rest) on a joint (index or name); adds 1/2 k (q - rest)^2 to V.")
+      .def("add_damper", [](PyModel& s, const Index& joint, double c) {
             s.model.add_damper(joint_arg(s.model, joint), c);
             s.changed("add_damper");
-          }, py::arg("joint"), py::arg("damping"), "Linear joint damper Q = -damping q̇.")
-      .def("add_actuator", [](PyModel& s, const py::object& joint, double gear) {
+          }, py::arg("joint"), py::arg("damping"), "Linear joint damper Q = -damping q̇ on a joint (index or name).")
+      .def("add_actuator", [](PyModel& s, const Index& joint, double gear) {
             const int k = s.model.add_actuator(joint_arg(s.model, joint), gear);
             s.changed("add_actuator");
             return k;
@@ -289,8 +299,8 @@ Metadata only: the dynamics and existing integrators are unaffected. Raises Mode
             return k;
           },
            "A new control input with no joint actuation (for control-scaled wrenches); returns its index.")
-      .def("add_point_wrench", [](PyModel& s, const py::object& body, const py::object& force, const py::object& torque,
-                                  const py::object& point, const std::string& frame, const py::object& control) {
+      .def("add_point_wrench", [](PyModel& s, const Index& body, const ArrayLike& force, const ArrayLike& torque,
+                                  const OptArrayLike& point, const std::string& frame, const OptInt& control) {
             const int i = body_arg(s.model, body);
             const Vec3 r = point.is_none() ? Vec3::Zero() : Vec3(as_vector(point, "point", 3) - s.model.spec[i].com);
             PointWrench::Frame f;
@@ -303,147 +313,154 @@ Metadata only: the dynamics and existing integrators are unaffected. Raises Mode
             s.changed("add_point_wrench");
           }, py::arg("body"), py::arg("force") = py::make_tuple(0.0, 0.0, 0.0), py::arg("torque") = py::make_tuple(0.0, 0.0, 0.0),
           py::arg("point") = py::none(), py::arg("frame") = "world", py::arg("control") = py::none(), R"doc(
-A force (and torque) on a body, applied at `point` (in the body's joint frame; default: its centre
-of mass). frame='world': components fixed in the world; frame='body': components turn with the
+A force (3,) (and torque (3,)) on a body (index or name), applied at `point` (3,) (in the body's
+joint frame; default: its centre of mass). frame='world': components fixed in the world; frame='body': components turn with the
 body (a follower force). control=k scales the wrench by the control input u[k].
 )doc")
-      .def("add_drag", [](PyModel& s, const py::object& body, double linear, double angular) {
+      .def("add_drag", [](PyModel& s, const Index& body, double linear, double angular) {
             if (linear < 0 || angular < 0) throw ModelError("add_drag: coefficients must be non-negative");
             s.model.add_wrench(std::make_shared<BodyDrag>(body_arg(s.model, body), linear, angular));
             s.changed("add_drag");
           }, py::arg("body"), py::arg("linear"), py::arg("angular") = 0.0,
-          "Linear drag at the centre of mass in the body frame: F = -(angular w, linear v_com).")
-      .def("add_point_constraint", [](PyModel& s, const py::object& body, const py::object& point,
-                                      const py::object& target, const std::string& axes) {
+          "Linear drag on a body (index or name) at its centre of mass, in the body frame: F = -(angular w, linear v_com).")
+      .def("add_point_constraint", [](PyModel& s, const Index& body, const OptArrayLike& point,
+                                      const OptArrayLike& target, const std::string& axes) {
+            if (target.is_none()) throw InputError("add_point_constraint: target (a world point, (3,)) is required");
             const int i = body_arg(s.model, body);
             const Vec3 r = point.is_none() ? Vec3::Zero() : Vec3(as_vector(point, "point", 3) - s.model.spec[i].com);
             s.model.add_constraint(std::make_shared<PointConstraint>(i, r, as_vector(target, "target", 3), axes));
             s.changed("add_point_constraint");
-          }, py::arg("body"), py::arg("point") = py::none(), py::arg("target"), py::arg("axes") = "xyz", R"doc(
-Hold a point of a body (in its joint frame; default the centre of mass) at a world point:
+          }, py::arg("body"), py::arg("point") = py::none(), py::arg("target") = py::none(), py::arg("axes") = "xyz", R"doc(
+Hold a point (3,) of a body (in its joint frame; default the centre of mass) at a world point target (3,):
 h = P (x(q) - target) with P the rows of `axes` ('xyz', or e.g. 'xz' for planar use).
 )doc")
-      .def("add_loop_constraint", [](PyModel& s, const py::object& b1, const py::object& p1, const py::object& b2,
-                                     const py::object& p2, const std::string& axes) {
+      .def("add_loop_constraint", [](PyModel& s, const Index& b1, const ArrayLike& p1, const Index& b2,
+                                     const ArrayLike& p2, const std::string& axes) {
             const int i = body_arg(s.model, b1), j = body_arg(s.model, b2);
             const Vec3 r1 = as_vector(p1, "point1", 3) - s.model.spec[i].com, r2 = as_vector(p2, "point2", 3) - s.model.spec[j].com;
             s.model.add_constraint(std::make_shared<LoopConstraint>(i, r1, j, r2, axes));
             s.changed("add_loop_constraint");
           }, py::arg("body1"), py::arg("point1"), py::arg("body2"), py::arg("point2"), py::arg("axes") = "xyz",
-          "Make point1 of body1 and point2 of body2 (each in its body's joint frame) coincide: a loop closure.")
-      .def("add_orientation_constraint", [](PyModel& s, const py::object& body, const py::object& R0) {
+          "Make point1 (3,) of body1 and point2 (3,) of body2 (each in its body's joint frame) coincide: a loop closure (the rows of `axes`).")
+      .def("add_orientation_constraint", [](PyModel& s, const Index& body, const ArrayLike& R0) {
             s.model.add_constraint(std::make_shared<OrientationConstraint>(body_arg(s.model, body), as_matrix(R0, "rotation", 3, 3)));
             s.changed("add_orientation_constraint");
-          }, py::arg("body"), py::arg("rotation"), "Hold a body's orientation at the world rotation `rotation` (3 equations).")
-      .def("add_joint_coupling", [](PyModel& s, const py::object& c, double offset) {
+          }, py::arg("body"), py::arg("rotation"), "Hold a body's orientation at the world rotation `rotation` (3, 3) (3 equations).")
+      .def("add_joint_coupling", [](PyModel& s, const ArrayLike& c, double offset) {
             s.model.add_constraint(std::make_shared<JointCoupling>(as_vector(c, "coefficients", s.model.n()), offset));
             s.changed("add_joint_coupling");
-          }, py::arg("coefficients"), py::arg("offset") = 0.0, "A linear coupling of joint coordinates: coefficients . q = offset.")
+          }, py::arg("coefficients"), py::arg("offset") = 0.0, "A linear coupling of joint coordinates: coefficients (n,) . q = offset (1 equation).")
       .def_property_readonly("n_constraints", [](const PyModel& s) { return s.model.n_constraints(); },
                              "Number of constraint equations.")
-      .def("constraint_values", [](PyModel& s, const py::object& q) {
+      .def("constraint_values", [](PyModel& s, const ArrayLike& q) {
             const VecX qv = s.vec(q, "q");
             forward_kinematics(s.model, s.ws(), qv);
             VecX h(s.model.n_constraints());
             constraint_values(s.model, KinematicsView{s.model, s.ws().g.data(), s.ws().Sbar.data(), 1}, qv, h);
             return h;
-          }, py::arg("q"), "h(q) of all constraints stacked.")
-      .def("constraint_jacobian", [](PyModel& s, const py::object& q) {
+          }, py::arg("q"), "q: (n,); returns h(q), (n_constraints,), of all constraints stacked.")
+      .def("constraint_jacobian", [](PyModel& s, const ArrayLike& q) {
             forward_kinematics(s.model, s.ws(), s.vec(q, "q"));
             MatX J(s.model.n_constraints(), s.model.n());
             constraint_jacobian(s.model, KinematicsView{s.model, s.ws().g.data(), s.ws().Sbar.data(), 1}, J);
             return J;
-          }, py::arg("q"), "Dh(q), (n_constraints, n).")
-      .def_property_readonly("n_controls", [](const PyModel& s) { return s.model.n_controls(); })
+          }, py::arg("q"), "q: (n,); returns Dh(q), (n_constraints, n).")
+      .def_property_readonly("n_controls", [](const PyModel& s) { return s.model.n_controls(); },
+                             "Number m of control inputs (add_actuator, add_control).")
       .def_property_readonly("actuation", [](const PyModel& s) { return MatX(s.model.joint_forces.actuation); },
-                             "Actuation map B (n x m): joint forces Q += B u.")
-      .def_property_readonly("stiffness", [](const PyModel& s) { return VecX(s.model.joint_forces.stiffness); })
-      .def_property_readonly("joint_damping", [](const PyModel& s) { return VecX(s.model.joint_forces.damping); })
-      .def_property_readonly("n_wrenches", [](const PyModel& s) { return s.model.wrenches.size(); })
+                             "(n, m) actuation map B: joint forces Q += B u.")
+      .def_property_readonly("stiffness", [](const PyModel& s) { return VecX(s.model.joint_forces.stiffness); },
+                             "(n,) joint spring stiffness per joint (the sum of its add_spring springs; 0 where none).")
+      .def_property_readonly("joint_damping", [](const PyModel& s) { return VecX(s.model.joint_forces.damping); },
+                             "(n,) joint damper coefficient per joint (add_damper; 0 where none).")
+      .def_property_readonly("n_wrenches", [](const PyModel& s) { return s.model.wrenches.size(); },
+                             "Number of body wrench elements (add_point_wrench, add_drag).")
       .def("body_index", [](const PyModel& s, const std::string& name) {
             const int i = s.model.body_index(name);
             if (i < 0) throw py::key_error("no body named '" + name + "'");
             return i;
-          })
+          }, py::arg("name"), "Index of the body (link) called `name`; KeyError if there is none.")
       .def("joint_index", [](const PyModel& s, const std::string& name) {
             const int i = s.model.joint_index(name);
             if (i < 0) throw py::key_error("no joint named '" + name + "'");
             return i;
-          })
+          }, py::arg("name"), "Index of the joint called `name`; KeyError if there is none.")
       .def("summary", [](const PyModel& s) { return summary(s.model); }, "A table of bodies and joints.")
       .def("__repr__", [](const PyModel& s) {
             std::ostringstream os;
             os << "<hovi.Model: " << s.model.n() << " DoF, mass " << s.model.total_mass() << " kg>";
             return os.str();
           })
-      .def("body_poses", [](PyModel& s, const py::object& q) {
+      .def("body_poses", [](PyModel& s, const ArrayLike& q) {
             forward_kinematics(s.model, s.ws(), s.vec(q, "q"));
             std::vector<Mat4> out;
             for (const SE3& g : s.ws().g) out.push_back(g.matrix());
             return stack(out);
-          }, py::arg("q"), "(n, 4, 4) world poses g_i of the body frames (at each centre of mass).")
-      .def("joint_placements", [](PyModel& s, const py::object& q) {
+          }, py::arg("q"), "q: (n,) joint positions; returns (n, 4, 4) world poses g_i of the body frames (at each centre of mass).")
+      .def("joint_placements", [](PyModel& s, const ArrayLike& q) {
             forward_kinematics(s.model, s.ws(), s.vec(q, "q"));
             std::vector<Mat4> out;
             for (int i = 0; i < s.model.n(); ++i) out.push_back(joint_placement(s.model, s.ws(), i).matrix());
             return stack(out);
-          }, py::arg("q"), "(n, 4, 4) world poses of the joint frames (Pinocchio's oMi).")
-      .def("spatial_twists", [](PyModel& s, const py::object& q) {
+          }, py::arg("q"), "q: (n,) joint positions; returns (n, 4, 4) world poses of the joint frames (Pinocchio's oMi).")
+      .def("spatial_twists", [](PyModel& s, const ArrayLike& q) {
             forward_kinematics(s.model, s.ws(), s.vec(q, "q"));
             return stack(s.ws().Sbar);
-          }, py::arg("q"), "(n, 6) spatial joint twists S̄_i = Ad_{g_i} S_i, (angular, linear).")
-      .def("spatial_velocities", [](PyModel& s, const py::object& q, const py::object& qd) {
+          }, py::arg("q"), "q: (n,) joint positions; returns (n, 6) spatial joint twists S̄_i = Ad_{g_i} S_i, (angular, linear).")
+      .def("spatial_velocities", [](PyModel& s, const ArrayLike& q, const ArrayLike& qd) {
             forward_kinematics(s.model, s.ws(), s.vec(q, "q"), s.vec(qd, "qdot"));
             return stack(s.ws().v);
-          }, py::arg("q"), py::arg("qdot"), "(n, 6) spatial velocities v̄_i = (ġ g^{-1})^∨, (angular, linear).")
-      .def("kinetic_energy", [](PyModel& s, const py::object& q, const py::object& qd) {
+          }, py::arg("q"), py::arg("qdot"), "q, qdot: (n,); returns (n, 6) spatial velocities v̄_i = (ġ g^{-1})^∨, (angular, linear).")
+      .def("kinetic_energy", [](PyModel& s, const ArrayLike& q, const ArrayLike& qd) {
             return kinetic_energy(s.model, s.ws(), s.vec(q, "q"), s.vec(qd, "qdot"));
-          }, py::arg("q"), py::arg("qdot"))
-      .def("potential_energy", [](PyModel& s, const py::object& q) {
+          }, py::arg("q"), py::arg("qdot"), "Kinetic energy K = 1/2 q̇^T M(q) q̇; q, qdot: (n,); returns a float.")
+      .def("potential_energy", [](PyModel& s, const ArrayLike& q) {
             return potential_energy(s.model, s.ws(), s.vec(q, "q"));
-          }, py::arg("q"), "Gravitational potential -sum m_i g^T p_i (p_i the centre of mass).")
-      .def("energy", [](PyModel& s, const py::object& q, const py::object& qd) {
+          }, py::arg("q"), "q: (n,); the gravitational potential -sum m_i g^T p_i (p_i the centre of mass) plus the springs' 1/2 k (q - rest)^2.")
+      .def("energy", [](PyModel& s, const ArrayLike& q, const ArrayLike& qd) {
             const VecX qv = s.vec(q, "q");
             return kinetic_energy(s.model, s.ws(), qv, s.vec(qd, "qdot")) + potential_energy(s.model, s.ws(), qv);
-          }, py::arg("q"), py::arg("qdot"), "Total mechanical energy K + V.")
-      .def("mass_matrix", [](PyModel& s, const py::object& q) {
+          }, py::arg("q"), py::arg("qdot"), "Total mechanical energy K + V; q, qdot: (n,); returns a float.")
+      .def("mass_matrix", [](PyModel& s, const ArrayLike& q) {
             return MatX(mass_matrix(s.model, s.ws(), s.vec(q, "q")));
-          }, py::arg("q"), "Joint-space mass matrix M(q), (n, n).")
-      .def("forward_dynamics", [](PyModel& s, const py::object& q, const py::object& qd, const py::object& tau) {
+          }, py::arg("q"), "q: (n,); returns the joint-space mass matrix M(q), (n, n).")
+      .def("forward_dynamics", [](PyModel& s, const ArrayLike& q, const ArrayLike& qd, const OptArrayLike& tau) {
             const VecX t = tau.is_none() ? VecX::Zero(s.model.n()) : s.vec(tau, "tau");
             return VecX(forward_dynamics(s.model, s.ws(), s.vec(q, "q"), s.vec(qd, "qdot"), t));
           }, py::arg("q"), py::arg("qdot"), py::arg("tau") = py::none(),
-          "q̈ = FD(q, q̇, tau) by the articulated-body algorithm (O(n)), gravity included.")
-      .def("kinetic_energy_hessians", [](PyModel& s, const py::object& q, const py::object& qd) {
+          "q, qdot, tau: (n,) (tau default zero); returns q̈ = FD(q, q̇, tau), (n,), by the articulated-body algorithm (O(n)), gravity and the model's forces included.")
+      .def("kinetic_energy_hessians", [](PyModel& s, const ArrayLike& q, const ArrayLike& qd) {
             kinetic_hessians(s.model, s.ws(), s.vec(q, "q"), s.vec(qd, "qdot"));
             const Data& d = s.ws();
             return py::make_tuple(d.Kvv, d.Kvq, d.Kqv, d.Kqq);
           }, py::arg("q"), py::arg("qdot"), R"doc(
-Algorithm 2, O(n^2): (Kvv, Kvq, Kqv, Kqq) with Kvv = d2K/dq̇2, Kvq[i, j] = d/dq_j (dK/dq̇_i),
+Algorithm 2, O(n^2). q, qdot: (n,); returns (Kvv, Kvq, Kqv, Kqq), each (n, n), with Kvv = d2K/dq̇2, Kvq[i, j] = d/dq_j (dK/dq̇_i),
 Kqv[i, j] = d/dq̇_j (dK/dq_i) = Kvq.T, Kqq = d2K/dq2.
 )doc")
-      .def("gravity_hessian", [](PyModel& s, const py::object& q) {
+      .def("gravity_hessian", [](PyModel& s, const ArrayLike& q) {
             return MatX(gravity_hessian(s.model, s.ws(), s.vec(q, "q")));
-          }, py::arg("q"), "Algorithm 3, O(n^2): d2V_g/dq2 of the gravitational potential (springs not included).")
-      .def("force_jacobians", [](PyModel& s, const py::object& q, const py::object& qd, const py::object& u) {
+          }, py::arg("q"), "Algorithm 3, O(n^2). q: (n,); returns d2V_g/dq2 (n, n) of the gravitational potential (springs not included).")
+      .def("force_jacobians", [](PyModel& s, const ArrayLike& q, const ArrayLike& qd, const OptArrayLike& u) {
             const VecX uu = u.is_none() ? VecX::Zero(s.model.n_controls()) : as_vector(u, "u", s.model.n_controls());
             ForceJacobians fj(s.model);
             force_jacobians(s.model, s.ws(), s.vec(q, "q"), s.vec(qd, "qdot"), uu, fj);
             return py::make_tuple(fj.Q, fj.Qq, fj.Qv, fj.Qu);
           }, py::arg("q"), py::arg("qdot"), py::arg("u") = py::none(), R"doc(
-(Q, dQ/dq, dQ/dq̇, dQ/du) of the generalized non-conservative force: joint springs, dampers and
+q, qdot: (n,), u: (m,) (default zero); returns (Q (n,), dQ/dq (n, n), dQ/dq̇ (n, n), dQ/du (n, m)) of
+the generalized non-conservative force: joint springs, dampers and
 actuators plus the body wrench elements mapped to joint space (gravity not included).
 )doc")
-      .def("inverse_dynamics", [](PyModel& s, const py::object& q, const py::object& qd, const py::object& qdd) {
+      .def("inverse_dynamics", [](PyModel& s, const ArrayLike& q, const ArrayLike& qd, const ArrayLike& qdd) {
             return VecX(inverse_dynamics(s.model, s.ws(), s.vec(q, "q"), s.vec(qd, "qdot"), s.vec(qdd, "qddot")));
           }, py::arg("q"), py::arg("qdot"), py::arg("qddot"),
-          "tau = M(q) q̈ + C(q, q̇) q̇ + G(q) by recursive Newton-Euler (O(n)).");
+          "q, qdot, qddot: (n,); returns tau = M(q) q̈ + C(q, q̇) q̇ + G(q), (n,), by recursive Newton-Euler (O(n)).");
 
   m.def("pendulum", [](int n, double length, double mass, double radius) {
         auto pm = std::make_shared<PyModel>();
         pm->model = models::pendulum(n, length, mass, radius);
         return pm;
-      }, py::arg("n"), py::arg("length") = 0.5, py::arg("mass") = 1.0, py::arg("radius") = 0.02);
+      }, py::arg("n"), py::arg("length") = 0.5, py::arg("mass") = 1.0, py::arg("radius") = 0.02,
+      "The paper's n-link 3D pendulum (see hovi.models.pendulum).");
 }
 
 }  // namespace hovi::py_bind

@@ -35,28 +35,28 @@ struct PyTranscription {
 template <class T>
 void bind_common(py::class_<PyTranscription<T>>& c) {
   using P = PyTranscription<T>;
-  c.def_property_readonly("n_variables", [](const P& p) { return p.t.n_variables(); })
-      .def_property_readonly("n_constraints", [](const P& p) { return p.t.n_constraints(); })
-      .def_property_readonly("nnz", [](const P& p) { return p.t.structure().nnz(); })
+  c.def_property_readonly("n_variables", [](const P& p) { return p.t.n_variables(); }, "Length of the variable vector x.")
+      .def_property_readonly("n_constraints", [](const P& p) { return p.t.n_constraints(); }, "Length of g(x).")
+      .def_property_readonly("nnz", [](const P& p) { return p.t.structure().nnz(); }, "Number of nonzeros of the Jacobian.")
       .def_property_readonly("structure", [](const P& p) {
             return py::make_tuple(p.t.structure().rows, p.t.structure().cols);
-          }, "(rows, cols) of the Jacobian's nonzeros, in the order `jacobian` returns values.")
-      .def("constraints", [](const P& p, const py::object& x) {
+          }, "(rows (nnz,), cols (nnz,)) of the Jacobian's nonzeros, in the order `jacobian` returns values.")
+      .def("constraints", [](const P& p, const ArrayLike& x) {
             const T& t = p.get();
             const VecX xv = as_vector(x, "x", t.n_variables());
             VecX g(t.n_constraints());
             py::gil_scoped_release release;
             t.constraints(xv, g);
             return g;
-          }, py::arg("x"), "g(x), the dynamics (and holonomic) constraints of the whole trajectory.")
-      .def("jacobian", [](const P& p, const py::object& x) {
+          }, py::arg("x"), "x: (n_variables,); returns g(x), (n_constraints,), the dynamics (and holonomic) constraints of the whole trajectory.")
+      .def("jacobian", [](const P& p, const ArrayLike& x) {
             const T& t = p.get();
             const VecX xv = as_vector(x, "x", t.n_variables());
             VecX values(t.structure().nnz());
             py::gil_scoped_release release;
             t.jacobian(xv, values);
             return values;
-          }, py::arg("x"), "The Jacobian's values at x, in `structure` order.");
+          }, py::arg("x"), "x: (n_variables,); returns the Jacobian's values (nnz,) at x, in `structure` order.");
 }
 
 }  // namespace
@@ -72,9 +72,10 @@ N s + 1 control points, p at the N + 1 knots, controls (per point or held per st
   vi.def(py::init([](std::shared_ptr<PyModel> model, int s, int N, double dt, const std::string& controls) {
            return new PV(std::move(model), s, N, dt, parse_controls(controls));
          }),
-         py::arg("model"), py::arg("s"), py::arg("N"), py::arg("dt"), py::arg("controls") = "per_point")
+         py::arg("model"), py::arg("s"), py::arg("N"), py::arg("dt"), py::arg("controls") = "per_point",
+         "N stages of the order-2s VI with step dt on a copy of `model`; controls 'per_point' or 'held'.")
       .def_property_readonly("offsets", [](const PV& p) {
-            py::dict d;
+            py::typing::Dict<py::str, int> d;
             d["q"] = p.t.q_offset();
             d["p"] = p.t.p_offset();
             d["u"] = p.t.u_offset();
@@ -82,8 +83,9 @@ N s + 1 control points, p at the N + 1 knots, controls (per point or held per st
             d["holonomic_row"] = p.t.holonomic_row();
             return d;
           }, "Offsets of the variable blocks in x and of the first holonomic row.")
-      .def_property_readonly("n_points", [](const PV& p) { return p.t.n_points(); })
-      .def_property_readonly("n_control_values", [](const PV& p) { return p.t.n_control_values(); });
+      .def_property_readonly("n_points", [](const PV& p) { return p.t.n_points(); }, "Number of control points N s + 1.")
+      .def_property_readonly("n_control_values", [](const PV& p) { return p.t.n_control_values(); },
+                             "Number of control samples (per point or per stage).");
   bind_common(vi);
 
   using PH = PyTranscription<HermiteSimpsonTranscription>;
@@ -95,9 +97,10 @@ variables q, v (and a) at the 2N + 1 knots and midpoints, controls, multipliers 
   hs.def(py::init([](std::shared_ptr<PyModel> model, int N, double dt, const std::string& controls, bool implicit) {
            return new PH(std::move(model), N, dt, parse_controls(controls), implicit);
          }),
-         py::arg("model"), py::arg("N"), py::arg("dt"), py::arg("controls") = "per_point", py::arg("implicit") = true)
+         py::arg("model"), py::arg("N"), py::arg("dt"), py::arg("controls") = "per_point", py::arg("implicit") = true,
+         "N Hermite-Simpson intervals of length dt on a copy of `model`; controls 'per_point' or 'held'.")
       .def_property_readonly("offsets", [](const PH& p) {
-            py::dict d;
+            py::typing::Dict<py::str, int> d;
             d["q"] = p.t.q_offset();
             d["v"] = p.t.v_offset();
             if (p.t.implicit()) d["a"] = p.t.a_offset();
@@ -105,12 +108,13 @@ variables q, v (and a) at the 2N + 1 knots and midpoints, controls, multipliers 
             d["lambda"] = p.t.lambda_offset();
             return d;
           }, "Offsets of the variable blocks in x.")
-      .def_property_readonly("n_points", [](const PH& p) { return p.t.n_points(); })
-      .def_property_readonly("n_control_values", [](const PH& p) { return p.t.n_control_values(); });
+      .def_property_readonly("n_points", [](const PH& p) { return p.t.n_points(); }, "Number of points 2N + 1 (knots and midpoints).")
+      .def_property_readonly("n_control_values", [](const PH& p) { return p.t.n_control_values(); },
+                             "Number of control samples (per point or per interval).");
   bind_common(hs);
 
-  t.def("body_point_kinematics", [](PyModel& pm, const py::object& Q, const std::vector<int>& bodies,
-                                    const py::object& points) {
+  t.def("body_point_kinematics", [](PyModel& pm, const ArrayLike& Q, const std::vector<int>& bodies,
+                                    const ArrayLike& points) {
         const MatX q = as_matrix(Q, "q", -1, pm.model.n()).transpose();
         MatX r = as_matrix(points, "points", q.cols(), 3).transpose();
         if (static_cast<long>(bodies.size()) != r.cols()) throw InputError("one body per point is needed");

@@ -4,11 +4,36 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
+#include <pybind11/typing.h>
 
 #include "hovi/spatial/types.hpp"
 
 namespace hovi::py_bind {
 namespace py = pybind11;
+
+// Argument types for the signatures (and so the type stubs): each accepts any Python object, as
+// py::object does, and is checked by the code that reads it (as_vector, joint_arg, ...); only its
+// name in the signature differs, e.g. `q: numpy.typing.ArrayLike`.
+inline int any_object(PyObject*) { return 1; }
+#define HOVI_PY_HINTED_OBJECT(Name)                            \
+  class Name : public py::object {                             \
+    PYBIND11_OBJECT_DEFAULT(Name, object, any_object)          \
+    using object::object;                                      \
+  };
+HOVI_PY_HINTED_OBJECT(ArrayLike)     // numpy.typing.ArrayLike: read by as_vector / as_matrix
+HOVI_PY_HINTED_OBJECT(OptArrayLike)  // numpy.typing.ArrayLike | None
+HOVI_PY_HINTED_OBJECT(Index)         // int | str: a joint or body by index or name
+HOVI_PY_HINTED_OBJECT(OptIndex)      // int | str | None
+HOVI_PY_HINTED_OBJECT(PathOrXml)     // str | os.PathLike[str]: a URDF path or XML string
+HOVI_PY_HINTED_OBJECT(OptInt)        // int | None
+#undef HOVI_PY_HINTED_OBJECT
+
+// Typed containers for return values: py::typing::Tuple<MatX, VecX> is `tuple[NDArray, NDArray]`.
+template <class... T>
+using Tuple = py::typing::Tuple<T...>;
+template <class T>
+using Optional = py::typing::Optional<T>;
+using StrDict = py::typing::Dict<py::str, py::object>;  // dict[str, typing.Any]
 
 // A 1-D float array of length n (n < 0: any length) converted to VecX; ValueError otherwise.
 VecX as_vector(const py::handle& obj, const char* name, long n);
@@ -25,3 +50,16 @@ void bind_baselines(py::module_& m);
 void bind_trajopt(py::module_& m);
 
 }  // namespace hovi::py_bind
+
+namespace pybind11::detail {
+#define HOVI_PY_TYPE_NAME(Name, Text) \
+  template <>                         \
+  struct handle_type_name<hovi::py_bind::Name> { static constexpr auto name = const_name(Text); };
+HOVI_PY_TYPE_NAME(ArrayLike, "numpy.typing.ArrayLike")
+HOVI_PY_TYPE_NAME(OptArrayLike, "numpy.typing.ArrayLike | None")
+HOVI_PY_TYPE_NAME(Index, "int | str")
+HOVI_PY_TYPE_NAME(OptIndex, "int | str | None")
+HOVI_PY_TYPE_NAME(PathOrXml, "str | os.PathLike[str]")
+HOVI_PY_TYPE_NAME(OptInt, "int | None")
+#undef HOVI_PY_TYPE_NAME
+}  // namespace pybind11::detail

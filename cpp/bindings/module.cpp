@@ -8,6 +8,10 @@ PYBIND11_MODULE(_core, m) {
   m.doc() = "hovi C++ core: higher-order variational integrators for robots";
   static py::exception<hovi::ModelError> model_error(m, "ModelError", PyExc_ValueError);
   static py::exception<hovi::UrdfError> urdf_error(m, "URDFError", model_error.ptr());
+  model_error.attr("__doc__") =
+      "An invalid model or model input (a ValueError): a bad body, joint, force or constraint, an unknown "
+      "joint or body name, or a call on an Integrator or Linearizer whose model changed after it was made.";
+  urdf_error.attr("__doc__") = "A URDF that cannot be loaded (a ModelError); the message names the link or joint at fault.";
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);

@@ -12,4 +12,4 @@ from .trajectory_io import load_trajectory
 
 __all__ = ["Model", "ModelError", "URDFError", "models", "Integrator", "ConvergenceError", "StepInfo", "Trajectory",
            "Linearizer", "DelJacobian", "StepLinearization", "load_trajectory"]
-__version__ = "0.1.0"
+__version__ = "0.1.0"  # the one place the version is kept: pyproject.toml reads it from here

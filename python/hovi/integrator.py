@@ -1,17 +1,22 @@
 """The Galerkin variational integrator: the Pythonic layer over hovi._core.Integrator."""
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass, field
+from typing import Any, Dict, List, Optional, Tuple
 
 import numpy as np
+import numpy.typing as npt
 
 from . import _core
+from ._typing import FloatArray, IntArray
 
 
 class ConvergenceError(RuntimeError):
     """A Newton solve of the DEL equations did not converge."""
 
-    def __init__(self, message: str, info: dict | None = None, trajectory: "Trajectory | None" = None):
+    def __init__(self, message: str, info: StepInfo | dict[str, Any] | None = None,
+                 trajectory: Trajectory | None = None):
         super().__init__(message)
         self.info = info
         self.trajectory = trajectory
@@ -19,6 +24,9 @@ class ConvergenceError(RuntimeError):
 
 @dataclass
 class StepInfo:
+    """How the Newton solve of one step went (``Integrator.step``); ``control_points`` (s+1, n) holds
+    q^{k,0..s} of the step and, for a constrained model, ``multipliers`` (s, n_constraints)
+    λ^{k,0..s-1}."""
     status: str            # 'converged', 'max_iterations', 'line_search_failed', 'singular_jacobian', 'non_finite',
                            # 'continuation_stalled' (no step on the solution branch from q^k: it turns back before dt)
     converged: bool
@@ -26,43 +34,55 @@ class StepInfo:
     factorizations: int    # of them, those with a fresh Jacobian factorisation (the rest reused one)
     residual_evaluations: int
     residual: float        # ||r||_inf at exit
+    control_points: Optional[FloatArray] = field(default=None, repr=False)  # (s+1, n), set by Integrator.step
+    multipliers: Optional[FloatArray] = field(default=None, repr=False)     # (s, n_constraints), constrained models
 
 
 @dataclass
 class Trajectory:
-    """A rollout. Arrays are indexed by step k; t[k] = k dt."""
-    t: np.ndarray               # (K+1,)
-    q: np.ndarray               # (K+1, n) configurations q^k
-    p: np.ndarray               # (K+1, n) discrete momenta p^k
-    control_points: np.ndarray  # (K, s+1, n): q^{k,0..s}
-    iterations: np.ndarray      # (attempted,) Newton iterations per step
-    residuals: np.ndarray       # (attempted,) final ||r||_inf per step
-    factorizations: np.ndarray | None = None  # (attempted,) Jacobian factorisations per step
-    status: list = field(default_factory=list)
-    multipliers: np.ndarray | None = None  # (K, s, n_constraints): λ^{k,0..s-1} of constrained steps
+    """A rollout of K steps. Arrays are indexed by step k; t[k] = k dt: t (K+1,), q and p (K+1, n),
+    control_points (K, s+1, n), per attempted step iterations, residuals, factorizations and
+    status, multipliers (K, s, n_constraints) of a constrained model."""
+    t: FloatArray               # (K+1,)
+    q: FloatArray               # (K+1, n) configurations q^k
+    p: FloatArray               # (K+1, n) discrete momenta p^k
+    control_points: FloatArray  # (K, s+1, n): q^{k,0..s}
+    iterations: IntArray        # (attempted,) Newton iterations per step
+    residuals: FloatArray       # (attempted,) final ||r||_inf per step
+    factorizations: Optional[IntArray] = None  # (attempted,) Jacobian factorisations per step
+    status: List[str] = field(default_factory=list)
+    multipliers: Optional[FloatArray] = None  # (K, s, n_constraints): λ^{k,0..s-1} of constrained steps
     solve_seconds: float = 0.0  # time spent in the C++ loop
-    integrator: "Integrator | None" = field(default=None, repr=False)
+    integrator: Optional[Integrator] = field(default=None, repr=False)
 
     @property
     def steps(self) -> int:
+        """Number of steps K taken (len(t) - 1)."""
         return len(self.t) - 1
 
     @property
     def converged(self) -> bool:
+        """Whether every attempted step converged."""
         return all(s == "converged" for s in self.status)
 
-    @property
-    def qdot(self) -> np.ndarray:
-        """Velocities q̇^k read back from (q^k, p^k) by ``Integrator.velocity`` (M^{-1} p, projected
-        onto Dh(q) q̇ = 0 for a constrained model)."""
-        return np.array([self.integrator.velocity(q, p) for q, p in zip(self.q, self.p)])
+    def _integrator(self) -> Integrator:
+        if self.integrator is None:
+            raise ValueError("this trajectory has no integrator (load it with hovi.load_trajectory(path, integrator))")
+        return self.integrator
 
     @property
-    def energy(self) -> np.ndarray:
-        """Total energy K + V at every step, with q̇ as in ``qdot``."""
-        return self.integrator.energies(self.q, self.p)
+    def qdot(self) -> FloatArray:
+        """(K+1, n) velocities q̇^k read back from (q^k, p^k) by ``Integrator.velocity`` (M^{-1} p,
+        projected onto Dh(q) q̇ = 0 for a constrained model)."""
+        integ = self._integrator()
+        return np.array([integ.velocity(q, p) for q, p in zip(self.q, self.p)])
 
-    def save(self, path) -> None:
+    @property
+    def energy(self) -> FloatArray:
+        """(K+1,) total energy K + V at every step, with q̇ as in ``qdot``."""
+        return self._integrator().energies(self.q, self.p)
+
+    def save(self, path: str | os.PathLike[str]) -> None:
         """Write to ``path`` (.npz): the arrays, solver statistics, joint names, s and dt
         (``hovi.load_trajectory`` reads it back)."""
         from .trajectory_io import save_trajectory
@@ -103,15 +123,16 @@ class Integrator:
     accurate with respect to a smooth u(t).
     """
 
-    def __init__(self, model: _core.Model, s: int | None = None, *, order: int | None = None, dt: float = 0.01,
+    def __init__(self, model: _core.Model, s: Optional[int] = None, *, order: Optional[int] = None, dt: float = 0.01,
                  tol: float = 0.0, step_tol: float = 1e-15, max_iterations: int = 30, max_backtracks: int = 12,
                  line_search: bool = True, direction: str = "auto", reuse_jacobian: bool = True,
-                 reuse_contraction: float = 0.1):
+                 reuse_contraction: float = 0.1) -> None:
         if s is None and order is None:
             s = 2
         elif s is not None and order is not None and order != 2 * s:
             raise ValueError(f"order must be 2s: got s={s} and order={order}")
         elif s is None:
+            assert order is not None
             if order % 2 or order < 2:
                 raise ValueError(f"order must be an even number >= 2 (order = 2s), got {order}")
             s = order // 2
@@ -123,44 +144,78 @@ class Integrator:
         self.model = model
 
     # --- properties -------------------------------------------------------------------------
-    s = property(lambda self: self._core.s, doc="Number of Lobatto intervals; s+1 control points.")
-    order = property(lambda self: 2 * self._core.s, doc="Order of accuracy 2s.")
-    direction_path = property(lambda self: self._core.direction_path,
-                              doc="The Newton direction this integrator computes: 'dense' or 'recursive'.")
-    dt = property(lambda self: self._core.dt)
-    n = property(lambda self: self._core.n)
-    nodes = property(lambda self: self._core.nodes, doc="Lobatto nodes c^a on [0, 1].")
-    weights = property(lambda self: self._core.weights, doc="Lobatto weights w^a.")
-    differentiation_matrix = property(lambda self: self._core.differentiation_matrix,
-                                      doc="b^{ab} = l_b'(c^a): q̇^a = (1/dt) sum_b b^{ab} q^b.")
+    @property
+    def s(self) -> int:
+        """Number of Lobatto intervals; s+1 control points."""
+        return self._core.s
 
-    def __repr__(self):
+    @property
+    def order(self) -> int:
+        """Order of accuracy 2s."""
+        return 2 * self._core.s
+
+    @property
+    def direction_path(self) -> str:
+        """The Newton direction this integrator computes: 'dense' or 'recursive'."""
+        return self._core.direction_path
+
+    @property
+    def dt(self) -> float:
+        """The time step (s)."""
+        return self._core.dt
+
+    @property
+    def n(self) -> int:
+        """Number of joints n of the model."""
+        return self._core.n
+
+    @property
+    def nodes(self) -> FloatArray:
+        """(s+1,) Lobatto nodes c^a on [0, 1]."""
+        return self._core.nodes
+
+    @property
+    def weights(self) -> FloatArray:
+        """(s+1,) Lobatto weights w^a."""
+        return self._core.weights
+
+    @property
+    def differentiation_matrix(self) -> FloatArray:
+        """(s+1, s+1) b^{ab} = l_b'(c^a): q̇^a = (1/dt) sum_b b^{ab} q^b."""
+        return self._core.differentiation_matrix
+
+    def __repr__(self) -> str:
         return f"<hovi.Integrator order {self.order} (s={self.s}), dt={self.dt}, n={self.n}>"
 
     # --- constraints ---------------------------------------------------------------------------
     @property
     def n_constraints(self) -> int:
+        """Number of constraint equations m_c of the model."""
         return self._core.n_constraints
 
-    def project(self, q, qdot=None, tol: float = 1e-12):
-        """A consistent initial state for a constrained model: (q, qdot) with h(q) = 0 (Gauss-Newton,
+    def project(self, q: npt.ArrayLike, qdot: Optional[npt.ArrayLike] = None,
+                tol: float = 1e-12) -> Tuple[FloatArray, FloatArray]:
+        """A consistent initial state for a constrained model: (q (n,), qdot (n,)) with h(q) = 0 (Gauss-Newton,
         minimum-norm corrections) and Dh(q) qdot = 0 (the kinetic-energy-nearest velocity).
         Raises ValueError for redundant or inconsistent constraints, a configuration too far from
         the constraint manifold, or constraints that lock every degree of freedom."""
         qdot = np.zeros(self.n) if qdot is None else qdot
         return self._core.project(q, qdot, tol)
 
-    def constrained_residual(self, control_points, multipliers, p, u=None):
+    def constrained_residual(self, control_points: npt.ArrayLike, multipliers: npt.ArrayLike, p: npt.ArrayLike,
+                             u: Optional[npt.ArrayLike] = None) -> Tuple[FloatArray, FloatArray, FloatArray]:
         """(r, h, p_next) of the constrained DEL equations: r (s, n) includes the constraint forces
-        w^a dt Dh(q^a)^T λ^a, h (s, m_c) = h(q^{k,1..s}); multipliers (s, m_c) = λ^{k,0..s-1}."""
+        w^a dt Dh(q^a)^T λ^a, h (s, m_c) = h(q^{k,1..s}), p_next (n,); control_points (s+1, n), p (n,),
+        multipliers (s, m_c) = λ^{k,0..s-1}."""
         return self._core.constrained_residual(control_points, multipliers, p, u)
 
-    def constrained_direction(self, control_points, multipliers, p, u=None):
-        """The constrained Newton direction (dq (s, n), dλ (s, m_c)): the recursive solver and the
-        Schur complement of the KKT system."""
+    def constrained_direction(self, control_points: npt.ArrayLike, multipliers: npt.ArrayLike, p: npt.ArrayLike,
+                              u: Optional[npt.ArrayLike] = None) -> Tuple[FloatArray, FloatArray]:
+        """The constrained Newton direction (dq (s, n), dλ (s, m_c)) at control_points (s+1, n),
+        multipliers (s, m_c), p (n,): the recursive solver and the Schur complement of the KKT system."""
         return self._core.constrained_direction(control_points, multipliers, p, u)
 
-    def _check_consistent(self, q0, qdot0):
+    def _check_consistent(self, q0: FloatArray, qdot0: Optional[FloatArray]) -> None:
         if self.n_constraints == 0:
             return
         h = self.model.constraint_values(q0)
@@ -174,13 +229,13 @@ class Integrator:
                                  "use Integrator.project(q0, qdot0) for a consistent initial state")
 
     # --- momentum and energy -----------------------------------------------------------------
-    def momentum(self, q, qdot) -> np.ndarray:
-        """p = dL/dq̇ = M(q) q̇: the discrete momentum to start from (for a constrained model give a
+    def momentum(self, q: npt.ArrayLike, qdot: npt.ArrayLike) -> FloatArray:
+        """q, qdot: (n,); returns p = dL/dq̇ = M(q) q̇ (n,): the discrete momentum to start from (for a constrained model give a
         q̇ with Dh(q) q̇ = 0, e.g. from ``project``)."""
         return self._core.momentum(q, qdot)
 
-    def velocity(self, q, p) -> np.ndarray:
-        """The velocity q̇ of a discrete momentum p: M(q)^{-1} p, O(n).
+    def velocity(self, q: npt.ArrayLike, p: npt.ArrayLike) -> FloatArray:
+        """q, p: (n,); returns the velocity q̇ (n,) of a discrete momentum p: M(q)^{-1} p, O(n).
 
         For a constrained model, the q̇ with Dh(q) q̇ = 0 nearest to M^{-1} p in the kinetic-energy
         metric: ``[M Dh^T; Dh 0] [q̇; μ] = [p; 0]``, solved in O(n m + m^3) with the recursive
@@ -190,27 +245,33 @@ class Integrator:
         """
         return self._core.velocity(q, p)
 
-    def energy(self, q, p) -> float:
-        """K + V at (q, ``velocity(q, p)``)."""
+    def energy(self, q: npt.ArrayLike, p: npt.ArrayLike) -> float:
+        """q, p: (n,); returns K + V at (q, ``velocity(q, p)``)."""
         return self._core.energy(q, p)
 
-    def energies(self, q, p) -> np.ndarray:
-        """``energy`` of every row of q, p (arrays (K, n)), in C++."""
+    def energies(self, q: npt.ArrayLike, p: npt.ArrayLike) -> FloatArray:
+        """``energy`` (K,) of every row of q, p (arrays (K, n)), in C++."""
         return self._core.energies(q, p)
 
     # --- the DEL equations ---------------------------------------------------------------------
-    def del_residual(self, control_points, p, u=None):
-        """Algorithm 1: (r, p_next) with r of shape (s, n) (row a = r^{k,a}) for control points (s+1, n)."""
+    def del_residual(self, control_points: npt.ArrayLike, p: npt.ArrayLike,
+                     u: Optional[npt.ArrayLike] = None) -> Tuple[FloatArray, FloatArray]:
+        """Algorithm 1: (r, p_next) with r of shape (s, n) (row a = r^{k,a}) and p_next (n,) for control
+        points (s+1, n), momentum p (n,) and controls u (m,) or (s+1, m)."""
         return self._core.del_residual(control_points, p, u)
 
-    def newton_direction(self, control_points, p, u=None) -> np.ndarray:
+    def newton_direction(self, control_points: npt.ArrayLike, p: npt.ArrayLike,
+                         u: Optional[npt.ArrayLike] = None) -> FloatArray:
         """The Newton direction dq of shape (s, n) (row gamma-1 = δq^{k,gamma}) with J dq = -r, on
         this integrator's ``direction`` path (Algorithms A.1/A.2, or the dense LU)."""
         return self._core.newton_direction(control_points, p, u)
 
     # --- stepping --------------------------------------------------------------------------------
-    def step(self, q, p, u=None, *, guess=None, multipliers=None, raise_on_failure: bool = True):
-        """One step: returns (q_next, p_next, info). ``info.control_points`` holds q^{k,0..s} and,
+    def step(self, q: npt.ArrayLike, p: npt.ArrayLike, u: Optional[npt.ArrayLike] = None, *,
+             guess: Optional[npt.ArrayLike] = None, multipliers: Optional[npt.ArrayLike] = None,
+             raise_on_failure: bool = True) -> Tuple[FloatArray, FloatArray, StepInfo]:
+        """One step from q, p (n,) with controls u ((m,) or (s+1, m)): returns (q_next (n,), p_next (n,),
+        info). ``info.control_points`` holds q^{k,0..s} and,
         for a constrained model, ``info.multipliers`` λ^{k,0..s-1} (s, n_constraints).
 
         guess: initial control points (s+1, n) for a single Newton solve; by default Newton starts
@@ -220,9 +281,9 @@ class Integrator:
         multipliers: the first guess of λ^{k,0..s-1} of a constrained model (default zero).
         Raises ConvergenceError if the solve fails and raise_on_failure (else check info.converged).
         """
-        qc, p_next, info = self._core.step(q, p, u, guess, multipliers)
-        lam = info.pop("multipliers")
-        info = StepInfo(**info)
+        qc, p_next, raw = self._core.step(q, p, u, guess, multipliers)
+        lam = raw.pop("multipliers")
+        info = StepInfo(**raw)
         if not info.converged and raise_on_failure:
             raise ConvergenceError(f"Newton solve did not converge ({info.status}) after {info.iterations} "
                                    f"iterations, residual {info.residual:.3e}; try a smaller dt", info=info)
@@ -231,9 +292,10 @@ class Integrator:
             info.multipliers = lam
         return qc[-1].copy(), p_next, info
 
-    def rollout(self, q0, steps: int, *, p0=None, qdot0=None, u=None, raise_on_failure: bool = True,
-                progress: bool = False, chunk: int = 500) -> Trajectory:
-        """Simulate ``steps`` steps from q0 with p0 (or qdot0, default zero velocity), in C++.
+    def rollout(self, q0: npt.ArrayLike, steps: int, *, p0: Optional[npt.ArrayLike] = None,
+                qdot0: Optional[npt.ArrayLike] = None, u: Optional[npt.ArrayLike] = None,
+                raise_on_failure: bool = True, progress: bool = False, chunk: int = 500) -> Trajectory:
+        """Simulate ``steps`` steps from q0 (n,) with p0 (n,) (or qdot0 (n,), default zero velocity), in C++.
 
         Each step starts Newton from the control points of the last two steps extrapolated; if that solve
         fails it retries from q^k + c^a dt q̇^k (q̇^k = ``velocity(q^k, p^k)``), then from
@@ -253,17 +315,20 @@ class Integrator:
         if p0 is not None and qdot0 is not None:
             raise ValueError("give p0 or qdot0, not both")
         if p0 is None:
-            qdot0 = np.zeros(self.n) if qdot0 is None else np.asarray(qdot0, dtype=float)
-            self._check_consistent(q0, qdot0)
-            p0 = self.momentum(q0, qdot0)
+            v0 = np.zeros(self.n) if qdot0 is None else np.asarray(qdot0, dtype=float)
+            self._check_consistent(q0, v0)
+            p0 = self.momentum(q0, v0)
         else:
             self._check_consistent(q0, None)
         U = self._rollout_controls(u, steps)
         bar = None
         if progress:
-            from tqdm import tqdm
+            from tqdm import tqdm  # type: ignore[import-untyped, unused-ignore]
             bar = tqdm(total=steps, unit="step", desc="simulating")
-        parts, previous, lam, q, p, done = [], None, None, q0, np.asarray(p0, dtype=float), 0
+        parts: List[Dict[str, Any]] = []
+        previous: Optional[FloatArray] = None
+        lam: Optional[FloatArray] = None
+        q, p, done = q0, np.asarray(p0, dtype=float), 0
         while True:
             n_chunk = min(chunk, steps - done) if progress else steps - done
             res = self._core.rollout(q, p, n_chunk, None if U is None else U[done:done + n_chunk], previous, lam)
@@ -287,31 +352,31 @@ class Integrator:
                                    trajectory=traj)
         return traj
 
-    def _rollout_controls(self, u, steps):
+    def _rollout_controls(self, u: Optional[npt.ArrayLike], steps: int) -> Optional[FloatArray]:
         m, S1 = self._core.n_controls, self.s + 1
         if u is None:
             return None
         if m == 0:
             raise ValueError("the model has no controls (add actuators or controls first), but u was given")
-        u = np.asarray(u, dtype=float)
-        if u.shape == (m,):
-            u = np.broadcast_to(u, (steps, S1, m))
-        elif u.shape == (steps, m):
-            u = np.repeat(u[:, None, :], S1, axis=1)
-        elif u.shape != (steps, S1, m):
-            raise ValueError(f"u must have shape ({m},), ({steps}, {m}) or ({steps}, {S1}, {m}), got {u.shape}")
-        if not np.all(np.isfinite(u)):
+        U = np.asarray(u, dtype=float)
+        if U.shape == (m,):
+            U = np.broadcast_to(U, (steps, S1, m))
+        elif U.shape == (steps, m):
+            U = np.repeat(U[:, None, :], S1, axis=1)
+        elif U.shape != (steps, S1, m):
+            raise ValueError(f"u must have shape ({m},), ({steps}, {m}) or ({steps}, {S1}, {m}), got {U.shape}")
+        if not np.all(np.isfinite(U)):
             raise ValueError("u contains NaN or infinity")
-        return np.ascontiguousarray(u.reshape(steps, S1 * m))
+        return np.ascontiguousarray(U.reshape(steps, S1 * m))
 
-    def _join(self, parts) -> Trajectory:
+    def _join(self, parts: List[Dict[str, Any]]) -> Trajectory:
         q = np.vstack([parts[0]["q"]] + [r["q"][1:] for r in parts[1:]])
         p = np.vstack([parts[0]["p"]] + [r["p"][1:] for r in parts[1:]])
         cp = np.vstack([r["control_points"] for r in parts]).reshape(-1, self.s + 1, self.n)
         mult = None
         if self.n_constraints:
             mult = np.vstack([r["multipliers"] for r in parts]).reshape(-1, self.s, self.n_constraints)
-        return Trajectory(t=np.arange(len(q)) * self.dt, q=q, p=p, control_points=cp,
+        return Trajectory(t=np.arange(len(q), dtype=np.float64) * self.dt, q=q, p=p, control_points=cp,
                           iterations=np.concatenate([r["iterations"] for r in parts]),
                           residuals=np.concatenate([r["residual"] for r in parts]),
                           factorizations=np.concatenate([r["factorizations"] for r in parts]),

@@ -3,10 +3,13 @@ hovi._core.Linearizer."""
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Optional, Tuple
 
 import numpy as np
+import numpy.typing as npt
 
 from . import _core
+from ._typing import FloatArray
 from .integrator import ConvergenceError, Integrator, Trajectory
 
 
@@ -19,16 +22,18 @@ class DelJacobian:
     (m columns each); d r^{k,0}/d p^k is the identity and no other row depends on p^k.
     ``blocks()`` views ``dq`` as (s+1, s+1, n, n).
     """
-    dq: np.ndarray
-    du: np.ndarray | None
+    dq: FloatArray                      # ((s+1) n, (s+1) n)
+    du: Optional[FloatArray]            # ((s+1) n, (s+1) m)
     s: int
     n: int
-    dlambda: np.ndarray | None = None  # constrained: d(rows)/dλ^{k,0..s-1}, ((s+1) n, s m_c)
-    dh: np.ndarray | None = None       # constrained: dh(q^{k,1..s})/dq^{k,0..s}, (s m_c, (s+1) n)
+    dlambda: Optional[FloatArray] = None  # constrained: d(rows)/dλ^{k,0..s-1}, ((s+1) n, s m_c)
+    dh: Optional[FloatArray] = None       # constrained: dh(q^{k,1..s})/dq^{k,0..s}, (s m_c, (s+1) n)
 
-    def blocks(self) -> np.ndarray:
+    def blocks(self) -> FloatArray:
+        """``dq`` as (s+1, s+1, n, n) blocks: [a, b] = d(row block a)/dq^{k,b}."""
         S1, n = self.s + 1, self.n
-        return self.dq.reshape(S1, n, S1, n).transpose(0, 2, 1, 3)
+        blocks: FloatArray = self.dq.reshape(S1, n, S1, n).transpose(0, 2, 1, 3)
+        return blocks
 
 
 @dataclass
@@ -39,16 +44,17 @@ class StepLinearization:
     B = d(q^{k+1}, p^{k+1}) / du: (2n, (s+1) m) with column block a for u^{k,a}, or (2n, m) for a
     control held over the step (hold=True, the sum of the blocks).
     """
-    q_next: np.ndarray
-    p_next: np.ndarray
-    control_points: np.ndarray
-    A: np.ndarray | None
-    B: np.ndarray | None
+    q_next: FloatArray          # (n,)
+    p_next: FloatArray          # (n,)
+    control_points: FloatArray  # (s+1, n)
+    A: Optional[FloatArray]
+    B: Optional[FloatArray]
 
 
-def _hold(B: np.ndarray, m: int) -> np.ndarray:
+def _hold(B: FloatArray, m: int) -> FloatArray:
     """Per-control-point columns -> one held control: sum the (s+1) column blocks."""
-    return B.reshape(*B.shape[:-1], -1, m).sum(axis=-2)
+    held: FloatArray = B.reshape(*B.shape[:-1], -1, m).sum(axis=-2)
+    return held
 
 
 class Linearizer:
@@ -59,14 +65,17 @@ class Linearizer:
     (sn x sn) DEL Jacobian serving every right-hand side. Asking only for A does no work for B.
     """
 
-    def __init__(self, integrator: Integrator):
+    def __init__(self, integrator: Integrator) -> None:
         if not isinstance(integrator, Integrator):
             raise TypeError(f"integrator must be a hovi.Integrator, got {type(integrator).__name__}")
         self.integrator = integrator
         self._core = _core.Linearizer(integrator._core)
 
-    def del_jacobian(self, control_points, u=None, *, with_u: bool = True, multipliers=None) -> DelJacobian:
-        """Jacobian of (r^{k,0..s-1}, p^{k+1}) with respect to q^{k,0..s} (and u^{k,0..s}).
+    def del_jacobian(self, control_points: npt.ArrayLike, u: Optional[npt.ArrayLike] = None, *, with_u: bool = True,
+                     multipliers: Optional[npt.ArrayLike] = None) -> DelJacobian:
+        """Jacobian of (r^{k,0..s-1}, p^{k+1}) with respect to q^{k,0..s} (and u^{k,0..s}) at control
+        points (s+1, n) with controls u (m,) or (s+1, m): ``dq`` ((s+1) n, (s+1) n), ``du``
+        ((s+1) n, (s+1) m).
 
         For a constrained model give the multipliers (s, m_c) = λ^{k,0..s-1}: the rows then include
         the constraint forces w^a dt Dh(q^a)^T λ^a (with their λ·d²h terms), and the result carries
@@ -76,32 +85,36 @@ class Linearizer:
         s, n = self.integrator.s, self.integrator.n
         dlambda = None
         if multipliers is not None:
+            assert du is not None
             m, mc = self.integrator.model.n_controls, self.integrator.n_constraints
             blocks = du.reshape((s + 1) * n, s + 1, m + mc)
             dlambda = blocks[:, :s, m:].reshape((s + 1) * n, s * mc)
             du = blocks[:, :, :m].reshape((s + 1) * n, (s + 1) * m) if with_u else None
         return DelJacobian(dq=dq, du=du, s=s, n=n, dlambda=dlambda, dh=dh)
 
-    def step_jacobians(self, q, p, u=None, *, A: bool = True, B: bool = True, hold: bool = False,
-                       guess=None) -> StepLinearization:
-        """Take one step from (q, p) with controls u and linearise it (see StepLinearization)."""
+    def step_jacobians(self, q: npt.ArrayLike, p: npt.ArrayLike, u: Optional[npt.ArrayLike] = None, *, A: bool = True,
+                       B: bool = True, hold: bool = False, guess: Optional[npt.ArrayLike] = None) -> StepLinearization:
+        """Take one step from (q, p) (n,) with controls u ((m,) or (s+1, m)) and linearise it: A (2n, 2n),
+        B (2n, (s+1) m) or (2n, m) with hold=True (see StepLinearization)."""
         q_next, p_next, info = self.integrator.step(q, p, u, guess=guess)
-        Am, Bm = self._core.step_jacobians(info.control_points, u, A, B, getattr(info, "multipliers", None))
+        assert info.control_points is not None
+        Am, Bm = self._core.step_jacobians(info.control_points, u, A, B, info.multipliers)
         if Bm is not None and hold:
             Bm = _hold(Bm, self.integrator.model.n_controls)
         return StepLinearization(q_next, p_next, info.control_points, Am, Bm)
 
-    def linearize_at(self, control_points, u=None, *, A: bool = True, B: bool = True, hold: bool = False,
-                     multipliers=None):
-        """(A, B) at given converged control points (s+1, n) of a step (and its multipliers (s, m_c)
-        for a constrained model)."""
+    def linearize_at(self, control_points: npt.ArrayLike, u: Optional[npt.ArrayLike] = None, *, A: bool = True,
+                     B: bool = True, hold: bool = False, multipliers: Optional[npt.ArrayLike] = None
+                     ) -> Tuple[Optional[FloatArray], Optional[FloatArray]]:
+        """(A (2n, 2n), B (2n, (s+1) m)) at given converged control points (s+1, n) of a step (and its
+        multipliers (s, m_c) for a constrained model); None for what was not asked for."""
         Am, Bm = self._core.step_jacobians(control_points, u, A, B, multipliers)
         if Bm is not None and hold:
             Bm = _hold(Bm, self.integrator.model.n_controls)
         return Am, Bm
 
-    def rollout_jacobians(self, trajectory: Trajectory, u=None, *, A: bool = True, B: bool = True,
-                          hold: bool = False):
+    def rollout_jacobians(self, trajectory: Trajectory, u: Optional[npt.ArrayLike] = None, *, A: bool = True,
+                          B: bool = True, hold: bool = False) -> Tuple[Optional[FloatArray], Optional[FloatArray]]:
         """(A_k, B_k) along a trajectory, computed in C++: arrays (K, 2n, 2n) and (K, 2n, (s+1) m)
         (or (K, 2n, m) with hold=True). u as given to Integrator.rollout."""
         integ = self.integrator

@@ -1,10 +1,15 @@
 """Built-in models."""
+from __future__ import annotations
+
+from typing import Any, Dict
+
 import numpy as np
 
 from . import _core
+from ._typing import FloatArray
 
 
-def pendulum(n: int, length: float = 0.5, mass: float = 1.0, radius: float = 0.02) -> "_core.Model":
+def pendulum(n: int, length: float = 0.5, mass: float = 1.0, radius: float = 0.02) -> _core.Model:
     """The paper's n-link 3D pendulum benchmark (Fan et al. 2018, Sec. 5).
 
     A serial chain of ``n`` identical uniform solid cylinders (``length`` m, ``mass`` kg,
@@ -15,19 +20,19 @@ def pendulum(n: int, length: float = 0.5, mass: float = 1.0, radius: float = 0.0
     return _core.pendulum(int(n), float(length), float(mass), float(radius))
 
 
-def _rod(length, mass):
+def _rod(length: float, mass: float) -> Dict[str, Any]:
     """A slender rod hanging along -z from its joint: centre of mass and inertia about it."""
     I = mass * length ** 2 / 12
     return dict(mass=mass, com=[0.0, 0.0, -length / 2], inertia=np.diag([I, I, 1e-4 * mass * length ** 2]))
 
 
-def _below(dz):
+def _below(dz: float) -> FloatArray:
     T = np.eye(4)
     T[2, 3] = -dz
     return T
 
 
-def acrobot(length: float = 1.0, mass: float = 1.0) -> "_core.Model":
+def acrobot(length: float = 1.0, mass: float = 1.0) -> _core.Model:
     """A planar double pendulum (x-z plane, joints about y) hanging along -z at q = 0, actuated at
     the elbow only (control 0 is the elbow torque): the acrobot."""
     m = _core.Model()
@@ -37,7 +42,7 @@ def acrobot(length: float = 1.0, mass: float = 1.0) -> "_core.Model":
     return m
 
 
-def cartpole(cart_mass: float = 1.0, pole_mass: float = 0.3, pole_length: float = 0.5) -> "_core.Model":
+def cartpole(cart_mass: float = 1.0, pole_mass: float = 0.3, pole_length: float = 0.5) -> _core.Model:
     """A cart on a rail along x (prismatic joint 'slider') with a pole hanging along -z at q = 0
     (revolute joint 'hinge' about y), pushed by a force on the cart (control 0)."""
     m = _core.Model()
@@ -48,18 +53,18 @@ def cartpole(cart_mass: float = 1.0, pole_mass: float = 0.3, pole_length: float 
     return m
 
 
-def _along_x(L, mass):
+def _along_x(L: float, mass: float) -> Dict[str, Any]:
     """A slender rod along x from its joint: centre of mass at L/2."""
     return dict(mass=mass, com=[L / 2, 0, 0], inertia=np.diag([1e-4, mass * L * L / 12, mass * L * L / 12]))
 
 
-def _at_x(x):
+def _at_x(x: float) -> FloatArray:
     T = np.eye(4)
     T[0, 3] = x
     return T
 
 
-def fourbar(L1: float = 0.3, L2: float = 0.8, L3: float = 0.6, d: float = 0.7) -> "_core.Model":
+def fourbar(L1: float = 0.3, L2: float = 0.8, L3: float = 0.6, d: float = 0.7) -> _core.Model:
     """A planar crank-rocker four-bar in the x-z plane (joints about y, 1 kg rods): crank and coupler
     from the origin, rocker from (d, 0, 0); a loop constraint joins the coupler's end to the
     rocker's end. 3 joints, 2 constraint equations, 1 DoF."""
@@ -71,7 +76,7 @@ def fourbar(L1: float = 0.3, L2: float = 0.8, L3: float = 0.6, d: float = 0.7) -
     return m
 
 
-def slider_crank(crank: float = 0.2, rod_length: float = 0.5) -> "_core.Model":
+def slider_crank(crank: float = 0.2, rod_length: float = 0.5) -> _core.Model:
     """A slider-crank in the x-z plane (joints about y): a crank (1 kg) from the origin and a rod
     (0.7 kg) from the crank's end, whose end slides on the line z = 0 (a one-axis point
     constraint: a prismatic-like joint without a slider body). 2 joints, 1 DoF."""

@@ -8,18 +8,22 @@ Integrator when one is given (so that ``qdot`` and ``energy`` work on the loaded
 from __future__ import annotations
 
 import os
+from typing import TYPE_CHECKING, Any, Dict, Optional
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from .integrator import Integrator, Trajectory
 
 FORMAT_VERSION = 1
 
 
-def save_trajectory(trajectory, path: str | os.PathLike) -> None:
+def save_trajectory(trajectory: Trajectory, path: str | os.PathLike[str]) -> None:
     """Write ``trajectory`` (a hovi.Trajectory made by an Integrator) to ``path`` (.npz)."""
     integ = trajectory.integrator
     if integ is None:
         raise ValueError("this trajectory has no integrator: its joint names, s and dt are unknown")
-    arrays = {
+    arrays: Dict[str, Any] = {
         "format_version": np.array(FORMAT_VERSION),
         "joint_names": np.array(integ.model.joint_names, dtype=str),
         "s": np.array(integ.s), "dt": np.array(integ.dt),
@@ -34,10 +38,10 @@ def save_trajectory(trajectory, path: str | os.PathLike) -> None:
     np.savez_compressed(path, **arrays)
 
 
-def load_trajectory(path: str | os.PathLike, integrator=None):
+def load_trajectory(path: str | os.PathLike[str], integrator: Optional[Integrator] = None) -> Trajectory:
     """Read a trajectory written by ``Trajectory.save``. With ``integrator``, its model's joint
     names, s and dt must match the file's (ValueError naming the difference otherwise) and it is
-    attached to the trajectory."""
+    attached to the trajectory. Arrays as saved: t (K+1,), q and p (K+1, n), control_points (K, s+1, n)."""
     from .integrator import Trajectory
 
     try:

@@ -4,21 +4,25 @@ transcription. Running costs are integrals, sum_j w_j L(t_j, q_j, v_j, u_j); ter
 the sample at the final time."""
 from __future__ import annotations
 
-from typing import Callable
+from typing import Callable, Tuple
 
 import numpy as np
+import numpy.typing as npt
 
 from .samples import Samples
+
+# (value, dq (K, n), dv (K, n), du (K, m)): a cost and its gradients with respect to the samples
+CostValue = Tuple[float, np.ndarray, np.ndarray, np.ndarray]
 
 
 class Cost:
     """Base class: ``__call__(samples) -> (value, dq (K, n), dv (K, n), du (K, m))``."""
 
-    def __call__(self, s: Samples):
+    def __call__(self, s: Samples) -> CostValue:
         raise NotImplementedError
 
 
-def _weights(W, size, name):
+def _weights(W: npt.ArrayLike, size: int, name: str) -> np.ndarray:
     W = np.broadcast_to(np.asarray(W, dtype=float), (size,)).copy()
     if np.any(W < 0) or not np.all(np.isfinite(W)):
         raise ValueError(f"{name} weights must be finite and non-negative")
@@ -26,12 +30,12 @@ def _weights(W, size, name):
 
 
 class ControlEffort(Cost):
-    """∫ sum_i R_i u_i(t)^2 dt (R a scalar or one weight per control)."""
+    """∫ sum_i R_i u_i(t)^2 dt (weight R a scalar or one weight per control, (m,))."""
 
-    def __init__(self, weight=1.0):
+    def __init__(self, weight: npt.ArrayLike = 1.0):
         self.weight = weight
 
-    def __call__(self, s: Samples):
+    def __call__(self, s: Samples) -> CostValue:
         R = _weights(self.weight, s.u.shape[1], "control effort")
         wu = s.w[:, None] * R * s.u
         return float(np.sum(wu * s.u)), np.zeros_like(s.q), np.zeros_like(s.v), 2 * wu
@@ -41,7 +45,9 @@ class StateTracking(Cost):
     """∫ sum_i Wq_i (q_i - q_ref,i(t))^2 + Wv_i (v_i - v_ref,i(t))^2 dt: posture regulation
     (a constant q_ref) or tracking (q_ref a vectorised callable: times t (K,) -> (K, n))."""
 
-    def __init__(self, q_ref, weight=1.0, v_ref=None, velocity_weight=0.0):
+    def __init__(self, q_ref: npt.ArrayLike | Callable[[np.ndarray], np.ndarray], weight: npt.ArrayLike = 1.0,
+                 v_ref: npt.ArrayLike | Callable[[np.ndarray], np.ndarray] | None = None,
+                 velocity_weight: npt.ArrayLike = 0.0):
         self.q_ref, self.weight, self.v_ref, self.velocity_weight = q_ref, weight, v_ref, velocity_weight
 
     @staticmethod
@@ -54,7 +60,7 @@ class StateTracking(Cost):
                              f"t (K,) returning (K, {n}); got shape {r.shape}")
         return r
 
-    def __call__(self, s: Samples):
+    def __call__(self, s: Samples) -> CostValue:
         n = s.q.shape[1]
         eq = s.q - self._reference(self.q_ref, s.t, n)
         ev = s.v - self._reference(self.v_ref, s.t, n)
@@ -65,12 +71,14 @@ class StateTracking(Cost):
 
 
 class TerminalCost(Cost):
-    """Wq |q(T) - q_T|^2 + Wv |v(T) - v_T|^2 (weights scalars or per joint)."""
+    """Wq |q(T) - q_T|^2 + Wv |v(T) - v_T|^2: targets q_target, v_target (n,) (v_target default
+    zero), weights scalars or per joint (n,)."""
 
-    def __init__(self, q_target, weight=1.0, v_target=None, velocity_weight=0.0):
+    def __init__(self, q_target: npt.ArrayLike, weight: npt.ArrayLike = 1.0, v_target: npt.ArrayLike | None = None,
+                 velocity_weight: npt.ArrayLike = 0.0):
         self.q_target, self.weight, self.v_target, self.velocity_weight = q_target, weight, v_target, velocity_weight
 
-    def __call__(self, s: Samples):
+    def __call__(self, s: Samples) -> CostValue:
         n, f = s.q.shape[1], s.final
         eq = s.q[f] - np.broadcast_to(np.asarray(self.q_target, dtype=float), (n,))
         ev = s.v[f] - (np.zeros(n) if self.v_target is None else np.broadcast_to(np.asarray(self.v_target, float), (n,)))
@@ -84,10 +92,10 @@ class CallbackCost(Cost):
     """A user cost on the samples: ``fun(t, w, q, v, u) -> (value, dq, dv, du)`` with arrays of the
     samples' shapes (vectorised over the samples: called once per evaluation, not per stage)."""
 
-    def __init__(self, fun: Callable):
+    def __init__(self, fun: Callable[..., tuple[float, npt.ArrayLike, npt.ArrayLike, npt.ArrayLike]]):
         self.fun = fun
 
-    def __call__(self, s: Samples):
+    def __call__(self, s: Samples) -> CostValue:
         value, dq, dv, du = self.fun(s.t, s.w, s.q, s.v, s.u)
         for name, g, ref in (("dq", dq, s.q), ("dv", dv, s.v), ("du", du, s.u)):
             if np.shape(g) != ref.shape:

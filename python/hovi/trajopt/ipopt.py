@@ -9,13 +9,19 @@ from __future__ import annotations
 
 import time
 
+from typing import Any, Callable, Tuple, Union
+
 import numpy as np
 
 from .hermite_simpson import HermiteSimpsonTranscription
 from .nlp import NLP
 from .problem import Problem
 from .result import Result
+from .transcription import Transcription
 from .variational import VariationalTranscription
+
+# An initial guess: None or 'rollout', 'linear', a Result, or (q(t), v(t), u(t)) functions
+Guess = Union[None, str, Result, Tuple[Callable[[np.ndarray], np.ndarray], ...]]
 
 DEFAULT_OPTIONS = {
     "hessian_approximation": "limited-memory",
@@ -31,7 +37,7 @@ DEFAULT_OPTIONS = {
 }
 
 
-def transcribe(problem: Problem, transcription: str = "vi", s: int = 2):
+def transcribe(problem: Problem, transcription: str = "vi", s: int = 2) -> Transcription:
     """The transcription named 'vi' (the Galerkin VI of order 2s), 'hs' or 'hs-implicit' (implicit
     Hermite-Simpson) or 'hs-explicit'."""
     if transcription == "vi":
@@ -138,11 +144,14 @@ class _Callbacks:
         return True
 
 
-def solve(problem: Problem, transcription: str = "vi", *, s: int = 2, guess=None, options: dict | None = None,
-          verbose: bool = True) -> Result:
+def solve(problem: Problem, transcription: str = "vi", *, s: int = 2, guess: Guess = None,
+          options: dict[str, Any] | None = None, verbose: bool = True) -> Result:
     """Transcribe ``problem`` ('vi' with order 2s, 'hs-implicit' or 'hs-explicit') and solve it with
     IPOPT. ``options`` are passed to IPOPT over hovi's defaults (limited-memory Hessian, tol 1e-8,
     constraint violation 1e-10, bounds not relaxed). ``verbose`` prints one line per iteration.
+
+    guess: see ``initial_guess``: None or 'rollout', 'linear', a Result, or functions (q(t), v(t),
+    u(t)) of times t (K,) returning (K, n), (K, n), (K, m).
 
     The result's ``timing`` splits the wall time: 'evaluations' (the C++ transcription calls),
     'callbacks' (all time in hovi's callbacks: evaluations, costs, path constraints, Python and

@@ -12,6 +12,10 @@ from .transcription import Transcription
 
 
 class NLP:
+    """The NLP of a transcription: variables x (n_variables,) within [lower, upper], constraints
+    cl <= g(x) <= cu (n_constraints,) with a sparse Jacobian (jac_rows, jac_cols) (nnz,), and the
+    objective; what IPOPT's callbacks evaluate."""
+
     def __init__(self, tr: Transcription):
         self.tr, self.problem, self.core = tr, tr.problem, tr.core
         self.samples = tr.sample_map()
@@ -52,6 +56,7 @@ class NLP:
 
     @property
     def nnz(self) -> int:
+        """Number of nonzeros of the constraint Jacobian."""
         return len(self.jac_rows)
 
     def _timed(self, f, x):
@@ -60,11 +65,13 @@ class NLP:
         self.eval_seconds += time.perf_counter() - t0
         return out
 
-    def objective(self, x) -> float:
+    def objective(self, x: np.ndarray) -> float:
+        """The total cost at x (n_variables,)."""
         s = self.samples.evaluate(x)
         return sum(c(s)[0] for c in self.problem.costs)
 
-    def gradient(self, x) -> np.ndarray:
+    def gradient(self, x: np.ndarray) -> np.ndarray:
+        """The cost's gradient (n_variables,) at x (n_variables,)."""
         s = self.samples.evaluate(x)
         g = np.zeros(self.n_variables)
         for c in self.problem.costs:
@@ -81,14 +88,16 @@ class NLP:
             out.append(jac.ravel() if with_jacobian else values.ravel())
         return out
 
-    def constraints(self, x) -> np.ndarray:
+    def constraints(self, x: np.ndarray) -> np.ndarray:
+        """g(x) (n_constraints,): dynamics, path constraints and linear boundary rows, at x (n_variables,)."""
         return np.concatenate([self._timed(self.core.constraints, x), *self._path(x, False), self.A @ x])
 
-    def jacobian(self, x) -> np.ndarray:
+    def jacobian(self, x: np.ndarray) -> np.ndarray:
+        """The Jacobian's values (nnz,) at x (n_variables,), in (jac_rows, jac_cols) order."""
         return np.concatenate([self._timed(self.core.jacobian, x), *self._path(x, True), self.A_values])
 
-    def violation(self, x) -> float:
-        """Largest violation of the constraints and bounds at x."""
+    def violation(self, x: np.ndarray) -> float:
+        """Largest violation of the constraints and bounds at x (n_variables,)."""
         g = self.constraints(x)
         return float(max(np.max(np.maximum(self.cl - g, 0), initial=0), np.max(np.maximum(g - self.cu, 0), initial=0),
                          np.max(np.maximum(self.lower - x, 0), initial=0), np.max(np.maximum(x - self.upper, 0), initial=0)))

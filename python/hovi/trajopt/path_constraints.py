@@ -3,14 +3,18 @@
 ``lower <= c(q) <= upper``. Each is evaluated for all its points in one vectorised call."""
 from __future__ import annotations
 
-from typing import Callable
+from typing import Callable, Tuple
 
 import numpy as np
+import numpy.typing as npt
 
 from .. import _core
 
+# (values (P, r), jacobians (P, r, n)) of a path constraint at P configuration points
+PathValue = Tuple[np.ndarray, np.ndarray]
 
-def _body(model, body) -> int:
+
+def _body(model: _core.Model, body: int | str) -> int:
     if isinstance(body, str):
         if body not in model.body_names:
             raise ValueError(f"unknown body '{body}' (the model's bodies: {', '.join(model.body_names)})")
@@ -24,7 +28,7 @@ def _body(model, body) -> int:
 _AXES = {"x": 0, "y": 1, "z": 2}
 
 
-def _axes(axes: str):
+def _axes(axes: str) -> list[int]:
     if not axes or any(a not in _AXES for a in axes) or len(set(axes)) != len(axes):
         raise ValueError(f"axes must be a combination of 'x', 'y', 'z', got '{axes}'")
     return [_AXES[a] for a in axes]
@@ -35,7 +39,7 @@ class PathConstraint:
     configuration point in it); ``evaluate(model, t, Q) -> (values (P, r), jacobians (P, r, n))``
 at the points' times t (P,) and configurations Q (P, n)."""
 
-    def __init__(self, at=None, window=None):
+    def __init__(self, at: float | None = None, window: tuple[float, float] | None = None):
         if (at is None) == (window is None):
             raise ValueError("give exactly one of at= (a time) or window= (t0, t1)")
         if window is not None and not window[0] <= window[1]:
@@ -43,7 +47,7 @@ at the points' times t (P,) and configurations Q (P, n)."""
         self.at, self.window = at, window
 
     def points(self, t: np.ndarray) -> np.ndarray:
-        """Indices of the configuration points (times t) where the constraint applies."""
+        """Indices (P,) of the configuration points (times t (N,)) where the constraint applies."""
         if self.at is not None:
             if not t[0] - 1e-12 <= self.at <= t[-1] + 1e-12:
                 raise ValueError(f"time {self.at} lies outside the horizon [{t[0]}, {t[-1]}]")
@@ -54,21 +58,26 @@ at the points' times t (P,) and configurations Q (P, n)."""
             raise ValueError(f"no configuration point lies in the window {self.window}")
         return idx
 
-    def bind(self, model):
-        """Resolve names against the model (raises ValueError naming what is unknown)."""
+    def bind(self, model: _core.Model) -> PathConstraint:
+        """Resolve names against the model (raises ValueError naming what is unknown); returns self."""
         return self
+
+    def evaluate(self, model: _core.Model, t: np.ndarray, Q: np.ndarray) -> PathValue:
+        """At the points' times t (P,) and configurations Q (P, n): (values (P, r), jacobians (P, r, n))."""
+        raise NotImplementedError
 
     lower: np.ndarray
     upper: np.ndarray
 
 
 class BodyPoint(PathConstraint):
-    """A point of a body (in its joint frame) with world coordinates ``axes`` (e.g. 'z', 'xz')
-    equal to ``target`` (a hand at a target) or within [lower, upper] (a foot above an obstacle:
-    axes='z', lower=height)."""
+    """A point (3,) of a body (in its joint frame) with world coordinates ``axes`` (e.g. 'z', 'xz':
+    r rows) equal to ``target`` (r,) (a hand at a target) or within [lower, upper] (r,) (a foot above
+    an obstacle: axes='z', lower=height)."""
 
-    def __init__(self, body, point=(0.0, 0.0, 0.0), *, target=None, lower=None, upper=None, axes="xyz",
-                 at=None, window=None):
+    def __init__(self, body: int | str, point: npt.ArrayLike = (0.0, 0.0, 0.0), *, target: npt.ArrayLike | None = None,
+                 lower: npt.ArrayLike | None = None, upper: npt.ArrayLike | None = None, axes: str = "xyz",
+                 at: float | None = None, window: tuple[float, float] | None = None):
         super().__init__(at, window)
         self.body, self.point, self.rows = body, np.asarray(point, float), _axes(axes)
         r = len(self.rows)
@@ -84,28 +93,32 @@ class BodyPoint(PathConstraint):
         if self.point.shape != (3,):
             raise ValueError("point must have 3 coordinates")
 
-    def bind(self, model):
+    def bind(self, model: _core.Model) -> BodyPoint:
+        """Resolve the body (index or name) against the model; returns self."""
         self.index = _body(model, self.body)
         return self
 
-    def evaluate(self, model, t, Q):
+    def evaluate(self, model: _core.Model, t: np.ndarray, Q: np.ndarray) -> PathValue:
+        """The point's world coordinates `axes` (P, r) and their Jacobians (P, r, n) at configurations Q (P, n)."""
         P = len(Q)
         X, J = _core.trajopt.body_point_kinematics(model, Q, [self.index] * P, np.tile(self.point, (P, 1)))
         return X[:, self.rows], J[:, self.rows, :]
 
 
 class Clearance(BodyPoint):
-    """A point of a body stays at least ``radius`` from a world point ``center`` (a spherical
+    """A point (3,) of a body stays at least ``radius`` from a world point ``center`` (3,) (a spherical
     obstacle; with axes='xz', a circle in that plane): |P (x - center)|^2 >= radius^2."""
 
-    def __init__(self, body, point=(0.0, 0.0, 0.0), *, center, radius, axes="xyz", at=None, window=None):
+    def __init__(self, body: int | str, point: npt.ArrayLike = (0.0, 0.0, 0.0), *, center: npt.ArrayLike,
+                 radius: float, axes: str = "xyz", at: float | None = None, window: tuple[float, float] | None = None):
         super().__init__(body, point, axes=axes, at=at, window=window)
         self.center = np.asarray(center, float)
         if radius <= 0:
             raise ValueError("radius must be positive")
         self.lower, self.upper = np.array([radius ** 2]), np.array([np.inf])
 
-    def evaluate(self, model, t, Q):
+    def evaluate(self, model: _core.Model, t: np.ndarray, Q: np.ndarray) -> PathValue:
+        """|P (x - center)|^2 (P, 1) and its Jacobian (P, 1, n) at configurations Q (P, n)."""
         X, J = super().evaluate(model, t, Q)
         d = X - self.center[self.rows]
         return np.sum(d * d, axis=1, keepdims=True), 2 * np.einsum("pr,prn->pn", d, J)[:, None, :]
@@ -115,14 +128,17 @@ class CallbackPathConstraint(PathConstraint):
     """A user condition ``lower <= fun(t, Q) <= upper`` on configurations, vectorised over the points:
     ``fun(t (P,), Q (P, n)) -> (P, r)`` and ``jac(t, Q) -> (P, r, n)``."""
 
-    def __init__(self, fun: Callable, jac: Callable, lower, upper, *, at=None, window=None):
+    def __init__(self, fun: Callable[[np.ndarray, np.ndarray], npt.ArrayLike],
+                 jac: Callable[[np.ndarray, np.ndarray], npt.ArrayLike], lower: npt.ArrayLike, upper: npt.ArrayLike, *,
+                 at: float | None = None, window: tuple[float, float] | None = None):
         super().__init__(at, window)
         self.fun, self.jac = fun, jac
         self.lower, self.upper = np.atleast_1d(np.asarray(lower, float)), np.atleast_1d(np.asarray(upper, float))
         if self.lower.shape != self.upper.shape or np.any(self.lower > self.upper):
             raise ValueError("lower and upper must have the same shape with lower <= upper")
 
-    def evaluate(self, model, t, Q):
+    def evaluate(self, model: _core.Model, t: np.ndarray, Q: np.ndarray) -> PathValue:
+        """fun(t, Q) (P, r) and jac(t, Q) (P, r, n) at times t (P,) and configurations Q (P, n), checked."""
         P, r = len(Q), len(self.lower)
         values, jac = np.asarray(self.fun(t, Q), float), np.asarray(self.jac(t, Q), float)
         if values.shape != (P, r) or jac.shape != (P, r, Q.shape[1]):

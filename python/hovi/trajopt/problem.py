@@ -3,6 +3,7 @@ the horizon, boundary conditions, bounds, costs and path constraints."""
 from __future__ import annotations
 
 import numpy as np
+import numpy.typing as npt
 
 from .. import _core
 from .costs import Cost
@@ -22,8 +23,9 @@ class Problem:
     (one value per stage).
     """
 
-    def __init__(self, model: _core.Model, N: int, T: float, *, controls: str = "per_point", q_bounds=None,
-                 u_bounds=None):
+    def __init__(self, model: _core.Model, N: int, T: float, *, controls: str = "per_point",
+                 q_bounds: tuple[npt.ArrayLike, npt.ArrayLike] | None = None,
+                 u_bounds: tuple[npt.ArrayLike, npt.ArrayLike] | None = None):
         if not isinstance(model, _core.Model):
             raise TypeError(f"model must be a hovi.Model, got {type(model).__name__}")
         if int(N) != N or N < 1:
@@ -41,6 +43,7 @@ class Problem:
 
     @property
     def dt(self) -> float:
+        """The stage length T / N."""
         return self.T / self.N
 
     @staticmethod
@@ -84,31 +87,35 @@ class Problem:
                                      f"{np.abs(v).max():.2e}); use Integrator.project for a consistent state")
         return q, qdot
 
-    def initial_state(self, q0, qdot0=None) -> "Problem":
-        """Fix the initial configuration and velocity (default: at rest)."""
+    def initial_state(self, q0: npt.ArrayLike, qdot0: npt.ArrayLike | None = None) -> Problem:
+        """Fix the initial configuration q0 (n,) and velocity qdot0 (n,) (default: at rest); returns self."""
         self.q0, self.qdot0 = self._state(q0, np.zeros(self.model.n) if qdot0 is None else qdot0, "initial")
         return self
 
-    def final_state(self, q=None, qdot=None) -> "Problem":
-        """Fix the final configuration and/or velocity (a final velocity needs a final configuration)."""
+    def final_state(self, q: npt.ArrayLike | None = None, qdot: npt.ArrayLike | None = None) -> Problem:
+        """Fix the final configuration q (n,) and/or velocity qdot (n,) (a final velocity needs a final
+        configuration); returns self."""
         if q is None and qdot is not None:
             raise ValueError("a final velocity needs a final configuration (give q as well, or use a TerminalCost)")
         self.qT, self.qdotT = (None, None) if q is None else self._state(q, qdot, "final")
         return self
 
-    def add_cost(self, cost: Cost) -> "Problem":
+    def add_cost(self, cost: Cost) -> Problem:
+        """Add a cost term (ControlEffort, StateTracking, TerminalCost, CallbackCost); returns self."""
         if not isinstance(cost, Cost):
             raise TypeError(f"expected a hovi.trajopt cost term, got {type(cost).__name__}")
         self.costs.append(cost)
         return self
 
-    def add_constraint(self, constraint: PathConstraint) -> "Problem":
+    def add_constraint(self, constraint: PathConstraint) -> Problem:
+        """Add a path constraint (BodyPoint, Clearance, CallbackPathConstraint), resolved against the
+        model now; returns self."""
         if not isinstance(constraint, PathConstraint):
             raise TypeError(f"expected a hovi.trajopt path constraint, got {type(constraint).__name__}")
         self.path_constraints.append(constraint.bind(self.model))
         return self
 
-    def check(self):
+    def check(self) -> None:
         """Raise ValueError if the problem is incomplete."""
         if self.q0 is None:
             raise ValueError("the problem has no initial state: call initial_state(q0, qdot0)")

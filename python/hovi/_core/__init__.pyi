@@ -1,0 +1,433 @@
+"""
+hovi C++ core: higher-order variational integrators for robots
+"""
+from __future__ import annotations
+import numpy
+import numpy.typing
+import os
+import typing
+from . import baselines
+from . import trajopt
+__all__: list[str] = ['Integrator', 'Linearizer', 'Model', 'ModelError', 'URDFError', 'baselines', 'pendulum', 'trajopt']
+class ModelError(ValueError):
+    """
+    An invalid model or model input (a ValueError): a bad body, joint, force or constraint, an unknown joint or body name, or a call on an Integrator or Linearizer whose model changed after it was made.
+    """
+class URDFError(ModelError):
+    """
+    A URDF that cannot be loaded (a ModelError); the message names the link or joint at fault.
+    """
+class Model:
+    """
+    A tree of rigid bodies joined by 1-DoF revolute or prismatic joints (parents before children).
+    
+    Body frames sit at each body's centre of mass with the joint frame's orientation (ERRATA C-3);
+    ``joint_placements`` gives the joint frames (Pinocchio's ``oMi``). Twists are ordered
+    (angular, linear) as in the paper. Build one with ``Model.from_urdf``, ``hovi.models``, or
+    ``Model()`` followed by ``add_body``.
+    """
+    @staticmethod
+    def from_urdf(source: str | os.PathLike[str], base: str = 'fixed', expand_joints: bool = False, planar_normal: numpy.typing.ArrayLike = (0.0, 1.0, 0.0)) -> Model:
+        """
+        Load a URDF file (source: a path) or XML string (source: the text); returns a Model.
+        
+        base: 'fixed' (root link welded to the world), 'floating' (6 joints x, y, z, yaw, pitch, roll:
+        Z-Y-X Euler angles, singular at pitch = ±pi/2) or 'planar' (2 prismatic + 1 revolute about
+        planar_normal (3,), default the x-z plane). expand_joints: expand URDF floating/planar joints the
+        same way instead of raising. Fixed joints are merged (inertia lumped into the parent);
+        continuous joints become revolute joints without limits; mimic joints are kept as metadata
+        (integrated as independent joints). Raises hovi.URDFError naming the link or joint at fault.
+        """
+    def __copy__(self) -> Model:
+        """
+        The same as copy().
+        """
+    def __deepcopy__(self, memo: typing.Any) -> Model:
+        """
+        The same as copy().
+        """
+    def __init__(self) -> None:
+        """
+        An empty model (add bodies with add_body).
+        """
+    def __repr__(self) -> str:
+        ...
+    def add_actuator(self, joint: int | str, gear: typing.SupportsFloat | typing.SupportsIndex = 1.0) -> int:
+        """
+        A new control input u[k] acting on the joint as Q += gear u[k]; returns k.
+        """
+    def add_body(self, name: str, parent: int | str | None, joint_type: str = 'revolute', axis: numpy.typing.ArrayLike = (0.0, 0.0, 1.0), placement: numpy.typing.ArrayLike | None = None, mass: typing.SupportsFloat | typing.SupportsIndex = 0.0, com: numpy.typing.ArrayLike = (0.0, 0.0, 0.0), inertia: numpy.typing.ArrayLike = ..., joint_name: str = '', lower: typing.SupportsFloat | typing.SupportsIndex = ..., upper: typing.SupportsFloat | typing.SupportsIndex = ...) -> int:
+        """
+        Append a body; returns its index. parent: index or body name, None for the world.
+        placement: (4, 4) pose of the joint frame in the parent's joint frame at q = 0 (default identity).
+        axis: (3,) joint axis in the joint frame. com: (3,) centre of mass in the joint frame. inertia:
+        (3, 3) rotational inertia about the COM (joint-frame axes). lower, upper: joint position limits. Raises hovi.ModelError naming the body on invalid input.
+        """
+    def add_control(self) -> int:
+        """
+        A new control input with no joint actuation (for control-scaled wrenches); returns its index.
+        """
+    def add_damper(self, joint: int | str, damping: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        """
+        Linear joint damper Q = -damping q̇ on a joint (index or name).
+        """
+    def add_drag(self, body: int | str, linear: typing.SupportsFloat | typing.SupportsIndex, angular: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
+        """
+        Linear drag on a body (index or name) at its centre of mass, in the body frame: F = -(angular w, linear v_com).
+        """
+    def add_joint_coupling(self, coefficients: numpy.typing.ArrayLike, offset: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
+        """
+        A linear coupling of joint coordinates: coefficients (n,) . q = offset (1 equation).
+        """
+    def add_loop_constraint(self, body1: int | str, point1: numpy.typing.ArrayLike, body2: int | str, point2: numpy.typing.ArrayLike, axes: str = 'xyz') -> None:
+        """
+        Make point1 (3,) of body1 and point2 (3,) of body2 (each in its body's joint frame) coincide: a loop closure (the rows of `axes`).
+        """
+    def add_orientation_constraint(self, body: int | str, rotation: numpy.typing.ArrayLike) -> None:
+        """
+        Hold a body's orientation at the world rotation `rotation` (3, 3) (3 equations).
+        """
+    def add_point_constraint(self, body: int | str, point: numpy.typing.ArrayLike | None = None, target: numpy.typing.ArrayLike | None = None, axes: str = 'xyz') -> None:
+        """
+        Hold a point (3,) of a body (in its joint frame; default the centre of mass) at a world point target (3,):
+        h = P (x(q) - target) with P the rows of `axes` ('xyz', or e.g. 'xz' for planar use).
+        """
+    def add_point_wrench(self, body: int | str, force: numpy.typing.ArrayLike = (0.0, 0.0, 0.0), torque: numpy.typing.ArrayLike = (0.0, 0.0, 0.0), point: numpy.typing.ArrayLike | None = None, frame: str = 'world', control: int | None = None) -> None:
+        """
+        A force (3,) (and torque (3,)) on a body (index or name), applied at `point` (3,) (in the body's
+        joint frame; default: its centre of mass). frame='world': components fixed in the world; frame='body': components turn with the
+        body (a follower force). control=k scales the wrench by the control input u[k].
+        """
+    def add_spring(self, joint: int | str, stiffness: typing.SupportsFloat | typing.SupportsIndex, rest: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
+        """
+        Linear joint spring Q = -stiffness (q - rest) on a joint (index or name); adds 1/2 k (q - rest)^2 to V.
+        """
+    def body_index(self, name: str) -> int:
+        """
+        Index of the body (link) called `name`; KeyError if there is none.
+        """
+    def body_poses(self, q: numpy.typing.ArrayLike) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        q: (n,) joint positions; returns (n, 4, 4) world poses g_i of the body frames (at each centre of mass).
+        """
+    def constraint_jacobian(self, q: numpy.typing.ArrayLike) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        q: (n,); returns Dh(q), (n_constraints, n).
+        """
+    def constraint_values(self, q: numpy.typing.ArrayLike) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        q: (n,); returns h(q), (n_constraints,), of all constraints stacked.
+        """
+    def copy(self) -> Model:
+        """
+        An independent copy (later changes to either do not affect the other).
+        """
+    def energy(self, q: numpy.typing.ArrayLike, qdot: numpy.typing.ArrayLike) -> float:
+        """
+        Total mechanical energy K + V; q, qdot: (n,); returns a float.
+        """
+    def force_jacobians(self, q: numpy.typing.ArrayLike, qdot: numpy.typing.ArrayLike, u: numpy.typing.ArrayLike | None = None) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]]:
+        """
+        q, qdot: (n,), u: (m,) (default zero); returns (Q (n,), dQ/dq (n, n), dQ/dq̇ (n, n), dQ/du (n, m)) of
+        the generalized non-conservative force: joint springs, dampers and
+        actuators plus the body wrench elements mapped to joint space (gravity not included).
+        """
+    def forward_dynamics(self, q: numpy.typing.ArrayLike, qdot: numpy.typing.ArrayLike, tau: numpy.typing.ArrayLike | None = None) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        q, qdot, tau: (n,) (tau default zero); returns q̈ = FD(q, q̇, tau), (n,), by the articulated-body algorithm (O(n)), gravity and the model's forces included.
+        """
+    def gravity_hessian(self, q: numpy.typing.ArrayLike) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        Algorithm 3, O(n^2). q: (n,); returns d2V_g/dq2 (n, n) of the gravitational potential (springs not included).
+        """
+    def inverse_dynamics(self, q: numpy.typing.ArrayLike, qdot: numpy.typing.ArrayLike, qddot: numpy.typing.ArrayLike) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        q, qdot, qddot: (n,); returns tau = M(q) q̈ + C(q, q̇) q̇ + G(q), (n,), by recursive Newton-Euler (O(n)).
+        """
+    def joint_index(self, name: str) -> int:
+        """
+        Index of the joint called `name`; KeyError if there is none.
+        """
+    def joint_placements(self, q: numpy.typing.ArrayLike) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        q: (n,) joint positions; returns (n, 4, 4) world poses of the joint frames (Pinocchio's oMi).
+        """
+    def kinetic_energy(self, q: numpy.typing.ArrayLike, qdot: numpy.typing.ArrayLike) -> float:
+        """
+        Kinetic energy K = 1/2 q̇^T M(q) q̇; q, qdot: (n,); returns a float.
+        """
+    def kinetic_energy_hessians(self, q: numpy.typing.ArrayLike, qdot: numpy.typing.ArrayLike) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]]:
+        """
+        Algorithm 2, O(n^2). q, qdot: (n,); returns (Kvv, Kvq, Kqv, Kqq), each (n, n), with Kvv = d2K/dq̇2, Kvq[i, j] = d/dq_j (dK/dq̇_i),
+        Kqv[i, j] = d/dq̇_j (dK/dq_i) = Kvq.T, Kqq = d2K/dq2.
+        """
+    def mass_matrix(self, q: numpy.typing.ArrayLike) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        q: (n,); returns the joint-space mass matrix M(q), (n, n).
+        """
+    def potential_energy(self, q: numpy.typing.ArrayLike) -> float:
+        """
+        q: (n,); the gravitational potential -sum m_i g^T p_i (p_i the centre of mass) plus the springs' 1/2 k (q - rest)^2.
+        """
+    def spatial_twists(self, q: numpy.typing.ArrayLike) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        q: (n,) joint positions; returns (n, 6) spatial joint twists S̄_i = Ad_{g_i} S_i, (angular, linear).
+        """
+    def spatial_velocities(self, q: numpy.typing.ArrayLike, qdot: numpy.typing.ArrayLike) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        q, qdot: (n,); returns (n, 6) spatial velocities v̄_i = (ġ g^{-1})^∨, (angular, linear).
+        """
+    def summary(self) -> str:
+        """
+        A table of bodies and joints.
+        """
+    @property
+    def actuation(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        (n, m) actuation map B: joint forces Q += B u.
+        """
+    @property
+    def body_names(self) -> list[str]:
+        """
+        (n,) list of the body (link) names, body i moved by joint i.
+        """
+    @property
+    def damping(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        (n,) URDF <dynamics damping> per joint (metadata; see add_damper for a damper).
+        """
+    @property
+    def effort_limits(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        (n,) joint effort limits (URDF metadata, the default control bounds of trajopt; inf where none).
+        """
+    @property
+    def friction(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        (n,) URDF <dynamics friction> per joint (metadata).
+        """
+    @property
+    def gravity(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+        """
+        Gravity in the world frame (default (0, 0, -9.81)).
+        """
+    @gravity.setter
+    def gravity(self, arg1: numpy.typing.ArrayLike) -> None:
+        ...
+    @property
+    def joint_damping(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        (n,) joint damper coefficient per joint (add_damper; 0 where none).
+        """
+    @property
+    def joint_names(self) -> list[str]:
+        """
+        (n,) list of the joint names.
+        """
+    @property
+    def joint_types(self) -> list[str]:
+        """
+        (n,) list of the joint types, 'revolute' or 'prismatic'.
+        """
+    @property
+    def lower_limits(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        (n,) lower joint position limits (URDF <limit>; -inf where none).
+        """
+    @property
+    def masses(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        (n,) body masses (kg).
+        """
+    @property
+    def mimic(self) -> dict[str, tuple[str, float, float]]:
+        """
+        {joint: (leader, multiplier, offset)} for URDF mimic joints (metadata only).
+        """
+    @property
+    def n(self) -> int:
+        """
+        Number of joints = DoF = bodies.
+        """
+    @property
+    def n_constraints(self) -> int:
+        """
+        Number of constraint equations.
+        """
+    @property
+    def n_controls(self) -> int:
+        """
+        Number m of control inputs (add_actuator, add_control).
+        """
+    @property
+    def n_wrenches(self) -> int:
+        """
+        Number of body wrench elements (add_point_wrench, add_drag).
+        """
+    @property
+    def nq(self) -> int:
+        """
+        Size of q (= n: one coordinate per joint).
+        """
+    @property
+    def nv(self) -> int:
+        """
+        Size of q̇ (= n).
+        """
+    @property
+    def parents(self) -> list[int]:
+        """
+        (n,) list of the parent body index per body, -1 for the world.
+        """
+    @property
+    def stiffness(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        (n,) joint spring stiffness per joint (the sum of its add_spring springs; 0 where none).
+        """
+    @property
+    def total_mass(self) -> float:
+        """
+        Sum of the body masses (kg).
+        """
+    @property
+    def upper_limits(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        (n,) upper joint position limits (URDF <limit>; inf where none).
+        """
+    @property
+    def velocity_limits(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        (n,) joint velocity limits (URDF metadata; inf where none).
+        """
+class Integrator:
+    """
+    The core of hovi.Integrator (use that: it normalises arguments and returns Trajectory and
+    StepInfo objects). Arrays: q, p (n,); control points (s+1, n), row a = q^{k,a}; controls u (m,)
+    held over the step or (s+1, m) per control point; multipliers (s, n_constraints).
+    """
+    def __init__(self, model: Model, s: typing.SupportsInt | typing.SupportsIndex, dt: typing.SupportsFloat | typing.SupportsIndex, tol: typing.SupportsFloat | typing.SupportsIndex, step_tol: typing.SupportsFloat | typing.SupportsIndex, max_iterations: typing.SupportsInt | typing.SupportsIndex, max_backtracks: typing.SupportsInt | typing.SupportsIndex, line_search: bool, direction: str, reuse_jacobian: bool, reuse_contraction: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        """
+        A Galerkin integrator of order 2s with step dt on a copy of `model` (options as hovi.Integrator's).
+        """
+    def constrained_direction(self, control_points: numpy.typing.ArrayLike, multipliers: numpy.typing.ArrayLike, p: numpy.typing.ArrayLike, u: numpy.typing.ArrayLike | None = None) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]]:
+        """
+        control_points (s+1, n), multipliers (s, m_c), p (n,); returns the Newton direction (dq (s, n), dλ (s, m_c)).
+        """
+    def constrained_residual(self, control_points: numpy.typing.ArrayLike, multipliers: numpy.typing.ArrayLike, p: numpy.typing.ArrayLike, u: numpy.typing.ArrayLike | None = None) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]]:
+        """
+        control_points (s+1, n), multipliers (s, m_c), p (n,); returns (r (s, n), h (s, m_c), p_next (n,)).
+        """
+    def del_residual(self, control_points: numpy.typing.ArrayLike, p: numpy.typing.ArrayLike, u: numpy.typing.ArrayLike | None = None) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]]:
+        """
+        Algorithm 1. control_points (s+1, n), p (n,); returns (r (s, n), p_next (n,)).
+        """
+    def energies(self, q: numpy.typing.ArrayLike, p: numpy.typing.ArrayLike) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        q, p: (K, n); returns (K,) energy of every row, in C++ (GIL released).
+        """
+    def energy(self, q: numpy.typing.ArrayLike, p: numpy.typing.ArrayLike) -> float:
+        """
+        q, p: (n,); returns K + V at (q, velocity(q, p)), a float.
+        """
+    def momentum(self, q: numpy.typing.ArrayLike, qdot: numpy.typing.ArrayLike) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        q, qdot: (n,); returns p = M(q) q̇, (n,).
+        """
+    def newton_direction(self, control_points: numpy.typing.ArrayLike, p: numpy.typing.ArrayLike, u: numpy.typing.ArrayLike | None = None) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        control_points (s+1, n), p (n,); returns the Newton direction dq (s, n) with J dq = -r.
+        """
+    def project(self, q: numpy.typing.ArrayLike, qdot: numpy.typing.ArrayLike, tol: typing.SupportsFloat | typing.SupportsIndex = 1e-12) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]]:
+        """
+        q, qdot: (n,); returns (q, qdot), each (n,), projected onto h(q) = 0 and Dh(q) q̇ = 0.
+        """
+    def rollout(self, q0: numpy.typing.ArrayLike, p0: numpy.typing.ArrayLike, steps: typing.SupportsInt | typing.SupportsIndex, u: numpy.typing.ArrayLike | None = None, previous: numpy.typing.ArrayLike | None = None, multipliers: numpy.typing.ArrayLike | None = None) -> dict[str, typing.Any]:
+        """
+        `steps` steps from q0, p0 (n,) in C++ (GIL released); u (steps, (s+1) m), previous: the control
+        points (s+1, n) of the step before (for the predictor), multipliers (s, m_c) to start from.
+        Returns a dict: q, p (K+1, n), control_points (K, (s+1) n), iterations, factorizations, residual,
+        status (per attempted step), multipliers (K, s m_c), steps K, seconds.
+        """
+    def step(self, q: numpy.typing.ArrayLike, p: numpy.typing.ArrayLike, u: numpy.typing.ArrayLike | None = None, guess: numpy.typing.ArrayLike | None = None, multipliers: numpy.typing.ArrayLike | None = None) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], dict[str, typing.Any]]:
+        """
+        One step from q, p (n,) (GIL released): guess (s+1, n) for a single Newton solve, else the robust
+        fallbacks of hovi.Integrator.step; returns (control points (s+1, n), p_next (n,), info dict with
+        status, converged, iterations, factorizations, residual_evaluations, residual, multipliers (s, m_c)).
+        """
+    def velocity(self, q: numpy.typing.ArrayLike, p: numpy.typing.ArrayLike) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        q, p: (n,); returns the velocity q̇ (n,) of momentum p (see hovi.Integrator.velocity).
+        """
+    @property
+    def differentiation_matrix(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        (s+1, s+1) b^{ab} = l_b'(c^a): q̇^a = (1/dt) sum_b b^{ab} q^b.
+        """
+    @property
+    def direction_path(self) -> str:
+        """
+        The Newton direction computed: 'dense' or 'recursive'.
+        """
+    @property
+    def dt(self) -> float:
+        """
+        The time step (s).
+        """
+    @property
+    def n(self) -> int:
+        """
+        Number of joints n of the model.
+        """
+    @property
+    def n_constraints(self) -> int:
+        """
+        Number of constraint equations m_c of the model.
+        """
+    @property
+    def n_controls(self) -> int:
+        """
+        Number of control inputs m of the model.
+        """
+    @property
+    def nodes(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        (s+1,) Lobatto nodes c^a on [0, 1].
+        """
+    @property
+    def s(self) -> int:
+        """
+        Number of Lobatto intervals; s+1 control points.
+        """
+    @property
+    def weights(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        (s+1,) Lobatto weights w^a.
+        """
+class Linearizer:
+    """
+    The core of hovi.Linearizer (use that): exact Jacobians of the DEL equations and of the step map
+    of an Integrator; arrays as for hovi._core.Integrator.
+    """
+    def __init__(self, integrator: Integrator) -> None:
+        """
+        The linearisation of `integrator`'s DEL equations (the integrator is kept alive).
+        """
+    def del_jacobian(self, control_points: numpy.typing.ArrayLike, u: numpy.typing.ArrayLike | None = None, with_u: bool = True, multipliers: numpy.typing.ArrayLike | None = None) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"] | None, typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"] | None]:
+        """
+        control_points (s+1, n), u (m,) or (s+1, m), multipliers (s, m_c) of a constrained model; returns
+        (dq ((s+1) n, (s+1) n), du ((s+1) n, (s+1) (m + m_c)) or None, dh (s m_c, (s+1) n) or None).
+        """
+    def rollout_jacobians(self, control_points: numpy.typing.ArrayLike, u: numpy.typing.ArrayLike | None = None, want_A: bool = True, want_B: bool = True, multipliers: numpy.typing.ArrayLike | None = None) -> tuple[numpy.typing.NDArray[numpy.float64] | None, numpy.typing.NDArray[numpy.float64] | None]:
+        """
+        control_points (K, (s+1) n) of K converged steps, u (K, (s+1) m), multipliers (K, s m_c); returns
+        (A (K, 2n, 2n) or None, B (K, 2n, (s+1) m) or None), computed in C++ (GIL released).
+        """
+    def step_jacobians(self, control_points: numpy.typing.ArrayLike, u: numpy.typing.ArrayLike | None = None, want_A: bool = True, want_B: bool = True, multipliers: numpy.typing.ArrayLike | None = None) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"] | None, typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"] | None]:
+        """
+        At a converged step's control points (s+1, n) (and multipliers (s, m_c)): returns (A (2n, 2n) or
+        None, B (2n, (s+1) m) or None), the Jacobians of (q^{k+1}, p^{k+1}) by (q^k, p^k) and u^{k,0..s}.
+        """
+def pendulum(n: typing.SupportsInt | typing.SupportsIndex, length: typing.SupportsFloat | typing.SupportsIndex = 0.5, mass: typing.SupportsFloat | typing.SupportsIndex = 1.0, radius: typing.SupportsFloat | typing.SupportsIndex = 0.02) -> Model:
+    """
+    The paper's n-link 3D pendulum (see hovi.models.pendulum).
+    """
