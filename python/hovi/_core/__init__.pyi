@@ -102,6 +102,13 @@ class Model:
         """
         Linear joint spring Q = -stiffness (q - rest) on a joint (index or name); adds 1/2 k (q - rest)^2 to V.
         """
+    def add_visual(self, body: int | str | None, shape: str, size: numpy.typing.ArrayLike | None = None, origin: numpy.typing.ArrayLike | None = None, rgba: numpy.typing.ArrayLike | None = None, filename: str = '', scale: numpy.typing.ArrayLike = (1.0, 1.0, 1.0), link: str = '') -> None:
+        """
+        Attach a visual shape to a body (index or name; None = the world). shape: 'box' (size: x, y, z),
+        'cylinder' (size: radius, length; axis z), 'sphere' (size: radius) or 'mesh' (filename, scale).
+        origin: (4, 4) pose in the body's joint frame (default identity); rgba: (4,) in [0, 1].
+        Metadata only: the dynamics and existing integrators are unaffected. Raises ModelError on bad input.
+        """
     def body_index(self, name: str) -> int:
         """
         Index of the body (link) called `name`; KeyError if there is none.
@@ -298,6 +305,15 @@ class Model:
     def velocity_limits(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         """
         (n,) joint velocity limits (URDF metadata; inf where none).
+        """
+    @property
+    def visuals(self) -> list[dict[str, typing.Any]]:
+        """
+        (V,) list of the visual shapes (URDF ``<visual>``, or add_visual), metadata for viewers, as dicts
+        with body (index, -1 = the world), link, shape ('box', 'cylinder', 'sphere', 'mesh'), size (3,)
+        (box: x, y, z; cylinder: radius, length, 0 along z; sphere: radius, 0, 0), filename (meshes:
+        package://..., or absolute), scale (3,), origin (4, 4) (the shape in the body's joint frame,
+        see joint_placements) and rgba ((4,) or None).
         """
 class Integrator:
     """
