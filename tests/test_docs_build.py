@@ -41,7 +41,7 @@ def _anchors(site, page):
 def test_build_strict(site):
     """`mkdocs build --strict` exits 0 (in the fixture, which shows the output if not) with every page."""
     for page in ["index.html", "getting-started/index.html", "benchmarks/index.html", "reference/hovi/index.html"] + [
-            f"tutorials/{t}/index.html" for t in ("simulate", "linearise", "constrain", "optimise")]:
+            f"tutorials/{t}/index.html" for t in ("simulate", "linearise", "constrain", "optimise", "view")]:
         assert (site / page).is_file(), page
 
 
@@ -55,11 +55,11 @@ def test_api_reference_renders_compiled_and_python_members(site):
         assert name in anchors, f"{name} is missing from the API reference"
     text = _text(site, "reference/hovi")
     # docstrings of the compiled module (read by inspection) and of the Python layer
-    assert "Load a URDF file (path) or XML string" in text           # Model.from_urdf (C++)
+    assert "Load a URDF file (source: a path) or XML string" in text           # Model.from_urdf (C++)
     assert "Galerkin variational integrator of order 2s" in text     # Integrator (Python)
     assert "Number of Lobatto intervals" in text                     # Integrator.s, a property(doc=...)
     # a compiled method's signature comes from its pybind11 signature line, the line itself is gone
-    assert re.search(r"add_spring\s*\(\s*joint\s*:\s*object\s*,\s*stiffness\s*:\s*float", text), \
+    assert re.search(r"add_spring\s*\(\s*joint\s*:\s*int\s*\|\s*str\s*,\s*stiffness\s*:\s*typing\s*\.\s*SupportsFloat", text), \
         "Model.add_spring's parameters are not rendered"
     assert "add_spring(self: hovi._core.Model" not in text
     models = _anchors(site, "reference/models")
