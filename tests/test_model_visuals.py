@@ -1,6 +1,5 @@
 """Model visuals: URDF <visual> elements (shapes, origins composed through merged fixed joints,
 colours, mesh file names) and add_visual, checked against hand-computed poses."""
-import os
 from pathlib import Path
 
 import numpy as np

@@ -29,7 +29,6 @@ def _meshcat() -> Any:
         import meshcat.animation
         import meshcat.commands
         import meshcat.geometry
-        import umsgpack  # noqa: F401  (meshcat's message encoding)
     except ImportError as e:  # pragma: no cover - exercised only without the extra
         raise ImportError("hovi.viewer needs meshcat: pip install 'hovi[viewer]'") from e
     return meshcat
