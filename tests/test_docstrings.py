@@ -2,8 +2,9 @@
 return arrays state shapes, e.g. "q: (n,) ...; returns (n, 4, 4)"; pure-Python public functions
 are annotated.
 
-The public API: ``hovi.__all__``, ``hovi.models``, ``hovi.trajopt.__all__`` and every class and
-function of the compiled module ``hovi._core`` (and its submodules)."""
+The public API: ``hovi.__all__``, ``hovi.models``, ``hovi.trajopt.__all__``, the viewer modules
+``hovi.geometry``, ``hovi.viewer`` and ``hovi.video`` (when hovi[viewer] is installed), and every
+class and function of the compiled module ``hovi._core`` (and its submodules)."""
 from __future__ import annotations
 
 import inspect
@@ -13,9 +14,17 @@ import types
 import pytest
 
 import hovi
+import hovi.geometry
 import hovi.models
 import hovi.trajopt
 from hovi import _core
+
+try:  # the viewer extra
+    import hovi.video
+    import hovi.viewer
+    VIEWER_MODULES: tuple[types.ModuleType, ...] = (hovi.viewer, hovi.video)
+except ImportError:
+    VIEWER_MODULES = ()
 
 # A parenthesised, comma-separated shape: (n,), (s+1, n), (K, 2n, 2n), ((s+1) n, s m_c), (n, 4, 4).
 SHAPE = re.compile(r"\((?:\(?[\w+\-*]+\)?[\w ]*)(?:,\s*(?:\(?[\w+\-*]+\)?[\w ]*))*,\s*(?:\(?[\w+\-*]+\)?[\w ]*)?\)")
@@ -29,7 +38,7 @@ def _public_api() -> dict[str, object]:
         obj = getattr(hovi, name)
         if not isinstance(obj, types.ModuleType):
             api[f"hovi.{name}"] = obj
-    for module in (hovi.models, hovi.trajopt):
+    for module in (hovi.models, hovi.trajopt, hovi.geometry, *VIEWER_MODULES):
         names = getattr(module, "__all__", None) or [n for n in vars(module) if not n.startswith("_")]
         for name in names:
             obj = getattr(module, name)

@@ -18,6 +18,9 @@ import numpy as np
 
 from ._core import Model
 
+__all__ = ["Shape", "Motion", "LINK_RGBA", "COM_RGBA", "package_search_path", "resolve_mesh", "model_shapes",
+           "default_shapes", "segment_frame", "body_frames", "motion_arrays", "sample_configurations"]
+
 #: Colours of the default shapes (links, centres of mass) and of visuals without a material.
 LINK_RGBA = np.array([0.55, 0.6, 0.68, 1.0])
 COM_RGBA = np.array([0.95, 0.45, 0.1, 1.0])
@@ -25,7 +28,7 @@ COM_RGBA = np.array([0.95, 0.45, 0.1, 1.0])
 
 @dataclass(frozen=True)
 class Shape:
-    """One shape to draw, attached to a body (-1: the world)."""
+    """One shape to draw, attached to a body (-1: the world): size (3,), origin (4, 4), rgba (4,), scale (3,)."""
 
     body: int
     name: str
@@ -136,7 +139,7 @@ def default_shapes(model: Model, radius: Optional[float] = None) -> List[Shape]:
 
 
 def body_frames(model: Model, q: Sequence[float] | np.ndarray) -> np.ndarray:
-    """(n + 1, 4, 4) world poses of the joint frames at q, the world (identity) last: index with body, -1 included."""
+    """(n+1, 4, 4) world poses of the joint frames at q (n,), the world (identity) last: index with body, -1 included."""
     frames = np.empty((model.n + 1, 4, 4))
     frames[:-1] = model.joint_placements(np.asarray(q, dtype=float))
     frames[-1] = np.eye(4)

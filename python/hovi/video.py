@@ -16,6 +16,9 @@ import numpy as np
 from ._core import Model
 from .geometry import Motion, Shape, body_frames, model_shapes, motion_arrays, sample_configurations
 
+__all__ = ["render_video", "shape_triangles", "box_triangles", "cylinder_triangles", "sphere_triangles",
+           "cluster_vertices"]
+
 _LIGHT = np.array([0.3, -0.5, 0.8]) / np.linalg.norm([0.3, -0.5, 0.8])
 
 

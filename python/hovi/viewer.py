@@ -23,6 +23,9 @@ import numpy as np
 from ._core import Model
 from .geometry import Motion, Shape, body_frames, model_shapes, motion_arrays, sample_configurations, segment_frame
 
+__all__ = ["Viewer", "animation_html"]
+
+
 def _meshcat() -> Any:
     try:
         import meshcat  # noqa: F401
