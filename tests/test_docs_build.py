@@ -65,6 +65,9 @@ def test_api_reference_renders_compiled_and_python_members(site):
     models = _anchors(site, "reference/models")
     assert {"hovi.models.pendulum", "hovi.models.acrobot", "hovi.models.cartpole", "hovi.models.fourbar",
             "hovi.models.slider_crank"} <= models
+    viewer = _anchors(site, "reference/viewer")
+    assert {"hovi.viewer.Viewer", "hovi.viewer.Viewer.play", "hovi.viewer.animation_html", "hovi.video.render_video",
+            "hovi.geometry.model_shapes"} <= viewer
     trajopt = _anchors(site, "reference/trajopt")
     assert {"hovi.trajopt.Problem", "hovi.trajopt.solve", "hovi.trajopt.Result", "hovi.trajopt.ControlEffort",
             "hovi.trajopt.BodyPoint", "hovi.trajopt.Problem.add_cost"} <= trajopt
