@@ -31,11 +31,21 @@ std::string error_of(const std::string& xml) {
 
 TEST(UrdfNumbers, BadNumbersAreRefusedNamingTheElement) {
   EXPECT_EQ(error_of(robot("ixx=\"nan\" ixy=\"0\" ixz=\"0\" iyy=\"0.1\" iyz=\"0\" izz=\"0.1\"", "1 0 0")),
-            "link 'arm': <inertial><inertia ixx=\"nan\">: not a finite number");
+            "link 'arm': <inertial><inertia ixx=\"nan\">: not a finite number of magnitude at most 1e12");
   EXPECT_EQ(error_of(robot("ixx=\"0.1\" ixy=\"0\" ixz=\"0\" iyy=\"1e999\" iyz=\"0\" izz=\"0.1\"", "1 0 0")),
-            "link 'arm': <inertial><inertia iyy=\"1e999\">: not a finite number");
-  EXPECT_EQ(error_of(robot(kInertia, "1 -inf 0")), "joint 'j': <axis xyz=\"1 -inf 0\">: not 3 finite numbers");
-  EXPECT_EQ(error_of(robot(kInertia, "1 0")), "joint 'j': <axis xyz=\"1 0\">: not 3 finite numbers");
+            "link 'arm': <inertial><inertia iyy=\"1e999\">: not a finite number of magnitude at most 1e12");
+  EXPECT_EQ(error_of(robot(kInertia, "1 -inf 0")),
+            "joint 'j': <axis xyz=\"1 -inf 0\">: not 3 finite numbers of magnitude at most 1e12");
+  EXPECT_EQ(error_of(robot(kInertia, "1 0")), "joint 'j': <axis xyz=\"1 0\">: not 3 finite numbers of magnitude at most 1e12");
+  // finite but absurd lengths, masses and inertias would overflow the dynamics (found by bench/fuzz_urdf.py)
+  EXPECT_EQ(error_of(robot("ixx=\"0.1\" ixy=\"0\" ixz=\"0\" iyy=\"0.1\" iyz=\"0\" izz=\"1e308\"", "1 0 0")),
+            "link 'arm': <inertial><inertia izz=\"1e308\">: not a finite number of magnitude at most 1e12");
+}
+
+TEST(UrdfNumbers, HugeLimitsAreMetadataAndLoad) {
+  std::string xml = robot(kInertia, "1 0 0");
+  xml.insert(xml.find("</joint>"), "<limit lower=\"-1e300\" upper=\"1e300\" effort=\"1e30\" velocity=\"1e20\"/>");
+  EXPECT_EQ(model_from_urdf(xml).spec[0].limits.effort, 1e30);  // (a continuous joint: no position limits)
 }
 
 TEST(UrdfNumbers, FiniteSpellingsLoad) {

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <urdf_model/utils.h>
 #include <urdf_parser/urdf_parser.h>
@@ -26,12 +27,16 @@ struct MessageCapture : console_bridge::OutputHandler {
   }
 };
 
-// The number attributes urdfdom reads: element path below <robot>, attribute names, numbers in each.
+// The number attributes urdfdom reads: element path below <robot>, attribute names, numbers in each,
+// and whether their magnitude is bounded by kMaxMagnitude (lengths, masses, inertias, sizes: larger
+// values overflow the dynamics; limits and controller gains are metadata and may be huge).
 struct NumberAttributes {
   const char* path;
   const char* names;
   std::size_t count;
+  bool bounded = true;
 };
+constexpr double kMaxMagnitude = 1e12;
 const NumberAttributes kNumberAttributes[] = {
     {"link/inertial/origin", "xyz rpy", 3},
     {"link/inertial/mass", "value", 1},
@@ -49,16 +54,17 @@ const NumberAttributes kNumberAttributes[] = {
     {"link/collision/geometry/mesh", "scale", 3},
     {"joint/origin", "xyz rpy", 3},
     {"joint/axis", "xyz", 3},
-    {"joint/limit", "lower upper effort velocity", 1},
+    {"joint/limit", "lower upper effort velocity", 1, false},
     {"joint/dynamics", "damping friction", 1},
     {"joint/mimic", "multiplier offset", 1},
-    {"joint/safety_controller", "soft_lower_limit soft_upper_limit k_position k_velocity", 1},
-    {"joint/calibration", "rising falling", 1},
+    {"joint/safety_controller", "soft_lower_limit soft_upper_limit k_position k_velocity", 1, false},
+    {"joint/calibration", "rising falling", 1, false},
     {"material/color", "rgba", 4},
 };
 
-// True if `text` is `count` finite numbers as urdfdom reads them (a scalar whole, a list split at spaces).
-bool is_number_list(const std::string& text, std::size_t count) {
+// True if `text` is `count` finite numbers as urdfdom reads them (a scalar whole, a list split at
+// spaces), each at most `bound` in magnitude.
+bool is_number_list(const std::string& text, std::size_t count, double bound) {
   std::vector<std::string> pieces;
   if (count == 1) pieces.push_back(text);
   else urdf::split_string(pieces, text, " ");
@@ -66,7 +72,7 @@ bool is_number_list(const std::string& text, std::size_t count) {
   for (const std::string& piece : pieces) {
     if (piece.empty()) continue;
     try {
-      if (!std::isfinite(urdf::strToDouble(piece.c_str()))) return false;
+      if (!(std::abs(urdf::strToDouble(piece.c_str())) <= bound)) return false;
     } catch (const std::runtime_error&) {
       return false;
     }
@@ -85,10 +91,11 @@ void check_element_numbers(const TiXmlElement& e, const std::string& path, const
     urdf::split_string(names, row.names, " ");
     for (const std::string& name : names) {
       const char* text = e.Attribute(name.c_str());
-      if (text && !is_number_list(text, row.count))
+      const double bound = row.bounded ? kMaxMagnitude : std::numeric_limits<double>::max();
+      if (text && !is_number_list(text, row.count, bound))
         throw UrdfError(tag + " " + name + "=\"" + text + "\">: " +
-                        (row.count == 1 ? "not a finite number"
-                                        : "not " + std::to_string(row.count) + " finite numbers"));
+                        (row.count == 1 ? "not a finite number" : "not " + std::to_string(row.count) + " finite numbers") +
+                        (row.bounded ? " of magnitude at most 1e12" : ""));
     }
   }
   for (const TiXmlElement* child = e.FirstChildElement(); child; child = child->NextSiblingElement())
@@ -237,7 +244,11 @@ class TreeBuilder {
       s.com = I.m > 0 ? Vec3(I.h / I.m) : Vec3::Zero();
       s.inertia = I.m > 0 ? Mat3(I.I + I.m * hat(s.com) * hat(s.com)) : Mat3::Zero();
       s.inertia = 0.5 * (s.inertia + s.inertia.transpose()).eval();
-      model.add_body(s);
+      try {
+        model.add_body(s);
+      } catch (const ModelError& e) {  // e.g. a lumped inertia that overflows: name it as a URDF error
+        throw UrdfError(e.what());
+      }
     }
     for (const Visual& v : visuals_) {
       try {
