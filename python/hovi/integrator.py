@@ -12,6 +12,19 @@ from . import _core
 from ._typing import FloatArray, IntArray
 
 
+def _check_trajectory_memory(steps: int, s: int, n: int) -> None:
+    """MemoryError, before anything is allocated, if a trajectory of ``steps`` steps (q, p and
+    control points, (steps+1) (s+3) n doubles) needs more than this machine's physical memory."""
+    need = (steps + 1) * (s + 3) * n * 8
+    try:
+        have = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+    except (ValueError, OSError, AttributeError):  # not POSIX: let the allocation decide
+        return
+    if need > have:
+        raise MemoryError(f"a rollout of {steps} steps needs {need / 1e9:.3g} GB for its trajectory, more than this "
+                          f"machine's {have / 1e9:.3g} GB: simulate in pieces (rollout from the last state)")
+
+
 class ConvergenceError(RuntimeError):
     """A Newton solve of the DEL equations did not converge."""
 
@@ -311,6 +324,7 @@ class Integrator:
         steps = int(steps)
         if steps < 0:
             raise ValueError("steps must be non-negative")
+        _check_trajectory_memory(steps, self.s, self.n)
         q0 = np.asarray(q0, dtype=float)
         if p0 is not None and qdot0 is not None:
             raise ValueError("give p0 or qdot0, not both")
