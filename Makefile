@@ -3,6 +3,7 @@
 # make bench  run the benchmarks in bench/ (slow; writes bench/results/)
 # make docs   build the documentation site into site/ (mkdocs build --strict: warnings fail)
 # make stubs  refresh the committed type stubs of hovi._core (python/hovi/_core/*.pyi) after a binding changed
+# make sanitize  the C++ library and ctest suite under AddressSanitizer + UndefinedBehaviorSanitizer
 # make wheel-smoke  sdist -> wheel -> fresh venv -> smoke test (scripts/wheel_smoke.sh; a clean compile)
 SHELL := /bin/bash
 VENV := .venv
@@ -11,7 +12,7 @@ JOBS ?= $(shell nproc)
 SOURCES := $(shell find cpp python -type f \( -name '*.cpp' -o -name '*.hpp' -o -name '*.py' \)) CMakeLists.txt pyproject.toml \
            cmake/stubs.cmake scripts/stubgen.py
 
-.PHONY: setup setup-test build demo test ctest pytest bench docs clean stubs wheel-smoke
+.PHONY: setup setup-test build demo test ctest pytest bench docs clean stubs wheel-smoke sanitize
 
 setup:
 	@./scripts/setup.sh
@@ -40,6 +41,14 @@ demo: build
 	$(PY) -m hovi simulate pendulum:32 --order 4 --dt 0.01 --duration 10 --output results --animate
 
 test: ctest pytest
+
+# The C++ tests built with -O1 and ASan + UBSan (any finding fails the test that hit it); a separate
+# tree, build/sanitize, so it does not disturb the Release build.
+sanitize: setup
+	cmake -S . -B build/sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g" \
+	      -DHOVI_BUILD_TESTS=ON -DHOVI_BUILD_PYTHON=OFF -DHOVI_SANITIZE=ON
+	cmake --build build/sanitize -j $(JOBS)
+	cd build/sanitize && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure -j $(JOBS)
 
 bench: build
 	$(PY) bench/run_all.py

@@ -14,9 +14,27 @@ std::string shape_of(const py::array& a) {
   os << (a.ndim() == 1 ? ",)" : ")");
   return os.str();
 }
+
+// Arrays of complex numbers would be cast to real silently (the imaginary part dropped): refuse them.
+void check_real(const py::handle& obj, const char* name) {
+  if (py::isinstance<py::array>(obj) && py::reinterpret_borrow<py::array>(obj).dtype().kind() == 'c')
+    throw InputError(std::string(name) + " must be an array of real numbers, got complex");
+  if (PyComplex_Check(obj.ptr())) throw InputError(std::string(name) + " must be real, got a complex number");
+}
+
+// Values beyond this magnitude overflow products of states and inertias (v^2, M v): no physical input is near it.
+constexpr double kMaxInput = 1e150;
+
+template <class M>
+void check_values(const M& m, const char* name) {
+  if (!m.allFinite()) throw InputError(std::string(name) + " contains NaN or infinity");
+  if (m.size() && m.cwiseAbs().maxCoeff() > kMaxInput)
+    throw InputError(std::string(name) + " has an entry beyond 1e150 in magnitude (the arithmetic would overflow)");
+}
 }  // namespace
 
 VecX as_vector(const py::handle& obj, const char* name, long n) {
+  check_real(obj, name);
   auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(obj);
   if (!a) throw InputError(std::string(name) + " must be an array of real numbers");
   if (a.ndim() != 1 || (n >= 0 && a.shape(0) != n)) {
@@ -27,11 +45,12 @@ VecX as_vector(const py::handle& obj, const char* name, long n) {
     throw InputError(os.str());
   }
   VecX v = Eigen::Map<const VecX>(a.data(), a.shape(0));
-  if (!v.allFinite()) throw InputError(std::string(name) + " contains NaN or infinity");
+  check_values(v, name);
   return v;
 }
 
 MatX as_matrix(const py::handle& obj, const char* name, long rows, long cols) {
+  check_real(obj, name);
   auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(obj);
   if (!a) throw InputError(std::string(name) + " must be an array of real numbers");
   if (a.ndim() != 2 || (rows >= 0 && a.shape(0) != rows) || (cols >= 0 && a.shape(1) != cols)) {
@@ -42,7 +61,7 @@ MatX as_matrix(const py::handle& obj, const char* name, long rows, long cols) {
   }
   using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
   MatX m = Eigen::Map<const RowMat>(a.data(), a.shape(0), a.shape(1));
-  if (!m.allFinite()) throw InputError(std::string(name) + " contains NaN or infinity");
+  check_values(m, name);
   return m;
 }
 

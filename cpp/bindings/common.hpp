@@ -35,9 +35,10 @@ template <class T>
 using Optional = py::typing::Optional<T>;
 using StrDict = py::typing::Dict<py::str, py::object>;  // dict[str, typing.Any]
 
-// A 1-D float array of length n (n < 0: any length) converted to VecX; ValueError otherwise.
+// A 1-D real array of length n (n < 0: any length) converted to VecX; ValueError otherwise, and for
+// complex, non-finite or overflowing (beyond 1e150) values.
 VecX as_vector(const py::handle& obj, const char* name, long n);
-// A 2-D float array of shape (rows, cols) (negative: any) converted to MatX; ValueError otherwise.
+// A 2-D real array of shape (rows, cols) (negative: any) converted to MatX; ValueError as as_vector.
 MatX as_matrix(const py::handle& obj, const char* name, long rows, long cols);
 // A stack of SE(3)/4x4 or 6-vectors as numpy arrays of shape (n, 4, 4) / (n, 6).
 py::array_t<double> stack(const std::vector<Mat4>& mats);
