@@ -37,6 +37,8 @@ class Problem:
         self.model, self.N, self.T, self.controls = model, int(N), float(T), controls
         self.costs: list[Cost] = []
         self.path_constraints: list[PathConstraint] = []
+        self.contacts = None                   # hovi.contact.Contacts, see add_contacts
+        self.complementarity_epsilon = 0.0     # contact products <= epsilon (solve_contact lowers it)
         self.q0 = self.qdot0 = self.qT = self.qdotT = None
         self.q_lower, self.q_upper = self._bounds(q_bounds, model.lower_limits, model.upper_limits, model.n, "q")
         self.u_lower, self.u_upper = self._bounds(u_bounds, *self._effort_bounds(), model.n_controls, "u")
@@ -113,6 +115,16 @@ class Problem:
         if not isinstance(constraint, PathConstraint):
             raise TypeError(f"expected a hovi.trajopt path constraint, got {type(constraint).__name__}")
         self.path_constraints.append(constraint.bind(self.model))
+        return self
+
+    def add_contacts(self, contacts):
+        if contacts.model is not self.model:
+            raise ValueError("build the Problem with contacts.model (the model with the contact force inputs)")
+        if self.controls != "per_point":
+            raise ValueError("contacts need controls='per_point' (a contact force at every control point)")
+        lo, hi = contacts.input_bounds()
+        self.u_lower[contacts.first_input:], self.u_upper[contacts.first_input:] = lo, hi
+        self.contacts = contacts
         return self
 
     def check(self) -> None:
