@@ -41,7 +41,10 @@ class NLP:
         self.contact_rows = None
         if self.problem.contacts is not None:
             from .complementarity import ContactRows
-            cr = self.contact_rows = ContactRows(self.problem.contacts, tr, self.problem.complementarity_epsilon)
+            cr = self.contact_rows = ContactRows(self.problem.contacts, tr, self.problem.complementarity_epsilon,
+                                                 self.problem.complementarity_branches)
+            fixed = cr.fixed_inputs()
+            self.lower[fixed] = self.upper[fixed] = 0.0
             rows, cols = np.concatenate([rows, row0 + cr.rows]), np.concatenate([cols, cr.cols])
             cl.append(cr.lower)
             cu.append(cr.upper)

@@ -39,6 +39,7 @@ class Problem:
         self.path_constraints: list[PathConstraint] = []
         self.contacts = None                   # hovi.contact.Contacts, see add_contacts
         self.complementarity_epsilon = 0.0     # contact products <= epsilon (solve_contact lowers it)
+        self.complementarity_branches = None   # or one side of every pair (complementarity.Branches)
         self.q0 = self.qdot0 = self.qT = self.qdotT = None
         self.q_lower, self.q_upper = self._bounds(q_bounds, model.lower_limits, model.upper_limits, model.n, "q")
         self.u_lower, self.u_upper = self._bounds(u_bounds, *self._effort_bounds(), model.n_controls, "u")
