@@ -28,8 +28,11 @@ from .ipopt import solve
 from .problem import Problem
 from .result import Result
 
-DEFAULT_EPSILONS = (1e-1, 1e-2, 1e-3)
-FALLBACK_EPSILONS = (1e-4, 1e-5, 1e-6)
+DEFAULT_EPSILONS = (1e-1, 1e-2, 1e-3, 1e-4, 1e-5, 1e-6)
+FINISH_BELOW = 1e-3  # the exact solve is tried from relaxed solutions with epsilon <= this
+# IPOPT's tol for the relaxed solves: only a path to the exact one (with zero cost some stall at a
+# dual infeasibility of ~3e-8 for hundreds of iterations at hovi's default 1e-8)
+RELAXED_TOL = 1e-6
 
 
 def _opposite_pairs(D: np.ndarray):
@@ -62,7 +65,7 @@ def branches_of(rows: ContactRows, x: np.ndarray) -> Branches:
     Q = x[rows.q_off[:P, None] + np.arange(rows.n)]
     W = np.empty((P, rows.C, 3, 3))
     for i in range(P):
-        Minv_Jt = np.linalg.lstsq(model.mass_matrix(Q[i]), J[i].transpose(0, 2, 1).reshape(rows.n, -1), rcond=None)[0]
+        Minv_Jt = np.linalg.lstsq(model.mass_matrix(Q[i]), J[i].reshape(-1, rows.n).T, rcond=None)[0]
         W[i] = np.einsum("cxn,ncy->cxy", J[i], Minv_Jt.reshape(rows.n, rows.C, 3))
     dt = rows.dt[:, None]
     w_n = W[..., 2, 2]                                             # (E, C)
@@ -74,17 +77,20 @@ def branches_of(rows: ContactRows, x: np.ndarray) -> Branches:
 
 
 def solve_contact(problem: Problem, epsilons: Sequence[float] = DEFAULT_EPSILONS, *, s: int = 1, guess="rollout",
-                  finish: bool = True, options: dict | None = None, verbose: bool = False) -> Result:
+                  finish_below: float = FINISH_BELOW, options: dict | None = None, verbose: bool = False) -> Result:
     """Solve ``problem`` (with ``add_contacts``) with the VI of order 2s: the relaxation homotopy
-    over ``epsilons`` (positive, decreasing), then (``finish``) the exact solve on the sides of the
-    complementarity pairs the last relaxed solution shows.
+    over ``epsilons`` (positive, decreasing), and after each relaxed solve with epsilon <=
+    ``finish_below`` the exact solve on the sides of the complementarity pairs it shows, until one
+    succeeds (finish_below = 0: relaxed solves only). ``options`` go to every IPOPT solve (the
+    relaxed ones default to tol = RELAXED_TOL).
 
     s = 1 (default) is the contact model that is inelastic and well posed (see hovi.contact); s >= 2
     lets an impact inside a stage rebound.
 
-    Returns the last Result with ``result.contact`` = {'penetration', 'cone', 'complementarity',
-    'epsilon' (0 after an exact finish), 'finished' (bool), 'iterations' (per solve),
-    'wall_seconds' (total)}."""
+    Returns the exact Result (or the last relaxed one) with ``result.contact`` = {'penetration',
+    'cone', 'complementarity' (largest product), 'epsilon' (0 after the exact solve), 'finished',
+    'solves' ([(epsilon, iterations, success), ...], epsilon 0 for an exact attempt),
+    'iterations' (total), 'wall_seconds' (in IPOPT, total)}."""
     if problem.contacts is None:
         raise ValueError("the problem has no contacts: call problem.add_contacts(contacts)")
     eps = [float(e) for e in epsilons]
@@ -92,42 +98,37 @@ def solve_contact(problem: Problem, epsilons: Sequence[float] = DEFAULT_EPSILONS
         raise ValueError(f"epsilons must be positive, finite and decreasing, got {epsilons}")
     if int(s) != s or s < 1:
         raise ValueError(f"s must be a positive integer, got {s}")
+    if not (np.isfinite(finish_below) and finish_below >= 0):
+        raise ValueError(f"finish_below must be finite and >= 0, got {finish_below}")
     saved = problem.complementarity_epsilon, problem.complementarity_branches
-    iterations, wall, t0 = [], 0.0, time.perf_counter()
+    solves, wall = [], 0.0
 
     def run(start, epsilon, branches=None):
         nonlocal wall
         problem.complementarity_epsilon, problem.complementarity_branches = epsilon, branches
         opts = dict(options or {})
-        if isinstance(start, Result):
-            opts.setdefault("mu_init", 1e-5)  # stay near the warm start
+        if epsilon > 0:
+            opts.setdefault("tol", RELAXED_TOL)
         r = solve(problem, "vi", s=s, guess=start, options=opts, verbose=verbose)
-        iterations.append(r.iterations)
+        solves.append((epsilon, r.iterations, r.success))
         wall += r.wall_seconds
         return r
 
     try:
-        result = guess
-        for e in eps:
-            result = run(result, e)
-        relaxed, finished = result, False
-        if finish and relaxed.success:
-            rows = ContactRows(problem.contacts, relaxed.transcription, eps[-1])
-            start = dataclasses.replace(relaxed, x=canonical(rows, relaxed.x))
-            result = run(start, 0.0, branches_of(rows, start.x))
-            finished = result.success
-        if not finished:
-            result = relaxed
-            for e in (e for e in FALLBACK_EPSILONS if e < eps[-1]):
-                result = run(result, e)
+        relaxed, exact, epsilon = guess, None, eps[0]
+        for epsilon in eps:
+            relaxed = run(relaxed, epsilon)
+            if relaxed.success and epsilon <= finish_below:
+                rows = ContactRows(problem.contacts, relaxed.transcription, epsilon)
+                start = dataclasses.replace(relaxed, x=canonical(rows, relaxed.x))
+                attempt = run(start, 0.0, branches_of(rows, start.x))
+                if attempt.success:
+                    exact = attempt
+                    break
     finally:
         problem.complementarity_epsilon, problem.complementarity_branches = saved
+    result = exact or relaxed
     rows = ContactRows(problem.contacts, result.transcription, 0.0)
-    result.contact = {**rows.violations(result.x), "epsilon": 0.0 if finished else problem_epsilon(result, eps),
-                      "finished": finished, "iterations": iterations, "wall_seconds": wall,
-                      "total_seconds": time.perf_counter() - t0}
+    result.contact = {**rows.violations(result.x), "epsilon": 0.0 if exact else epsilon, "finished": exact is not None,
+                      "solves": solves, "iterations": sum(it for _, it, _ in solves), "wall_seconds": wall}
     return result
-
-
-def problem_epsilon(result: Result, eps) -> float:
-    return min([*eps, *(e for e in FALLBACK_EPSILONS if e < eps[-1])])
