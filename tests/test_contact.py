@@ -106,3 +106,42 @@ def test_terrain_heights_and_contact_input_layout():
     prob = trajopt.Problem(model, N=4, T=1.0)
     with pytest.raises(ValueError, match="contacts.model"):
         prob.add_contacts(contacts)
+
+
+def test_bad_contact_input_is_refused_with_a_reason():
+    model, terrain = planar_point_mass(), Terrain()
+    point = [("mass", (0.0, 0.0, 0.0))]
+    for points, match in (([], "at least one"), ([("nobody", (0, 0, 0))], "unknown contact body 'nobody'"),
+                          ([(7, (0, 0, 0))], "unknown contact body 7"), ([("mass", (0, 0))], "3 finite numbers"),
+                          ([("mass", (0, 0, np.nan))], "3 finite numbers"), ([("mass",)], "body name or index")):
+        with pytest.raises(ValueError, match=match):
+            Contacts(model, points, terrain, mu=0.5)
+    with pytest.raises(TypeError, match="Terrain"):
+        Contacts(model, point, "flat", mu=0.5)
+    with pytest.raises(ValueError, match="plane must be"):
+        Contacts(model, point, terrain, mu=0.5, plane="xy")
+    with pytest.raises(ValueError, match="mu must be"):
+        Contacts(model, point, terrain, mu=np.inf)
+    contacts, prob = contact_problem(model, [0.0, 0.1], [0.0, 0.0], 0.2, 4, mu=0.5)
+    with pytest.raises(TypeError, match="Contacts"):
+        prob.add_contacts(contacts.model)
+    with pytest.raises(ValueError, match="already"):
+        prob.add_contacts(contacts)
+    with pytest.raises(ValueError, match="per_point"):
+        trajopt.Problem(contacts.model, N=4, T=0.2, controls="held").add_contacts(contacts)
+    with pytest.raises(ValueError, match="solve_contact"):  # the exact conditions straight to IPOPT
+        trajopt.solve(prob, verbose=False)
+    prob.complementarity_epsilon = 0.1
+    with pytest.raises(ValueError, match="controls at its configuration points"):
+        trajopt.solve(prob, "hs-implicit", verbose=False)
+    for kwargs, match in (({"epsilons": ()}, "epsilons"), ({"epsilons": (1e-2, 1e-1)}, "decreasing"),
+                          ({"epsilons": (0.1, 0.0)}, "positive"), ({"s": 0}, "s must be"),
+                          ({"finish_below": -1.0}, "finish_below")):
+        with pytest.raises(ValueError, match=match):
+            trajopt.solve_contact(prob, **kwargs)
+    prob.initial_state([0.0, -0.01])
+    with pytest.raises(ValueError, match="initial configuration puts contact point 0 0.01 below the terrain"):
+        trajopt.solve_contact(prob)
+    plain = trajopt.Problem(model, N=4, T=0.2).initial_state([0.0, 0.1]).add_cost(trajopt.ControlEffort())
+    with pytest.raises(ValueError, match="no contacts"):
+        trajopt.solve_contact(plain)

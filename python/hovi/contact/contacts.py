@@ -74,6 +74,10 @@ class Contacts:
 
     def __init__(self, model: Model, points: Sequence[Tuple[Union[str, int], Sequence[float]]],
                  terrain: Terrain, mu: float, plane: str = "") -> None:
+        if not isinstance(model, Model):
+            raise TypeError(f"model must be a hovi.Model, got {type(model).__name__}")
+        if not isinstance(terrain, Terrain):
+            raise TypeError(f"terrain must be a hovi.contact.Terrain, got {type(terrain).__name__}")
         if not points:
             raise ValueError("give at least one contact point")
         if not (np.isfinite(mu) and mu >= 0):
@@ -82,10 +86,16 @@ class Contacts:
         self.D = friction_directions(plane)
         self.d = len(self.D)
         self.points: List[ContactPoint] = []
-        for body, point in points:
-            b = model.body_index(body) if isinstance(body, str) else int(body)
+        for entry in points:
+            if len(entry) != 2:
+                raise ValueError(f"a contact point is (body name or index, point (3,)), got {entry!r}")
+            body, point = entry
+            try:
+                b = model.body_index(body) if isinstance(body, str) else int(body)
+            except KeyError:
+                b = -1
             if not 0 <= b < model.n:
-                raise ValueError(f"unknown contact body {body!r}")
+                raise ValueError(f"unknown contact body {body!r} (the model's bodies: {model.body_names})")
             p = np.asarray(point, dtype=float)
             if p.shape != (3,) or not np.all(np.isfinite(p)):
                 raise ValueError(f"contact point must be 3 finite numbers, got {point!r}")
@@ -100,6 +110,16 @@ class Contacts:
                 beta = self.model.add_control()
                 self.model.add_point_wrench(c.body, force=direction, point=c.point, control=beta)
             self.model.add_control()  # gamma: a slack, no force
+
+    def gaps(self, q: np.ndarray) -> np.ndarray:
+        """The signed gaps (C,) of the contact points to the terrain at configuration q (n,)."""
+        from .._core import trajopt
+        q = np.asarray(q, dtype=float)
+        if q.shape != (self.model.n,):
+            raise ValueError(f"q must have shape ({self.model.n},), got {q.shape}")
+        X, _ = trajopt.body_point_kinematics(self.model, np.tile(q, (self.n_contacts, 1)),
+                                             [c.body for c in self.points], np.array([c.point for c in self.points]))
+        return self.terrain.gap(X)
 
     @property
     def n_contacts(self) -> int:

@@ -1,30 +1,56 @@
 """Contact-implicit trajectory optimisation without a mode schedule: a relaxation homotopy, then an
-exact finish.
+exact solve on the sides of the complementarity pairs it found.
 
 1. The complementarity products of a Problem with contacts (hovi.contact.Contacts) are bounded by
-   epsilon, and epsilon is driven down over a few IPOPT solves, each warm-started from the last
-   (Scholtes' relaxation).
-2. The last relaxed solution tells, for every complementarity pair, which side is zero (each side
-   scaled by its largest value over the trajectory; the smaller one is taken as zero). With that
-   choice fixed (``complementarity.Branches``: a contact input fixed at zero, or a gap, cone or
-   sliding row as an equality) the problem is a smooth NLP, solved from the relaxed solution: its
-   solution satisfies complementarity exactly, and the free phases carry exactly zero contact
-   force. If that solve fails (a wrong guess of the sides), the relaxed homotopy goes on to the
-   smallest epsilon instead.
+   epsilon (Scholtes' relaxation), and epsilon is driven down over IPOPT solves, each started
+   from the last solution.
+2. After each relaxed solve with epsilon <= FINISH_BELOW, ``branches_of`` reads which side of every
+   pair is zero: each input is converted, through the contact point's mobility J M^-1 J^T, to
+   what it does to its partner over the interval (a normal force to a displacement, a friction
+   force to a velocity change), and the smaller side is zero; where the contact sticks, the
+   friction inputs of opposite directions are first reduced by their common part (``canonical``).
+   With those sides fixed (``complementarity.Branches``: an input fixed at zero, or the gap, cone
+   or sliding row as an equality) the problem is a smooth NLP; its solution satisfies
+   complementarity exactly and the free phases carry exactly zero contact force. If it fails,
+   the homotopy goes on.
 
-The result reports the final penetration, friction-cone violation and largest complementarity
-product.
+NOTES (measurements, s = 1 unless said; 18 problems: drops from 0.05-0.5 m with N = 25, 50,
+landing while sliding with mu = 0.5 and 0.1, a long slide, a push beyond friction, 3D slide and
+landing, sliding off a ledge into a gap, a tilted bar dropped on two contacts, a bar sliding flat,
+pushing a block to a target with an effort cost and a final state; guess 'rollout'):
+- The pairing decides everything. With the inputs at point j paired with phi(q_j) (the first
+  version) the conditions have no solution at half of the impacts and rebound at the others (see
+  hovi.contact.contacts), and no solver setting helped (measured on that version, the drop test:
+  eps = 0.1 needed bound_relax_factor 1e-8 and 163 iterations, eps <= 0.01 failed, with or without
+  warm starts or regularising costs on beta and gamma; a penalty formulation diverged). With the
+  pairing of hovi.contact all 18 problems end with the exact solve: 1120 IPOPT iterations, 7.5 s
+  in all (the three closed-form tests: 0.2-0.4 s each); with s = 2, 2288 iterations and 29 s,
+  all exact (but see hovi.contact for the rebound of s = 2).
+- Stopping the relaxed solves at eps = 1e-6 instead leaves lambda ~ eps / phi in flight (a
+  free-fall error of 8e-8); the exact solve gives complementarity 1e-9 .. 1e-18.
+- Sides read at eps = 1e-3: all 18 exact solves succeed at once; at 1e-2: 4 fail (then 1e-3
+  does it: 1041 iterations in all); at 1e-1: all 18 fail. Starting at eps = 1: 1388 iterations.
+- tol 1e-6 for the relaxed solves (RELAXED_TOL): with zero cost one stalled at dual
+  infeasibility 3.5e-8 for 400 iterations at tol 1e-8.
+- Not kept: guess 'linear' (3867 iterations, 42 s); mu_init (no effect with the adaptive mu
+  strategy); mu_strategy monotone (2659); limited_memory_max_history 6 (1104, no gain);
+  nlp_scaling_method none (1117); warm starts with IPOPT's multipliers (warm_start_init_point:
+  1325; with tight warm-start bound pushes 2 of 18 fail); the products as equalities
+  lambda phi = eps (the smoothed central path): 8 of 18 fail, 17341 iterations.
+- Not tried: explicit slack variables for the gaps (the NLP has no variables of its own beyond
+  the transcription's), Fischer-Burmeister, an exact Hessian of the contact rows (IPOPT's
+  Hessian stays L-BFGS); with the pairing fixed the solves take 4-60 iterations each, so the
+  headroom is small.
 """
 from __future__ import annotations
 
 import dataclasses
-import time
-from typing import Sequence
+from typing import Any, Sequence
 
 import numpy as np
 
 from .complementarity import Branches, ContactRows
-from .ipopt import solve
+from .ipopt import Guess, solve
 from .problem import Problem
 from .result import Result
 
@@ -76,8 +102,9 @@ def branches_of(rows: ContactRows, x: np.ndarray) -> Branches:
     return Branches(normal=normal, cone=cone, friction=friction)
 
 
-def solve_contact(problem: Problem, epsilons: Sequence[float] = DEFAULT_EPSILONS, *, s: int = 1, guess="rollout",
-                  finish_below: float = FINISH_BELOW, options: dict | None = None, verbose: bool = False) -> Result:
+def solve_contact(problem: Problem, epsilons: Sequence[float] = DEFAULT_EPSILONS, *, s: int = 1,
+                  guess: Guess = "rollout", finish_below: float = FINISH_BELOW, options: dict[str, Any] | None = None,
+                  verbose: bool = False) -> Result:
     """Solve ``problem`` (with ``add_contacts``) with the VI of order 2s: the relaxation homotopy
     over ``epsilons`` (positive, decreasing), and after each relaxed solve with epsilon <=
     ``finish_below`` the exact solve on the sides of the complementarity pairs it shows, until one

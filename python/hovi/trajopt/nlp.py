@@ -41,6 +41,10 @@ class NLP:
         self.contact_rows = None
         if self.problem.contacts is not None:
             from .complementarity import ContactRows
+            if self.problem.complementarity_epsilon == 0 and self.problem.complementarity_branches is None:
+                raise ValueError("a problem with contacts needs hovi.trajopt.solve_contact (or a relaxation "
+                                 "problem.complementarity_epsilon > 0): IPOPT cannot solve the exact "
+                                 "complementarity conditions directly")
             cr = self.contact_rows = ContactRows(self.problem.contacts, tr, self.problem.complementarity_epsilon,
                                                  self.problem.complementarity_branches)
             fixed = cr.fixed_inputs()
@@ -104,10 +108,12 @@ class NLP:
         return [] if self.contact_rows is None else [self.contact_rows.evaluate(x, with_jacobian)]
 
     def constraints(self, x: np.ndarray) -> np.ndarray:
+        """g(x) (n_constraints,): dynamics, path constraints, contact rows and linear boundary rows, at x (n_variables,)."""
         return np.concatenate([self._timed(self.core.constraints, x), *self._path(x, False),
                                *self._contacts(x, False), self.A @ x])
 
     def jacobian(self, x: np.ndarray) -> np.ndarray:
+        """The Jacobian's values (nnz,) at x (n_variables,), in (jac_rows, jac_cols) order."""
         return np.concatenate([self._timed(self.core.jacobian, x), *self._path(x, True),
                                *self._contacts(x, True), self.A_values])
 
