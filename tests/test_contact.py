@@ -145,3 +145,18 @@ def test_bad_contact_input_is_refused_with_a_reason():
     plain = trajopt.Problem(model, N=4, T=0.2).initial_state([0.0, 0.1]).add_cost(trajopt.ControlEffort())
     with pytest.raises(ValueError, match="no contacts"):
         trajopt.solve_contact(plain)
+
+
+def test_order_four_finds_the_unique_discrete_solution_which_rebounds():
+    """With s = 2 every stage's conditions have one solution too (a P-matrix LCP), and solve_contact
+    finds it; but an impact inside a stage rebounds (hovi.contact.contacts): dropped from 0.3 m with
+    dt = 0.02 the mass lands at t = 0.25, rises to 3.3405 mm (time stepping the stage LCPs gives
+    the same) and rests from t = 0.32 on."""
+    model = planar_point_mass()
+    contacts, prob = contact_problem(model, [0.0, 0.3], [0.0, 0.0], 0.5, 25, mu=0.5)
+    result = trajopt.solve_contact(prob, s=2)
+    check_contact_result(result)
+    assert result.contact["finished"] and result.contact["epsilon"] == 0.0
+    t, z = result.trajectory["t"], result.trajectory["q"][:, 1]
+    assert z[t > 0.245].max() == pytest.approx(3.3405e-3, rel=1e-4)
+    np.testing.assert_allclose(z[t > 0.315], 0, atol=1e-6)
