@@ -1,13 +1,15 @@
 """The whole NLP Jacobian of a transcribed problem (VI of orders 2..6, implicit and explicit
-Hermite-Simpson; dynamics, holonomic rows, every path-constraint kind, linear boundary rows)
-against central finite differences of its constraint function, and the sparsity structure
-against every nonzero the differences find."""
+Hermite-Simpson; dynamics, holonomic rows, every path-constraint kind, linear boundary rows,
+contact complementarity rows) against central finite differences of its constraint function, and
+the sparsity structure against every nonzero the differences find."""
 import numpy as np
 import pytest
 import scipy.sparse as sp
 
 import hovi
 from hovi import trajopt
+from hovi.contact import Box, Contacts, Terrain
+from hovi.trajopt.complementarity import Branches
 from hovi.trajopt.examples import close_mechanism
 
 pytest.importorskip("cyipopt")
@@ -56,13 +58,7 @@ def dense_jacobian(nlp, x):
 METHODS = [("vi", 1), ("vi", 2), ("vi", 3), ("hs-implicit", 2), ("hs-explicit", 2)]
 
 
-@pytest.mark.parametrize("name,s", METHODS, ids=[f"{m}-{s}" for m, s in METHODS])
-@pytest.mark.parametrize("k", range(3), ids=["chain-per_point", "chain-held", "fourbar"])
-def test_jacobian_matches_finite_differences(name, s, k):
-    _, prob = problems()[k]
-    nlp = trajopt.NLP(trajopt.transcribe(prob, name, s))
-    rng = np.random.default_rng(s + 10 * k)
-    x = rng.normal(scale=0.3, size=nlp.n_variables)
+def check_against_finite_differences(nlp, x):
     J = dense_jacobian(nlp, x)
     h = 1e-6
     J_fd = np.array([(nlp.constraints(x + h * e) - nlp.constraints(x - h * e)) / (2 * h) for e in np.eye(nlp.n_variables)]).T
@@ -72,6 +68,74 @@ def test_jacobian_matches_finite_differences(name, s, k):
     in_structure[nlp.jac_rows, nlp.jac_cols] = True
     assert np.abs(J_fd[~in_structure]).max(initial=0) < 1e-9 * scale  # every nonzero is in the structure
     assert len(set(zip(nlp.jac_rows.tolist(), nlp.jac_cols.tolist()))) == nlp.nnz  # no duplicates
+
+
+@pytest.mark.parametrize("name,s", METHODS, ids=[f"{m}-{s}" for m, s in METHODS])
+@pytest.mark.parametrize("k", range(3), ids=["chain-per_point", "chain-held", "fourbar"])
+def test_jacobian_matches_finite_differences(name, s, k):
+    _, prob = problems()[k]
+    nlp = trajopt.NLP(trajopt.transcribe(prob, name, s))
+    rng = np.random.default_rng(s + 10 * k)
+    check_against_finite_differences(nlp, rng.normal(scale=0.3, size=nlp.n_variables))
+
+
+def tumbling_block():
+    """A block free to move in x, y, z and to pitch and roll (nonlinear contact kinematics), one
+    actuator, two corners in contact with a raised terrain (3D friction, d = 4)."""
+    model = hovi.Model()
+    for name, parent, axis in (("x", None, (1, 0, 0)), ("y", "x", (0, 1, 0)), ("z", "y", (0, 0, 1))):
+        model.add_body(name, parent, "prismatic", axis=axis)
+    model.add_body("pitch", "z", "revolute", axis=(0, 1, 0))
+    model.add_body("block", "pitch", "revolute", axis=(1, 0, 0), mass=2.0, inertia=np.diag([0.02, 0.03, 0.04]))
+    model.add_actuator(3)
+    terrain = Terrain(ground=-1.0, boxes=[Box(-10.0, 10.0, top=0.05)])  # every point above the box
+    contacts = Contacts(model, [("block", (0.2, 0.1, -0.1)), ("block", (-0.2, -0.1, -0.1))], terrain, mu=0.7)
+    prob = trajopt.Problem(contacts.model, N=3, T=0.3)
+    prob.initial_state([0.0, 0.0, 0.3, 0.1, -0.1]).add_cost(trajopt.ControlEffort(weight=contacts.effort_weights()))
+    return contacts, prob.add_contacts(contacts)
+
+
+@pytest.mark.parametrize("s", [1, 2, 3])
+@pytest.mark.parametrize("exact", [False, True], ids=["relaxed", "exact-sides"])
+def test_contact_jacobian_matches_finite_differences(s, exact):
+    contacts, prob = tumbling_block()
+    prob.complementarity_epsilon = 1e-2
+    if exact:  # one side of every pair fixed: the same rows, other bounds
+        rng = np.random.default_rng(5)
+        E, C = prob.N * s, contacts.n_contacts
+        prob.complementarity_branches = Branches(rng.random((E, C)) < 0.5, rng.random((E, C)) < 0.5,
+                                                 rng.random((E, C, contacts.d)) < 0.5)
+    nlp = trajopt.NLP(trajopt.transcribe(prob, "vi", s))
+    assert nlp.contact_rows.count == (prob.N * s) * 2 * (4 + 2 * 4) + 2 * 6
+    check_against_finite_differences(nlp, np.random.default_rng(s).normal(scale=0.3, size=nlp.n_variables))
+
+
+def test_exact_sides_fix_inputs_and_rows():
+    """Branches: a pair's input at zero is a fixed variable, its gap-like row an equality; the
+    products are unbounded; the last point's inputs equal the previous point's."""
+    contacts, prob = tumbling_block()
+    E, C, d = prob.N, contacts.n_contacts, contacts.d
+    normal = np.zeros((E, C), bool)
+    normal[1, 0] = True  # phi(q_2) = 0 for contact 0, lambda = 0 elsewhere
+    prob.complementarity_branches = Branches(normal, np.ones((E, C), bool), np.zeros((E, C, d), bool))
+    nlp = trajopt.NLP(trajopt.transcribe(prob, "vi", 1))
+    cr, u_off = nlp.contact_rows, nlp.tr.u_points()
+    lam = u_off[:E, None] + np.array([contacts.input_index(c, "normal") for c in range(C)])
+    fixed = ~normal
+    assert np.all(nlp.lower[lam[fixed]] == 0) and np.all(nlp.upper[lam[fixed]] == 0)
+    assert np.all(nlp.upper[lam[~fixed]] == np.inf)
+    beta = u_off[:E, None] + np.array([contacts.input_index(c, "friction", 2) for c in range(C)])
+    assert np.all(nlp.upper[beta] == 0)
+    gamma = u_off[:E, None] + np.array([contacts.input_index(c, "slack") for c in range(C)])
+    assert np.all(nlp.upper[gamma] == np.inf)  # psi = 0 chosen: gamma free
+    row0 = nlp.core.n_constraints + sum(len(idx) * r for _, idx, _, r in nlp.paths)
+    cl, cu = nlp.cl[row0:row0 + cr.count], nlp.cu[row0:row0 + cr.count]
+    EC = E * C
+    np.testing.assert_array_equal(cu[:EC], np.where(normal.ravel(), 0.0, np.inf))   # phi rows
+    np.testing.assert_array_equal(cu[EC:2 * EC], 0.0)                                # psi rows
+    assert np.all(cu[(2 + d) * EC:cr.n_pair_rows] == np.inf) and np.all(cl[(2 + d) * EC:cr.n_pair_rows] == -np.inf)
+    np.testing.assert_array_equal(cl[cr.n_pair_rows:], 0.0)
+    np.testing.assert_array_equal(cu[cr.n_pair_rows:], 0.0)
 
 
 def test_objective_gradient_matches_finite_differences():

@@ -11,6 +11,7 @@ explicit Hermite-Simpson collocation for comparison); ``solve`` hands the NLP to
     result = trajopt.solve(prob, "vi", s=2)        # or "hs-implicit", "hs-explicit"
     traj = result.replay()                          # the same integrator, simulating the controls
 """
+from .contact_solve import solve_contact
 from .costs import CallbackCost, ControlEffort, Cost, StateTracking, TerminalCost
 from .ipopt import solve, transcribe
 from .nlp import NLP
@@ -18,5 +19,5 @@ from .path_constraints import BodyPoint, CallbackPathConstraint, Clearance, Path
 from .problem import Problem
 from .result import Result
 
-__all__ = ["Problem", "solve", "transcribe", "NLP", "Result", "Cost", "ControlEffort", "StateTracking", "TerminalCost",
+__all__ = ["Problem", "solve", "solve_contact", "transcribe", "NLP", "Result", "Cost", "ControlEffort", "StateTracking", "TerminalCost",
            "CallbackCost", "PathConstraint", "BodyPoint", "Clearance", "CallbackPathConstraint"]

@@ -1,7 +1,8 @@
 """The nonlinear program of a transcribed Problem: objective and gradient from the cost terms
 through the transcription's sample map, constraints and their sparse Jacobian from the C++
 transcription (one call each), path constraints (one vectorised call each) and linear boundary
-rows. Knows nothing of the solver. Times its C++ evaluations for the solver's report."""
+rows, and the contact complementarity rows (complementarity.py). Knows nothing of the solver.
+Times its C++ evaluations for the solver's report."""
 from __future__ import annotations
 
 import time
@@ -37,6 +38,21 @@ class NLP:
             cl.append(np.tile(c.lower, len(idx)))
             cu.append(np.tile(c.upper, len(idx)))
             row0 += len(idx) * r
+        self.contact_rows = None
+        if self.problem.contacts is not None:
+            from .complementarity import ContactRows
+            if self.problem.complementarity_epsilon == 0 and self.problem.complementarity_branches is None:
+                raise ValueError("a problem with contacts needs hovi.trajopt.solve_contact (or a relaxation "
+                                 "problem.complementarity_epsilon > 0): IPOPT cannot solve the exact "
+                                 "complementarity conditions directly")
+            cr = self.contact_rows = ContactRows(self.problem.contacts, tr, self.problem.complementarity_epsilon,
+                                                 self.problem.complementarity_branches)
+            fixed = cr.fixed_inputs()
+            self.lower[fixed] = self.upper[fixed] = 0.0
+            rows, cols = np.concatenate([rows, row0 + cr.rows]), np.concatenate([cols, cr.cols])
+            cl.append(cr.lower)
+            cu.append(cr.upper)
+            row0 += cr.count
         self.A, b = tr.linear_rows()
         A = self.A.tocoo()
         rows, cols = np.concatenate([rows, row0 + A.row]), np.concatenate([cols, A.col])
@@ -88,13 +104,18 @@ class NLP:
             out.append(jac.ravel() if with_jacobian else values.ravel())
         return out
 
+    def _contacts(self, x, with_jacobian):
+        return [] if self.contact_rows is None else [self.contact_rows.evaluate(x, with_jacobian)]
+
     def constraints(self, x: np.ndarray) -> np.ndarray:
-        """g(x) (n_constraints,): dynamics, path constraints and linear boundary rows, at x (n_variables,)."""
-        return np.concatenate([self._timed(self.core.constraints, x), *self._path(x, False), self.A @ x])
+        """g(x) (n_constraints,): dynamics, path constraints, contact rows and linear boundary rows, at x (n_variables,)."""
+        return np.concatenate([self._timed(self.core.constraints, x), *self._path(x, False),
+                               *self._contacts(x, False), self.A @ x])
 
     def jacobian(self, x: np.ndarray) -> np.ndarray:
         """The Jacobian's values (nnz,) at x (n_variables,), in (jac_rows, jac_cols) order."""
-        return np.concatenate([self._timed(self.core.jacobian, x), *self._path(x, True), self.A_values])
+        return np.concatenate([self._timed(self.core.jacobian, x), *self._path(x, True),
+                               *self._contacts(x, True), self.A_values])
 
     def violation(self, x: np.ndarray) -> float:
         """Largest violation of the constraints and bounds at x (n_variables,)."""

@@ -6,6 +6,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .. import _core
+from ..contact.contacts import Contacts
 from .costs import Cost
 from .path_constraints import PathConstraint
 
@@ -37,6 +38,9 @@ class Problem:
         self.model, self.N, self.T, self.controls = model, int(N), float(T), controls
         self.costs: list[Cost] = []
         self.path_constraints: list[PathConstraint] = []
+        self.contacts: Contacts | None = None  # see add_contacts
+        self.complementarity_epsilon = 0.0     # contact products <= epsilon (solve_contact lowers it)
+        self.complementarity_branches = None   # or one side of every pair (complementarity.Branches)
         self.q0 = self.qdot0 = self.qT = self.qdotT = None
         self.q_lower, self.q_upper = self._bounds(q_bounds, model.lower_limits, model.upper_limits, model.n, "q")
         self.u_lower, self.u_upper = self._bounds(u_bounds, *self._effort_bounds(), model.n_controls, "u")
@@ -115,6 +119,24 @@ class Problem:
         self.path_constraints.append(constraint.bind(self.model))
         return self
 
+    def add_contacts(self, contacts: Contacts) -> Problem:
+        """Add rigid contacts with the terrain (``hovi.contact.Contacts``, built on this problem's
+        robot; the Problem must be made with ``contacts.model``): their inputs get the bounds
+        [0, inf) and the complementarity conditions are added to the NLP. Solve with
+        ``hovi.trajopt.solve_contact``. Returns self."""
+        if not isinstance(contacts, Contacts):
+            raise TypeError(f"expected hovi.contact.Contacts, got {type(contacts).__name__}")
+        if self.contacts is not None:
+            raise ValueError("the problem has contacts already (put every contact point in one Contacts)")
+        if contacts.model is not self.model:
+            raise ValueError("build the Problem with contacts.model (the model with the contact force inputs)")
+        if self.controls != "per_point":
+            raise ValueError("contacts need controls='per_point' (a contact force at every control point)")
+        lo, hi = contacts.input_bounds()
+        self.u_lower[contacts.first_input:], self.u_upper[contacts.first_input:] = lo, hi
+        self.contacts = contacts
+        return self
+
     def check(self) -> None:
         """Raise ValueError if the problem is incomplete."""
         if self.q0 is None:
@@ -124,3 +146,8 @@ class Problem:
         for name, q in (("initial", self.q0), ("final", self.qT)):
             if q is not None and (np.any(q < self.q_lower - 1e-12) or np.any(q > self.q_upper + 1e-12)):
                 raise ValueError(f"the {name} configuration lies outside the joint bounds")
+            if q is not None and self.contacts is not None:
+                gaps = self.contacts.gaps(q)
+                if gaps.min() < -1e-9:
+                    c = int(np.argmin(gaps))
+                    raise ValueError(f"the {name} configuration puts contact point {c} {-gaps[c]:.3g} below the terrain")

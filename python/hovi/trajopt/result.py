@@ -27,6 +27,7 @@ class Result:
     timing: dict[str, float] = field(default_factory=dict)  # where the time went (see solve())
     sizes: dict[str, int] = field(default_factory=dict)  # variables, constraints, Jacobian nonzeros
     transcription: Any = field(default=None, repr=False)
+    contact: dict = field(default_factory=dict)
 
     def control_function(self) -> Callable[[npt.ArrayLike], np.ndarray]:
         """u(t) of the solution, vectorised: times t (K,) -> controls (K, m)."""

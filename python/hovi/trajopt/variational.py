@@ -62,6 +62,12 @@ class VariationalTranscription(Transcription):
         t = np.append(t, self.N * self.dt)
         return t, self.q_off + np.arange(self.n_points) * self.n
 
+    def u_points(self):
+        """(P,) offsets of the controls at the configuration points of q_points (per-point controls)."""
+        if self.problem.controls != "per_point":
+            raise ValueError("controls at the configuration points need controls='per_point'")
+        return self.u_off + np.arange(self.n_points) * self.m
+
     def _momentum(self, q, qdot):
         return self.model.mass_matrix(q) @ qdot
 

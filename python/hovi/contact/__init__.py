@@ -1,0 +1,7 @@
+"""Rigid contact for contact-implicit trajectory optimisation: terrain (ground, gaps, boxes) and
+point contacts with Coulomb friction as force inputs of the model (``hovi.trajopt.solve_contact``
+solves the complementarity conditions without a mode schedule)."""
+from .contacts import ContactPoint, Contacts, friction_directions
+from .terrain import Box, Gap, Terrain
+
+__all__ = ["Terrain", "Gap", "Box", "Contacts", "ContactPoint", "friction_directions"]

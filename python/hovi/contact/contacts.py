@@ -1,0 +1,156 @@
+"""Rigid point contacts with Coulomb friction, as force inputs of the model.
+
+Each contact point c (a point of a body, in its joint frame) gets 2 + d inputs appended to the
+model's controls: the normal force lambda_c along the surface normal +z, the friction
+coefficients beta_c,i >= 0 of the d friction directions D_i (a polyhedral cone: +-x, +-y in 3D
+(d = 4), +-x in the x-z plane (d = 2)), and a slack gamma_c (no force: the magnitude of the
+sliding velocity at the optimum, Stewart-Trinkle / Manchester-Kuindersma). The forces enter the
+DEL equations as point forces at the control points (``Model.add_point_wrench`` with a control),
+like the constraint forces, so their Jacobians come from the existing linearisation.
+
+The complementarity conditions (``ContactRows`` in ``hovi.trajopt.complementarity`` builds them
+for a transcription) pair the inputs at configuration point i with the motion that follows it:
+
+    phi_c(q_{i+1}) >= 0,  lambda_i >= 0,  lambda_i phi_c(q_{i+1}) = 0        (no penetration, no pull)
+    mu lambda_i - sum_k beta_i,k >= 0,  gamma_i >= 0,  their product = 0    (friction cone)
+    gamma_i + D_k^T v_i >= 0,  beta_i,k >= 0,  their product = 0            (maximal dissipation)
+
+with v_i the contact point's velocity over [t_i, t_{i+1}] (a difference of positions), and the
+inputs at the last point equal to those of the point before. This is Stewart and Trinkle's time
+stepping (Manchester and Kuindersma's variational form): the force that decides whether q_{i+1}
+penetrates is one that acts on it. A force at a point cannot move that point itself: in the
+Galerkin VI the force at a knot only enters the following stage, so pairing lambda_i with
+phi(q_i) leaves the knots without a force that can stop a falling body: time stepping that
+system (s = 2) finds no solution at the first impact for half of the drop heights 0.2..0.3 m and
+a rebound for the others (the relaxation homotopy then stalls as epsilon -> 0).
+
+With s = 1 (linear stages, the default of ``solve_contact``) every stage's conditions form an LCP
+with a P-matrix (one unique solution) and impacts are inelastic: a dropped mass lands and stays,
+lambda = m g from the step after the impact. With s = 2 the stage's LCP is unique too, but a
+parabola through the points where it lands turns upwards at the stage's end: an impact inside a
+stage rebounds, with up to 0.12-0.14 of the impact speed whatever dt (measured by time stepping
+these conditions over drop heights 0.2..0.3 m with N = 25, 50, 100 over 0.5 s; a 0.3 m drop with
+dt = 0.02 bounces 3.3 mm high). The other pairing for s = 2 (the knot force with the next
+knot) has two solutions per resting stage.
+
+Each condition holds exactly at the solution of ``solve_contact`` (see there: a relaxation
+homotopy, then an exact solve on the sides of the pairs it found).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import List, Sequence, Tuple, Union
+
+import numpy as np
+
+from .._core import Model
+from .terrain import Terrain
+
+
+@dataclass(frozen=True)
+class ContactPoint:
+    """A point ``point`` (3,) of ``body`` (index), in the body's joint frame."""
+    body: int
+    point: np.ndarray
+
+
+def friction_directions(plane: str = "") -> np.ndarray:
+    """(d, 3) friction directions: +-x, +-y in 3D; in a vertical plane ('xz' or 'yz') its horizontal axis."""
+    if plane == "":
+        return np.array([[1.0, 0, 0], [-1.0, 0, 0], [0, 1.0, 0], [0, -1.0, 0]])
+    if plane in ("xz", "yz"):
+        axis = np.eye(3)[0 if plane == "xz" else 1]
+        return np.array([axis, -axis])
+    raise ValueError(f"plane must be '' (3D), 'xz' or 'yz', got '{plane}'")
+
+
+class Contacts:
+    """Point contacts of a model with a terrain.
+
+    model: the robot (not changed: ``self.model`` is a copy with the contact inputs appended).
+    points: [(body name or index, point (3,) in the body's joint frame), ...].
+    mu: friction coefficient; plane: '' for 3D friction, 'xz' / 'yz' for a planar robot.
+    """
+
+    def __init__(self, model: Model, points: Sequence[Tuple[Union[str, int], Sequence[float]]],
+                 terrain: Terrain, mu: float, plane: str = "") -> None:
+        if not isinstance(model, Model):
+            raise TypeError(f"model must be a hovi.Model, got {type(model).__name__}")
+        if not isinstance(terrain, Terrain):
+            raise TypeError(f"terrain must be a hovi.contact.Terrain, got {type(terrain).__name__}")
+        if not points:
+            raise ValueError("give at least one contact point")
+        if not (np.isfinite(mu) and mu >= 0):
+            raise ValueError(f"mu must be finite and non-negative, got {mu}")
+        self.terrain, self.mu = terrain, float(mu)
+        self.D = friction_directions(plane)
+        self.d = len(self.D)
+        self.points: List[ContactPoint] = []
+        for entry in points:
+            if len(entry) != 2:
+                raise ValueError(f"a contact point is (body name or index, point (3,)), got {entry!r}")
+            body, point = entry
+            try:
+                b = model.body_index(body) if isinstance(body, str) else int(body)
+            except KeyError:
+                b = -1
+            if not 0 <= b < model.n:
+                raise ValueError(f"unknown contact body {body!r} (the model's bodies: {model.body_names})")
+            p = np.asarray(point, dtype=float)
+            if p.shape != (3,) or not np.all(np.isfinite(p)):
+                raise ValueError(f"contact point must be 3 finite numbers, got {point!r}")
+            self.points.append(ContactPoint(b, p))
+        self.m_user = model.n_controls
+        self.model = model.copy()
+        self.first_input = self.model.n_controls
+        for c in self.points:
+            lam = self.model.add_control()
+            self.model.add_point_wrench(c.body, force=(0.0, 0.0, 1.0), point=c.point, control=lam)
+            for direction in self.D:
+                beta = self.model.add_control()
+                self.model.add_point_wrench(c.body, force=direction, point=c.point, control=beta)
+            self.model.add_control()  # gamma: a slack, no force
+
+    def gaps(self, q: np.ndarray) -> np.ndarray:
+        """The signed gaps (C,) of the contact points to the terrain at configuration q (n,)."""
+        from .._core import trajopt
+        q = np.asarray(q, dtype=float)
+        if q.shape != (self.model.n,):
+            raise ValueError(f"q must have shape ({self.model.n},), got {q.shape}")
+        X, _ = trajopt.body_point_kinematics(self.model, np.tile(q, (self.n_contacts, 1)),
+                                             [c.body for c in self.points], np.array([c.point for c in self.points]))
+        return self.terrain.gap(X)
+
+    @property
+    def n_contacts(self) -> int:
+        return len(self.points)
+
+    @property
+    def inputs_per_contact(self) -> int:
+        return 2 + self.d
+
+    def input_index(self, c: int, what: str, i: int = 0) -> int:
+        """The control index of contact c's 'normal', 'friction' (direction i) or 'slack' input."""
+        base = self.first_input + c * self.inputs_per_contact
+        return {"normal": base, "friction": base + 1 + i, "slack": base + 1 + self.d}[what]
+
+    def input_bounds(self) -> Tuple[np.ndarray, np.ndarray]:
+        """Bounds of the contact inputs (all >= 0)."""
+        k = self.n_contacts * self.inputs_per_contact
+        return np.zeros(k), np.full(k, np.inf)
+
+    def effort_weights(self, weight: Union[float, Sequence[float]] = 1.0) -> np.ndarray:
+        """ControlEffort weights: ``weight`` on the model's own controls, zero on the contact inputs."""
+        w = np.zeros(self.model.n_controls)
+        w[:self.m_user] = weight
+        return w
+
+    def forces(self, u: np.ndarray) -> np.ndarray:
+        """World contact forces (P, contacts, 3) from controls u (P, m) of the contact model."""
+        u = np.atleast_2d(u)
+        out = np.zeros((len(u), self.n_contacts, 3))
+        for c in range(self.n_contacts):
+            out[:, c, 2] = u[:, self.input_index(c, "normal")]
+            beta = u[:, self.input_index(c, "friction"):self.input_index(c, "friction") + self.d]
+            out[:, c] += beta @ self.D
+        return out

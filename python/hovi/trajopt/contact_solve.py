@@ -1,0 +1,161 @@
+"""Contact-implicit trajectory optimisation without a mode schedule: a relaxation homotopy, then an
+exact solve on the sides of the complementarity pairs it found.
+
+1. The complementarity products of a Problem with contacts (hovi.contact.Contacts) are bounded by
+   epsilon (Scholtes' relaxation), and epsilon is driven down over IPOPT solves, each started
+   from the last solution.
+2. After each relaxed solve with epsilon <= FINISH_BELOW, ``branches_of`` reads which side of every
+   pair is zero: each input is converted, through the contact point's mobility J M^-1 J^T, to
+   what it does to its partner over the interval (a normal force to a displacement, a friction
+   force to a velocity change), and the smaller side is zero; where the contact sticks, the
+   friction inputs of opposite directions are first reduced by their common part (``canonical``).
+   With those sides fixed (``complementarity.Branches``: an input fixed at zero, or the gap, cone
+   or sliding row as an equality) the problem is a smooth NLP; its solution satisfies
+   complementarity exactly and the free phases carry exactly zero contact force. If it fails,
+   the homotopy goes on.
+
+NOTES (measurements, s = 1 unless said; 18 problems: drops from 0.05-0.5 m with N = 25, 50,
+landing while sliding with mu = 0.5 and 0.1, a long slide, a push beyond friction, 3D slide and
+landing, sliding off a ledge into a gap, a tilted bar dropped on two contacts, a bar sliding flat,
+pushing a block to a target with an effort cost and a final state; guess 'rollout'):
+- The pairing decides everything. With the inputs at point j paired with phi(q_j) (the first
+  version) the conditions have no solution at half of the impacts and rebound at the others (see
+  hovi.contact.contacts), and no solver setting helped (measured on that version, the drop test:
+  eps = 0.1 needed bound_relax_factor 1e-8 and 163 iterations, eps <= 0.01 failed, with or without
+  warm starts or regularising costs on beta and gamma; a penalty formulation diverged). With the
+  pairing of hovi.contact all 18 problems end with the exact solve: 1120 IPOPT iterations, 7.5 s
+  in all (the three closed-form tests: 0.2-0.4 s each); with s = 2, 2288 iterations and 29 s,
+  all exact (but see hovi.contact for the rebound of s = 2).
+- Stopping the relaxed solves at eps = 1e-6 instead leaves lambda ~ eps / phi in flight (a
+  free-fall error of 8e-8); the exact solve gives complementarity 1e-9 .. 1e-18.
+- Sides read at eps = 1e-3: all 18 exact solves succeed at once; at 1e-2: 4 fail (then 1e-3
+  does it: 1041 iterations in all); at 1e-1: all 18 fail. Starting at eps = 1: 1388 iterations.
+- tol 1e-6 for the relaxed solves (RELAXED_TOL): with zero cost one stalled at dual
+  infeasibility 3.5e-8 for 400 iterations at tol 1e-8.
+- Not kept: guess 'linear' (3867 iterations, 42 s); mu_init (no effect with the adaptive mu
+  strategy); mu_strategy monotone (2659); limited_memory_max_history 6 (1104, no gain);
+  nlp_scaling_method none (1117); warm starts with IPOPT's multipliers (warm_start_init_point:
+  1325; with tight warm-start bound pushes 2 of 18 fail); the products as equalities
+  lambda phi = eps (the smoothed central path): 8 of 18 fail, 17341 iterations.
+- Not tried: explicit slack variables for the gaps (the NLP has no variables of its own beyond
+  the transcription's), Fischer-Burmeister, an exact Hessian of the contact rows (IPOPT's
+  Hessian stays L-BFGS); with the pairing fixed the solves take 4-60 iterations each, so the
+  headroom is small.
+"""
+from __future__ import annotations
+
+import dataclasses
+from typing import Any, Sequence
+
+import numpy as np
+
+from .complementarity import Branches, ContactRows
+from .ipopt import Guess, solve
+from .problem import Problem
+from .result import Result
+
+DEFAULT_EPSILONS = (1e-1, 1e-2, 1e-3, 1e-4, 1e-5, 1e-6)
+FINISH_BELOW = 1e-3  # the exact solve is tried from relaxed solutions with epsilon <= this
+# IPOPT's tol for the relaxed solves: only a path to the exact one (with zero cost some stall at a
+# dual infeasibility of ~3e-8 for hundreds of iterations at hovi's default 1e-8)
+RELAXED_TOL = 1e-6
+
+
+def _opposite_pairs(D: np.ndarray):
+    """(k, l) index pairs of opposite friction directions, D_l = -D_k."""
+    return [(k, l) for k in range(len(D)) for l in range(k + 1, len(D)) if np.allclose(D[k], -D[l])]
+
+
+def canonical(rows: ContactRows, x: np.ndarray) -> np.ndarray:
+    """x with the friction inputs of opposite directions reduced by their common part (the same
+    friction force, the least sum): where the contact sticks, the split between +D and -D is
+    not determined by the conditions, and only one of them carries the force."""
+    x = x.copy()
+    for k, l in _opposite_pairs(rows.contacts.D):
+        ik, il = rows._input("friction", k), rows._input("friction", l)
+        common = np.minimum(np.maximum(x[ik], 0), np.maximum(x[il], 0))
+        x[ik] -= common
+        x[il] -= common
+    return x
+
+
+def branches_of(rows: ContactRows, x: np.ndarray) -> Branches:
+    """The side of every complementarity pair that is zero at (a relaxed solution) x: each input
+    is converted to what it does to its gap-like partner over the pair's interval dt, through the
+    contact point's mobility J M^-1 J^T at the force's configuration (a normal force lambda moves
+    the point by lambda w_n dt^2, a friction force beta_k changes its velocity by beta_k w_k dt,
+    a cone margin psi its sliding speed by psi w dt), and the smaller of the two is zero."""
+    k = rows.quantities(x)
+    _, J = rows.kinematics(x)
+    model, D, P = rows.contacts.model, rows.contacts.D, rows.E
+    Q = x[rows.q_off[:P, None] + np.arange(rows.n)]
+    W = np.empty((P, rows.C, 3, 3))
+    for i in range(P):
+        Minv_Jt = np.linalg.lstsq(model.mass_matrix(Q[i]), J[i].reshape(-1, rows.n).T, rcond=None)[0]
+        W[i] = np.einsum("cxn,ncy->cxy", J[i], Minv_Jt.reshape(rows.n, rows.C, 3))
+    dt = rows.dt[:, None]
+    w_n = W[..., 2, 2]                                             # (E, C)
+    w_t = np.einsum("kx,ecxy,ky->eck", D, W, D)                    # (E, C, d)
+    normal = k["phi"] < np.maximum(k["lambda"], 0) * w_n * dt ** 2
+    friction = k["zeta"] < np.maximum(k["beta"], 0) * w_t * dt[..., None]
+    cone = np.maximum(k["psi"], 0) * w_t.max(-1) * dt < k["gamma"]
+    return Branches(normal=normal, cone=cone, friction=friction)
+
+
+def solve_contact(problem: Problem, epsilons: Sequence[float] = DEFAULT_EPSILONS, *, s: int = 1,
+                  guess: Guess = "rollout", finish_below: float = FINISH_BELOW, options: dict[str, Any] | None = None,
+                  verbose: bool = False) -> Result:
+    """Solve ``problem`` (with ``add_contacts``) with the VI of order 2s: the relaxation homotopy
+    over ``epsilons`` (positive, decreasing), and after each relaxed solve with epsilon <=
+    ``finish_below`` the exact solve on the sides of the complementarity pairs it shows, until one
+    succeeds (finish_below = 0: relaxed solves only). ``options`` go to every IPOPT solve (the
+    relaxed ones default to tol = RELAXED_TOL).
+
+    s = 1 (default) is the contact model that is inelastic and well posed (see hovi.contact); s >= 2
+    lets an impact inside a stage rebound.
+
+    Returns the exact Result (or the last relaxed one) with ``result.contact`` = {'penetration',
+    'cone', 'complementarity' (largest product), 'epsilon' (0 after the exact solve), 'finished',
+    'solves' ([(epsilon, iterations, success), ...], epsilon 0 for an exact attempt),
+    'iterations' (total), 'wall_seconds' (in IPOPT, total)}."""
+    if problem.contacts is None:
+        raise ValueError("the problem has no contacts: call problem.add_contacts(contacts)")
+    eps = [float(e) for e in epsilons]
+    if not eps or any(not np.isfinite(e) or e <= 0 for e in eps) or any(b >= a for a, b in zip(eps, eps[1:])):
+        raise ValueError(f"epsilons must be positive, finite and decreasing, got {epsilons}")
+    if int(s) != s or s < 1:
+        raise ValueError(f"s must be a positive integer, got {s}")
+    if not (np.isfinite(finish_below) and finish_below >= 0):
+        raise ValueError(f"finish_below must be finite and >= 0, got {finish_below}")
+    saved = problem.complementarity_epsilon, problem.complementarity_branches
+    solves, wall = [], 0.0
+
+    def run(start, epsilon, branches=None):
+        nonlocal wall
+        problem.complementarity_epsilon, problem.complementarity_branches = epsilon, branches
+        opts = dict(options or {})
+        if epsilon > 0:
+            opts.setdefault("tol", RELAXED_TOL)
+        r = solve(problem, "vi", s=s, guess=start, options=opts, verbose=verbose)
+        solves.append((epsilon, r.iterations, r.success))
+        wall += r.wall_seconds
+        return r
+
+    try:
+        relaxed, exact, epsilon = guess, None, eps[0]
+        for epsilon in eps:
+            relaxed = run(relaxed, epsilon)
+            if relaxed.success and epsilon <= finish_below:
+                rows = ContactRows(problem.contacts, relaxed.transcription, epsilon)
+                start = dataclasses.replace(relaxed, x=canonical(rows, relaxed.x))
+                attempt = run(start, 0.0, branches_of(rows, start.x))
+                if attempt.success:
+                    exact = attempt
+                    break
+    finally:
+        problem.complementarity_epsilon, problem.complementarity_branches = saved
+    result = exact or relaxed
+    rows = ContactRows(problem.contacts, result.transcription, 0.0)
+    result.contact = {**rows.violations(result.x), "epsilon": 0.0 if exact else epsilon, "finished": exact is not None,
+                      "solves": solves, "iterations": sum(it for _, it, _ in solves), "wall_seconds": wall}
+    return result

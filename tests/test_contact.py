@@ -1,0 +1,162 @@
+"""Contact-implicit trajectory optimisation (hovi.contact + hovi.trajopt.solve_contact) against
+closed-form answers: a point mass dropped on the ground, resting under a push in static friction,
+and sliding to rest; complementarity, penetration and the replay checked at every point."""
+import numpy as np
+import pytest
+
+import hovi
+from hovi import trajopt
+from hovi.contact import Box, Contacts, Gap, Terrain
+
+pytest.importorskip("cyipopt")
+G = 9.81
+
+
+def planar_point_mass(mass=1.0, actuated=False):
+    """A point mass moving in the x-z plane: prismatic x (massless) then prismatic z (the mass)."""
+    model = hovi.Model()
+    model.add_body("slider", None, "prismatic", axis=(1, 0, 0))
+    model.add_body("mass", "slider", "prismatic", axis=(0, 0, 1), mass=mass, inertia=np.eye(3) * 1e-3)
+    if actuated:
+        model.add_actuator(0)
+    return model
+
+
+def contact_problem(model, q0, qdot0, T, N, mu, fixed_u=None):
+    contacts = Contacts(model, [("mass", (0.0, 0.0, 0.0))], Terrain(), mu=mu, plane="xz")
+    prob = trajopt.Problem(contacts.model, N=N, T=T)
+    prob.initial_state(q0, qdot0)
+    if fixed_u is not None:
+        prob.u_lower[:len(fixed_u)] = prob.u_upper[:len(fixed_u)] = fixed_u
+    prob.add_cost(trajopt.ControlEffort(weight=contacts.effort_weights(0.0)))
+    prob.add_contacts(contacts)
+    return contacts, prob
+
+
+def check_contact_result(result):
+    assert result.success, result.status
+    assert result.constraint_violation < 1e-8
+    assert result.contact["penetration"] <= 1e-6
+    assert result.contact["complementarity"] <= 1e-6 * (1 + 1e-6)
+    assert result.contact["cone"] <= 1e-8
+    replay = result.replay()  # the optimised forces as controls, simulated by the integrator
+    tr = result.trajectory
+    np.testing.assert_allclose(replay.q, tr["q"][::result.transcription.s], atol=1e-7)
+
+
+def test_dropped_point_mass_falls_freely_then_rests_on_the_ground():
+    model = planar_point_mass()
+    z0, T, N = 0.3, 0.5, 25
+    contacts, prob = contact_problem(model, [0.0, z0], [0.0, 0.0], T, N, mu=0.5)
+    result = trajopt.solve_contact(prob)
+    check_contact_result(result)
+    t, q = result.trajectory["t"], result.trajectory["q"]
+    u = result.trajectory["u"]
+    impact = np.sqrt(2 * z0 / G)
+    before = t < impact - result.transcription.dt
+    np.testing.assert_allclose(q[before, 1], z0 - G * t[before] ** 2 / 2, atol=1e-8)  # the VI is exact here
+    np.testing.assert_allclose(u[before, contacts.input_index(0, "normal")], 0, atol=1e-5)
+    after = t > impact + 2 * result.transcription.dt
+    np.testing.assert_allclose(q[after, 1], 0, atol=1e-6)
+    np.testing.assert_allclose(u[after, contacts.input_index(0, "normal")], G, rtol=1e-3)
+
+
+def test_pushed_mass_stays_at_rest_in_static_friction():
+    model = planar_point_mass(actuated=True)
+    mu, push = 0.6, 0.5 * 0.6 * G  # half of what friction can hold
+    contacts, prob = contact_problem(model, [0.0, 0.0], [0.0, 0.0], 0.3, 15, mu, fixed_u=[push])
+    result = trajopt.solve_contact(prob)
+    check_contact_result(result)
+    forces = contacts.forces(result.trajectory["u"])[:, 0]
+    np.testing.assert_allclose(result.trajectory["q"], 0, atol=1e-6)
+    np.testing.assert_allclose(forces[:, 0], -push, rtol=1e-4)   # friction balances the push
+    np.testing.assert_allclose(forces[:, 2], G, rtol=1e-4)       # the normal force carries the weight
+
+
+def test_sliding_block_stops_where_coulomb_friction_says():
+    model = planar_point_mass()
+    mu, v0 = 0.5, 1.0
+    contacts, prob = contact_problem(model, [0.0, 0.0], [v0, 0.0], 0.4, 40, mu)
+    result = trajopt.solve_contact(prob)
+    check_contact_result(result)
+    t, q = result.trajectory["t"], result.trajectory["q"]
+    forces = contacts.forces(result.trajectory["u"])[:, 0]
+    stop = v0 / (mu * G)
+    distance = v0 ** 2 / (2 * mu * G)
+    assert q[-1, 0] == pytest.approx(distance, rel=0.02)
+    sliding = (t > 0) & (t < stop - 2 * result.transcription.dt)
+    np.testing.assert_allclose(forces[sliding, 0], -mu * forces[sliding, 2], rtol=1e-3)  # the cone saturates
+    np.testing.assert_allclose(q[t > stop + 2 * result.transcription.dt, 0], q[-1, 0], atol=1e-6)  # at rest
+
+
+def test_terrain_heights_and_contact_input_layout():
+    terrain = Terrain(ground=0.1, gaps=[Gap(1.0, 1.5, depth=0.5)], boxes=[Box(2.0, 2.4, top=0.26)])
+    pts = np.array([[0.0, 0, 0.3], [1.2, 0, 0.3], [2.2, 0, 0.3], [3.0, 0, 0.05]])
+    np.testing.assert_allclose(terrain.gap(pts), [0.2, 0.7, 0.04, -0.05])
+    assert terrain.segments((0.0, 3.0)) == [(0.0, 1.0, 0.1), (1.0, 1.5, -0.4), (1.5, 2.0, 0.1), (2.0, 2.4, 0.26),
+                                            (2.4, 3.0, 0.1)]
+    model = planar_point_mass(actuated=True)
+    contacts = Contacts(model, [("mass", (0, 0, 0)), (1, (0.1, 0, 0))], terrain, mu=1.0)
+    assert contacts.model.n_controls == 1 + 2 * (2 + 4) and model.n_controls == 1  # the robot is not changed
+    assert contacts.input_index(1, "slack") == 12
+    with pytest.raises(ValueError, match="mu must be"):
+        Contacts(model, [("mass", (0, 0, 0))], terrain, mu=-1)
+    with pytest.raises(ValueError, match="depth"):
+        Terrain(gaps=[Gap(1.0, 0.5)])
+    prob = trajopt.Problem(model, N=4, T=1.0)
+    with pytest.raises(ValueError, match="contacts.model"):
+        prob.add_contacts(contacts)
+
+
+def test_bad_contact_input_is_refused_with_a_reason():
+    model, terrain = planar_point_mass(), Terrain()
+    point = [("mass", (0.0, 0.0, 0.0))]
+    for points, match in (([], "at least one"), ([("nobody", (0, 0, 0))], "unknown contact body 'nobody'"),
+                          ([(7, (0, 0, 0))], "unknown contact body 7"), ([("mass", (0, 0))], "3 finite numbers"),
+                          ([("mass", (0, 0, np.nan))], "3 finite numbers"), ([("mass",)], "body name or index")):
+        with pytest.raises(ValueError, match=match):
+            Contacts(model, points, terrain, mu=0.5)
+    with pytest.raises(TypeError, match="Terrain"):
+        Contacts(model, point, "flat", mu=0.5)
+    with pytest.raises(ValueError, match="plane must be"):
+        Contacts(model, point, terrain, mu=0.5, plane="xy")
+    with pytest.raises(ValueError, match="mu must be"):
+        Contacts(model, point, terrain, mu=np.inf)
+    contacts, prob = contact_problem(model, [0.0, 0.1], [0.0, 0.0], 0.2, 4, mu=0.5)
+    with pytest.raises(TypeError, match="Contacts"):
+        prob.add_contacts(contacts.model)
+    with pytest.raises(ValueError, match="already"):
+        prob.add_contacts(contacts)
+    with pytest.raises(ValueError, match="per_point"):
+        trajopt.Problem(contacts.model, N=4, T=0.2, controls="held").add_contacts(contacts)
+    with pytest.raises(ValueError, match="solve_contact"):  # the exact conditions straight to IPOPT
+        trajopt.solve(prob, verbose=False)
+    prob.complementarity_epsilon = 0.1
+    with pytest.raises(ValueError, match="controls at its configuration points"):
+        trajopt.solve(prob, "hs-implicit", verbose=False)
+    for kwargs, match in (({"epsilons": ()}, "epsilons"), ({"epsilons": (1e-2, 1e-1)}, "decreasing"),
+                          ({"epsilons": (0.1, 0.0)}, "positive"), ({"s": 0}, "s must be"),
+                          ({"finish_below": -1.0}, "finish_below")):
+        with pytest.raises(ValueError, match=match):
+            trajopt.solve_contact(prob, **kwargs)
+    prob.initial_state([0.0, -0.01])
+    with pytest.raises(ValueError, match="initial configuration puts contact point 0 0.01 below the terrain"):
+        trajopt.solve_contact(prob)
+    plain = trajopt.Problem(model, N=4, T=0.2).initial_state([0.0, 0.1]).add_cost(trajopt.ControlEffort())
+    with pytest.raises(ValueError, match="no contacts"):
+        trajopt.solve_contact(plain)
+
+
+def test_order_four_finds_the_unique_discrete_solution_which_rebounds():
+    """With s = 2 every stage's conditions have one solution too (a P-matrix LCP), and solve_contact
+    finds it; but an impact inside a stage rebounds (hovi.contact.contacts): dropped from 0.3 m with
+    dt = 0.02 the mass lands at t = 0.25, rises to 3.3405 mm (time stepping the stage LCPs gives
+    the same) and rests from t = 0.32 on."""
+    model = planar_point_mass()
+    contacts, prob = contact_problem(model, [0.0, 0.3], [0.0, 0.0], 0.5, 25, mu=0.5)
+    result = trajopt.solve_contact(prob, s=2)
+    check_contact_result(result)
+    assert result.contact["finished"] and result.contact["epsilon"] == 0.0
+    t, z = result.trajectory["t"], result.trajectory["q"][:, 1]
+    assert z[t > 0.245].max() == pytest.approx(3.3405e-3, rel=1e-4)
+    np.testing.assert_allclose(z[t > 0.315], 0, atol=1e-6)
