@@ -144,7 +144,10 @@ void HermiteSimpsonTranscription::evaluate_point(const Eigen::Ref<const VecX>& x
   rnea_derivatives(model_, ws.data, q, v, pt.a, ws.rnea);
   pt.dq = -llt.solve(ws.rnea.dq - f.Qq);
   pt.dv = -llt.solve(ws.rnea.dv - f.Qv);
-  pt.dw = llt.solve(f.Qu);
+  // (an empty right-hand side, no controls or multipliers, must not reach Eigen's triangular solve:
+  // it takes a reference to element (0, 0), undefined behaviour found by make sanitize)
+  if (f.Qu.cols() > 0) pt.dw = llt.solve(f.Qu);
+  else pt.dw.resize(n_, 0);
 }
 
 void HermiteSimpsonTranscription::hessian_times(const VecX& q, const VecX& v, Workspace& ws, MatX& Hv) const {
