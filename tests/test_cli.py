@@ -49,6 +49,8 @@ def test_bad_arguments_exit_with_usage_error():
         main(["simulate", "pendulum:3", "--dt", "-1"])
     with pytest.raises(SystemExit):
         main(["nonsense"])
+    with pytest.raises(SystemExit):
+        main(["simulate", "pendulum:3", "--animate", "--fps", "0"])
 
 
 def test_bad_model_or_option_is_a_clean_error(capsys):

@@ -29,6 +29,10 @@ def test_bad_arguments_are_value_errors():
         integ.step(np.array([0.0, np.nan, 0.0]), np.zeros(3))
     with pytest.raises(ValueError):
         hovi.Integrator(hovi.models.pendulum(3), order=4, dt=-0.01)
+    with pytest.raises(ValueError, match="q must be an array of real numbers, got complex"):  # not cast silently
+        integ.step(np.zeros(3, dtype=complex), np.zeros(3))
+    with pytest.raises(ValueError, match="beyond 1e150 in magnitude"):  # would overflow to inf
+        hovi.models.pendulum(3).energy(np.zeros(3), np.full(3, 1e200))
 
 
 def test_a_changed_model_is_a_model_error():

@@ -97,6 +97,10 @@ def test_bad_input_raises_clear_errors(tmp_path):
         v.play(np.zeros((3, 3)), times=[0.0, 0.2, 0.1])
     with pytest.raises(ValueError, match="non-zero"):
         v.add_arrow("f", [0, 0, 0], [0, 0, 0])
+    with pytest.raises(ValueError, match="position must be 3 finite numbers"):
+        v.add_marker("m", [0.0, np.inf, 0.0])
+    with pytest.raises(ValueError, match="target must be 3 finite numbers"):
+        v.set_camera([0.0, 0.0], [1.0, 0.0, 0.0])
     urdf = tmp_path / "mesh.urdf"
     urdf.write_text('<robot name="r"><link name="base"/><link name="a"><inertial><mass value="1"/>'
                     '<inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial><visual><geometry>'

@@ -19,7 +19,7 @@ import numpy as np
 from ._core import Model
 
 __all__ = ["Shape", "Motion", "LINK_RGBA", "COM_RGBA", "package_search_path", "resolve_mesh", "model_shapes",
-           "default_shapes", "segment_frame", "body_frames", "motion_arrays", "sample_configurations"]
+           "default_shapes", "segment_frame", "translation", "transform_points", "body_frames", "motion_arrays", "sample_configurations"]
 
 #: Colours of the default shapes (links, centres of mass) and of visuals without a material.
 LINK_RGBA = np.array([0.55, 0.6, 0.68, 1.0])
@@ -96,10 +96,16 @@ def segment_frame(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return T
 
 
-def _translation(p: np.ndarray) -> np.ndarray:
+def translation(p: np.ndarray) -> np.ndarray:
+    """(4, 4) pure translation by p (3,)."""
     T = np.eye(4)
     T[:3, 3] = p
     return T
+
+
+def transform_points(T: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """Points (..., 3) mapped by the pose T (4, 4): R p + t."""
+    return points @ T[:3, :3].T + T[:3, 3]
 
 
 def default_shapes(model: Model, radius: Optional[float] = None) -> List[Shape]:
@@ -116,9 +122,9 @@ def default_shapes(model: Model, radius: Optional[float] = None) -> List[Shape]:
     com_local = []
     for i in range(model.n):
         inv = np.linalg.inv(joints[i])
-        com_local.append(inv[:3, :3] @ coms[i] + inv[:3, 3])
+        com_local.append(transform_points(inv, coms[i]))
         children = [c for c in range(model.n) if parents[c] == i]
-        ends = [(inv[:3, :3] @ joints[c][:3, 3] + inv[:3, 3], False) for c in children] or [(2 * com_local[i], True)]
+        ends = [(transform_points(inv, joints[c][:3, 3]), False) for c in children] or [(2 * com_local[i], True)]
         segments += [(i, np.zeros(3), e, leaf) for e, leaf in ends if np.linalg.norm(e) > 1e-9]
     longest = max((float(np.linalg.norm(b - a)) for _, a, b, _ in segments), default=0.0)
     points = np.vstack([joints[:, :3, 3], coms])
@@ -128,13 +134,13 @@ def default_shapes(model: Model, radius: Optional[float] = None) -> List[Shape]:
         length = float(np.linalg.norm(b - a))
         shapes.append(Shape(body, f"link{body}_{k}", "cylinder", np.array([r, length, 0.0]), segment_frame(a, b), LINK_RGBA))
         if leaf:
-            shapes.append(Shape(body, f"link{body}_{k}_end", "sphere", np.array([r, 0.0, 0.0]), _translation(b), LINK_RGBA))
+            shapes.append(Shape(body, f"link{body}_{k}_end", "sphere", np.array([r, 0.0, 0.0]), translation(b), LINK_RGBA))
     masses = np.asarray(model.masses, dtype=float)
     m_max = masses.max() if masses.size and masses.max() > 0 else 1.0
     for i in range(model.n):
         if masses[i] > 0:
             rc = 1.3 * r * (masses[i] / m_max) ** (1 / 3)
-            shapes.append(Shape(i, f"com{i}", "sphere", np.array([rc, 0.0, 0.0]), _translation(com_local[i]), COM_RGBA))
+            shapes.append(Shape(i, f"com{i}", "sphere", np.array([rc, 0.0, 0.0]), translation(com_local[i]), COM_RGBA))
     return shapes
 
 

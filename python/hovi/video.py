@@ -14,7 +14,7 @@ from typing import Any, Dict, Iterable, List, Optional, Sequence, Tuple, Union
 import numpy as np
 
 from ._core import Model
-from .geometry import Motion, Shape, body_frames, model_shapes, motion_arrays, sample_configurations
+from .geometry import Motion, Shape, body_frames, model_shapes, motion_arrays, sample_configurations, transform_points
 
 __all__ = ["render_video", "shape_triangles", "box_triangles", "cylinder_triangles", "sphere_triangles",
            "cluster_vertices"]
@@ -97,8 +97,7 @@ def shape_triangles(shape: Shape, max_faces: int = 2000) -> np.ndarray:
             raise ImportError("meshes in videos need trimesh: pip install 'hovi[viewer]'") from e
         mesh = trimesh.load(shape.mesh_path, force="mesh")
         tris = cluster_vertices(mesh.vertices * shape.scale, mesh.faces, max_faces)
-    R, p = shape.origin[:3, :3], shape.origin[:3, 3]
-    return tris @ R.T + p
+    return transform_points(shape.origin, tris)
 
 
 def _shade(tris: np.ndarray, rgba: np.ndarray) -> np.ndarray:
@@ -142,11 +141,9 @@ def render_video(model: Model, motion: Motion, path: Union[str, os.PathLike[str]
 
     def world_triangles(qk: np.ndarray) -> np.ndarray:
         frames = body_frames(model, qk)
-        return np.concatenate([tris @ frames[b][:3, :3].T + frames[b][:3, 3] for b, tris in zip(bodies, local_tris)])
+        return np.concatenate([transform_points(frames[b], tris) for b, tris in zip(bodies, local_tris)])
 
-    import matplotlib
-    matplotlib.use("Agg", force=False)
-    from matplotlib.figure import Figure
+    from matplotlib.figure import Figure  # with its Agg canvas directly: the user's pyplot backend is untouched
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 

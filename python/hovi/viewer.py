@@ -21,7 +21,8 @@ from typing import Any, Iterable, Optional, Sequence, Union
 import numpy as np
 
 from ._core import Model
-from .geometry import Motion, Shape, body_frames, model_shapes, motion_arrays, sample_configurations, segment_frame
+from .geometry import (Motion, Shape, body_frames, model_shapes, motion_arrays, sample_configurations, segment_frame,
+                       translation)
 
 __all__ = ["Viewer", "animation_html"]
 
@@ -37,9 +38,11 @@ def _meshcat() -> Any:
     return meshcat
 
 
-def _colour(rgba: np.ndarray) -> tuple[int, float]:
-    r, g, b = (np.clip(np.asarray(rgba[:3]), 0, 1) * 255).round().astype(int)
-    return (int(r) << 16) | (int(g) << 8) | int(b), float(rgba[3])
+def _material(rgba: Sequence[float]) -> Any:
+    """A meshcat (Lambert) material of colour rgba (4,) in [0, 1]."""
+    rgba = np.asarray(rgba, dtype=float)
+    r, g, b = (np.clip(rgba[:3], 0, 1) * 255).round().astype(int)
+    return _meshcat().geometry.MeshLambertMaterial(color=(int(r) << 16) | (int(g) << 8) | int(b), opacity=float(rgba[3]))
 
 
 def _geometry(shape: Shape) -> Any:
@@ -87,13 +90,12 @@ class Viewer:
         self._visualizer = mc.Visualizer(zmq_url=zmq_url) if server or zmq_url else None
         self._commands: "OrderedDict[tuple[str, str], Any]" = OrderedDict()
         self._camera: Optional[tuple[np.ndarray, np.ndarray]] = None
+        self.duration = 0.0  #: length of the last motion given to play (s)
         self._body_paths = [self._path("hovi", "bodies", f"{i:03d}_{self._safe(name)}")
                             for i, name in enumerate(model.body_names)] + [self._path("hovi", "world")]
         for shape in self.shapes:
             path = self._body_paths[shape.body].append(self._safe(shape.name))
-            colour, opacity = _colour(shape.rgba)
-            material = mc.geometry.MeshLambertMaterial(color=colour, opacity=opacity)
-            self._send(mc.commands.SetObject(_geometry(shape), material, path))
+            self._send(mc.commands.SetObject(_geometry(shape), _material(shape.rgba), path))
             self._send(mc.commands.SetTransform(_local_transform(shape), path))
         self.display(np.zeros(model.n))
 
@@ -158,12 +160,8 @@ class Viewer:
         """A sphere at a world position (3,), e.g. a contact point or a target."""
         mc = _meshcat()
         path = self._path("hovi", "markers", self._safe(name))
-        colour, opacity = _colour(np.asarray(rgba, dtype=float))
-        self._send(mc.commands.SetObject(mc.geometry.Sphere(float(radius)),
-                                         mc.geometry.MeshLambertMaterial(color=colour, opacity=opacity), path))
-        T = np.eye(4)
-        T[:3, 3] = _finite3(position, "position")
-        self._send(mc.commands.SetTransform(T, path))
+        self._send(mc.commands.SetObject(mc.geometry.Sphere(float(radius)), _material(rgba), path))
+        self._send(mc.commands.SetTransform(translation(_finite3(position, "position")), path))
 
     def add_arrow(self, name: str, origin: Sequence[float], vector: Sequence[float], radius: float = 0.01,
                   rgba: Sequence[float] = (0.85, 0.1, 0.1, 1.0)) -> None:
@@ -173,8 +171,7 @@ class Viewer:
         length = float(np.linalg.norm(v))
         if length == 0:
             raise ValueError("vector must be non-zero")
-        colour, opacity = _colour(np.asarray(rgba, dtype=float))
-        material = mc.geometry.MeshLambertMaterial(color=colour, opacity=opacity)
+        material = _material(rgba)
         head = min(0.3 * length, 6 * radius)
         base = self._path("hovi", "markers", self._safe(name))
         shaft_end = a + v * (1 - head / length)

@@ -130,11 +130,7 @@ SpatialInertia link_inertia(const urdf::Link& link) {
   const urdf::Inertial& in = *link.inertial;
   Mat3 Ic;
   Ic << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
-  try {
-    check_inertia("link '" + link.name + "'", in.mass, Ic);
-  } catch (const ModelError& e) {
-    throw UrdfError(e.what());
-  }
+  check_inertia("link '" + link.name + "'", in.mass, Ic);
   const SE3 X = to_se3(in.origin);  // inertial frame in the link frame
   return SpatialInertia::AtCom(in.mass, Ic).transformed(X);
 }
@@ -244,19 +240,9 @@ class TreeBuilder {
       s.com = I.m > 0 ? Vec3(I.h / I.m) : Vec3::Zero();
       s.inertia = I.m > 0 ? Mat3(I.I + I.m * hat(s.com) * hat(s.com)) : Mat3::Zero();
       s.inertia = 0.5 * (s.inertia + s.inertia.transpose()).eval();
-      try {
-        model.add_body(s);
-      } catch (const ModelError& e) {  // e.g. a lumped inertia that overflows: name it as a URDF error
-        throw UrdfError(e.what());
-      }
+      model.add_body(s);
     }
-    for (const Visual& v : visuals_) {
-      try {
-        model.add_visual(v);
-      } catch (const ModelError& e) {
-        throw UrdfError(e.what());
-      }
-    }
+    for (const Visual& v : visuals_) model.add_visual(v);
     return model;
   }
 
@@ -402,7 +388,13 @@ Model model_from_urdf(const std::string& source, const UrdfOptions& options) {
     messages = capture.text;
   }
   if (!urdf) throw UrdfError("malformed or invalid URDF: " + (messages.empty() ? "urdfdom could not parse it" : messages));
-  return TreeBuilder(*urdf, options, is_xml(source) ? std::string() : source_directory(source)).build();
+  try {
+    return TreeBuilder(*urdf, options, is_xml(source) ? std::string() : source_directory(source)).build();
+  } catch (const UrdfError&) {
+    throw;
+  } catch (const ModelError& e) {  // what the model refuses (an inertia, a lumped overflow, a visual) is the URDF's fault
+    throw UrdfError(e.what());
+  }
 }
 
 }  // namespace hovi
