@@ -160,3 +160,46 @@ def test_order_four_finds_the_unique_discrete_solution_which_rebounds():
     t, z = result.trajectory["t"], result.trajectory["q"][:, 1]
     assert z[t > 0.245].max() == pytest.approx(3.3405e-3, rel=1e-4)
     np.testing.assert_allclose(z[t > 0.315], 0, atol=1e-6)
+
+
+def planar_hopper(k=200.0, c=15.0):
+    """A planar hopper (Raibert's, without its actuators): a body (1 kg) on a planar base (x, z,
+    pitch) with a leg (0.1 kg) sliding along it on a spring k and damper c at rest length 0; the
+    foot is 0.5 m below the leg's joint (returns the model and the foot's point on the leg)."""
+    model = hovi.Model()
+    model.add_body("x", None, "prismatic", axis=(1, 0, 0))
+    model.add_body("z", "x", "prismatic", axis=(0, 0, 1))
+    model.add_body("body", "z", "revolute", axis=(0, 1, 0), mass=1.0, inertia=np.diag([0.02, 0.02, 0.01]))
+    model.add_body("leg", "body", "prismatic", axis=(0, 0, 1), mass=0.1, com=(0, 0, -0.25),
+                   inertia=np.diag([2e-3, 2e-3, 1e-4]))
+    model.add_spring(3, k, 0.0)
+    model.add_damper(3, c)
+    return model, (0.0, 0.0, -0.5)
+
+
+def test_dropped_planar_hopper_lands_on_its_foot_and_settles_on_its_spring():
+    """Dropped upright from 0.1 m: free fall until the foot lands (the spring carries no load in
+    flight), then the leg spring compresses and the damped motion settles where the spring holds
+    the body, k q_leg = m_body g, with the ground carrying the whole weight; no schedule of the
+    contact (the foot may lift off during the bounce) is given."""
+    k, m_body, m_leg, h, T, N = 200.0, 1.0, 0.1, 0.1, 1.5, 75
+    model, foot = planar_hopper(k)
+    contacts = Contacts(model, [("leg", foot)], Terrain(), mu=0.8, plane="xz")
+    prob = trajopt.Problem(contacts.model, N=N, T=T)
+    prob.initial_state([0.0, 0.5 + h, 0.0, 0.0], np.zeros(4))
+    prob.add_cost(trajopt.ControlEffort(weight=contacts.effort_weights(0.0)))
+    prob.add_contacts(contacts)
+    result = trajopt.solve_contact(prob)
+    check_contact_result(result)
+    t, q = result.trajectory["t"], result.trajectory["q"]
+    normal = result.trajectory["u"][:, contacts.input_index(0, "normal")]
+    impact = np.sqrt(2 * h / G)
+    flight = t < impact - result.transcription.dt
+    np.testing.assert_allclose(q[flight, 1], 0.5 + h - G * t[flight] ** 2 / 2, atol=1e-8)  # free fall
+    np.testing.assert_allclose(q[flight, 3], 0, atol=1e-8)                                  # spring unloaded
+    assert normal[t > impact + result.transcription.dt].max() > (m_body + m_leg) * G        # the landing
+    np.testing.assert_allclose(q[:, [0, 2]], 0, atol=1e-8)                                  # upright, in place
+    end = t > T - 0.2
+    np.testing.assert_allclose(q[end, 3], m_body * G / k, rtol=1e-3)                        # k q_leg = m_body g
+    np.testing.assert_allclose(q[end, 1] + q[end, 3] - 0.5, 0, atol=1e-6)                   # foot on the ground
+    np.testing.assert_allclose(normal[end], (m_body + m_leg) * G, rtol=1e-3)                # ground carries all
