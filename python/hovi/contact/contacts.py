@@ -43,6 +43,7 @@ from typing import List, Sequence, Tuple, Union
 
 import numpy as np
 
+from .._bodies import body_index
 from .._core import Model
 from .terrain import Terrain
 
@@ -90,12 +91,7 @@ class Contacts:
             if len(entry) != 2:
                 raise ValueError(f"a contact point is (body name or index, point (3,)), got {entry!r}")
             body, point = entry
-            try:
-                b = model.body_index(body) if isinstance(body, str) else int(body)
-            except KeyError:
-                b = -1
-            if not 0 <= b < model.n:
-                raise ValueError(f"unknown contact body {body!r} (the model's bodies: {model.body_names})")
+            b = body_index(model, body, "contact body")
             p = np.asarray(point, dtype=float)
             if p.shape != (3,) or not np.all(np.isfinite(p)):
                 raise ValueError(f"contact point must be 3 finite numbers, got {point!r}")

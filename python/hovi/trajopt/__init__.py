@@ -14,10 +14,12 @@ explicit Hermite-Simpson collocation for comparison); ``solve`` hands the NLP to
 from .contact_solve import solve_contact
 from .costs import CallbackCost, ControlEffort, Cost, StateTracking, TerminalCost
 from .ipopt import solve, transcribe
+from .input_constraints import InputConstraint
 from .nlp import NLP
-from .path_constraints import BodyPoint, CallbackPathConstraint, Clearance, PathConstraint
+from .path_constraints import BodyPoint, CallbackPathConstraint, Clearance, PathConstraint, PoseHeld
 from .problem import Problem
 from .result import Result
 
 __all__ = ["Problem", "solve", "solve_contact", "transcribe", "NLP", "Result", "Cost", "ControlEffort", "StateTracking", "TerminalCost",
-           "CallbackCost", "PathConstraint", "BodyPoint", "Clearance", "CallbackPathConstraint"]
+           "CallbackCost", "PathConstraint", "BodyPoint", "Clearance", "CallbackPathConstraint", "PoseHeld",
+           "InputConstraint"]

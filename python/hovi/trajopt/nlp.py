@@ -8,6 +8,7 @@ from __future__ import annotations
 import time
 
 import numpy as np
+import scipy.sparse as sp
 
 from .transcription import Transcription
 
@@ -53,11 +54,13 @@ class NLP:
             cl.append(cr.lower)
             cu.append(cr.upper)
             row0 += cr.count
-        self.A, b = tr.linear_rows()
+        A_eq, b = tr.linear_rows()
+        A_in, lower_in, upper_in = self._input_rows(tr)
+        self.A = sp.vstack([A_eq, A_in]).tocsr()
         A = self.A.tocoo()
         rows, cols = np.concatenate([rows, row0 + A.row]), np.concatenate([cols, A.col])
-        cl.append(b)
-        cu.append(b)
+        cl += [b, lower_in]
+        cu += [b, upper_in]
         self.A_values = A.data
         self.jac_rows, self.jac_cols = rows, cols
         self.cl, self.cu = np.concatenate(cl), np.concatenate(cu)
@@ -69,6 +72,21 @@ class NLP:
         if len(bad):
             raise ValueError(f"inconsistent bounds on {len(bad)} variables (e.g. a boundary state outside the "
                              f"joint or control bounds)")
+
+    def _input_rows(self, tr: Transcription):
+        """The input constraints at every control value u_j (offsets u_off + j m): (A (R, n_variables)
+        sparse, lower (R,), upper (R,))."""
+        blocks, lower, upper, nv = [], [np.zeros(0)], [np.zeros(0)], self.core.n_variables
+        offsets = tr.u_off + np.arange(tr.n_u) * tr.m
+        for c in self.problem.input_constraints:
+            block = sp.kron(sp.eye(tr.n_u), sp.csr_matrix(c.A), format="csr")     # (n_u r, n_u m)
+            shift = sp.csr_matrix((np.ones(tr.n_u * tr.m), (np.arange(tr.n_u * tr.m),
+                                   (offsets[:, None] + np.arange(tr.m)).ravel())), (tr.n_u * tr.m, nv))
+            blocks.append(block @ shift)
+            lower.append(np.tile(c.lower, tr.n_u))
+            upper.append(np.tile(c.upper, tr.n_u))
+        A = sp.vstack(blocks) if blocks else sp.csr_matrix((0, nv))
+        return A, np.concatenate(lower), np.concatenate(upper)
 
     @property
     def nnz(self) -> int:

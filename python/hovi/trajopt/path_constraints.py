@@ -9,20 +9,10 @@ import numpy as np
 import numpy.typing as npt
 
 from .. import _core
+from .._bodies import body_index
 
 # (values (P, r), jacobians (P, r, n)) of a path constraint at P configuration points
 PathValue = Tuple[np.ndarray, np.ndarray]
-
-
-def _body(model: _core.Model, body: int | str) -> int:
-    if isinstance(body, str):
-        if body not in model.body_names:
-            raise ValueError(f"unknown body '{body}' (the model's bodies: {', '.join(model.body_names)})")
-        return model.body_index(body)
-    b = int(body)
-    if not 0 <= b < model.n:
-        raise ValueError(f"body index {b} out of range (the model has {model.n} bodies)")
-    return b
 
 
 _AXES = {"x": 0, "y": 1, "z": 2}
@@ -95,7 +85,7 @@ class BodyPoint(PathConstraint):
 
     def bind(self, model: _core.Model) -> BodyPoint:
         """Resolve the body (index or name) against the model; returns self."""
-        self.index = _body(model, self.body)
+        self.index = body_index(model, self.body)
         return self
 
     def evaluate(self, model: _core.Model, t: np.ndarray, Q: np.ndarray) -> PathValue:
@@ -122,6 +112,44 @@ class Clearance(BodyPoint):
         X, J = super().evaluate(model, t, Q)
         d = X - self.center[self.rows]
         return np.sum(d * d, axis=1, keepdims=True), 2 * np.einsum("pr,prn->pn", d, J)[:, None, :]
+
+
+class PoseHeld(PathConstraint):
+    """A body held at its pose at configuration q0 (n,) over ``window`` (default: every point; a
+    stance foot): its point ``point`` (3 rows), the point size[0] ahead of it along the body's x axis
+    across and up (2 rows, along the body's y and z axes at q0) and the point size[1] to its side up
+    (1 row): six independent rows."""
+
+    def __init__(self, body: int | str, q0: npt.ArrayLike, point: npt.ArrayLike = (0.0, 0.0, 0.0),
+                 size: tuple[float, float] = (0.1, 0.1), window: tuple[float, float] = (-np.inf, np.inf)):
+        super().__init__(window=window)
+        self.body, self.q0, self.point = body, np.asarray(q0, float), np.asarray(point, float)
+        if self.point.shape != (3,) or not np.all(np.isfinite(self.point)):
+            raise ValueError(f"point must be 3 finite numbers, got {point!r}")
+        if len(size) != 2 or not all(np.isfinite(a) and a > 0 for a in size):
+            raise ValueError(f"size must be two positive lengths, got {size!r}")
+        self.local = np.array([self.point, self.point + (size[0], 0, 0), self.point + (0, size[1], 0)])
+
+    def bind(self, model: _core.Model) -> PoseHeld:
+        """Resolve the body and record the three points' world positions at q0; returns self."""
+        self.index = body_index(model, self.body)
+        if self.q0.shape != (model.n,) or not np.all(np.isfinite(self.q0)):
+            raise ValueError(f"q0 must be {model.n} finite numbers, got shape {self.q0.shape}")
+        pose = model.body_poses(self.q0)[self.index]
+        R0 = pose[:3, :3]
+        self.P = np.zeros((6, 3, 3))                                   # row r = sum_k P[r, k] . x_k
+        self.P[0:3, 0] = np.eye(3)
+        self.P[3, 1], self.P[4, 1], self.P[5, 2] = R0[:, 1], R0[:, 2], R0[:, 2]
+        self.lower = self.upper = np.einsum("rkx,kx->r", self.P, pose[:3, 3] + self.local @ R0.T)
+        return self
+
+    def evaluate(self, model: _core.Model, t: np.ndarray, Q: np.ndarray) -> PathValue:
+        """The six rows (P, 6) and their Jacobians (P, 6, n) at configurations Q (P, n)."""
+        P = len(Q)
+        X, J = _core.trajopt.body_point_kinematics(model, np.repeat(Q, 3, axis=0), [self.index] * (3 * P),
+                                                   np.tile(self.local, (P, 1)))
+        X, J = X.reshape(P, 3, 3), J.reshape(P, 3, 3, -1)
+        return np.einsum("rkx,pkx->pr", self.P, X), np.einsum("rkx,pkxn->prn", self.P, J)
 
 
 class CallbackPathConstraint(PathConstraint):

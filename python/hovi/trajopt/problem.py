@@ -8,6 +8,7 @@ import numpy.typing as npt
 from .. import _core
 from ..contact.contacts import Contacts
 from .costs import Cost
+from .input_constraints import InputConstraint
 from .path_constraints import PathConstraint
 
 
@@ -38,6 +39,7 @@ class Problem:
         self.model, self.N, self.T, self.controls = model, int(N), float(T), controls
         self.costs: list[Cost] = []
         self.path_constraints: list[PathConstraint] = []
+        self.input_constraints: list[InputConstraint] = []
         self.contacts: Contacts | None = None  # see add_contacts
         self.complementarity_epsilon = 0.0     # contact products <= epsilon (solve_contact lowers it)
         self.complementarity_branches = None   # or one side of every pair (complementarity.Branches)
@@ -111,11 +113,15 @@ class Problem:
         self.costs.append(cost)
         return self
 
-    def add_constraint(self, constraint: PathConstraint) -> Problem:
-        """Add a path constraint (BodyPoint, Clearance, CallbackPathConstraint), resolved against the
-        model now; returns self."""
+    def add_constraint(self, constraint: PathConstraint | InputConstraint) -> Problem:
+        """Add a path constraint (BodyPoint, Clearance, PoseHeld, CallbackPathConstraint), resolved
+        against the model now, or an InputConstraint on the controls; returns self."""
+        if isinstance(constraint, InputConstraint):
+            constraint.check(self.model.n_controls)
+            self.input_constraints.append(constraint)
+            return self
         if not isinstance(constraint, PathConstraint):
-            raise TypeError(f"expected a hovi.trajopt path constraint, got {type(constraint).__name__}")
+            raise TypeError(f"expected a hovi.trajopt path or input constraint, got {type(constraint).__name__}")
         self.path_constraints.append(constraint.bind(self.model))
         return self
 

@@ -1,0 +1,105 @@
+"""A foot flat on the ground (a stance foot) as a contact wrench: six inputs of the model, the force
+f and torque tau at the centre of a rectangular sole, with the sole held at its pose and the wrench
+kept inside the contact wrench cone of the rectangle (Hereid et al.'s flat-foot contact; the cone
+in closed form after Caron, Pham and Nakamura, RSS 2015).
+
+The sole frame is the foot body's frame at the initial configuration, which must be flat (its z
+axis vertical); the sole is the rectangle |x| <= X, |y| <= Y around ``centre`` in that frame. The
+wrench w = (f, tau), in the sole frame at the centre, is the sum of forces at the four corners,
+each in the friction pyramid |f_x|, |f_y| <= mu f_z. That set is the cone G w >= 0 with the rows
+
+    f_z >= 0,  mu f_z -+ f_x >= 0,  mu f_z -+ f_y >= 0          (unilateral, friction)
+    Y f_z -+ tau_x >= 0,  X f_z -+ tau_y >= 0                     (centre of pressure in the sole)
+    tau_z - tau_min >= 0,  tau_max - tau_z >= 0                   (yaw friction; 4 rows each)
+
+    tau_min = -mu (X + Y) f_z + |Y f_x - mu tau_x| + |X f_y - mu tau_y|
+    tau_max =  mu (X + Y) f_z - |Y f_x + mu tau_x| - |X f_y + mu tau_y|
+
+(tests/test_flat_foot.py checks it against a linear program over the corner forces).
+"""
+from __future__ import annotations
+
+import itertools
+from typing import Sequence, Union
+
+import numpy as np
+
+from .._bodies import body_index
+from .._core import Model
+
+
+def wrench_cone(X: float, Y: float, mu: float) -> np.ndarray:
+    """G (17, 6): w = (f, tau) at the centre of the sole |x| <= X, |y| <= Y (sole frame) is a sum of
+    corner forces in the friction pyramid of mu iff G w >= 0."""
+    rows = [[0, 0, 1, 0, 0, 0]]
+    for sign in (1, -1):
+        rows += [[-sign, 0, mu, 0, 0, 0], [0, -sign, mu, 0, 0, 0],
+                 [0, 0, Y, -sign, 0, 0], [0, 0, X, 0, -sign, 0]]
+    for s1, s2 in itertools.product((1, -1), repeat=2):
+        # tau_z + mu (X + Y) f_z - s1 (Y f_x - mu tau_x) - s2 (X f_y - mu tau_y) >= 0
+        rows.append([-s1 * Y, -s2 * X, mu * (X + Y), s1 * mu, s2 * mu, 1])
+        # -tau_z + mu (X + Y) f_z - s1 (Y f_x + mu tau_x) - s2 (X f_y + mu tau_y) >= 0
+        rows.append([-s1 * Y, -s2 * X, mu * (X + Y), -s1 * mu, -s2 * mu, -1])
+    return np.array(rows, dtype=float)
+
+
+class FlatFoot:
+    """A stance foot: ``body`` (name or index) with a rectangular sole of half-length X (along the
+    body's x axis) and half-width Y (its y axis) centred at ``centre`` (3,) (in the body's joint
+    frame), friction coefficient mu, flat on the ground at the initial configuration q0 (n,).
+
+    ``self.model`` is a copy of ``model`` with six inputs appended (``first_input`` ..
+    ``first_input + 5``): the force and torque at the sole centre along the sole frame's axes.
+    Add ``stance()`` (a path constraint) and ``cone()`` (an input constraint) to the Problem.
+    """
+
+    def __init__(self, model: Model, body: Union[str, int], centre: Sequence[float], X: float, Y: float,
+                 mu: float, q0: Sequence[float]) -> None:
+        if not isinstance(model, Model):
+            raise TypeError(f"model must be a hovi.Model, got {type(model).__name__}")
+        self.body = body_index(model, body, "foot body")
+        self.centre = np.asarray(centre, dtype=float)
+        if self.centre.shape != (3,) or not np.all(np.isfinite(self.centre)):
+            raise ValueError(f"the sole centre must be 3 finite numbers, got {centre!r}")
+        for name, value in (("X", X), ("Y", Y)):
+            if not (np.isfinite(value) and value > 0):
+                raise ValueError(f"the sole's half-size {name} must be positive and finite, got {value}")
+        if not (np.isfinite(mu) and mu > 0):
+            raise ValueError(f"mu must be positive and finite, got {mu}")
+        q0 = np.asarray(q0, dtype=float)
+        if q0.shape != (model.n,) or not np.all(np.isfinite(q0)):
+            raise ValueError(f"q0 must be {model.n} finite numbers, got shape {q0.shape}")
+        pose = model.body_poses(q0)[self.body]
+        self.R0, origin = pose[:3, :3], pose[:3, 3]
+        tilt = np.degrees(np.arccos(np.clip(self.R0[2, 2], -1.0, 1.0)))
+        if tilt > 1e-6:
+            raise ValueError(f"the foot is not flat at q0: its z axis is {tilt:.3g} degrees from vertical")
+        self.X, self.Y, self.mu, self.q0 = float(X), float(Y), float(mu), q0
+        self.height = float(origin[2] + self.R0[2] @ self.centre)          # of the sole on the ground
+        self.model = model.copy()
+        self.first_input = self.model.n_controls
+        for axis in self.R0.T:                                               # f along the sole axes
+            self.model.add_point_wrench(self.body, force=axis, point=self.centre, control=self.model.add_control())
+        for axis in self.R0.T:                                               # tau about them
+            self.model.add_point_wrench(self.body, torque=axis, point=self.centre, control=self.model.add_control())
+
+    def stance(self):
+        """The path constraint that holds the foot at its pose at q0 at every configuration point."""
+        from ..trajopt.path_constraints import PoseHeld
+        return PoseHeld(self.body, self.q0, point=self.centre, size=(self.X, self.Y))
+
+    def cone(self):
+        """The input constraint G w >= 0 (``wrench_cone``) on the foot's wrench inputs at every point."""
+        from ..trajopt.input_constraints import InputConstraint
+        A = np.zeros((17, self.model.n_controls))
+        A[:, self.first_input:self.first_input + 6] = wrench_cone(self.X, self.Y, self.mu)
+        return InputConstraint(A, lower=np.zeros(17), upper=np.full(17, np.inf))
+
+    def wrench(self, u: np.ndarray) -> np.ndarray:
+        """The wrenches (P, 6) (f, tau in the sole frame at its centre) in the controls u (P, m)."""
+        return np.atleast_2d(u)[:, self.first_input:self.first_input + 6]
+
+    def centre_of_pressure(self, u: np.ndarray) -> np.ndarray:
+        """The centre of pressure (P, 2) in the sole frame relative to its centre: (-tau_y, tau_x) / f_z."""
+        w = self.wrench(u)
+        return np.stack([-w[:, 4], w[:, 3]], axis=1) / w[:, 2:3]
