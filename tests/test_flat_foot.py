@@ -52,20 +52,21 @@ def test_wrench_cone_is_exactly_the_set_of_corner_force_sums():
 
 
 def block_model():
-    """A 2 kg block (0.3 x 0.2 x 0.2 m) on a floating base (x, y, z, yaw, pitch, roll), with a control
-    pushing it along world +x at its top (0.1 m above its centre)."""
+    """A 2 kg block (0.3 x 0.2 x 0.2 m) on a floating base (x, y, z, yaw, pitch, roll), its joint frame
+    5 cm below its centre of mass, with a control pushing it along world +x 0.1 m above that frame."""
     model = hovi.Model()
     for name, parent, kind, axis in (("x", None, "prismatic", (1, 0, 0)), ("y", "x", "prismatic", (0, 1, 0)),
                                      ("z", "y", "prismatic", (0, 0, 1)), ("yaw", "z", "revolute", (0, 0, 1)),
                                      ("pitch", "yaw", "revolute", (0, 1, 0))):
         model.add_body(name, parent, kind, axis=axis)
-    model.add_body("block", "pitch", "revolute", axis=(1, 0, 0), mass=2.0, inertia=np.diag([0.013, 0.022, 0.022]))
+    model.add_body("block", "pitch", "revolute", axis=(1, 0, 0), mass=2.0, com=(0, 0, 0.05),
+                   inertia=np.diag([0.013, 0.022, 0.022]))
     model.add_point_wrench("block", force=(1.0, 0, 0), point=(0, 0, 0.1), control=model.add_control())
     return model
 
 
 def standing_block(push):
-    """The block standing on its sole (0.1 m below its centre, yawed 0.3 rad), pushed by ``push``."""
+    """The block standing on its sole (0.1 m below its joint frame, yawed 0.3 rad), pushed by ``push``."""
     q0 = np.array([0.0, 0.0, 0.1, 0.3, 0.0, 0.0])
     foot = FlatFoot(block_model(), "block", centre=(0, 0, -0.1), X=0.15, Y=0.1, mu=0.8, q0=q0)
     prob = trajopt.Problem(foot.model, N=10, T=0.5)

@@ -69,7 +69,7 @@ class FlatFoot:
         q0 = np.asarray(q0, dtype=float)
         if q0.shape != (model.n,) or not np.all(np.isfinite(q0)):
             raise ValueError(f"q0 must be {model.n} finite numbers, got shape {q0.shape}")
-        pose = model.body_poses(q0)[self.body]
+        pose = model.joint_placements(q0)[self.body]
         self.R0, origin = pose[:3, :3], pose[:3, 3]
         tilt = np.degrees(np.arccos(np.clip(self.R0[2, 2], -1.0, 1.0)))
         if tilt > 1e-6:

@@ -135,7 +135,7 @@ class PoseHeld(PathConstraint):
         self.index = body_index(model, self.body)
         if self.q0.shape != (model.n,) or not np.all(np.isfinite(self.q0)):
             raise ValueError(f"q0 must be {model.n} finite numbers, got shape {self.q0.shape}")
-        pose = model.body_poses(self.q0)[self.index]
+        pose = model.joint_placements(self.q0)[self.index]
         R0 = pose[:3, :3]
         self.P = np.zeros((6, 3, 3))                                   # row r = sum_k P[r, k] . x_k
         self.P[0:3, 0] = np.eye(3)
