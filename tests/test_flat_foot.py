@@ -82,22 +82,22 @@ def test_pushed_block_stands_with_its_centre_of_pressure_where_statics_puts_it(m
     pytest.importorskip("cyipopt")
     push, m = 4.0, 2.0
     foot, prob, q0 = standing_block(push)
-    result = trajopt.solve(prob, method, verbose=False)
+    result = trajopt.solve(prob, method, verbose=False, options={"tol": 1e-10, "constr_viol_tol": 1e-10})
     assert result.success, result.status
-    assert result.constraint_violation < 1e-8
+    assert result.constraint_violation < 1e-10
     tr = result.trajectory
     np.testing.assert_allclose(tr["q"], np.tile(q0, (len(tr["q"]), 1)), atol=1e-9)   # the foot holds
     if method == "vi":  # the wrench at the last point acts only on the final momentum, which is free here
-        u = tr["u"][:-1]
-    else:               # collocation fixes only each stage's Simpson average (1, 4, 1) / 6 of the forces
-        u = (tr["u"][0:-1:2] + 4 * tr["u"][1::2] + tr["u"][2::2]) / 6
+        u, tol = tr["u"][:-1], 1e-6
+    else:  # collocation fixes each stage's Simpson average (1, 4, 1) / 6 of the forces, up to the velocities
+        # at the held points, which only their own collocation rows tie (IPOPT leaves ~3e-8 m/s: 1e-6 N)
+        u, tol = (tr["u"][0:-1:2] + 4 * tr["u"][1::2] + tr["u"][2::2]) / 6, 1e-5
     w = foot.wrench(u)
     R = np.array([[np.cos(0.3), np.sin(0.3)], [-np.sin(0.3), np.cos(0.3)]])             # world -> sole (yaw 0.3)
-    # forces to 1e-6 N: IPOPT stops at dynamics residuals of ~1e-8 (impulses over dt = 0.05 s)
-    np.testing.assert_allclose(w[:, :2], np.tile(R @ [-push, 0.0], (len(w), 1)), atol=1e-6)  # friction holds
-    np.testing.assert_allclose(w[:, 2], m * G, atol=1e-6)                               # the weight
+    np.testing.assert_allclose(w[:, :2], np.tile(R @ [-push, 0.0], (len(w), 1)), atol=tol)  # friction holds
+    np.testing.assert_allclose(w[:, 2], m * G, atol=tol)                                # the weight
     cop = foot.centre_of_pressure(u)
-    np.testing.assert_allclose(cop, np.tile(R @ [0.2 * push / (m * G), 0.0], (len(w), 1)), atol=1e-7)
+    np.testing.assert_allclose(cop, np.tile(R @ [0.2 * push / (m * G), 0.0], (len(w), 1)), atol=tol / (m * G))
     assert (w @ wrench_cone(foot.X, foot.Y, foot.mu).T).min() >= -1e-8
 
 
