@@ -49,12 +49,13 @@ class FlatFoot:
     frame), friction coefficient mu, flat on the ground at the initial configuration q0 (n,).
 
     ``self.model`` is a copy of ``model`` with six inputs appended (``first_input`` ..
-    ``first_input + 5``): the force and torque at the sole centre along the sole frame's axes.
-    Add ``stance()`` (a path constraint) and ``cone()`` (an input constraint) to the Problem.
+    ``first_input + 5``): the force and torque at the sole centre along the sole frame's axes, in
+    units of ``scale`` N and N m (default: the robot's weight, so that the inputs are of order
+    one; ``wrench(u)`` converts). Add ``stance()`` (a path constraint) and ``cone()`` (an input constraint) to the Problem.
     """
 
     def __init__(self, model: Model, body: Union[str, int], centre: Sequence[float], X: float, Y: float,
-                 mu: float, q0: Sequence[float]) -> None:
+                 mu: float, q0: Sequence[float], scale: float | None = None) -> None:
         if not isinstance(model, Model):
             raise TypeError(f"model must be a hovi.Model, got {type(model).__name__}")
         self.body = body_index(model, body, "foot body")
@@ -78,10 +79,13 @@ class FlatFoot:
         self.height = float(origin[2] + self.R0[2] @ self.centre)          # of the sole on the ground
         self.model = model.copy()
         self.first_input = self.model.n_controls
+        self.scale = max(model.total_mass * float(np.linalg.norm(model.gravity)), 1e-12) if scale is None else float(scale)
         for axis in self.R0.T:                                               # f along the sole axes
-            self.model.add_point_wrench(self.body, force=axis, point=self.centre, control=self.model.add_control())
+            self.model.add_point_wrench(self.body, force=self.scale * axis, point=self.centre,
+                                        control=self.model.add_control())
         for axis in self.R0.T:                                               # tau about them
-            self.model.add_point_wrench(self.body, torque=axis, point=self.centre, control=self.model.add_control())
+            self.model.add_point_wrench(self.body, torque=self.scale * axis, point=self.centre,
+                                        control=self.model.add_control())
 
     def stance(self):
         """The path constraint that holds the foot at its pose at q0 at every configuration point."""
@@ -96,8 +100,8 @@ class FlatFoot:
         return InputConstraint(A, lower=np.zeros(17), upper=np.full(17, np.inf))
 
     def wrench(self, u: np.ndarray) -> np.ndarray:
-        """The wrenches (P, 6) (f, tau in the sole frame at its centre) in the controls u (P, m)."""
-        return np.atleast_2d(u)[:, self.first_input:self.first_input + 6]
+        """The wrenches (P, 6) (f, tau in the sole frame at its centre; N, N m) in the controls u (P, m)."""
+        return self.scale * np.atleast_2d(u)[:, self.first_input:self.first_input + 6]
 
     def centre_of_pressure(self, u: np.ndarray) -> np.ndarray:
         """The centre of pressure (P, 2) in the sole frame relative to its centre: (-tau_y, tau_x) / f_z."""
