@@ -1,0 +1,48 @@
+"""What a robot example is: a trajectory-optimisation problem on one of the paper's robots, how to
+solve it, and the figures that say whether its answer is feasible (``hovi example NAME``)."""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable, Dict, List, Tuple
+
+import numpy as np
+
+from ..robots import Robot
+from ..trajopt import Problem, Result
+
+
+@dataclass
+class Scenery:
+    """World shapes shown with the robot (terrain, obstacles, a ball): (shape, size (3,), centre (3,), rgba (4,))."""
+    shapes: List[Tuple[str, np.ndarray, np.ndarray, Tuple[float, float, float, float]]] = field(default_factory=list)
+
+    def add(self, shape: str, size, centre, rgba=(0.6, 0.6, 0.6, 1.0)) -> Scenery:
+        self.shapes.append((shape, np.asarray(size, float), np.asarray(centre, float), tuple(rgba)))
+        return self
+
+
+@dataclass
+class Example:
+    """``problem`` on ``robot``; ``solve(verbose)`` returns its Result (verbose: IPOPT's progress); ``checks(result)`` the example's
+    feasibility figures (each a float, with the bound it must meet in ``bounds``);
+    ``contact_forces(u (P, m))`` the contact forces (P, k) named by ``force_labels``."""
+    name: str
+    description: str
+    robot: Robot
+    problem: Problem
+    solve: Callable[[bool], Result]
+    checks: Callable[[Result], Dict[str, float]]
+    bounds: Dict[str, Tuple[str, float]]               # figure -> ('<=' or '>=', bound)
+    contact_forces: Callable[[np.ndarray], np.ndarray]
+    force_labels: List[str]
+    scenery: Scenery = field(default_factory=Scenery)
+
+    def failures(self, figures: Dict[str, float]) -> List[str]:
+        """The figures that miss their bounds, as readable sentences (empty: feasible)."""
+        out = []
+        for key, (op, bound) in self.bounds.items():
+            value = figures[key]
+            ok = value <= bound if op == "<=" else value >= bound
+            if not ok:
+                out.append(f"{key} = {value:.3g}, needs {op} {bound:.3g}")
+        return out

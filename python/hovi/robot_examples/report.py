@@ -1,0 +1,109 @@
+"""Running a robot example and writing what it produced: the solved trajectory (npz), the solver's
+statistics and feasibility figures (JSON), plots of joint angles, torques and contact forces (PNG),
+and an animation (standalone HTML and MP4); the optimised controls replayed with the integrator
+give the drift from the optimised states and the energy along the motion."""
+from __future__ import annotations
+
+import json
+import os
+import time
+from typing import Any, Dict
+
+import numpy as np
+
+from ..trajopt import Result
+from .example import Example
+
+
+def replay_figures(example: Example, result: Result) -> Dict[str, Any]:
+    """The optimised controls (and contact forces) re-simulated by the integrator: the largest
+    distance of its states from the optimised ones at the stage boundaries, and the robot's energy
+    (kinetic + potential + springs) along the replay, which the actuators and contacts change."""
+    replay = result.replay()
+    tr, s = result.trajectory, result.transcription.s
+    knots = tr["q"][::s]
+    steps = min(replay.steps, len(knots) - 1)
+    drift = float(np.abs(replay.q[:steps + 1] - knots[:steps + 1]).max())
+    energy = np.asarray(replay.energy)
+    return {"replay_steps": int(replay.steps), "replay_converged": bool(replay.converged), "replay_drift": drift,
+            "energy_start": float(energy[0]), "energy_end": float(energy[-1]),
+            "energy_min": float(energy.min()), "energy_max": float(energy.max())}
+
+
+def plot(example: Example, result: Result, path: str) -> None:
+    """Joint angles, actuator torques and contact forces against time, in one figure."""
+    from ..plotting import _plt
+    plt = _plt()
+    tr, robot = result.trajectory, example.robot
+    model = robot.model
+    fig, axes = plt.subplots(1, 3, figsize=(16, 4.2))
+    joints = [model.joint_index(j) for j in robot.actuated]
+    for j in joints:
+        axes[0].plot(tr["t"], tr["q"][:, j], lw=1)
+    axes[0].set_title("actuated joint angles [rad]")
+    m = len(robot.actuated)
+    axes[1].plot(tr["t"], tr["u"][:, :m], lw=1)
+    axes[1].set_title("actuator torques [N m]")
+    forces = example.contact_forces(tr["u"])
+    for k, label in enumerate(example.force_labels):
+        axes[2].plot(tr["t"], forces[:, k], lw=1, label=label)
+    axes[2].set_title("contact forces [N]")
+    axes[2].legend(fontsize=7, ncol=2)
+    for ax in axes:
+        ax.set_xlabel("time [s]")
+        ax.grid(True, alpha=0.3)
+    fig.suptitle(f"{example.name}: {example.description}")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def animate(example: Example, result: Result, output: str, fps: float) -> list[str]:
+    """animation.html (meshcat, standalone) and animation.mp4 of the optimised motion with its scenery."""
+    from ..video import render_video
+    from ..viewer import animation_html
+    model = example.robot.model.copy()
+    for shape, size, centre, rgba in example.scenery.shapes:
+        origin = np.eye(4)
+        origin[:3, 3] = centre
+        model.add_visual(None, shape, size=size, origin=origin, rgba=rgba)
+    tr = result.trajectory
+    t = np.linspace(0.0, tr["t"][-1], max(2, int(round(tr["t"][-1] * fps)) + 1))
+    q = np.column_stack([np.interp(t, tr["t"], tr["q"][:, j]) for j in range(model.n)])
+    html = animation_html(model, q, os.path.join(output, f"{example.name}.html"), times=t, fps=fps)
+    video = render_video(model, q, os.path.join(output, f"{example.name}.mp4"), times=t, fps=fps)
+    return [str(html), str(video)]
+
+
+def run(example: Example, output: str, *, animation: bool = True, plots: bool = True, fps: float = 25.0,
+        verbose: bool = False) -> Dict[str, Any]:
+    """Solve ``example``, check it, replay it and write its files into ``output``; returns the summary
+    (also written as <name>.json) with 'feasible' and, if not, 'failures'."""
+    os.makedirs(output, exist_ok=True)
+    t0 = time.perf_counter()
+    result = example.solve(verbose)
+    wall = time.perf_counter() - t0
+    figures = example.checks(result)
+    failures = ([] if result.success else [f"IPOPT: {result.status}"]) + example.failures(figures)
+    summary: Dict[str, Any] = {
+        "example": example.name, "description": example.description, "dof": example.robot.model.n,
+        "N": example.problem.N, "T": example.problem.T, "transcription": result.transcription.name,
+        "status": result.status, "success": bool(result.success), "iterations": int(result.iterations),
+        "solve_seconds": wall, "ipopt_seconds": float(result.wall_seconds), "cost": float(result.cost),
+        "constraint_violation": float(result.constraint_violation), **result.sizes, **figures,
+        "contact_solves": result.contact.get("solves", []), **replay_figures(example, result),
+        "feasible": not failures, "failures": failures}
+    base = os.path.join(output, example.name)
+    tr = result.trajectory
+    np.savez(base + ".npz", t=tr["t"], q=tr["q"], u=tr["u"], contact_forces=example.contact_forces(tr["u"]),
+             force_labels=np.array(example.force_labels), joint_names=np.array(example.robot.model.joint_names))
+    files = [base + ".npz", base + ".json"]
+    if plots:
+        plot(example, result, base + ".png")
+        files.append(base + ".png")
+    if animation:
+        files += animate(example, result, output, fps)
+    summary["files"] = files
+    with open(base + ".json", "w") as f:
+        json.dump(summary, f, indent=2, default=float)
+    return summary
