@@ -16,14 +16,15 @@ from ._core import Model
 from ._typing import FloatArray
 
 URDF_DIR = Path(__file__).resolve().parent / "urdf"
+"""Where the package's URDFs are installed (the repository's models/)."""
 
 
 @dataclass(frozen=True)
 class Contact:
     """A foot contact: ``point`` (3,) of link ``body``, in the body's joint frame (the URDF link frame)."""
     name: str                          # e.g. 'l_toe', 'fl_foot', 'r_heel_out'
-    body: str
-    point: Tuple[float, float, float]
+    body: str                          # the link (a body of the model)
+    point: Tuple[float, float, float]  # (3,) in the link frame
 
 
 @dataclass(frozen=True, eq=False)
