@@ -1,7 +1,7 @@
 """The paper's three robots (hovi.robots, models/*.urdf) against the cross-check figures of their
 parameter sheets (shared/robots/): DoF, total mass, standing heights, contacts on the ground in the
-nominal stance, the sign conventions stated there, and hovi's mass matrix and gravity torques
-against Pinocchio's for the same URDF."""
+nominal stance, the sign conventions stated there, a free fall from the stance, and hovi's mass
+matrix and gravity torques against Pinocchio's for the same URDF."""
 import numpy as np
 import pinocchio as pin
 import pytest
@@ -61,6 +61,15 @@ def test_nominal_stance_stands_on_the_ground(robot):
     com = robot.model.masses @ robot.model.body_poses(robot.q0)[:, :3, 3] / robot.model.total_mass
     feet = world_points(robot, robot.q0)
     assert feet[:, 0].min() < com[0] < feet[:, 0].max() and feet[:, 1].min() <= com[1] <= feet[:, 1].max()
+
+
+def test_free_fall_from_the_stance(robot):
+    """Without contacts, 0.1 s from q0 at rest: the base drops g t^2 / 2, the posture holds, energy is kept."""
+    traj = hovi.Integrator(robot.model, order=4, dt=0.005).rollout(robot.q0, 20)
+    z = 1 if robot.base == "planar" else 2
+    assert traj.converged and traj.q[-1, z] - robot.q0[z] == pytest.approx(-9.81 * 0.1**2 / 2, rel=1e-9)
+    np.testing.assert_allclose(np.delete(traj.q[-1], z), np.delete(robot.q0, z), atol=1e-12)
+    assert np.ptp(traj.energy) < 1e-9 * robot.model.total_mass
 
 
 def test_spring_flamingo_hip_line_and_signs():
