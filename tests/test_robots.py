@@ -44,8 +44,11 @@ def test_dof_controls_mass(robot):
     assert {v["link"] for v in model.visuals} >= set(model.body_names[root:])
 
 
-def test_sheet_masses_rounded():
-    assert [round(FIGURES[r][2], 4) for r in ROBOTS] == [14.2248, 2.7464, 174.0503]
+def test_mass_sums_are_the_sheets_totals():
+    """The sheets' cross-check totals: 14.2248 kg, 2.7464 kg and, for Atlas's 31 joint-carrying bodies,
+    174.050 kg (rounded; 175.118 kg with the sensor placeholder bodies the URDF leaves out)."""
+    assert [round(FIGURES[r][2], 4) for r in ("spring_flamingo", "littledog")] == [14.2248, 2.7464]
+    assert round(FIGURES["atlas"][2], 3) == 174.050 and round(FIGURES["atlas"][2] + 1.01 + 0.057664, 3) == 175.118
 
 
 def test_nominal_stance_stands_on_the_ground(robot):
