@@ -9,7 +9,8 @@ SHELL := /bin/bash
 VENV := .venv
 PY := $(VENV)/bin/python
 JOBS ?= $(shell nproc)
-SOURCES := $(shell find cpp python -type f \( -name '*.cpp' -o -name '*.hpp' -o -name '*.py' \)) CMakeLists.txt pyproject.toml \
+SOURCES := $(shell find cpp python -type f \( -name '*.cpp' -o -name '*.hpp' -o -name '*.py' \)) $(wildcard models/*.urdf) \
+           CMakeLists.txt pyproject.toml \
            cmake/stubs.cmake scripts/stubgen.py
 
 .PHONY: setup setup-test build demo test ctest pytest bench docs clean stubs wheel-smoke sanitize

@@ -3,7 +3,8 @@
 # compile in pip's temporary directory: build/ of `make build` is not touched), install the wheel
 # in a fresh virtual environment outside the repository (numpy from PyPI, nothing else), and run a
 # smoke test there: a URDF from models/, an Integrator, a step, a rollout, hovi.Linearizer, finite
-# results, a small energy error, and the typing files (hovi/_core/*.pyi, py.typed) installed.
+# results, a small energy error, the typing files (hovi/_core/*.pyi, py.typed) and the URDFs of
+# models/ (hovi/urdf/, loaded by hovi.robots) installed.
 #
 # Uses .venv's Python (scikit-build-core, pybind11, pybind11-stubgen, numpy, build: make setup) for
 # the builds, without build isolation. Leaves dist/hovi-*.tar.gz and dist/hovi-*.whl.
@@ -32,7 +33,8 @@ top = names[0].split("/")[0]
 rel = {n[len(top) + 1:] for n in names if n.startswith(top + "/")}
 need = ["CMakeLists.txt", "pyproject.toml", "README.md", "PKG-INFO", "cmake/stubs.cmake", "scripts/stubgen.py",
         "python/hovi/__init__.py", "python/hovi/py.typed", "python/hovi/_core/__init__.pyi",
-        "cpp/bindings/module.cpp", "models/double_pendulum.urdf"]
+        "cpp/bindings/module.cpp", "models/double_pendulum.urdf", "models/spring_flamingo.urdf",
+        "models/littledog.urdf", "models/atlas.urdf"]
 missing = [f for f in need if f not in rel]
 assert not missing, f"the sdist lacks {missing}"
 assert any(f.startswith("cpp/src/") and f.endswith(".cpp") for f in rel), "the sdist has no cpp/src sources"
@@ -71,7 +73,7 @@ assert Path(hovi.__file__).resolve().is_relative_to(Path(sys.prefix).resolve()),
 assert hovi.__version__ == md.version("hovi"), (hovi.__version__, md.version("hovi"))
 assert [r for r in md.requires("hovi") or [] if "extra ==" not in r] == ["numpy>=1.22"], md.requires("hovi")
 package = Path(hovi.__file__).parent
-for f in ("py.typed", "_core/__init__.pyi", "_core/baselines.pyi", "_core/trajopt.pyi"):
+for f in ("py.typed", "_core/__init__.pyi", "_core/baselines.pyi", "_core/trajopt.pyi", "urdf/atlas.urdf"):
     assert (package / f).is_file(), f"the wheel did not install hovi/{f}"
 assert "def mass_matrix" in (package / "_core" / "__init__.pyi").read_text()
 for heavy in ("matplotlib", "scipy", "cyipopt", "meshcat", "tqdm"):
@@ -95,8 +97,10 @@ assert A is not None and A.shape == (4, 4) and np.all(np.isfinite(A))
 # The step map of a Hamiltonian system is symplectic: A^T J A = J
 J = np.block([[np.zeros((2, 2)), np.eye(2)], [-np.eye(2), np.zeros((2, 2))]])
 assert np.allclose(A.T @ J @ A, J, atol=1e-8), A.T @ J @ A - J
+import hovi.robots
+assert [r().model.n for r in (hovi.robots.spring_flamingo, hovi.robots.littledog, hovi.robots.atlas)] == [9, 18, 36]
 print(f"wheel-smoke: hovi {hovi.__version__} from the wheel: 500 steps, energy error {drift:.1e}, "
-      f"symplectic step Jacobian, stubs and py.typed installed")
+      f"symplectic step Jacobian, stubs, py.typed and the robots' URDFs installed")
 EOF
 end=$(date +%s)
 echo "wheel-smoke: passed in $((end - start)) s (sdist and wheel build $((built - start)) s)"

@@ -2,7 +2,7 @@
 return arrays state shapes, e.g. "q: (n,) ...; returns (n, 4, 4)"; pure-Python public functions
 are annotated.
 
-The public API: ``hovi.__all__``, ``hovi.models``, ``hovi.trajopt.__all__``, the viewer modules
+The public API: ``hovi.__all__``, ``hovi.models``, ``hovi.robots``, ``hovi.trajopt.__all__``, the viewer modules
 ``hovi.geometry``, ``hovi.viewer`` and ``hovi.video`` (when hovi[viewer] is installed), and every
 class and function of the compiled module ``hovi._core`` (and its submodules)."""
 from __future__ import annotations
@@ -16,6 +16,7 @@ import pytest
 import hovi
 import hovi.geometry
 import hovi.models
+import hovi.robots
 import hovi.trajopt
 from hovi import _core
 
@@ -38,7 +39,7 @@ def _public_api() -> dict[str, object]:
         obj = getattr(hovi, name)
         if not isinstance(obj, types.ModuleType):
             api[f"hovi.{name}"] = obj
-    for module in (hovi.models, hovi.trajopt, hovi.geometry, *VIEWER_MODULES):
+    for module in (hovi.models, hovi.robots, hovi.trajopt, hovi.geometry, *VIEWER_MODULES):
         names = getattr(module, "__all__", None) or [n for n in vars(module) if not n.startswith("_")]
         for name in names:
             obj = getattr(module, name)

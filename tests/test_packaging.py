@@ -1,5 +1,5 @@
-"""Packaging: the version is kept in one place, the core install needs only numpy, and `import hovi`
-loads none of the optional dependencies. (scripts/wheel_smoke.sh checks the sdist and the wheel.)"""
+"""Packaging: the version is kept in one place, the core install needs only numpy, the URDFs of
+models/ are installed with the package, and `import hovi` loads none of the optional dependencies. (scripts/wheel_smoke.sh checks the sdist and the wheel.)"""
 from __future__ import annotations
 
 import importlib.metadata as md
@@ -48,9 +48,19 @@ def _imported(statement: str) -> list[str]:
 
 
 def test_import_hovi_loads_no_optional_dependency():
-    assert _imported("import hovi, hovi.models, hovi.baselines") == []
+    assert _imported("import hovi, hovi.models, hovi.baselines, hovi.robots") == []
 
 
 def test_import_trajopt_loads_only_its_extra():
     """hovi.trajopt needs scipy (the trajopt extra); cyipopt is imported only by solve()."""
     assert _imported("import hovi.trajopt") == ["scipy"]
+
+
+def test_models_are_installed_with_the_package():
+    """Every URDF of models/ ships as hovi/urdf/ (hovi.robots loads its robots from there)."""
+    installed = Path(hovi.__file__).parent / "urdf"
+    shipped = sorted(p.name for p in (ROOT / "models").glob("*.urdf"))
+    assert {"spring_flamingo.urdf", "littledog.urdf", "atlas.urdf"} <= set(shipped)
+    assert sorted(p.name for p in installed.glob("*.urdf")) == shipped
+    for name in shipped:
+        assert (installed / name).read_bytes() == (ROOT / "models" / name).read_bytes(), f"stale {name}: make build"
