@@ -66,13 +66,11 @@ def single_support(robot: Robot, lift: float = LIFT) -> np.ndarray:
 
 
 def static_controls(model, q: np.ndarray) -> np.ndarray:
-    """Controls u (m,) that hold configuration q (n,) at rest (B(q) u = the gravity force; the
-    control-to-force map B read off forward dynamics, which is affine in u)."""
-    zero_v, zero_u = np.zeros(model.n), np.zeros(model.n_controls)
-    a0 = model.forward_dynamics(q, zero_v, zero_u)
-    M = model.mass_matrix(q)
-    B = np.column_stack([M @ (model.forward_dynamics(q, zero_v, e) - a0) for e in np.eye(model.n_controls)])
-    return np.linalg.lstsq(B, -M @ a0, rcond=None)[0]
+    """Controls u (m,) that hold configuration q (n,) at rest: Q(q, 0, u) = G(q), with Q = Q0 + (dQ/du) u
+    the non-conservative force (force_jacobians) and G(q) = inverse_dynamics(q, 0, 0) the gravity force."""
+    zero = np.zeros(model.n)
+    Q0, _, _, Qu = model.force_jacobians(q, zero)
+    return np.linalg.lstsq(Qu, model.inverse_dynamics(q, zero, zero) - Q0, rcond=None)[0]
 
 
 def build(quick: bool = False, s: int = 1) -> Example:
