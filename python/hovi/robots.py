@@ -116,10 +116,12 @@ def atlas() -> Robot:
     """Atlas v5, the Boston Dynamics DRC humanoid: 36 DoF (floating pelvis and 30 revolute joints,
     all actuated, A1's effort limits), 174.0503 kg. Contacts: the 4 corners of each sole. q0: a
     chosen bent-knee stance (no source gives one): knees 0.8 rad, hip and ankle pitch -0.4 rad,
-    arms lowered 1.3 rad (shoulder roll), the rest 0; the pelvis at the height that puts the soles on
+    arms lowered 1.3 rad (shoulder roll), elbows bent 0.3 rad off their joint limits (ely, elx),
+    the rest 0; the pelvis at the height that puts the soles on
     z = 0 (0.8951 m; 0.93845 m with straight legs) and the centre of mass over the feet."""
     half = _ATLAS_KNEE / 2
-    joint_q = {"r_arm_shx": 1.3, "l_arm_shx": -1.3}
+    joint_q = {"r_arm_shx": 1.3, "l_arm_shx": -1.3, "l_arm_ely": 0.3, "r_arm_ely": 0.3,  # elbows off their limits:
+               "l_arm_elx": 0.3, "r_arm_elx": -0.3}                                       # an optimiser starts inside
     for s in "lr":
         joint_q.update({f"{s}_leg_hpy": -half, f"{s}_leg_kny": _ATLAS_KNEE, f"{s}_leg_aky": -half})
     # hip pitch 0.066 m below the pelvis, the thigh (-0.05, 0, -0.374) and the 0.422 m shin pitched,

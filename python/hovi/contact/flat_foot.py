@@ -46,7 +46,8 @@ def wrench_cone(X: float, Y: float, mu: float) -> np.ndarray:
 class FlatFoot:
     """A stance foot: ``body`` (name or index) with a rectangular sole of half-length X (along the
     body's x axis) and half-width Y (its y axis) centred at ``centre`` (3,) (in the body's joint
-    frame), friction coefficient mu, flat on the ground at the initial configuration q0 (n,).
+    frame), friction coefficient mu, flat on the ground (its z axis vertical within 1e-3 degrees) at
+    the initial configuration q0 (n,).
 
     ``self.model`` is a copy of ``model`` with six inputs appended (``first_input`` ..
     ``first_input + 5``): the force and torque at the sole centre along the sole frame's axes, in
@@ -73,7 +74,7 @@ class FlatFoot:
         pose = model.joint_placements(q0)[self.body]
         self.R0, origin = pose[:3, :3], pose[:3, 3]
         tilt = np.degrees(np.arccos(np.clip(self.R0[2, 2], -1.0, 1.0)))
-        if tilt > 1e-6:
+        if tilt > 1e-3:  # degrees
             raise ValueError(f"the foot is not flat at q0: its z axis is {tilt:.3g} degrees from vertical")
         self.X, self.Y, self.mu, self.q0 = float(X), float(Y), float(mu), q0
         self.height = float(origin[2] + self.R0[2] @ self.centre)          # of the sole on the ground

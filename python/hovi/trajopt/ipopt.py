@@ -144,14 +144,33 @@ class _Callbacks:
         return True
 
 
+class _CallbacksWithHessian(_Callbacks):
+    """_Callbacks plus the Lagrangian's Hessian (hessian.LagrangianHessian) for IPOPT's exact Newton steps."""
+
+    def __init__(self, nlp: NLP, verbose: bool, evaluation_error: type):
+        super().__init__(nlp, verbose, evaluation_error)
+        from .hessian import LagrangianHessian
+        self.H = LagrangianHessian(nlp)
+
+    def hessianstructure(self):
+        return self.H.structure
+
+    def hessian(self, x, lagrange, obj_factor):
+        return self._time(lambda y: self.H.values(y, lagrange, obj_factor), x)
+
+
 def solve(problem: Problem, transcription: str = "vi", *, s: int = 2, guess: Guess = None,
-          options: dict[str, Any] | None = None, verbose: bool = True) -> Result:
+          options: dict[str, Any] | None = None, verbose: bool = True, hessian: str = "lbfgs") -> Result:
     """Transcribe ``problem`` ('vi' with order 2s, 'hs-implicit' or 'hs-explicit') and solve it with
     IPOPT. ``options`` are passed to IPOPT over hovi's defaults (limited-memory Hessian, tol 1e-8,
     constraint violation 1e-10, bounds not relaxed). ``verbose`` prints one line per iteration.
 
     guess: see ``initial_guess``: None or 'rollout', 'linear', a Result, or functions (q(t), v(t),
     u(t)) of times t (K,) returning (K, n), (K, n), (K, m).
+
+    hessian: 'lbfgs' (IPOPT's limited-memory approximation: cheap iterations, many of them) or 'fd'
+    (the Lagrangian's Hessian by coloured differences of the exact gradient, hessian.py: a few
+    hundred Jacobian evaluations per iteration, far fewer iterations on large robots).
 
     The result's ``timing`` splits the wall time: 'evaluations' (the C++ transcription calls),
     'callbacks' (all time in hovi's callbacks: evaluations, costs, path constraints, Python and
@@ -167,10 +186,16 @@ def solve(problem: Problem, transcription: str = "vi", *, s: int = 2, guess: Gue
     for f in (nlp.objective, nlp.gradient, nlp.constraints, nlp.jacobian):
         f(x0)  # user costs and path constraints raise their errors here, before IPOPT runs
     nlp.eval_seconds = 0.0
-    cb = _Callbacks(nlp, verbose, cyipopt.CyIpoptEvaluationError)
+    if hessian not in ("lbfgs", "fd"):
+        raise ValueError(f"hessian must be 'lbfgs' or 'fd', got '{hessian}'")
+    cb = (_Callbacks if hessian == "lbfgs" else _CallbacksWithHessian)(nlp, verbose, cyipopt.CyIpoptEvaluationError)
     ip = cyipopt.Problem(n=nlp.n_variables, m=nlp.n_constraints, problem_obj=cb, lb=nlp.lower, ub=nlp.upper,
                          cl=nlp.cl, cu=nlp.cu)
-    for key, value in {**DEFAULT_OPTIONS, **(options or {})}.items():
+    defaults = dict(DEFAULT_OPTIONS)
+    if hessian == "fd":
+        defaults["hessian_approximation"] = "exact"
+        del defaults["limited_memory_max_history"]
+    for key, value in {**defaults, **(options or {})}.items():
         ip.add_option(key, value)
     t0 = time.perf_counter()
     x, info = ip.solve(x0)

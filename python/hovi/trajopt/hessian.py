@@ -1,0 +1,86 @@
+"""The Hessian of the NLP's Lagrangian, sigma f(x) + lambda^T g(x), for IPOPT's Newton steps
+(``solve(..., hessian='fd')``): forward differences of its analytic gradient sigma grad f + J^T lambda
+(the exact sparse Jacobian of the transcription) along coloured directions, after Curtis, Powell
+and Reid: variables that share no neighbour in the coupling graph (two variables are coupled when
+a constraint row or a cost sample involves both) get the same colour and one difference each, so
+a Hessian costs one gradient and Jacobian evaluation per colour (a few hundred for a 36-DoF robot),
+not per variable.
+
+Why: with IPOPT's limited-memory approximation the Atlas example (36 DoF, N = 10) did not
+converge in 3000 iterations; with this Hessian it converges in about 45.
+
+Assumes the costs couple variables only within one sample (ControlEffort, StateTracking,
+TerminalCost); a CallbackCost may couple anything, so it is refused.
+"""
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+
+from .costs import CallbackCost
+from .nlp import NLP
+
+
+def _pattern(M: sp.spmatrix) -> sp.csr_matrix:
+    M = sp.csr_matrix(M, copy=True)
+    M.data[:] = 1.0
+    return M
+
+
+def distance2_colouring(P: sp.csr_matrix) -> np.ndarray:
+    """Greedy colours (nv,) of the symmetric pattern P (nv, nv) with the diagonal: no two variables
+    with a common neighbour share a colour."""
+    P2 = _pattern(P @ P).tocsr()
+    colour = np.full(P.shape[0], -1)
+    for j in range(P.shape[0]):
+        used = np.unique(colour[P2.indices[P2.indptr[j]:P2.indptr[j + 1]]])
+        free = np.setdiff1d(np.arange(len(used) + 1), used)
+        colour[j] = free[0]
+    return colour
+
+
+class LagrangianHessian:
+    """The lower triangle of the Lagrangian's Hessian of ``nlp`` at (x, lambda, sigma): ``structure``
+    (rows, cols) and ``values(x, lam, sigma)``, by coloured forward differences of the gradient."""
+
+    def __init__(self, nlp: NLP):
+        if any(isinstance(c, CallbackCost) for c in nlp.problem.costs):
+            raise ValueError("hessian='fd' needs costs that couple variables only within a sample; a CallbackCost "
+                             "may couple any of them (use hessian='lbfgs')")
+        self.nlp = nlp
+        nv, nc = nlp.n_variables, nlp.n_constraints
+        J = _pattern(sp.csr_matrix((np.ones(nlp.nnz), (nlp.jac_rows, nlp.jac_cols)), (nc, nv)))
+        s = nlp.samples
+        K = len(s.t)
+        per_sample = [(_pattern(S), S.shape[0] // K) for S in (s.Sq, s.Sv, s.Su) if S.shape[0]]
+        incidence = sum(sp.kron(sp.eye(K), np.ones((1, width)), format="csr") @ S for S, width in per_sample)
+        P = _pattern(J.T @ J + _pattern(incidence).T @ _pattern(incidence) + sp.eye(nv)).tocoo()
+        lower = P.row >= P.col
+        self.rows, self.cols = P.row[lower].astype(np.int64), P.col[lower].astype(np.int64)
+        self.colour = distance2_colouring(P.tocsr())
+        self.n_colours = int(self.colour.max()) + 1
+
+    @property
+    def structure(self) -> tuple[np.ndarray, np.ndarray]:
+        """(rows, cols) of the lower triangle's nonzeros."""
+        return self.rows, self.cols
+
+    def gradient(self, x: np.ndarray, lam: np.ndarray, sigma: float) -> np.ndarray:
+        """sigma grad f(x) + J(x)^T lambda (n_variables,)."""
+        nlp = self.nlp
+        jt_lam = np.bincount(nlp.jac_cols, weights=nlp.jacobian(x) * lam[nlp.jac_rows], minlength=nlp.n_variables)
+        return sigma * nlp.gradient(x) + jt_lam
+
+    def values(self, x: np.ndarray, lam: np.ndarray, sigma: float) -> np.ndarray:
+        """The Hessian's values at (rows, cols), from one difference per colour with steps
+        sqrt(eps) max(1, |x_j|)."""
+        h = np.sqrt(np.finfo(float).eps) * np.maximum(1.0, np.abs(x))
+        g0 = self.gradient(x, lam, sigma)
+        out = np.empty(len(self.rows))
+        colour_of_col = self.colour[self.cols]
+        for c in range(self.n_colours):
+            step = np.where(self.colour == c, h, 0.0)
+            Hd = self.gradient(x + step, lam, sigma) - g0         # sum over colour c of H[:, j] h_j
+            sel = colour_of_col == c
+            out[sel] = Hd[self.rows[sel]] / h[self.cols[sel]]     # row i meets one column j of colour c
+        return out

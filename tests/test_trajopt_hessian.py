@@ -1,0 +1,63 @@
+"""The Lagrangian's Hessian by coloured differences (hovi.trajopt.hessian) against dense central
+differences of the Lagrangian's gradient, and IPOPT with it against IPOPT with L-BFGS."""
+import numpy as np
+import pytest
+
+from hovi import trajopt
+from hovi.trajopt.examples import cartpole_swingup, pendulum_swingup, slider_crank_to_target
+from hovi.trajopt.hessian import LagrangianHessian, distance2_colouring
+
+
+def test_coloured_hessian_equals_dense_central_differences_of_the_lagrangian_gradient():
+    for prob, method in ((cartpole_swingup(N=6, T=1.5), "vi"), (slider_crank_to_target(N=5), "vi"),
+                         (cartpole_swingup(N=4, T=1.5), "hs-implicit")):
+        nlp = trajopt.NLP(trajopt.transcribe(prob, method, s=2))
+        H = LagrangianHessian(nlp)
+        rng = np.random.default_rng(5)
+        x = np.clip(rng.uniform(-1, 1, nlp.n_variables), nlp.lower, nlp.upper)
+        lam, sigma = rng.normal(size=nlp.n_constraints), 0.7
+        dense = np.empty((nlp.n_variables, nlp.n_variables))
+        for j in range(nlp.n_variables):
+            e = np.zeros(nlp.n_variables)
+            e[j] = 1e-5
+            dense[:, j] = (H.gradient(x + e, lam, sigma) - H.gradient(x - e, lam, sigma)) / 2e-5
+        scale = np.abs(dense).max()
+        sparse = np.zeros_like(dense)
+        sparse[H.rows, H.cols] = H.values(x, lam, sigma)
+        lower = np.tril(dense)
+        assert np.abs(sparse - lower).max() <= 1e-6 * scale          # values, and no entry outside the pattern
+        assert np.abs(dense - dense.T).max() <= 1e-6 * scale         # (the Hessian is symmetric)
+
+
+def test_colours_do_not_grow_with_the_horizon():
+    colours = [LagrangianHessian(trajopt.NLP(trajopt.transcribe(cartpole_swingup(N=N), "vi", s=2))).n_colours
+               for N in (8, 32)]
+    assert colours[0] == colours[1]
+
+
+def test_distance2_colouring_separates_variables_with_a_common_neighbour():
+    import scipy.sparse as sp
+    P = sp.csr_matrix(np.array([[1, 1, 0, 0], [1, 1, 1, 0], [0, 1, 1, 1], [0, 0, 1, 1]], float))  # a path 0-1-2-3
+    c = distance2_colouring(P)
+    assert len({c[0], c[1], c[2]}) == 3 and len({c[1], c[2], c[3]}) == 3 and c[0] == c[3]
+
+
+@pytest.mark.parametrize("make", [pendulum_swingup, slider_crank_to_target])
+def test_newton_steps_with_the_coloured_hessian_reach_the_lbfgs_optimum_in_fewer_iterations(make):
+    pytest.importorskip("cyipopt")
+    lbfgs = trajopt.solve(make(), "vi", s=2, verbose=False)
+    exact = trajopt.solve(make(), "vi", s=2, verbose=False, hessian="fd")
+    assert lbfgs.success and exact.success
+    assert exact.cost == pytest.approx(lbfgs.cost, rel=1e-6)
+    np.testing.assert_allclose(exact.trajectory["q"], lbfgs.trajectory["q"], atol=1e-5)
+    assert exact.iterations < lbfgs.iterations
+
+
+def test_hessian_choice_is_checked():
+    pytest.importorskip("cyipopt")
+    prob = pendulum_swingup(N=4)
+    with pytest.raises(ValueError, match="hessian must be"):
+        trajopt.solve(prob, verbose=False, hessian="bfgs")
+    prob.add_cost(trajopt.CallbackCost(lambda t, w, q, v, u: (0.0, 0 * q, 0 * v, 0 * u)))
+    with pytest.raises(ValueError, match="CallbackCost"):
+        trajopt.solve(prob, verbose=False, hessian="fd")
