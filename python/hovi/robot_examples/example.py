@@ -13,7 +13,8 @@ from ..trajopt import Problem, Result
 
 @dataclass
 class Scenery:
-    """World shapes shown with the robot (terrain, obstacles, a ball): (shape, size (3,), centre (3,), rgba (4,))."""
+    """World shapes shown with the robot (terrain, obstacles, a ball): (shape, size (as Model.add_visual takes it),
+    centre (3,), rgba (4,))."""
     shapes: List[Tuple[str, np.ndarray, np.ndarray, Tuple[float, float, float, float]]] = field(default_factory=list)
 
     def add(self, shape: str, size, centre, rgba=(0.6, 0.6, 0.6, 1.0)) -> Scenery:

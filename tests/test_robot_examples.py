@@ -1,0 +1,54 @@
+"""The paper's robot examples (hovi example NAME) in their quick versions: solved, feasible by
+every figure the issue names, replayed by the integrator, and written out."""
+import json
+
+import numpy as np
+import pytest
+
+from hovi.cli import main
+from hovi.robot_examples import build
+from hovi.robot_examples.atlas import centre_of_mass, single_support, sole, static_controls
+from hovi.robots import atlas
+
+pytest.importorskip("cyipopt")
+
+
+def test_atlas_single_support_stance_is_balanced_at_rest():
+    robot = atlas()
+    q = single_support(robot)
+    centre, X, Y = sole(robot, "r")
+    foot = robot.model.joint_placements(q)[robot.model.body_index("r_foot")]
+    where = foot[:3, :3] @ centre + foot[:3, 3]
+    assert abs(where[2]) < 1e-9 and abs(foot[2, 2] - 1) < 1e-12                 # the right sole flat on the ground
+    np.testing.assert_allclose(centre_of_mass(robot, q)[:2], where[:2], atol=1e-9)  # the centre of mass above it
+    from hovi.contact import FlatFoot
+    ff = FlatFoot(robot.model, "r_foot", centre, X, Y, mu=0.8, q0=q)
+    u = static_controls(ff.model, q)
+    zero = np.zeros(robot.model.n)
+    np.testing.assert_allclose(ff.model.forward_dynamics(q, zero, ff.model.force_jacobians(q, zero, u)[0]), 0,
+                               atol=1e-9)                                        # held at rest by these controls
+    w = ff.wrench(u[None])[0]
+    np.testing.assert_allclose(w, [0, 0, robot.model.total_mass * 9.81, 0, 0, 0], atol=1e-6)  # the weight, at the centre
+
+
+def test_atlas_reaches_the_ball_on_one_foot(tmp_path, capsys):
+    pytest.importorskip("meshcat")
+    assert main(["example", "atlas", "--quick", "--quiet", "--output", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "ball_distance" in out and "one stage from each optimised state lands" in out
+    s = json.loads((tmp_path / "atlas.json").read_text())
+    assert s["success"] and s["feasible"], s["failures"]
+    assert s["constraint_violation"] <= 1e-6
+    assert s["ball_distance"] <= 0.01
+    assert s["stance_foot_motion"] <= 1e-6 and s["wrench_cone_margin"] >= -1e-8 and s["cop_margin"] >= 0
+    assert s["replay_one_step_drift"] <= 1e-9                 # each stage is the integrator's step
+    data = np.load(tmp_path / "atlas.npz")
+    assert data["q"].shape == (build("atlas", quick=True).problem.N + 1, 36)
+    assert np.all(data["contact_forces"][:-1, 2] > 0)
+    for name in ("atlas.png", "atlas.html", "atlas.mp4"):
+        assert (tmp_path / name).stat().st_size > 10_000
+
+
+def test_unknown_example_is_refused():
+    with pytest.raises(ValueError, match="unknown example 'flamingo2'"):
+        build("flamingo2")
