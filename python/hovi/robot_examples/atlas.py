@@ -73,7 +73,7 @@ def static_controls(model, q: np.ndarray) -> np.ndarray:
     return np.linalg.lstsq(Qu, model.inverse_dynamics(q, zero, zero) - Q0, rcond=None)[0]
 
 
-def build(quick: bool = False, s: int = 1) -> Example:
+def build(quick: bool = False) -> Example:
     """The example over 1.3 s (N = 26) or, ``quick``, over 0.3 s (N = 6) reaching a nearer ball."""
     robot = atlas()
     N, T, reach = (6, 0.3, 0.25) if quick else (26, 1.3, 1.0)
@@ -98,13 +98,9 @@ def build(quick: bool = False, s: int = 1) -> Example:
     prob.add_constraint(trajopt.BodyPoint("l_foot", left_centre, lower=0.02, axes="z", window=(0.0, T)))
     u0 = static_controls(model, qs)
 
-    def solve(verbose: bool) -> Result:
-        guess = (lambda t: np.tile(qs, (len(t), 1)), lambda t: np.zeros((len(t), model.n)),
-                 lambda t: np.tile(u0, (len(t), 1)))
-        # Newton steps with the Lagrangian's Hessian: IPOPT's L-BFGS did not converge here in 3000
-        # iterations; the dynamics' round-off floor of a 174 kg robot is ~5e-10, above IPOPT's 1e-10
-        return trajopt.solve(prob, "vi", s=s, guess=guess, verbose=verbose, hessian="fd",
-                             options={"constr_viol_tol": 1e-8})
+    guess = (lambda t: np.tile(qs, (len(t), 1)), lambda t: np.zeros((len(t), model.n)),
+             lambda t: np.tile(u0, (len(t), 1)))
+    options = {"constr_viol_tol": 1e-8}  # the dynamics' round-off floor of a 174 kg robot is ~5e-10
 
     G = wrench_cone(X, Y, MU)
 
@@ -131,5 +127,5 @@ def build(quick: bool = False, s: int = 1) -> Example:
     scenery = Scenery().add("sphere", (BALL_RADIUS,), ball, (0.9, 0.3, 0.1, 1.0))
     scenery.add("box", (2.0, 2.0, 0.02), (0.0, 0.0, -0.01), (0.55, 0.6, 0.55, 1.0))
     labels = ["f_x", "f_y", "f_z"]
-    return Example("atlas", "picks a ball with its left hand while balancing on its right foot", robot, prob, solve,
-                   checks_with_violation, bounds, lambda u: foot.wrench(u)[:, :3], labels, scenery)
+    return Example("atlas", "picks a ball with its left hand while balancing on its right foot", robot, prob, guess,
+                   options, checks_with_violation, bounds, lambda u: foot.wrench(u)[:, :3], labels, scenery)

@@ -1,14 +1,15 @@
-"""What a robot example is: a trajectory-optimisation problem on one of the paper's robots, how to
-solve it, and the figures that say whether its answer is feasible (``hovi example NAME``)."""
+"""What a robot example is: a trajectory-optimisation problem on one of the paper's robots, where
+its solver starts, and the figures that say whether its answer is feasible (``hovi example NAME``)."""
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Callable, Dict, List, Tuple
+from typing import Any, Callable, Dict, List, Tuple
 
 import numpy as np
 
 from ..robots import Robot
 from ..trajopt import Problem, Result
+from ..trajopt.ipopt import Guess
 
 
 @dataclass
@@ -24,14 +25,16 @@ class Scenery:
 
 @dataclass
 class Example:
-    """``problem`` on ``robot``; ``solve(verbose)`` returns its Result (verbose: IPOPT's progress); ``checks(result)`` the example's
-    feasibility figures (each a float, with the bound it must meet in ``bounds``);
+    """``problem`` on ``robot``, solved from ``guess`` with IPOPT ``options`` (``report.solve``);
+    ``checks(result)`` the example's feasibility figures (each a float, with the bound it must meet
+    in ``bounds``);
     ``contact_forces(u (P, m))`` the contact forces (P, k) named by ``force_labels``."""
     name: str
     description: str
     robot: Robot
     problem: Problem
-    solve: Callable[[bool], Result]
+    guess: Guess
+    options: Dict[str, Any]
     checks: Callable[[Result], Dict[str, float]]
     bounds: Dict[str, Tuple[str, float]]               # figure -> ('<=' or '>=', bound)
     contact_forces: Callable[[np.ndarray], np.ndarray]

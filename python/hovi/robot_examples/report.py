@@ -11,6 +11,7 @@ from typing import Any, Dict
 
 import numpy as np
 
+from .. import trajopt
 from ..trajopt import Result
 from .example import Example
 
@@ -81,13 +82,24 @@ def animate(example: Example, result: Result, output: str, fps: float) -> list[s
     return [str(html), str(video)]
 
 
+def solve(example: Example, method: str = "vi", s: int = 1, verbose: bool = False) -> Result:
+    """Solve the example's problem with ``method`` ('vi' of order 2s, 'hs-implicit', 'hs-explicit') by
+    IPOPT with the Lagrangian's Hessian (L-BFGS does not converge on these robots: see
+    trajopt.hessian), from the example's guess."""
+    if example.problem.contacts is not None:
+        return trajopt.solve_contact(example.problem, s=s, guess=example.guess, options=example.options,
+                                     verbose=verbose, hessian="fd")
+    return trajopt.solve(example.problem, method, s=s, guess=example.guess, options=example.options, verbose=verbose,
+                         hessian="fd")
+
+
 def run(example: Example, output: str, *, animation: bool = True, plots: bool = True, fps: float = 25.0,
-        verbose: bool = False) -> Dict[str, Any]:
-    """Solve ``example``, check it, replay it and write its files into ``output``; returns the summary
+        verbose: bool = False, s: int = 1) -> Dict[str, Any]:
+    """Solve ``example`` (the VI of order 2s), check it, replay it and write its files into ``output``; returns the summary
     (also written as <name>.json) with 'feasible' and, if not, 'failures'."""
     os.makedirs(output, exist_ok=True)
     t0 = time.perf_counter()
-    result = example.solve(verbose)
+    result = solve(example, "vi", s, verbose)
     wall = time.perf_counter() - t0
     figures = example.checks(result)
     failures = ([] if result.success else [f"IPOPT: {result.status}"]) + example.failures(figures)

@@ -1,0 +1,59 @@
+"""The paper's robot examples (hovi.robot_examples, ``hovi example NAME``) in full: each solved with
+the trapezoidal VI (s = 1), the Simpson VI (s = 2, the paper's) and implicit Hermite-Simpson
+collocation of the same problem, all by IPOPT with the Lagrangian's Hessian (trajopt.hessian):
+iterations, solve time, the feasibility figures and, for the VIs, the one-stage replay drift.
+
+    python bench/robot_examples.py [--quick]
+
+Writes bench/results/robot_examples.json (robot_examples_quick.json) and the table in bench/README.md.
+"""
+from __future__ import annotations
+
+import argparse
+import time
+
+from common import update_readme_section, write_json
+from hovi.robot_examples import NAMES, build, report
+
+METHODS = [("vi", 1), ("vi", 2), ("hs-implicit", 2)]
+
+
+def run_one(name: str, quick: bool, method: str, s: int) -> dict:
+    example = build(name, quick=quick)
+    t0 = time.perf_counter()
+    result = report.solve(example, method, s)
+    wall = time.perf_counter() - t0
+    figures = example.checks(result)
+    row = {"example": name, "method": method if method != "vi" else f"vi s={s}", "N": example.problem.N,
+           "T": example.problem.T, "success": bool(result.success), "status": result.status,
+           "iterations": int(result.iterations), "solve_seconds": wall, **result.sizes, **figures,
+           "feasible": bool(result.success) and not example.failures(figures)}
+    if method == "vi":
+        row.update(report.replay_figures(example, result))
+    print(f"{name:8s} {row['method']:12s} N = {row['N']:3d}: {row['iterations']:4d} iterations, {wall:7.1f} s, "
+          f"feasible {row['feasible']}", flush=True)
+    return row
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="the quick problems, the trapezoidal VI only")
+    args = ap.parse_args()
+    methods = METHODS[:1] if args.quick else METHODS
+    rows = [run_one(name, args.quick, method, s) for name in NAMES for method, s in methods]
+    path = write_json("robot_examples_quick.json" if args.quick else "robot_examples.json", {"rows": rows})
+    print(f"wrote {path}")
+    if args.quick:
+        return
+    lines = ["| example | transcription | N | variables | IPOPT iterations | solve [s] | feasible | constraint violation "
+             "| one-stage replay drift |", "|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        drift = f"{r['replay_one_step_drift']:.1e}" if "replay_one_step_drift" in r else "-"
+        lines.append(f"| {r['example']} | {r['method']} | {r['N']} | {r['variables']} | {r['iterations']} | "
+                     f"{r['solve_seconds']:.1f} | {'yes' if r['feasible'] else 'no: ' + r['status']} | "
+                     f"{r['constraint_violation']:.1e} | {drift} |")
+    update_readme_section("robot_examples", "\n".join(lines))
+
+
+if __name__ == "__main__":
+    main()
