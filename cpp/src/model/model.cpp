@@ -80,6 +80,8 @@ int Model::add_body(const BodySpec& spec_in) {
   M.push_back(SpatialInertia::AtCom(s.mass, s.inertia));
   spec.push_back(std::move(s));
   joint_forces.resize(n());
+  armature.conservativeResize(n());
+  armature[i] = 0;
   return i;
 }
 
@@ -100,6 +102,14 @@ void Model::add_spring(int joint, double stiffness, double rest) {
   check_finite(rest, "add_spring");
   joint_forces.stiffness[joint] += stiffness;
   joint_forces.preload[joint] += stiffness * rest;
+}
+
+void Model::set_armature(int joint, double value) {
+  check_joint(*this, joint, "set_armature");
+  if (!std::isfinite(value) || value < 0)
+    throw ModelError("set_armature: joint '" + spec[joint].joint_name +
+                     "': armature must be finite and non-negative, got " + std::to_string(value));
+  armature[joint] = value;
 }
 
 void Model::add_damper(int joint, double damping) {
