@@ -44,14 +44,15 @@ void check_inertia(const std::string& what, double mass, const Mat3& inertia) {
   if ((inertia - inertia.transpose()).norm() > 1e-12 * (1 + inertia.norm()))
     throw ModelError(what + ": rotational inertia is not symmetric");
   if (mass == 0 && inertia.norm() == 0) return;  // a massless (virtual) body
-  if (mass == 0) throw ModelError(what + ": non-zero rotational inertia with zero mass");
+  if (mass == 0)
+    throw ModelError(what + ": non-zero rotational inertia with zero mass: give the body its mass, or zero its inertia");
   // Zero principal moments are allowed (point masses and thin rods, common in real URDFs);
   // negative ones are not.
   Eigen::SelfAdjointEigenSolver<Mat3> es(inertia);
   if (es.eigenvalues().minCoeff() < -1e-12 * std::max(1.0, es.eigenvalues().cwiseAbs().maxCoeff())) {
     std::ostringstream os;
     os << what << ": rotational inertia is not positive definite: negative principal moment (principal moments "
-       << es.eigenvalues().transpose() << ")";
+       << es.eigenvalues().transpose() << "): correct the inertia (a rigid body's principal moments are non-negative)";
     throw ModelError(os.str());
   }
 }
