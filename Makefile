@@ -4,6 +4,7 @@
 # make docs   build the documentation site into site/ (mkdocs build --strict: warnings fail)
 # make stubs  refresh the committed type stubs of hovi._core (python/hovi/_core/*.pyi) after a binding changed
 # make sanitize  the C++ library and ctest suite under AddressSanitizer + UndefinedBehaviorSanitizer
+# make sanitize-python  the Python extension under ASan + UBSan, and pytest on ASAN_TESTS with it
 # make wheel-smoke  sdist -> wheel -> fresh venv -> smoke test (scripts/wheel_smoke.sh; a clean compile)
 SHELL := /bin/bash
 VENV := .venv
@@ -13,7 +14,7 @@ SOURCES := $(shell find cpp python -type f \( -name '*.cpp' -o -name '*.hpp' -o 
            CMakeLists.txt pyproject.toml \
            cmake/stubs.cmake scripts/stubgen.py
 
-.PHONY: setup setup-test build demo test ctest pytest bench docs clean stubs wheel-smoke sanitize
+.PHONY: setup setup-test build demo test ctest pytest bench docs clean stubs wheel-smoke sanitize sanitize-python
 
 setup:
 	@./scripts/setup.sh
@@ -50,6 +51,24 @@ sanitize: setup
 	      -DHOVI_BUILD_TESTS=ON -DHOVI_BUILD_PYTHON=OFF -DHOVI_SANITIZE=ON
 	cmake --build build/sanitize -j $(JOBS)
 	cd build/sanitize && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure -j $(JOBS)
+
+# The extension module built with ASan + UBSan (build/asan-py, -O1, no stubs) and pytest run on it
+# from a staged copy of the package (PYTHONPATH). Python is not built with ASan, so libasan is
+# preloaded, and libstdc++ with it: without it ASan's __cxa_throw interceptor finds no real
+# __cxa_throw at start-up and the first C++ exception aborts. Leak checks off (the interpreter's own
+# allocations would drown them); any ASan or UBSan finding aborts the test run.
+ASAN_TESTS ?= tests/test_model_api.py tests/test_del_residual.py tests/test_newton_direction.py tests/test_exceptions.py \
+              tests/test_urdf.py tests/test_model_changes.py tests/test_integrator.py tests/test_linearization.py \
+              tests/test_baselines.py tests/test_constraints.py tests/test_api_fuzz.py tests/test_threads.py \
+              tests/test_model_vs_pinocchio.py tests/test_tangent_velocity.py
+sanitize-python: setup
+	cmake -S . -B build/asan-py -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g" \
+	      -DHOVI_BUILD_PYTHON=ON -DHOVI_BUILD_TESTS=OFF -DHOVI_SANITIZE=ON -DHOVI_STUBS=OFF -DPython_EXECUTABLE=$(abspath $(PY))
+	cmake --build build/asan-py -j $(JOBS) --target _core
+	rm -rf build/asan-py/stage && mkdir -p build/asan-py/stage && cp -r python/hovi build/asan-py/stage/
+	cp build/asan-py/_core*.so build/asan-py/stage/hovi/
+	LD_PRELOAD="$$(gcc -print-file-name=libasan.so) $$(gcc -print-file-name=libstdc++.so)" ASAN_OPTIONS=detect_leaks=0 \
+	  UBSAN_OPTIONS=print_stacktrace=1 PYTHONPATH=build/asan-py/stage $(PY) -m pytest -q -p no:cacheprovider $(ASAN_TESTS)
 
 bench: build
 	$(PY) bench/run_all.py

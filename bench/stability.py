@@ -4,13 +4,24 @@ qdot0 = 0): the largest dt at which 2 s rollouts still converge from at least 99
 conditions, and the energy error over 10^5 steps at that dt, or, where a 10^5-step run does not
 complete there, at the largest smaller dt of the grid where it does (both recorded).
 
-    python bench/stability.py [--quick]
+    python bench/stability.py [--quick] [--stress]
 
 Writes bench/results/stability.json and .png, and the table in bench/README.md.
+
+The stress matrix (issue 14, stability_stress.json and its table): chains of n = 2..128 links
+(the pendulum), s = 1..4, dt from 1e-5 up to the failure point (the first dt at which fewer
+than half the steps converge), under each condition of CONDITIONS (stiff springs up to 1e8,
+large velocities, a floating base next to its Euler-angle singularity). Each cell takes single
+steps from random states and records the share that converges and the failure statuses; every
+step reported converged is checked independently: finite, and one more exact Newton correction at
+its control points below SILENT_TOL (1 + |q|), else it is counted as a silent failure.
 """
 from __future__ import annotations
 
 import argparse
+import sys
+import time
+from collections import Counter
 
 import numpy as np
 from tqdm import tqdm
@@ -45,7 +56,10 @@ def make(name, model, dt):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--quick", action="store_true", help="10 initial conditions, 1000 energy steps")
+    ap.add_argument("--stress", action="store_true", help="only the stress matrix")
     args = ap.parse_args()
+    if args.stress:
+        return stress_matrix(args.quick)
     model = hovi.models.pendulum(12)
     n_states, energy_steps, T = (10, 1000, 0.5) if args.quick else (100, 100_000, 2.0)
     dts = DTS[:4] if args.quick else DTS
@@ -119,6 +133,128 @@ def main():
     print(text)
     if not args.quick:
         update_readme_section("stability", text)
+    stress_matrix(args.quick)
+
+
+# ---- The stress matrix ------------------------------------------------------------------------
+
+STRESS_DTS = [1e-5, 1e-4, 1e-3, 0.005, 0.01, 0.02, 0.05, 0.1, 0.2, 0.5]
+SILENT_TOL = 1e-8  # a converged step's next exact Newton correction, relative to 1 + |q|
+PITCH_OFFSET = 1e-4  # the floating base's pitch: pi/2 - PITCH_OFFSET, M(q) condition ~ 1/offset^2
+
+
+def floating_pendulum(n, length=0.5, mass=1.0, radius=0.02):
+    """hovi.models.pendulum(n) whose joint 1 is replaced by a floating base (x, y, z, then Z-Y-X
+    Euler angles, as Model.from_urdf(base='floating')) carrying link 1: n + 5 joints."""
+    model = hovi.Model()
+    base = [("prismatic", [1, 0, 0]), ("prismatic", [0, 1, 0]), ("prismatic", [0, 0, 1]),
+            ("revolute", [0, 0, 1]), ("revolute", [0, 1, 0])]
+    for k, (kind, axis) in enumerate(base):
+        model.add_body(f"base{k}", parent=k - 1 if k else None, joint_type=kind, axis=axis)
+    transverse, axial = mass * (3 * radius ** 2 + length ** 2) / 12, mass * radius ** 2 / 2
+    for i in range(n):
+        placement = np.eye(4)
+        placement[2, 3] = 0.0 if i == 0 else -length
+        model.add_body(f"link{i + 1}", parent=len(base) + i - 1, axis=[1, 0, 0] if i % 2 == 0 else [0, 1, 0],
+                       placement=placement, mass=mass, com=[0, 0, -length / 2],
+                       inertia=np.diag([transverse, transverse, axial]))
+    return model
+
+
+def stress_case(condition, n, rng):
+    """(model, q0, qdot0) of one random state of a condition."""
+    if condition == "near_singular":
+        model = floating_pendulum(n)
+        q = np.concatenate([rng.uniform(-0.1, 0.1, 4), [np.pi / 2 - PITCH_OFFSET], rng.uniform(-0.2, 0.2, n)])
+        return model, q, rng.uniform(-0.5, 0.5, model.n)
+    model = hovi.models.pendulum(n)
+    q = rng.uniform(-np.pi / 12, np.pi / 12, n)
+    if condition.startswith("stiff"):
+        for j in range(n):
+            model.add_spring(j, float(condition.split()[1]))
+        return model, q, np.zeros(n)
+    if condition.startswith("fast"):
+        return model, q, rng.uniform(-1, 1, n) * float(condition.split()[1])
+    return model, q, np.zeros(n)
+
+
+CONDITIONS = ["nominal", "stiff 1e4", "stiff 1e6", "stiff 1e8", "fast 10", "fast 100", "near_singular"]
+
+
+def stress_cell(condition, n, s, dt, states, seed):
+    """Single steps from `states` random states: converged share, statuses, silent failures."""
+    rng = np.random.default_rng(seed)
+    statuses, silent, worst = Counter(), 0, 0.0
+    model = integ = None
+    for _ in range(states):
+        m, q0, qd0 = stress_case(condition, n, rng)
+        if model is None:
+            model, integ = m, hovi.Integrator(m, s=s, dt=dt)
+        p0 = integ.momentum(q0, qd0)
+        q1, p1, info = integ.step(q0, p0, raise_on_failure=False)
+        statuses[info.status] += 1
+        if info.converged:  # the solver's claim, checked: finite, and at the root to round-off
+            finite = np.isfinite(q1).all() and np.isfinite(p1).all()
+            correction = np.abs(integ.newton_direction(info.control_points, p0)).max() if finite else np.inf
+            rel = correction / (1 + np.abs(info.control_points).max())
+            worst = max(worst, rel)
+            silent += not (rel <= SILENT_TOL)
+    return {"condition": condition, "n": n, "s": s, "dt": dt, "steps": states,
+            "converged": statuses["converged"] / states, "statuses": dict(statuses), "silent": silent,
+            "worst_next_correction": worst}
+
+
+def stress_matrix(quick):
+    ns, ss, states = ([2, 8], [1, 2], 3) if quick else ([2, 4, 8, 16, 32, 64, 128], [1, 2, 3, 4], 10)
+    dts = STRESS_DTS[::3] if quick else STRESS_DTS
+    t0 = time.perf_counter()
+    cells = []
+    for condition in CONDITIONS:
+        for n in ns:
+            for s in ss:
+                for k, dt in enumerate(dts):
+                    cell = stress_cell(condition, n, s, dt, states, seed=1000 * n + 10 * s + k)
+                    cells.append(cell)
+                    if cell["converged"] < 0.5:  # the failure point: larger steps only fail more
+                        break
+            print(f"stress {condition}: {len(cells)} cells, {time.perf_counter() - t0:.0f} s", flush=True)
+    silent = sum(c["silent"] for c in cells)
+    payload = {"conditions": CONDITIONS, "n": ns, "s": ss, "dts": dts, "states_per_cell": states,
+               "silent_tol": SILENT_TOL, "pitch_offset": PITCH_OFFSET, "silent_failures": silent,
+               "steps": sum(c["steps"] for c in cells), "seconds": time.perf_counter() - t0, "cells": cells}
+    write_json("stability_stress_quick.json" if quick else "stability_stress.json", payload)
+    text = stress_text(payload)
+    print(text)
+    if not quick:
+        update_readme_section("stability_stress", text)
+    if silent:
+        sys.exit(f"{silent} steps reported converged are not at the root (next Newton correction > {SILENT_TOL})")
+
+
+def stress_text(payload):
+    """Per condition and s: the largest dt at which every step converged, per n; the failure
+    statuses met; the worst next correction of a converged step."""
+    lines = ["| condition | s | largest dt with every step converged, n = " + ", ".join(map(str, payload["n"])) +
+             " | failure statuses met | worst next correction of a converged step |", "|---|---|---|---|---|"]
+    for condition in payload["conditions"]:
+        for s in payload["s"]:
+            cells = [c for c in payload["cells"] if c["condition"] == condition and c["s"] == s]
+            largest = []
+            for n in payload["n"]:
+                ok = [c["dt"] for c in cells if c["n"] == n and c["converged"] == 1.0]
+                largest.append(str(max(ok)) if ok else "none")
+            failures = Counter()
+            for c in cells:
+                failures.update({k: v for k, v in c["statuses"].items() if k != "converged"})
+            worst = max(c["worst_next_correction"] for c in cells)
+            lines.append(f"| {condition} | {s} | {' / '.join(largest)} | "
+                         f"{', '.join(f'{k} ({v})' for k, v in sorted(failures.items())) or 'none'} | {worst:.1e} |")
+    lines += ["", f"{payload['steps']} single steps ({payload['states_per_cell']} random states per cell, dt from "
+              f"{payload['dts'][0]} up to the first dt where fewer than half converge) in {payload['seconds']:.0f} s: "
+              f"{payload['silent_failures']} silent failures (a step reported converged whose next exact Newton "
+              f"correction exceeds {payload['silent_tol']:g} (1 + |q|), or that is not finite). near_singular: the "
+              f"pendulum on a floating base at pitch pi/2 - {payload['pitch_offset']:g} (Euler-angle singularity)."]
+    return "\n".join(lines)
 
 
 if __name__ == "__main__":

@@ -26,7 +26,8 @@ def hat(w):
 
 
 class ForcedScene:
-    """A model with every kind of force element, and their laws re-implemented in numpy."""
+    """A model with every kind of force element, and their laws re-implemented in numpy; and joint
+    armature on every other joint (it enters L_d through model.kinetic_energy)."""
 
     def __init__(self, model, rng):
         self.model = model
@@ -55,6 +56,8 @@ class ForcedScene:
         self.drag = [(bodies[0], 0.7, 0.2), (bodies[1], 0.3, 0.05)]
         for b, lin, ang in self.drag:
             model.add_drag(b, linear=lin, angular=ang)
+        self.armature = np.where(np.arange(n) % 2 == 0, rng.uniform(0.05, 0.2, n), 0.0)
+        model.armature = self.armature
 
     def generalized_force(self, q, qd, u):
         model, n = self.model, self.model.n

@@ -1,14 +1,18 @@
 """The Section 5 baselines through Python: the same equations and solutions as hovi's own
 algorithms (their full tests are the C++ ones in cpp/tests/test_*baselines*)."""
 import numpy as np
+import pytest
 
 import hovi
 import hovi.baselines
 
 
-def test_autodiff_matches_recursive_algorithms():
+@pytest.mark.parametrize("armature", [False, True])
+def test_autodiff_matches_recursive_algorithms(armature):
     model = hovi.models.pendulum(5)
-    integ = hovi.Integrator(model, s=2, dt=0.02)
+    if armature:  # 1/2 a q̇^2 in the automatically differentiated L_d
+        model.armature = [0.2, 0.0, 0.1, 0.3, 0.05]
+    integ = hovi.Integrator(model, s=2, dt=0.02, direction="recursive")
     lin = hovi.Linearizer(integ)
     ad = hovi._core.baselines.AutodiffDel(model, 2, 0.02)
     rng = np.random.default_rng(0)
@@ -21,8 +25,11 @@ def test_autodiff_matches_recursive_algorithms():
     np.testing.assert_allclose(ad.d2Ld(qc), lin.del_jacobian(qc).dq, rtol=1e-10, atol=1e-10)
 
 
-def test_quasi_newton_and_newton_reach_the_same_step():
+@pytest.mark.parametrize("armature", [False, True])
+def test_quasi_newton_and_newton_reach_the_same_step(armature):
     model = hovi.models.pendulum(8)
+    if armature:  # the quasi-Newton Jacobian -(M(q^k) + diag(a)) / dt
+        model.armature = np.linspace(0.0, 0.4, 8)
     rng = np.random.default_rng(1)
     q0, qd0 = rng.uniform(-0.5, 0.5, (2, 10, 8))
     newton = hovi._core.baselines.one_step_batch(model, 0.005, q0, qd0, "newton", tol=1e-12)
@@ -87,7 +94,6 @@ def test_hermite_simpson_simplified_newton_gives_the_full_newton_trajectory():
 
 
 def test_hermite_simpson_rejects_bad_input():
-    import pytest
     with pytest.raises(ValueError, match="dt"):
         hovi.baselines.HermiteSimpson(hovi.models.pendulum(2), 0.0)
     hs = hovi.baselines.HermiteSimpson(hovi.models.pendulum(2), 0.01)
@@ -96,7 +102,6 @@ def test_hermite_simpson_rejects_bad_input():
 
 
 def test_baseline_batches_and_autodiff_reject_bad_input():
-    import pytest
     model = hovi.models.pendulum(3)
     with pytest.raises(ValueError, match="method must be 'newton', 'quasi_newton', 'continuation' or 'newton"):
         hovi.baselines.one_step_batch(model, 0.01, np.zeros((1, 3)), np.zeros((1, 3)), "bisection")

@@ -52,6 +52,34 @@ def test_energy_error_is_bounded_without_drift(s):
     assert err.max() < [2e-2, 1e-4, 1e-6][s - 1] * abs(traj.energy[0])
 
 
+@pytest.mark.parametrize("s", [1, 2])
+def test_armature_energy_is_conserved_and_zero_armature_changes_nothing(s):
+    """Joint armature (1/2 a q̇^2 in K) belongs to the conserved energy: its error stays bounded,
+    without drift; the motion differs from the model without it; an all-zero armature takes the
+    armature-free path, bit for bit."""
+    model = hovi.models.pendulum(6)
+    rng = np.random.default_rng(60 + s)
+    q0 = rng.uniform(-np.pi / 6, np.pi / 6, 6)
+    plain = hovi.Integrator(model, s=s, dt=0.01).rollout(q0, 3000)
+    zero = model.copy()
+    zero.armature = np.zeros(6)
+    again = hovi.Integrator(zero, s=s, dt=0.01).rollout(q0, 3000)
+    np.testing.assert_array_equal(again.q, plain.q)
+    np.testing.assert_array_equal(again.p, plain.p)
+    geared = model.copy()
+    geared.armature = rng.uniform(0.05, 0.3, 6)
+    traj = hovi.Integrator(geared, s=s, dt=0.01).rollout(q0, 3000)
+    assert np.abs(traj.q - plain.q).max() > 0.1
+    # E = 1/2 p^T (M + diag(a))^{-1} p + V from the mass matrix (checked against Pinocchio's)
+    energy = np.array([0.5 * p @ np.linalg.solve(geared.mass_matrix(q), p) + geared.potential_energy(q)
+                       for q, p in zip(traj.q, traj.p)])
+    np.testing.assert_allclose(traj.energy, energy, rtol=1e-12, atol=1e-12 * np.abs(energy).max())
+    err = np.abs(energy - energy[0])
+    tenth = len(err) // 10
+    assert err[-tenth:].mean() <= 2 * err[1:tenth].mean()
+    assert err.max() < [2e-3, 1e-6][s - 1] * abs(energy[0]), err.max() / abs(energy[0])
+
+
 def test_momentum_velocity_round_trip_and_energy():
     model = hovi.models.pendulum(6)
     integ = hovi.Integrator(model, order=4)
@@ -196,12 +224,13 @@ def test_simplified_newton_gives_the_full_newton_trajectory(direction):
 @pytest.mark.parametrize("s", [1, 2, 3, 4])
 def test_dense_and_recursive_directions_agree(s):
     """The dense LU of the linearisation's DEL Jacobian and Algorithms A.1/A.2 give the same
-    Newton direction (every force type present) and the same converged steps."""
+    Newton direction (every force type and joint armature present) and the same converged steps."""
     model = hovi.models.pendulum(5)
     for j in range(5):
         model.add_spring(j, 3.0 + j, 0.1 * j)
         model.add_damper(j, 0.2)
     model.add_actuator(2)
+    model.armature = [0.3, 0.0, 0.05, 0.1, 0.0]
     rng = np.random.default_rng(s)
     q = rng.uniform(-1, 1, 5)
     qd = rng.uniform(-1, 1, 5)

@@ -56,11 +56,37 @@ def test_add_body_rejects_invalid_bodies(kwargs, pattern):
         model.add_body(**kwargs)
 
 
-def test_massless_joint_is_reported():
+def test_massless_joint_is_reported_with_the_fixes():
     model = hovi.Model()
     model.add_body("ghost", parent=None)
-    with pytest.raises(hovi.ModelError, match="'ghost_joint' moves no mass"):
+    with pytest.raises(hovi.ModelError, match="'ghost_joint' moves no mass.*fixed joint, or set an armature"):
         model.forward_dynamics([0.0], [0.0])
+    model.set_armature("ghost_joint", 0.1)  # a rotor alone: q̈ = tau / a
+    np.testing.assert_allclose(model.forward_dynamics([0.0], [0.0], [0.5]), [5.0], rtol=1e-15)
+
+
+def test_armature_api():
+    model = hovi.models.pendulum(3)
+    np.testing.assert_array_equal(model.armature, np.zeros(3))
+    model.set_armature("joint2", 0.25)
+    model.set_armature(0, 0.5)
+    np.testing.assert_array_equal(model.armature, [0.5, 0.25, 0.0])
+    model.armature = [0.0, 0.0, 1.0]  # replaces every value
+    np.testing.assert_array_equal(model.armature, [0.0, 0.0, 1.0])
+    assert model.copy().armature[2] == 1.0
+    for bad, exc, pattern in [(-0.1, hovi.ModelError, "armature must be finite and non-negative, got -0.1"),
+                              (float("inf"), hovi.ModelError, "finite and non-negative")]:
+        with pytest.raises(exc, match=pattern):
+            model.set_armature(1, bad)
+    with pytest.raises(hovi.ModelError, match="no joint named 'elbow'"):
+        model.set_armature("elbow", 0.1)
+    with pytest.raises(ValueError, match=r"armature must be a 1-D array of length 3, got shape \(2,\)"):
+        model.armature = [0.1, 0.2]
+    with pytest.raises(ValueError, match="armature contains NaN"):
+        model.armature = [0.1, np.nan, 0.2]
+    with pytest.raises(hovi.ModelError, match="joint 'joint3': armature must be finite and non-negative"):
+        model.armature = [0.1, 0.2, -1.0]
+    np.testing.assert_array_equal(model.armature, [0.0, 0.0, 1.0])  # all or nothing
 
 
 def test_pendulum_rejects_bad_parameters():

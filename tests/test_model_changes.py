@@ -23,6 +23,8 @@ def changes():
         ("add_loop_constraint", lambda m: m.add_loop_constraint(0, [0, 0, 0], 2, [0, 0, 0], axes="x")),
         ("add_orientation_constraint", lambda m: m.add_orientation_constraint(0, np.eye(3))),
         ("add_joint_coupling", lambda m: m.add_joint_coupling([1.0, -1.0, 0.0])),
+        ("set_armature", lambda m: m.set_armature("joint2", 0.05)),
+        ("armature", lambda m: setattr(m, "armature", [0.1, 0.0, 0.2])),
     ]
 
 

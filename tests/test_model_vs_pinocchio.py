@@ -373,3 +373,37 @@ def test_custom_gravity(case, rng):
         close(fresh.h.potential_energy(q), want, fresh.h.total_mass * 10.0 * 3.0, f"V {k}")
     # the cached default-gravity model is untouched
     close(np.asarray(base.h.gravity), [0.0, 0.0, -9.81], 9.81, "cached model gravity")
+
+
+# --------------------------------------------------------------------------------------------
+# Joint armature (fresh models: Model.armature and Pinocchio's model.armature set alike)
+# --------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("case", ["pendulum-5", "synthetic-urdf", "solo12"])
+def test_armature(case, rng):
+    """Armature a adds diag(a) to M(q): mass matrix, kinetic energy, ABA and RNEA as Pinocchio's."""
+    base = get_pair(case)
+    fresh = Pair(case, base.h.copy(), pin.Model(base.pm))
+    a = rng.uniform(0.01, 0.5, fresh.h.n)
+    a[0] = 0.0  # a joint without armature among those with
+    fresh.h.armature = a
+    fresh.pm.armature = fresh.v_pin(a)
+    fresh.pd = fresh.pm.createData()
+    np.testing.assert_array_equal(fresh.h.armature, a)
+    np.testing.assert_array_equal(base.h.armature, np.zeros(base.h.n))  # the cached model is untouched
+    for k, q, v in states(fresh, rng, n=3):
+        qp, vp = fresh.q_pin(q), fresh.v_pin(v)
+        M = pin_mass_matrix(fresh, q)
+        close(fresh.h.mass_matrix(q), M, np.abs(M).max(), f"M {k}")
+        close(fresh.h.mass_matrix(q) - base.h.mass_matrix(q), np.diag(a), np.abs(M).max(), f"diag(a) {k}")
+        # K against 1/2 v^T M v with Pinocchio's M: Pinocchio 4.1's computeKineticEnergy leaves out
+        # the armature of its JointModelRevoluteUnaligned joints (found here, synthetic-urdf's j_rev)
+        want = 0.5 * v @ M @ v
+        close(fresh.h.kinetic_energy(q, v), want, abs(want), f"K {k}")
+        tau = rng.uniform(-10.0, 10.0, fresh.h.n)
+        want = fresh.v_hovi(pin.aba(fresh.pm, fresh.pd, qp, vp, fresh.v_pin(tau)))
+        close(np.asarray(fresh.h.forward_dynamics(q, v, tau)), want, np.abs(want).max(), f"ABA {k}")
+        acc = rng.uniform(-5.0, 5.0, fresh.h.n)
+        want = fresh.v_hovi(pin.rnea(fresh.pm, fresh.pd, qp, vp, fresh.v_pin(acc)))
+        close(np.asarray(fresh.h.inverse_dynamics(q, v, acc)), want, np.abs(want).max(), f"RNEA {k}")

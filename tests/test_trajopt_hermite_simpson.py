@@ -16,6 +16,7 @@ def test_simulated_trajectory_satisfies_the_collocation_constraints(implicit):
     model = hovi.models.pendulum(4)
     model.add_spring(1, 3.0, 0.2)
     model.add_damper(2, 0.4)
+    model.armature = [0.1, 0.0, 0.3, 0.05]
     N, h = 6, 0.02
     q0 = np.array([0.3, -0.2, 0.1, 0.4])
     sim = HermiteSimpson(model, h, tol=1e-13).rollout(q0, np.zeros(4), N)

@@ -33,6 +33,7 @@ def actuated_chain():
         model.add_actuator(j, 1.0 + j)
     model.add_damper(1, 0.3)
     model.add_spring(2, 5.0, 0.1)
+    model.armature = [0.2, 0.0, 0.05]  # in M(q) of Hermite-Simpson, in L_d of the VI
     return model
 
 

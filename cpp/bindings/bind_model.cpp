@@ -373,6 +373,29 @@ h = P (x(q) - target) with P the rows of `axes` ('xyz', or e.g. 'xz' for planar 
                              "(n,) joint spring stiffness per joint (the sum of its add_spring springs; 0 where none).")
       .def_property_readonly("joint_damping", [](const PyModel& s) { return VecX(s.model.joint_forces.damping); },
                              "(n,) joint damper coefficient per joint (add_damper; 0 where none).")
+      .def("set_armature", [](PyModel& s, const Index& joint, double value) {
+            s.model.set_armature(joint_arg(s.model, joint), value);
+            s.changed("set_armature");
+          }, py::arg("joint"), py::arg("armature"), R"doc(
+Joint armature (rotor inertia reflected through the transmission, Pinocchio's model.armature,
+MuJoCo's joint armature) on a joint (index or name): adds 1/2 armature q̇_joint^2 to the kinetic
+energy, i.e. armature to the joint's diagonal entry of the mass matrix. Replaces the joint's
+previous value. Raises hovi.ModelError unless armature is finite and non-negative.
+)doc")
+      .def_property(
+          "armature", [](const PyModel& s) { return VecX(s.model.armature); },
+          [](PyModel& s, const ArrayLike& a) {
+            const VecX value = s.vec(a, "armature");
+            const VecX old = s.model.armature;
+            try {
+              for (int i = 0; i < s.model.n(); ++i) s.model.set_armature(i, value[i]);
+            } catch (...) {
+              s.model.armature = old;  // all or nothing
+              throw;
+            }
+            s.changed("armature");
+          },
+          "(n,) joint armature per joint (see set_armature; 0 where none). Set it whole with an (n,) array of finite, non-negative values.")
       .def_property_readonly("n_wrenches", [](const PyModel& s) { return s.model.wrenches.size(); },
                              "Number of body wrench elements (add_point_wrench, add_drag).")
       .def("body_index", [](const PyModel& s, const std::string& name) {
@@ -413,7 +436,7 @@ h = P (x(q) - target) with P the rows of `axes` ('xyz', or e.g. 'xz' for planar 
           }, py::arg("q"), py::arg("qdot"), "q, qdot: (n,); returns (n, 6) spatial velocities v̄_i = (ġ g^{-1})^∨, (angular, linear).")
       .def("kinetic_energy", [](PyModel& s, const ArrayLike& q, const ArrayLike& qd) {
             return kinetic_energy(s.model, s.ws(), s.vec(q, "q"), s.vec(qd, "qdot"));
-          }, py::arg("q"), py::arg("qdot"), "Kinetic energy K = 1/2 q̇^T M(q) q̇; q, qdot: (n,); returns a float.")
+          }, py::arg("q"), py::arg("qdot"), "Kinetic energy K = 1/2 q̇^T M(q) q̇ (joint armature included); q, qdot: (n,); returns a float.")
       .def("potential_energy", [](PyModel& s, const ArrayLike& q) {
             return potential_energy(s.model, s.ws(), s.vec(q, "q"));
           }, py::arg("q"), "q: (n,); the gravitational potential -sum m_i g^T p_i (p_i the centre of mass) plus the springs' 1/2 k (q - rest)^2.")
@@ -423,7 +446,7 @@ h = P (x(q) - target) with P the rows of `axes` ('xyz', or e.g. 'xz' for planar 
           }, py::arg("q"), py::arg("qdot"), "Total mechanical energy K + V; q, qdot: (n,); returns a float.")
       .def("mass_matrix", [](PyModel& s, const ArrayLike& q) {
             return MatX(mass_matrix(s.model, s.ws(), s.vec(q, "q")));
-          }, py::arg("q"), "q: (n,); returns the joint-space mass matrix M(q), (n, n).")
+          }, py::arg("q"), "q: (n,); returns the joint-space mass matrix M(q), (n, n), the joint armature on its diagonal.")
       .def("forward_dynamics", [](PyModel& s, const ArrayLike& q, const ArrayLike& qd, const OptArrayLike& tau) {
             const VecX t = tau.is_none() ? VecX::Zero(s.model.n()) : s.vec(tau, "tau");
             return VecX(forward_dynamics(s.model, s.ws(), s.vec(q, "q"), s.vec(qd, "qdot"), t));

@@ -43,6 +43,7 @@ void del_residual(const Model& model, const Quadrature& quad, DelWorkspace& ws, 
   // Backward pass: accumulate μ̄, Γ̄ over children, then the residual rows of joint i.
   const JointForces& jf = model.joint_forces;
   const bool springs = jf.has_springs(), dampers = jf.has_dampers(), actuated = jf.n_controls() > 0;
+  const bool armature = model.has_armature();
   for (int i = n - 1; i >= 0; --i) {
     const int par = model.parent[i];
     double R[32];  // R_i^a, a = 0..s (s <= 16 enforced by Quadrature)
@@ -57,8 +58,9 @@ void del_residual(const Model& model, const Quadrature& quad, DelWorkspace& ws, 
       if (actuated) Q += jf.actuation.row(i).dot(u.col(a));
       R[a] = ws.Sbar[k].dot(Omega) + wdt * Q;
     }
-    for (int b = 0; b < S1; ++b) {  // sum_b a^{ab} S̄^b . μ̄^b
-      const double Smu = ws.Sbar[ws.at(i, b)].dot(ws.mu[ws.at(i, b)]);
+    for (int b = 0; b < S1; ++b) {  // sum_b a^{ab} S̄^b . μ̄^b, the joint momentum (plus a_i q̇_i^b)
+      double Smu = ws.Sbar[ws.at(i, b)].dot(ws.mu[ws.at(i, b)]);
+      if (armature) Smu += model.armature[i] * ws.qdot(i, b);
       for (int a = 0; a < S1; ++a) R[a] += quad.a(a, b) * Smu;
     }
     r(i, 0) = p[i] + R[0];

@@ -20,6 +20,7 @@ namespace {
 const VecX& articulated_body(const Model& model, Data& data, const Eigen::Ref<const VecX>& qdot,
                              const Eigen::Ref<const VecX>& tau, bool with_bias) {
   const int n = model.n();
+  const bool armature = model.has_armature();
   for (int i = 0; i < n; ++i) {
     data.c[i] = with_bias ? Twist(ad(data.v[i], data.Sbar[i]) * qdot[i]) : Twist::Zero();  // Ṡ̄_i q̇_i
     data.IA[i] = data.Mbar[i].matrix();
@@ -28,10 +29,12 @@ const VecX& articulated_body(const Model& model, Data& data, const Eigen::Ref<co
   for (int i = n - 1; i >= 0; --i) {
     data.U[i] = data.IA[i] * data.Sbar[i];
     data.D[i] = data.Sbar[i].dot(data.U[i]);
+    if (armature) data.D[i] += model.armature[i];  // the joint's own inertia: M(q) + diag(a)
     data.u[i] = tau[i] - data.Sbar[i].dot(data.pA[i]);
     if (!(data.D[i] > 1e-14 * (1 + data.IA[i].norm())))
       throw ModelError("joint '" + model.spec[i].joint_name +
-                       "' moves no mass or inertia: the mass matrix is singular");
+                       "' moves no mass or inertia: the mass matrix is singular; give the bodies it moves mass "
+                       "or inertia, make it a fixed joint, or set an armature on it (Model.set_armature)");
     const int p = model.parent[i];
     if (p < 0) continue;
     const Mat6 Ia = data.IA[i] - data.U[i] * data.U[i].transpose() / data.D[i];
@@ -78,6 +81,7 @@ const VecX& inverse_dynamics(const Model& model, Data& data, const Eigen::Ref<co
     data.tau[i] = data.Sbar[i].dot(data.pA[i]);
     if (model.parent[i] >= 0) data.pA[model.parent[i]] += data.pA[i];
   }
+  if (model.has_armature()) data.tau += model.armature.cwiseProduct(qddot);  // diag(a) q̈
   return data.tau;
 }
 

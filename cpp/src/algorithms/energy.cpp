@@ -9,6 +9,7 @@ double kinetic_energy(const Model& model, Data& data, const Eigen::Ref<const Vec
   forward_kinematics(model, data, q, qdot);
   double K = 0;
   for (int i = 0; i < model.n(); ++i) K += 0.5 * data.v[i].dot(data.Mbar[i] * data.v[i]);
+  if (model.has_armature()) K += 0.5 * model.armature.dot(qdot.cwiseProduct(qdot));  // 1/2 q̇^T diag(a) q̇
   return K;
 }
 

@@ -34,6 +34,7 @@ void kinetic_hessians(const Model& model, Data& data, const Eigen::Ref<const Vec
       data.IA[p] += data.IA[i];
     }
   }
+  if (model.has_armature()) data.Kvv.diagonal() += model.armature;  // 1/2 q̇^T diag(a) q̇: d2/dq̇2 only
 }
 
 }  // namespace hovi

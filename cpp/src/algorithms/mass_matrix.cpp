@@ -17,6 +17,7 @@ const MatX& mass_matrix(const Model& model, Data& data, const Eigen::Ref<const V
     for (int j = model.parent[i]; j >= 0; j = model.parent[j])
       data.Mq(i, j) = data.Mq(j, i) = data.Sbar[j].dot(F);
   }
+  if (model.has_armature()) data.Mq.diagonal() += model.armature;  // M(q) + diag(a)
   return data.Mq;
 }
 

@@ -129,6 +129,7 @@ bool newton_factor(const Model& model, const Quadrature& quad, DelWorkspace& del
   for (int k = 0; k < n * S1; ++k) del.Sdot[k] = ad(del.v[k], del.Sbar[k]);  // Ṡ̄ = ad_{v̄} S̄
   force_derivatives(model, quad, del, ws);
   const JointForces& jf = model.joint_forces;
+  const bool armature = model.has_armature();
 
   // Own terms of every body (children are added as they finish, below).
   for (int i = 0; i < n; ++i)
@@ -175,6 +176,11 @@ bool newton_factor(const Model& model, const Quadrature& quad, DelWorkspace& del
         for (int be = 0; be < S1; ++be) L += A(a, be) * Sb(be).dot(mom.K[ix.G(i, be, gam)]);
         if (a == gam) L += wdt * (-jf.stiffness[i] + Sb(a).dot(adDmu * Sd(a)));  // D_1Q + w dt S̄ ad^D_μ̄ Ṡ̄
         L += idt * b(a, gam) * wdt * (-jf.damping[i]);                               // (1/dt) b D_2Q
+        if (armature) {  // d/dq_i^gam of sum_be a^{a be} a_i q̇_i^be, q̇^be = (1/dt) sum_c b^{be c} q^c
+          double Ab = 0;
+          for (int be = 0; be < S1; ++be) Ab += A(a, be) * b(be, gam);
+          L += idt * model.armature[i] * Ab;
+        }
         ws.Lambda(a, gam - 1) = L;
       }
     }

@@ -86,6 +86,10 @@ void rnea_derivatives(const Model& model, Data& data, const Eigen::Ref<const Vec
       out.M(j, i) = IS.dot(data.Sbar[j]);
     }
   }
+  if (model.has_armature()) {  // tau += diag(a) q̈: nothing in dq, dv
+    out.tau += model.armature.cwiseProduct(qddot);
+    out.M.diagonal() += model.armature;
+  }
 }
 
 }  // namespace hovi

@@ -120,6 +120,7 @@ struct BodyConst {
   double m, h[3], I[6];     // M_i: mass, first moment, rotational inertia (xx yy zz xy xz yz)
   bool has_h = false;
   double k = 0, preload = 0;  // spring: V_s = 1/2 k q^2 - preload q (preload = k qref)
+  double armature = 0;        // joint armature: K_a = 1/2 a q̇^2
 };
 
 // Body state at one control point: body twist V_i = (ω_i, v_i) = Ad_{g_i}^{-1} v̄_i (0..5),
@@ -201,6 +202,7 @@ void body_step(const BodyConst& B, double wdt, const State<T>& P, State<T>& C, W
           cm(C[8], wdt * B.h[2]);
   // joint spring: -V_s = -1/2 k q^2 + preload q
   if (B.k != 0 || B.preload != 0) w.L = w.L + cm(w.th * w.th, -0.5 * wdt * B.k) + cm(w.th, wdt * B.preload);
+  if (B.armature != 0) w.L = w.L + cm(w.thd * w.thd, 0.5 * wdt * B.armature);
 }
 
 // The model's constants and the evaluation of L_d, for any scalar type.
@@ -412,6 +414,7 @@ AutodiffDel::AutodiffDel(const Model& model, const Quadrature& quad, double dt) 
     B.has_h = model.M[i].h.squaredNorm() > 0;
     if (jf.stiffness.size() == im.n) B.k = jf.stiffness[i];
     if (jf.preload.size() == im.n) B.preload = jf.preload[i];
+    B.armature = model.armature[i];
   }
   // Largest number of body states alive at once when the bodies are visited in index order.
   int live = 0;

@@ -41,10 +41,12 @@ bool QuasiNewtonSolver::factor(const Eigen::Ref<const VecX>& qk) {
 // Everything is in hovi's spatial (world) frame, so no frame changes between parent and child.
 bool QuasiNewtonSolver::factor_articulated() {
   const int n = model_.n();
+  const bool armature = model_.has_armature();
   for (int i = 0; i < n; ++i) IA_[i] = Mbar_[i].matrix();  // Î_i starts as the body's own M̄_i
   for (int i = n - 1; i >= 0; --i) {
     U_[i] = IA_[i] * Sbar_[i];       // U_i = Î_i S̄_i
     D_[i] = Sbar_[i].dot(U_[i]);     // D_i = S̄_i^T Î_i S̄_i, the joint's articulated inertia
+    if (armature) D_[i] += model_.armature[i];  // of M(q^k) + diag(a)
     if (!(D_[i] > 1e-14 * (1 + IA_[i].norm()))) return false;  // joint moves no mass: M(q^k) singular
     const int par = model_.parent[i];
     if (par >= 0) IA_[par].noalias() += IA_[i] - U_[i] * U_[i].transpose() / D_[i];  // Î_par += Î_i^a

@@ -44,14 +44,15 @@ void check_inertia(const std::string& what, double mass, const Mat3& inertia) {
   if ((inertia - inertia.transpose()).norm() > 1e-12 * (1 + inertia.norm()))
     throw ModelError(what + ": rotational inertia is not symmetric");
   if (mass == 0 && inertia.norm() == 0) return;  // a massless (virtual) body
-  if (mass == 0) throw ModelError(what + ": non-zero rotational inertia with zero mass");
+  if (mass == 0)
+    throw ModelError(what + ": non-zero rotational inertia with zero mass: give the body its mass, or zero its inertia");
   // Zero principal moments are allowed (point masses and thin rods, common in real URDFs);
   // negative ones are not.
   Eigen::SelfAdjointEigenSolver<Mat3> es(inertia);
   if (es.eigenvalues().minCoeff() < -1e-12 * std::max(1.0, es.eigenvalues().cwiseAbs().maxCoeff())) {
     std::ostringstream os;
     os << what << ": rotational inertia is not positive definite: negative principal moment (principal moments "
-       << es.eigenvalues().transpose() << ")";
+       << es.eigenvalues().transpose() << "): correct the inertia (a rigid body's principal moments are non-negative)";
     throw ModelError(os.str());
   }
 }
@@ -80,6 +81,8 @@ int Model::add_body(const BodySpec& spec_in) {
   M.push_back(SpatialInertia::AtCom(s.mass, s.inertia));
   spec.push_back(std::move(s));
   joint_forces.resize(n());
+  armature.conservativeResize(n());
+  armature[i] = 0;
   return i;
 }
 
@@ -100,6 +103,14 @@ void Model::add_spring(int joint, double stiffness, double rest) {
   check_finite(rest, "add_spring");
   joint_forces.stiffness[joint] += stiffness;
   joint_forces.preload[joint] += stiffness * rest;
+}
+
+void Model::set_armature(int joint, double value) {
+  check_joint(*this, joint, "set_armature");
+  if (!std::isfinite(value) || value < 0)
+    throw ModelError("set_armature: joint '" + spec[joint].joint_name +
+                     "': armature must be finite and non-negative, got " + std::to_string(value));
+  armature[joint] = value;
 }
 
 void Model::add_damper(int joint, double damping) {

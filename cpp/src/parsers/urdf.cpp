@@ -231,7 +231,9 @@ class TreeBuilder {
                             -1, SE3::Identity());
       visit(*root, root_body, SE3::Identity());
     }
-    if (specs_.empty()) throw UrdfError("URDF '" + urdf_.getName() + "' has no movable joint");
+    if (specs_.empty())
+      throw UrdfError("URDF '" + urdf_.getName() + "' has no movable joint: with base='fixed' it is one rigid body "
+                      "welded to the world; load it with base='floating' (or 'planar') to let it move");
     Model model;
     for (std::size_t i = 0; i < specs_.size(); ++i) {
       BodySpec s = specs_[i];

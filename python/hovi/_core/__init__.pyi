@@ -161,7 +161,7 @@ class Model:
         """
     def kinetic_energy(self, q: numpy.typing.ArrayLike, qdot: numpy.typing.ArrayLike) -> float:
         """
-        Kinetic energy K = 1/2 q̇^T M(q) q̇; q, qdot: (n,); returns a float.
+        Kinetic energy K = 1/2 q̇^T M(q) q̇ (joint armature included); q, qdot: (n,); returns a float.
         """
     def kinetic_energy_hessians(self, q: numpy.typing.ArrayLike, qdot: numpy.typing.ArrayLike) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]]:
         """
@@ -170,11 +170,18 @@ class Model:
         """
     def mass_matrix(self, q: numpy.typing.ArrayLike) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         """
-        q: (n,); returns the joint-space mass matrix M(q), (n, n).
+        q: (n,); returns the joint-space mass matrix M(q), (n, n), the joint armature on its diagonal.
         """
     def potential_energy(self, q: numpy.typing.ArrayLike) -> float:
         """
         q: (n,); the gravitational potential -sum m_i g^T p_i (p_i the centre of mass) plus the springs' 1/2 k (q - rest)^2.
+        """
+    def set_armature(self, joint: int | str, armature: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        """
+        Joint armature (rotor inertia reflected through the transmission, Pinocchio's model.armature,
+        MuJoCo's joint armature) on a joint (index or name): adds 1/2 armature q̇_joint^2 to the kinetic
+        energy, i.e. armature to the joint's diagonal entry of the mass matrix. Replaces the joint's
+        previous value. Raises hovi.ModelError unless armature is finite and non-negative.
         """
     def spatial_twists(self, q: numpy.typing.ArrayLike) -> numpy.typing.NDArray[numpy.float64]:
         """
@@ -193,6 +200,14 @@ class Model:
         """
         (n, m) actuation map B: joint forces Q += B u.
         """
+    @property
+    def armature(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        (n,) joint armature per joint (see set_armature; 0 where none). Set it whole with an (n,) array of finite, non-negative values.
+        """
+    @armature.setter
+    def armature(self, arg1: numpy.typing.ArrayLike) -> None:
+        ...
     @property
     def body_names(self) -> list[str]:
         """

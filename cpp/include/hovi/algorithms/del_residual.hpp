@@ -3,7 +3,9 @@
 //   r^{k,a}   = D_{a+1} L_d + F_d^{k,a},   a = 1..s-1
 //   p^{k+1}   = D_{s+1} L_d + F_d^{k,s}
 // through the articulated-body momentum μ̄ and impulse Γ̄, with gravity, joint forces
-// (springs, dampers, actuation) and body wrenches; work for absent forces is skipped.
+// (springs, dampers, actuation) and body wrenches; work for absent forces is skipped. Joint
+// armature, 1/2 a_i q̇_i^2 in K, adds a_i q̇_i^b to the joint momentum S̄_i^b . μ̄_i^b of the
+// kinetic term sum_b a^{ab} S̄^b . μ̄^b (it moves no body, so μ̄ and Γ̄ do not carry it).
 #pragma once
 #include "hovi/algorithms/del_workspace.hpp"
 

@@ -1,6 +1,7 @@
 // Forward dynamics by the articulated-body algorithm and inverse dynamics by recursive
 // Newton-Euler, both in spatial (world-frame) coordinates with gravity entering as the
-// external wrench F̄_i of every body.
+// external wrench F̄_i of every body; the joint armature adds diag(a) to the mass matrix (ABA: to
+// the joint's D_i = S̄_i^T IA_i S̄_i, as Pinocchio does).
 #pragma once
 #include "hovi/model/data.hpp"
 

@@ -1,5 +1,6 @@
 // Joint-space mass matrix by composite rigid bodies in spatial coordinates:
-// M[i][j] = S̄_j^T (sum of M̄ over the subtree of i) S̄_i for j in anc(i) ∪ {i}.
+// M[i][j] = S̄_j^T (sum of M̄ over the subtree of i) S̄_i for j in anc(i) ∪ {i}, plus the joint
+// armature on the diagonal.
 #pragma once
 #include "hovi/model/data.hpp"
 

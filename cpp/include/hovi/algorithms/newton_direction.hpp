@@ -1,7 +1,8 @@
 // Appendix Algorithms A.1 (forward pass) and A.2 (backward pass), with the index ranges of
 // ERRATA A-1: the exact Newton direction dq = -J^{-1} r of the DEL equations with respect to
 // the control points q^{k,1..s}, in O(s^3 n). Index ranges: a, rho in 0..s; gamma, nu in 1..s
-// (stored at gamma-1, nu-1); the residual rows a in 0..s-1.
+// (stored at gamma-1, nu-1); the residual rows a in 0..s-1. Joint armature (del_residual.hpp)
+// depends on joint i's own control points only, so it enters the pivot block Λ_i alone.
 #pragma once
 #include <vector>
 

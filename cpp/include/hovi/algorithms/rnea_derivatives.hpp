@@ -9,7 +9,8 @@
 namespace hovi {
 
 // Derivatives of inverse dynamics tau = ID(q, v, a) (recursive Newton-Euler, gravity included,
-// joint forces NOT included): value, ∂tau/∂q, ∂tau/∂v and ∂tau/∂a = M(q), O(n^2).
+// joint forces NOT included, joint armature included): value, ∂tau/∂q, ∂tau/∂v and ∂tau/∂a = M(q),
+// O(n^2).
 struct RneaDerivatives {
   explicit RneaDerivatives(const Model& model);
   VecX tau;

@@ -3,7 +3,8 @@
 // differentiation (Eigen's AutoDiffScalar, nested for second derivatives) of the discrete
 // Lagrangian
 //   L_d(q^0..q^s) = sum_a w^a dt [K(q^a, q̇^a) - V(q^a)],   q̇^a = (1/dt) sum_b b^{ab} q^b,
-// written once as scalar-templated forward kinematics in body coordinates. Derivatives are
+// written once as scalar-templated forward kinematics in body coordinates (K includes the joint
+// armature, 1/2 a_i q̇_i^2). Derivatives are
 // taken with respect to all (s+1) n control-point coordinates at once (a generic AD of L_d, no
 // use of the tree structure), so the gradient costs O(s^2 n^2) and the Hessian O(s^3 n^3),
 // against O(s n), O(s^3 n) and O(s^2 n^2) for Algorithm 1, A.1/A.2 and Sec. 4.

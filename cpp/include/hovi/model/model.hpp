@@ -76,6 +76,12 @@ class Model {
   int n_constraints() const;                                          // equations, sum of dims
   bool has_gravity() const { return gravity.squaredNorm() > 0; }
   void add_visual(const Visual& visual);  // checked (check_visual); metadata only
+  // Joint armature a_i (rotor inertia reflected through the transmission; Pinocchio's
+  // model.armature, MuJoCo's joint armature): adds 1/2 a_i q̇_i^2 to the kinetic energy, so the
+  // mass matrix is M(q) + diag(a). Throws ModelError unless the joint exists and value is finite
+  // and non-negative.
+  void set_armature(int joint, double value);
+  bool has_armature() const { return armature.size() && armature.maxCoeff() > 0; }
 
   // Topology
   std::vector<int> parent;                 // par(i), -1 for the world {0}
@@ -88,6 +94,7 @@ class Model {
   std::vector<BodySpec> spec;
   Vec3 gravity = Vec3(0, 0, -9.81);        // world frame
   JointForces joint_forces;                // springs, dampers, actuation map
+  VecX armature;                           // a_i per joint, 0 where none (set_armature)
   std::vector<std::shared_ptr<const BodyWrench>> wrenches;  // external wrenches on bodies
   std::vector<std::shared_ptr<const Constraint>> constraints;  // holonomic constraints h(q) = 0
   std::vector<Visual> visuals;             // geometry for viewers (URDF <visual>), not dynamics
