@@ -399,6 +399,19 @@ class Integrator:
             raise ValueError("u contains NaN or infinity")
         return np.ascontiguousarray(U.reshape(lead + (steps, S1 * m)))
 
+    def _step_controls(self, u: Optional[npt.ArrayLike], count: int) -> Optional[FloatArray]:
+        """u of ``count`` states, (count, m) held or (count, s+1, m) per control point, as the core takes
+        it: (count, (s+1) m)."""
+        if u is None:
+            return None
+        U = np.asarray(u, dtype=float)
+        m, S1 = self._core.n_controls, self.s + 1
+        if m and U.shape not in ((count, m), (count, S1, m)):
+            raise ValueError(f"u must have shape ({count}, {m}) or ({count}, {S1}, {m}), got {U.shape}")
+        U = self._rollout_controls(U[:, None] if U.ndim == 3 else U, 1, (count,))
+        assert U is not None
+        return U.reshape(count, -1)
+
     def _batch_states(self, q: npt.ArrayLike, p: Optional[npt.ArrayLike], qdot: Optional[npt.ArrayLike],
                       names: Tuple[str, str, str]) -> Tuple[FloatArray, FloatArray, bool]:
         """(q (B, n), second (B, n), velocities) of a batch of states given with momenta or
@@ -466,12 +479,8 @@ class Integrator:
         B = 0, NaN or infinity, threads < 1, a state that violates the constraints).
         """
         Q, second, velocities = self._batch_states(qs, ps, qdots, ("qs", "ps", "qdots"))
-        B, S1 = len(Q), self.s + 1
-        U = None
-        if u is not None:
-            U = np.asarray(u, dtype=float)
-            U = self._rollout_controls(U[:, None] if U.ndim == 3 else U, 1, (B,))
-        raw = self._core.step_batch(Q, second, velocities, None if U is None else U.reshape(B, -1), threads)
+        U = self._step_controls(u, len(Q))
+        raw = self._core.step_batch(Q, second, velocities, U, threads)
         cp = raw["control_points"]
         return StepBatch(q_next=cp[:, -1].copy(), p_next=raw["p_next"], control_points=cp, converged=raw["converged"],
                          iterations=raw["iterations"], factorizations=raw["factorizations"],
