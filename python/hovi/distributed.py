@@ -60,7 +60,7 @@ def _connect(client: ClientLike) -> Iterator[Client]:
         with Client(client) as c:
             yield c
     elif client is None:
-        with LocalCluster(processes=True, threads_per_worker=1) as cluster, Client(cluster) as c:
+        with LocalCluster(processes=True, threads_per_worker=1, dashboard_address=None) as cluster, Client(cluster) as c:
             yield c
     else:
         raise TypeError(f"client must be a distributed.Client, a scheduler address or None, got {type(client).__name__}")
