@@ -21,6 +21,7 @@ thread a chunk. ``chunk_size`` (items per task) overrides it. Inside a task the 
 from __future__ import annotations
 
 import dataclasses
+import importlib
 import math
 from contextlib import contextmanager
 from typing import TYPE_CHECKING, Any, Callable, Iterator, Optional, Sequence, Union
@@ -47,26 +48,27 @@ ClientLike = Union["Client", str, None]
 
 
 @contextmanager
-def _connect(client: ClientLike) -> Iterator[Client]:
+def _connect(client: ClientLike) -> Iterator[Any]:
     """The given Client; a Client of the scheduler at an address; or a new LocalCluster of worker
     processes, closed (with its Client) when the block ends, whatever happens in it."""
     try:
-        from distributed import Client, LocalCluster
+        dd: Any = importlib.import_module("distributed")  # untyped: Any
     except ImportError as e:  # pragma: no cover - depends on the installation
         raise ImportError("hovi.distributed needs dask.distributed: pip install 'hovi[distributed]'") from e
-    if isinstance(client, Client):
+    if isinstance(client, dd.Client):
         yield client
     elif isinstance(client, str):
-        with Client(client) as c:
+        with dd.Client(client) as c:
             yield c
     elif client is None:
-        with LocalCluster(processes=True, threads_per_worker=1, dashboard_address=None) as cluster, Client(cluster) as c:
+        with dd.LocalCluster(processes=True, threads_per_worker=1, dashboard_address=None) as cluster, \
+                dd.Client(cluster) as c:
             yield c
     else:
         raise TypeError(f"client must be a distributed.Client, a scheduler address or None, got {type(client).__name__}")
 
 
-def _chunks(count: int, solves_per_item: int, client: Client, chunk_size: Optional[int]) -> list[slice]:
+def _chunks(count: int, solves_per_item: int, client: Any, chunk_size: Optional[int]) -> list[slice]:
     """Consecutive slices of ``count`` items, ``chunk_size`` each (default: see the module docstring)."""
     if chunk_size is None:
         threads = max(1, sum(client.nthreads().values()))
@@ -77,7 +79,7 @@ def _chunks(count: int, solves_per_item: int, client: Client, chunk_size: Option
     return [slice(i, min(i + size, count)) for i in range(0, count, size)]
 
 
-def _map(client: Client, task: Callable[..., Any], shared: Any, pieces: Sequence[tuple[Any, ...]]) -> list[Any]:
+def _map(client: Any, task: Callable[..., Any], shared: Any, pieces: Sequence[tuple[Any, ...]]) -> list[Any]:
     """task(shared, *piece) for every piece on the cluster, results in the order of the pieces;
     ``shared`` is sent to every worker once."""
     on_workers = client.scatter(shared, broadcast=True, hash=False)

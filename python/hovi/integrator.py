@@ -408,9 +408,9 @@ class Integrator:
         m, S1 = self._core.n_controls, self.s + 1
         if m and U.shape not in ((count, m), (count, S1, m)):
             raise ValueError(f"u must have shape ({count}, {m}) or ({count}, {S1}, {m}), got {U.shape}")
-        U = self._rollout_controls(U[:, None] if U.ndim == 3 else U, 1, (count,))
-        assert U is not None
-        return U.reshape(count, -1)
+        per_step = self._rollout_controls(U[:, None] if U.ndim == 3 else U, 1, (count,))
+        assert per_step is not None
+        return per_step.reshape(count, -1)
 
     def _batch_states(self, q: npt.ArrayLike, p: Optional[npt.ArrayLike], qdot: Optional[npt.ArrayLike],
                       names: Tuple[str, str, str]) -> Tuple[FloatArray, FloatArray, bool]:

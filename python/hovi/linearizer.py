@@ -167,9 +167,9 @@ class Linearizer:
                 errors[i] = e
             linearised = todo[[e is None for e in errs]]
             ok = np.array([e is None for e in errs], dtype=bool)
-            if As is not None:
+            if As is not None and a is not None:
                 As[linearised] = a[ok]
-            if Bs is not None:
+            if Bs is not None and b_ is not None:
                 Bs[linearised] = b_[ok]
         if Bs is not None and hold:
             Bs = _hold(Bs, m)
