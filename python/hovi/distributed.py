@@ -45,6 +45,7 @@ __all__ = ["rollout_batch", "step_batch", "one_step_batch", "solve_trajopt", "SO
 SOLVES_PER_TASK = 4000
 
 ClientLike = Union["Client", str, None]
+"""A ``distributed.Client``, a scheduler's address, or None (a LocalCluster for the call)."""
 
 
 @contextmanager
