@@ -23,6 +23,8 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
+import resource
 import time
 
 import numpy as np
@@ -45,6 +47,18 @@ def best_time(run, repeats=REPEATS) -> float:
     return min(times)
 
 
+def timed(run) -> dict:
+    """Wall time, CPU time of this process (all its threads) and its context switches over run():
+    cpu / wall is the number of cores the run got; voluntary switches are waits (on a lock, say),
+    involuntary ones preemption by other processes."""
+    r0, t0 = resource.getrusage(resource.RUSAGE_SELF), time.perf_counter()
+    run()
+    wall, r1 = time.perf_counter() - t0, resource.getrusage(resource.RUSAGE_SELF)
+    cpu = r1.ru_utime - r0.ru_utime + r1.ru_stime - r0.ru_stime
+    return {"seconds": wall, "cpu_seconds": cpu, "cores_used": cpu / wall,
+            "voluntary_switches": r1.ru_nvcsw - r0.ru_nvcsw, "involuntary_switches": r1.ru_nivcsw - r0.ru_nivcsw}
+
+
 def rollout_threads(states, steps, thread_counts):
     integ = hovi.Integrator(hovi.models.pendulum(12), s=2, dt=0.01)
     rng = np.random.default_rng(0)
@@ -52,10 +66,14 @@ def rollout_threads(states, steps, thread_counts):
     integ.rollout_batch(q0s[:2], 10, threads=1)  # warm up (workspaces, pages)
     rows = []
     for threads in thread_counts:
-        seconds = best_time(lambda: integ.rollout_batch(q0s, steps, threads=threads))
-        rows.append({"threads": threads, "seconds": seconds, "steps_per_second": states * steps / seconds})
+        best = min((timed(lambda: integ.rollout_batch(q0s, steps, threads=threads)) for _ in range(REPEATS)),
+                   key=lambda r: r["seconds"])
+        rows.append({"threads": threads, **best, "steps_per_second": states * steps / best["seconds"]})
     for r in rows:
         r["efficiency"] = r["steps_per_second"] / rows[0]["steps_per_second"]
+        # the same per core the run actually got (less than `threads` when other jobs hold cores)
+        r["efficiency_per_core_used"] = (r["steps_per_second"] / r["cores_used"]) / (
+            rows[0]["steps_per_second"] / rows[0]["cores_used"])
     return {"model": "pendulum(12)", "s": 2, "dt": 0.01, "states": states, "steps": steps, "rows": rows}
 
 
@@ -78,7 +96,8 @@ def dask_fig2(states, worker_counts, tasks):
                 return hovi.distributed.one_step_batch(model, 0.01, q0, qd0, "newton", client=client)
             study()  # warm up: the workers import hovi
             seconds = best_time(study)
-            rows.append({"run": f"Dask LocalCluster, {workers} worker processes", "workers": workers,
+            rows.append({"run": f"Dask LocalCluster, {workers} worker process{'es' if workers > 1 else ''}",
+                         "workers": workers,
                          "tasks": len(hovi.distributed._chunks(states, 1, client, None)),
                          "seconds": seconds, "solves_per_second": states / seconds})
             if workers == max(worker_counts):
@@ -126,11 +145,16 @@ def cluster_section(out) -> str:
     # chunks that keep the overhead at 5% of a task's work; tasks long enough that 100 workers
     # (or 1000) do not ask more of the scheduler than a tenth of its rate
     amortise = math.ceil(per_task / (0.05 * solve))
+    default_task = hovi.distributed.SOLVES_PER_TASK * solve  # seconds of a default task of Fig. 2 solves
     lines = [
-        "| measured (this machine: 2 cores, shared with other jobs while measured) | |",
+        f"| measured (this machine: {out['machine_cores']} cores; load average {out['load_average'][0]:.1f} "
+        "when the run began) | |",
         "|---|---|",
         f"| `rollout_batch`, 12-link pendulum, Simpson: steps per second on 1 / 2 threads | "
         f"{thr[0]['steps_per_second']:.0f} / {thr[-1]['steps_per_second']:.0f} (efficiency {eff:.2f}x; target ≥ 1.8x) |",
+        f"| … cores the runs got (CPU time / wall time); waits of a thread on another (voluntary context switches) | "
+        f"{thr[0]['cores_used']:.2f} / {thr[-1]['cores_used']:.2f}; {thr[-1]['voluntary_switches']} |",
+        f"| … steps per second per core got, 2 threads against 1 | {thr[-1]['efficiency_per_core_used']:.2f}x |",
     ]
     for r in dk:
         lines.append(f"| Fig. 2 study ({out['dask']['states']} one-step solves, 32 links): {r['run']} | "
@@ -150,8 +174,9 @@ def cluster_section(out) -> str:
         "(sending the chunk and the result, deserialising, the Python around the C++ batch): for that to "
         f"be 5% of the task, a chunk needs {amortise} solves of {1e6 * solve:.0f} µs. "
         f"`hovi.distributed` puts {hovi.distributed.SOLVES_PER_TASK} solves in a task by default (a rollout "
-        "of K steps counts K), within both limits up to a few hundred workers; for more, raise "
-        "`chunk_size` so that a task lasts seconds. The results travel back with each task (a rollout "
+        f"of K steps counts K): {duration(default_task)} of such solves, which keeps the scheduler within its "
+        f"rate up to about {default_task * rate:.0f} workers ({default_task * rate / 10:.0f} with the tenfold "
+        "margin); for more, raise `chunk_size` so that a task lasts seconds. The results travel back with each task (a rollout "
         "returns (s+3) n doubles per step), so on a network the chunk size also sets the message size. "
         "Within a machine the C++ threads of `rollout_batch` have no such costs (a workspace per thread, "
         "no copies beyond the results): use them for the cores of one machine and Dask across machines, "
@@ -165,11 +190,12 @@ def main():
     ap.add_argument("--quick", action="store_true", help="a few states and steps (a smoke run)")
     args = ap.parse_args()
     states, steps, fig2, tasks = (8, 40, 60, 100) if args.quick else (96, 400, 2000, 1000)
-    out = {"threads": rollout_threads(states, steps, [1, 2]), "dask": dask_fig2(fig2, [1, 2], tasks)}
+    out = {"load_average": list(os.getloadavg()), "machine_cores": os.cpu_count(),
+           "threads": rollout_threads(states, steps, [1, 2]), "dask": dask_fig2(fig2, [1, 2], tasks),
+           "solves_per_task": hovi.distributed.SOLVES_PER_TASK}
     text = cluster_section(out)
     name = "scaling_quick" if args.quick else "scaling"
-    write_json(f"{name}.json", {**out, "load_average": list(__import__("os").getloadavg()),
-                                "solves_per_task": hovi.distributed.SOLVES_PER_TASK})
+    write_json(f"{name}.json", out)
     print(text)
     if not args.quick:
         update_readme_section("scaling", text)
