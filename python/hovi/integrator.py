@@ -130,7 +130,8 @@ class Integrator:
 
     Threads: one Integrator may be used from several threads at once (each call runs on its own
     workspace, with the GIL released in rollouts and steps); results are those of the same calls
-    made in sequence. Each call depends on its arguments only.
+    made in sequence. Each call depends on its arguments only. ``rollout_batch`` and
+    ``step_batch`` run many initial states on a pool of C++ threads in one call.
 
     Controls ``u`` are given per control point, shape (s+1, m), or held constant over a step,
     shape (m,). Samples of a smooth u(t) keep order 2s; a zero-order hold is first-order
@@ -455,7 +456,7 @@ class Integrator:
         if steps < 0:
             raise ValueError("steps must be non-negative")
         Q, second, velocities = self._batch_states(q0s, p0s, qdot0s, ("q0s", "p0s", "qdot0s"))
-        _check_trajectory_memory(steps, self.s, self.n, len(Q))
+        _check_trajectory_memory(steps, self.s, self.n, 2 * len(Q))  # the C++ results and the stacked arrays
         U = self._rollout_controls(u, steps, (len(Q),))
         raw = self._core.rollout_batch(Q, second, velocities, steps, None if U is None else U.reshape(-1, U.shape[-1]),
                                        threads)
