@@ -1,6 +1,7 @@
 """Shared helpers of the benchmark scripts: machine description, JSON output, slopes."""
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import platform
@@ -22,6 +23,40 @@ def machine() -> dict:
     except OSError:
         pass
     return {"cpu": cpu, "cores": os.cpu_count(), "python": sys.version.split()[0], "platform": platform.platform()}
+
+
+def add_parallel_arguments(ap) -> None:
+    """--workers N and --scheduler ADDRESS of the studies that sweep many states (see parallel())."""
+    ap.add_argument("--workers", type=int, default=1,
+                    help="local C++ threads over the states (rollout_batch / one-step batch); default 1: the times "
+                         "per solve are then those of one core alone; with --scheduler local, the number of worker processes")
+    ap.add_argument("--scheduler", default=None,
+                    help="run the states on a Dask cluster (hovi.distributed): a scheduler's address "
+                         "(tcp://host:8786), or 'local' for a LocalCluster of --workers processes on this machine")
+
+
+@contextlib.contextmanager
+def parallel(args):
+    """The Dask Client of --scheduler (None without one: the study runs on --workers local threads);
+    a LocalCluster started for 'local' is closed at the end."""
+    if args.workers < 1:
+        sys.exit("--workers must be at least 1")
+    if args.scheduler is None:
+        yield None
+        return
+    from distributed import Client, LocalCluster
+    if args.scheduler == "local":
+        with LocalCluster(n_workers=args.workers, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
+                Client(cluster) as client:
+            yield client
+    else:
+        with Client(args.scheduler) as client:
+            yield client
+
+
+def parallel_description(args) -> dict:
+    """How the states were spread, for the JSON files."""
+    return {"workers": args.workers, "scheduler": args.scheduler}
 
 
 def write_json(name: str, payload: dict) -> str:

@@ -4,7 +4,11 @@ qdot0 = 0): the largest dt at which 2 s rollouts still converge from at least 99
 conditions, and the energy error over 10^5 steps at that dt, or, where a 10^5-step run does not
 complete there, at the largest smaller dt of the grid where it does (both recorded).
 
-    python bench/stability.py [--quick] [--stress]
+    python bench/stability.py [--quick] [--stress] [--workers N] [--scheduler ADDRESS|local]
+
+The rollouts of the variational integrators run as one batch per dt: on --workers C++ threads
+(Integrator.rollout_batch) or on a Dask cluster (--scheduler, hovi.distributed.rollout_batch),
+with the same results; Hermite-Simpson's run one by one.
 
 Writes bench/results/stability.json and .png, and the table in bench/README.md.
 
@@ -27,8 +31,9 @@ import numpy as np
 from tqdm import tqdm
 
 import hovi
+import hovi.distributed
 from hovi.baselines import HermiteSimpson
-from common import RESULTS, update_readme_section, write_json
+from common import RESULTS, add_parallel_arguments, parallel, parallel_description, update_readme_section, write_json
 
 DTS = [0.01, 0.02, 0.04, 0.06, 0.08, 0.1, 0.12, 0.15, 0.2, 0.25, 0.3]
 NAMES = ["VI s=1 (trapezoidal)", "VI s=2 (Simpson)", "VI s=3", "Hermite-Simpson"]
@@ -53,13 +58,32 @@ def make(name, model, dt):
     return run
 
 
+def converged_share(name, model, dt, q0s, steps, workers, client):
+    """The share of the rollouts from q0s (at rest) that complete `steps` steps."""
+    if not name.startswith("VI"):
+        run = make(name, model, dt)
+        return float(np.mean([run(q0, steps)[0] for q0 in q0s]))
+    integ = hovi.Integrator(model, s=int(name[5]), dt=dt)
+    if client is None:
+        batch = integ.rollout_batch(q0s, steps, threads=workers)
+    else:
+        batch = hovi.distributed.rollout_batch(integ, q0s, steps, client=client)
+    return float(np.mean(batch.converged & (batch.steps == steps)))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--quick", action="store_true", help="10 initial conditions, 1000 energy steps")
     ap.add_argument("--stress", action="store_true", help="only the stress matrix")
+    add_parallel_arguments(ap)
     args = ap.parse_args()
     if args.stress:
         return stress_matrix(args.quick)
+    with parallel(args) as client:
+        study(args, client)
+
+
+def study(args, client):
     model = hovi.models.pendulum(12)
     n_states, energy_steps, T = (10, 1000, 0.5) if args.quick else (100, 100_000, 2.0)
     dts = DTS[:4] if args.quick else DTS
@@ -68,9 +92,8 @@ def main():
     for name in NAMES:
         success[name] = {}
         for dt in tqdm(dts, desc=name):
-            run = make(name, model, dt)
             steps = max(1, int(round(T / dt)))
-            success[name][dt] = float(np.mean([run(q0, steps)[0] for q0 in q0s]))
+            success[name][dt] = converged_share(name, model, dt, q0s, steps, args.workers, client)
             if success[name][dt] < 0.5:  # far beyond the limit: larger steps only fail more
                 break
     largest = {name: max([dt for dt, r in success[name].items() if r >= 0.99], default=None) for name in NAMES}
@@ -94,6 +117,7 @@ def main():
                         "trace": rel[:: max(1, len(rel) // 2000)].tolist()}
     name = "stability_quick" if args.quick else "stability"
     write_json(f"{name}.json", {"n_links": 12, "states": n_states, "rollout_T": T, "energy_steps": energy_steps,
+                                "parallel": parallel_description(args),
                                 "success": {k: {str(dt): v for dt, v in d.items()} for k, d in success.items()},
                                 "largest_dt_99": largest, "energy": energy})
     import matplotlib

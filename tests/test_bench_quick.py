@@ -9,12 +9,15 @@ BENCH = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SCRIPTS = ["speed.py", "linearization.py", "constraints.py", "constrained_energy.py", "fig2_quasi_newton.py", "fig3_autodiff.py",
            "fig4_hermite_simpson.py", "stability.py", "trajopt.py", "pareto.py", "energy_runtime.py",
            "direction_crossover.py", "fuzz_urdf.py", "soak_threads.py", "robot_sweep.py", "long_run.py",
-           "robot_examples.py"]
+           "robot_examples.py", "scaling.py",
+           # the studies over many states, on local threads and on a Dask LocalCluster
+           "fig2_quasi_newton.py --workers 2", "stability.py --scheduler local --workers 2"]
 
 
-@pytest.mark.parametrize("script", SCRIPTS)
-def test_bench_script_quick_mode(script):
-    done = subprocess.run([sys.executable, os.path.join(BENCH, script), "--quick"], cwd=BENCH,
+@pytest.mark.parametrize("command", SCRIPTS)
+def test_bench_script_quick_mode(command):
+    script, *args = command.split()
+    done = subprocess.run([sys.executable, os.path.join(BENCH, script), "--quick", *args], cwd=BENCH,
                           capture_output=True, text=True, timeout=600)
     assert done.returncode == 0, done.stdout[-2000:] + done.stderr[-4000:]
     stem = script[:-3]

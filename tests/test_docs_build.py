@@ -41,7 +41,7 @@ def _anchors(site, page):
 def test_build_strict(site):
     """`mkdocs build --strict` exits 0 (in the fixture, which shows the output if not) with every page."""
     for page in ["index.html", "getting-started/index.html", "benchmarks/index.html", "reference/hovi/index.html"] + [
-            f"tutorials/{t}/index.html" for t in ("simulate", "linearise", "constrain", "optimise", "view")]:
+            f"tutorials/{t}/index.html" for t in ("simulate", "linearise", "constrain", "optimise", "view", "many")]:
         assert (site / page).is_file(), page
 
 
@@ -51,7 +51,9 @@ def test_api_reference_renders_compiled_and_python_members(site):
                  "hovi.Model.mass_matrix", "hovi.Model.n", "hovi.Integrator", "hovi.Integrator.rollout",
                  "hovi.Integrator.step", "hovi.Integrator.s", "hovi.Trajectory", "hovi.Trajectory.q",
                  "hovi.Trajectory.energy", "hovi.Linearizer", "hovi.Linearizer.step_jacobians",
-                 "hovi.load_trajectory", "hovi.ModelError", "hovi.URDFError"]:
+                 "hovi.load_trajectory", "hovi.ModelError", "hovi.URDFError", "hovi.Integrator.rollout_batch",
+                 "hovi.Integrator.step_batch", "hovi.TrajectoryBatch", "hovi.TrajectoryBatch.trajectory",
+                 "hovi.StepBatch", "hovi.JacobianBatch", "hovi.Linearizer.rollout_jacobians_batch"]:
         assert name in anchors, f"{name} is missing from the API reference"
     text = _text(site, "reference/hovi")
     # docstrings of the compiled module (read by inspection) and of the Python layer
@@ -68,6 +70,8 @@ def test_api_reference_renders_compiled_and_python_members(site):
     viewer = _anchors(site, "reference/viewer")
     assert {"hovi.viewer.Viewer", "hovi.viewer.Viewer.play", "hovi.viewer.animation_html", "hovi.video.render_video",
             "hovi.geometry.model_shapes"} <= viewer
+    assert {"hovi.distributed.rollout_batch", "hovi.distributed.step_batch", "hovi.distributed.one_step_batch",
+            "hovi.distributed.solve_trajopt"} <= _anchors(site, "reference/distributed")
     trajopt = _anchors(site, "reference/trajopt")
     assert {"hovi.trajopt.Problem", "hovi.trajopt.solve", "hovi.trajopt.Result", "hovi.trajopt.ControlEffort",
             "hovi.trajopt.BodyPoint", "hovi.trajopt.Problem.add_cost"} <= trajopt

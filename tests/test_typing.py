@@ -55,10 +55,11 @@ def test_package_is_typed():
 
 
 def test_mypy_strict_on_the_core_modules(tmp_path):
-    """The modules of `import hovi` (not the optional trajopt, plotting, cli) are themselves strict-clean."""
+    """The modules of `import hovi` (not the optional trajopt, plotting, cli) and hovi.distributed are
+    themselves strict-clean."""
     pytest.importorskip("mypy")
-    modules = ["hovi", "hovi.integrator", "hovi.linearizer", "hovi.trajectory_io", "hovi.models", "hovi.robots",
-               "hovi._typing"]
+    modules = ["hovi", "hovi.integrator", "hovi.linearizer", "hovi.batch", "hovi.trajectory_io", "hovi.models",
+               "hovi.robots", "hovi._typing", "hovi.distributed"]
     proc = subprocess.run([sys.executable, "-m", "mypy", "--strict", "--no-incremental", "--cache-dir",
                            str(tmp_path / "cache"), *[a for m in modules for a in ("-m", m)]],
                           cwd=tmp_path, capture_output=True, text=True, timeout=600)

@@ -14,6 +14,7 @@
 #include "hovi/baselines/quasi_newton.hpp"
 #include "hovi/errors.hpp"
 #include "hovi/integrators/step_continuation.hpp"
+#include "hovi/parallel/parallel_for.hpp"
 #include "py_model.hpp"
 
 namespace hovi::py_bind {
@@ -24,8 +25,21 @@ using Clock = std::chrono::steady_clock;
 // One trapezoidal step from each state (rows of Q0, QD0) by hovi's Newton or the quasi-Newton,
 // from the same initial guess q + dt q̇ and with the same stopping rule; or by continuation in
 // the step length (step_continuation.hpp), alone or as the fallback of a failed Newton solve.
+// The states are spread over `threads` C++ threads (parallel_for.hpp), each with its own solvers.
+struct OneStepWorkspace {
+  OneStepWorkspace(const Model& model, const Quadrature& quad, double dt, const QuasiNewtonOptions& qopt)
+      : newton(model, quad), qn(model, dt, qopt), cws(model, quad), data(model), qc(model.n(), 2),
+        u(MatX::Zero(model.n_controls(), 2)), p_next(model.n()) {}
+  NewtonSolver newton;
+  QuasiNewtonSolver qn;
+  ContinuationWorkspace cws;
+  Data data;
+  MatX qc, u;
+  VecX p_next;
+};
+
 StrDict one_step_batch(const PyModel& pm, double dt, const ArrayLike& Q0, const ArrayLike& QD0,
-                        const std::string& method, double tol, int max_iterations) {
+                        const std::string& method, double tol, int max_iterations, const OptInt& threads) {
   const Model& model = pm.model;
   const int n = model.n();
   const MatX q0 = as_matrix(Q0, "q0", -1, n), qd0 = as_matrix(QD0, "qdot0", q0.rows(), n);
@@ -34,41 +48,39 @@ StrDict one_step_batch(const PyModel& pm, double dt, const ArrayLike& Q0, const 
   const bool continuation = method == "continuation" || method == "newton+continuation";
   if (!newton_first && !continuation && method != "quasi_newton")
     throw InputError("method must be 'newton', 'quasi_newton', 'continuation' or 'newton+continuation'");
-  Eigen::VectorXi iterations(N), converged(N), residual_evaluations(N);
-  std::vector<std::string> status(N);
-  VecX seconds(N), residual(N), h_reached = VecX::Constant(N, NAN);
-  MatX q_next(N, n);
+  const int nthreads = thread_count(threads_arg(threads));
+  Eigen::VectorXi iterations = Eigen::VectorXi::Zero(N), converged = iterations, residual_evaluations = iterations;
+  std::vector<std::string> status(N, "error"), errors;
+  VecX seconds = VecX::Zero(N), residual = VecX::Constant(N, NAN), h_reached = VecX::Constant(N, NAN);
+  MatX q_next = MatX::Constant(N, n, NAN);
   {
     py::gil_scoped_release release;
-    Quadrature quad(1);
+    const Quadrature quad(1);
     SolverOptions opt;
     opt.tol = tol;
     opt.max_iterations = max_iterations;
     opt.reuse = Reuse::Never;  // the paper's exact Newton: a fresh recursive Jacobian every iteration
     opt.direction = Direction::Recursive;
-    NewtonSolver newton(model, quad);
     QuasiNewtonOptions qopt;
     qopt.tol = tol;
     qopt.max_iterations = max_iterations;
-    QuasiNewtonSolver qn(model, dt, qopt);
-    ContinuationWorkspace cws(model, quad);
-    Data data(model);
-    MatX qc(n, 2), u(model.n_controls(), 2);
-    u.setZero();
-    VecX p_next(n);
-    for (int k = 0; k < N; ++k) {
+    std::vector<std::unique_ptr<OneStepWorkspace>> workspaces(nthreads);  // made by the thread that uses it
+    errors = parallel_for(N, nthreads, [&](int k, int thread) {
+      auto& w = workspaces[thread];
+      if (!w) w = std::make_unique<OneStepWorkspace>(model, quad, dt, qopt);
+      MatX& qc = w->qc;
       const VecX q = q0.row(k).transpose(), qd = qd0.row(k).transpose();
-      const VecX p = mass_matrix(model, data, q) * qd;
+      const VecX p = mass_matrix(model, w->data, q) * qd;
       qc.col(0) = q;
       qc.col(1) = q + dt * qd;
       const auto t0 = Clock::now();
       SolveInfo info;
-      if (newton_first) info = newton.solve(model, quad, opt, p, u, dt, qc, p_next);
-      else if (!continuation) info = qn.solve(p, u, qc, p_next);
+      if (newton_first) info = w->newton.solve(model, quad, opt, p, w->u, dt, qc, w->p_next);
+      else if (!continuation) info = w->qn.solve(p, w->u, qc, w->p_next);
       if (continuation && !info.converged()) {
         const SolveInfo first = info;
         ContinuationReport rep;
-        info = step_continuation(newton, cws, model, quad, opt, p, u, dt, qc, p_next, {}, &rep);
+        info = step_continuation(w->newton, w->cws, model, quad, opt, p, w->u, dt, qc, w->p_next, {}, &rep);
         h_reached[k] = rep.h_reached;
         info.iterations += first.iterations;
         info.factorizations += first.factorizations;
@@ -81,7 +93,7 @@ StrDict one_step_batch(const PyModel& pm, double dt, const ArrayLike& Q0, const 
       converged[k] = info.converged();
       residual[k] = info.residual;
       q_next.row(k) = qc.col(1).transpose();
-    }
+    });
   }
   StrDict d;
   d["converged"] = converged;
@@ -92,8 +104,10 @@ StrDict one_step_batch(const PyModel& pm, double dt, const ArrayLike& Q0, const 
   d["seconds"] = seconds;
   d["residual"] = residual;
   d["q_next"] = q_next;
+  d["errors"] = error_list(errors);
   return d;
 }
+
 // Mean time per call (seconds, at least `min_seconds` of repetitions) of f.
 template <class F>
 double time_call(F&& f, double min_seconds) {
@@ -176,7 +190,7 @@ using PyAutodiffDel = PyBaseline<AutodiffDel>;
 void bind_baselines(py::module_& m) {
   py::module_ b = m.def_submodule("baselines", "The paper's comparison baselines (Section 5)");
   b.def("one_step_batch", &one_step_batch, py::arg("model"), py::arg("dt"), py::arg("q0"), py::arg("qdot0"),
-        py::arg("method"), py::arg("tol") = 1e-10, py::arg("max_iterations") = 100, R"doc(
+        py::arg("method"), py::arg("tol") = 1e-10, py::arg("max_iterations") = 100, py::arg("threads") = py::none(), R"doc(
 One trapezoidal (s = 1) step from every state (rows of q0, qdot0, (N, n); p0 = M(q0) qdot0) by 'newton'
 (hovi's exact O(n) Newton with line search) or 'quasi_newton' (Lee et al. 2016), both from the
 guess q0 + dt qdot0, or by 'continuation' in the step length (the step on the solution branch
@@ -184,8 +198,11 @@ continuously connected to q0, or the status 'continuation_stalled' when that bra
 before dt), or 'newton+continuation' (continuation when Newton fails); all converged when
 ||r||_inf <= tol (1 + ||p0||_inf). Returns per-state arrays converged, iterations (Newton
 directions), residual_evaluations, status, seconds (timed in C++), residual, q_next (the last
-iterate; after a stalled continuation the last point of the branch, at h_reached < dt) and
-h_reached (continuation: how far in the step length the branch went; NaN otherwise).
+iterate; after a stalled continuation the last point of the branch, at h_reached < dt),
+h_reached (continuation: how far in the step length the branch went; NaN otherwise) and errors
+(None, or the message of an exception a state raised: its status is 'error'). The states are
+spread over `threads` C++ threads (None: HOVI_NUM_THREADS or every core; the results do not
+depend on it, the times per solve may, as the threads share the machine).
 )doc");
   b.def("fig3_batch", &fig3_batch, py::arg("model"), py::arg("s"), py::arg("dt"), py::arg("q0"), py::arg("qdot0"),
         py::arg("method"), py::arg("min_seconds") = 0.002, R"doc(

@@ -5,6 +5,7 @@
 
 #include "hovi/errors.hpp"
 #include "hovi/integrators/dense_direction.hpp"
+#include "hovi/integrators/batch.hpp"
 #include "hovi/integrators/galerkin_integrator.hpp"
 #include "py_integrator.hpp"
 
@@ -21,6 +22,28 @@ StrDict info_dict(const SolveInfo& info) {
   d["residual_evaluations"] = info.residual_evaluations;
   d["residual"] = info.residual;
   return d;
+}
+
+// A new array of the given shape filled with `fill` (NaN or -1: the slots of a batch that no
+// item wrote).
+template <class T>
+py::array_t<T> filled(std::vector<py::ssize_t> shape, T fill) {
+  py::array_t<T> a(shape);
+  std::fill(a.mutable_data(), a.mutable_data() + a.size(), fill);
+  return a;
+}
+
+// Rows 0..rows-1 of M into a[b, :rows, :] of a (B, R, C) array.
+template <class T, class M>
+void put_rows(py::array_t<T>& a, int b, const M& m, Eigen::Index rows) {
+  auto r = a.template mutable_unchecked<3>();
+  for (Eigen::Index k = 0; k < rows; ++k)
+    for (Eigen::Index j = 0; j < m.cols(); ++j) r(b, k, j) = m(k, j);
+}
+
+// The states of a batch: (B, n) arrays q and p, or q and q̇.
+MatX batch_states(const PyIntegrator& p, const py::handle& x, const char* name, long rows) {
+  return as_matrix(x, name, rows, p.n());
 }
 
 }  // namespace
@@ -182,6 +205,132 @@ status, converged, iterations, factorizations, residual_evaluations, residual, m
 points (s+1, n) of the step before (for the predictor), multipliers (s, m_c) to start from.
 Returns a dict: q, p (K+1, n), control_points (K, (s+1) n), iterations, factorizations, residual,
 status (per attempted step), multipliers (K, s m_c), steps K, seconds.
+)doc")
+      .def("rollout_batch", [](PyIntegrator& p, const ArrayLike& q0, const ArrayLike& second, bool velocities, int steps,
+                               const OptArrayLike& u, const OptInt& threads) {
+            const GalerkinIntegrator& integ = p.integ();
+            const int n = p.n(), s = p.s(), S1 = s + 1, m = p.m(), mc = p.mc();
+            const MatX Q = batch_states(p, q0, "q0s", -1);
+            const MatX V = batch_states(p, second, velocities ? "qdot0s" : "p0s", Q.rows());
+            if (steps < 0) throw InputError("steps must be non-negative");
+            const long B = Q.rows();
+            MatX U(0, 0);
+            if (!u.is_none()) U = as_matrix(u, "u (B steps, (s+1) m)", B * steps, S1 * m);
+            else if (m > 0) U = MatX::Zero(B * steps, S1 * m);
+            const int nthreads = threads_arg(threads);
+            RolloutBatch r;
+            {
+              py::gil_scoped_release release;
+              r = rollout_batch(integ, {Q, V, velocities}, steps, U, nthreads);
+            }
+            const double nan = std::numeric_limits<double>::quiet_NaN();
+            auto q = filled<double>({B, steps + 1, n}, nan), mom = filled<double>({B, steps + 1, n}, nan);
+            auto cp = filled<double>({B, steps, S1 * n}, nan), lam = filled<double>({B, steps, s * mc}, nan);
+            MatX res = MatX::Constant(B, steps, nan);
+            Eigen::MatrixXi its = Eigen::MatrixXi::Constant(B, steps, -1), facs = its;
+            Eigen::VectorXi done = Eigen::VectorXi::Zero(B);
+            py::list status;
+            for (int b = 0; b < B; ++b) {
+              const Rollout& ro = r.items[b];
+              if (!r.errors[b].empty()) {
+                status.append("error");
+                continue;
+              }
+              const int attempted = static_cast<int>(ro.status.size());
+              put_rows(q, b, ro.q, ro.steps + 1);
+              put_rows(mom, b, ro.p, ro.steps + 1);
+              put_rows(cp, b, ro.control_points, ro.steps);
+              put_rows(lam, b, ro.multipliers, ro.steps);
+              res.row(b).head(attempted) = ro.residual.head(attempted).transpose();
+              its.row(b).head(attempted) = ro.iterations.head(attempted).transpose();
+              facs.row(b).head(attempted) = ro.factorizations.head(attempted).transpose();
+              done[b] = ro.steps;
+              status.append(attempted > ro.steps ? to_string(ro.status.back()) : std::string("converged"));
+            }
+            StrDict d;
+            d["q"] = q;
+            d["p"] = mom;
+            d["control_points"] = cp;
+            d["multipliers"] = lam;
+            d["residual"] = res;
+            d["iterations"] = its;
+            d["factorizations"] = facs;
+            d["steps"] = done;
+            d["status"] = status;
+            d["seconds"] = VecX(Eigen::Map<const VecX>(r.seconds.data(), B));
+            d["errors"] = error_list(r.errors);
+            return d;
+          }, py::arg("q0s"), py::arg("second"), py::arg("velocities"), py::arg("steps"), py::arg("u") = py::none(),
+          py::arg("threads") = py::none(), R"doc(
+`steps` steps from each of B initial states, q0s (B, n) with second (B, n) the momenta p0 or, if
+velocities, the velocities q̇0 (p0 = M(q0) q̇0 per state); u (B steps, (s+1) m), state b's controls
+in rows b steps .. (b+1) steps - 1. In C++ on `threads` threads (None: HOVI_NUM_THREADS or every
+core), GIL released; each state exactly as rollout. Returns a dict: q, p (B, steps+1, n) and
+control_points (B, steps, (s+1) n), multipliers (B, steps, s m_c), residual (B, steps) (NaN
+where not reached), iterations, factorizations (B, steps) (-1 where not attempted), steps (B,)
+completed, status (B,) ('converged', the failed step's status, or 'error'), seconds (B,) and
+errors (B,) (an exception's message, or None).
+)doc")
+      .def("step_batch", [](PyIntegrator& p, const ArrayLike& q, const ArrayLike& second, bool velocities,
+                            const OptArrayLike& u, const OptInt& threads) {
+            const GalerkinIntegrator& integ = p.integ();
+            const int n = p.n(), s = p.s(), S1 = s + 1, m = p.m(), mc = p.mc();
+            const MatX Q = batch_states(p, q, "qs", -1);
+            const MatX V = batch_states(p, second, velocities ? "qdots" : "ps", Q.rows());
+            const long B = Q.rows();
+            const MatX U = u.is_none() ? MatX::Zero(B, S1 * m) : as_matrix(u, "u (B, (s+1) m)", B, S1 * m);
+            const int nthreads = threads_arg(threads);
+            StepBatch r;
+            {
+              py::gil_scoped_release release;
+              r = step_batch(integ, {Q, V, velocities}, U, nthreads);
+            }
+            const double nan = std::numeric_limits<double>::quiet_NaN();
+            auto cp = filled<double>({B, S1, n}, nan), lam = filled<double>({B, s, mc}, nan);
+            MatX p_next = MatX::Constant(B, n, nan);
+            VecX res = VecX::Constant(B, nan), seconds = VecX::Zero(B);
+            Eigen::VectorXi its = Eigen::VectorXi::Constant(B, -1), facs = its, evals = its;
+            Eigen::Matrix<bool, Eigen::Dynamic, 1> converged = Eigen::Matrix<bool, Eigen::Dynamic, 1>::Zero(B);
+            py::list status;
+            for (int b = 0; b < B; ++b) {
+              const StepBatchItem& it = r.items[b];
+              if (!r.errors[b].empty()) {
+                status.append("error");
+                continue;
+              }
+              put_rows(cp, b, MatX(it.qc.transpose()), S1);
+              put_rows(lam, b, MatX(it.lambda.transpose()), s);
+              p_next.row(b) = it.p_next.transpose();
+              res[b] = it.info.residual;
+              its[b] = it.info.iterations;
+              facs[b] = it.info.factorizations;
+              evals[b] = it.info.residual_evaluations;
+              converged[b] = it.info.converged();
+              status.append(to_string(it.info.status));
+              seconds[b] = it.seconds;
+            }
+            StrDict d;
+            d["control_points"] = cp;
+            d["multipliers"] = lam;
+            d["p_next"] = p_next;
+            d["residual"] = res;
+            d["iterations"] = its;
+            d["factorizations"] = facs;
+            d["residual_evaluations"] = evals;
+            d["converged"] = converged;
+            d["status"] = status;
+            d["seconds"] = seconds;
+            d["errors"] = error_list(r.errors);
+            return d;
+          }, py::arg("qs"), py::arg("second"), py::arg("velocities"), py::arg("u") = py::none(),
+          py::arg("threads") = py::none(), R"doc(
+One step (the fallbacks of step without a guess) from each of B states, qs (B, n) with second
+(B, n) the momenta p or, if velocities, the velocities q̇; u (B, (s+1) m), row b = state b's
+controls per control point. In C++ on `threads` threads (None: HOVI_NUM_THREADS or every core),
+GIL released; each state exactly as step. Returns a dict: control_points (B, s+1, n) (the last
+iterate where a solve failed), p_next (B, n), multipliers (B, s, m_c), residual (B,), iterations,
+factorizations, residual_evaluations (B,), converged (B,), status (B,) (or 'error'), seconds (B,)
+and errors (B,) (an exception's message, or None).
 )doc");
 }
 

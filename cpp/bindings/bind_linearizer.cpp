@@ -1,5 +1,6 @@
 // Bindings of the linearisation (hovi._core.Linearizer); the Pythonic layer is
 // python/hovi/linearizer.py.
+#include "hovi/integrators/batch.hpp"
 #include "hovi/integrators/linearizer.hpp"
 #include "py_integrator.hpp"
 
@@ -86,27 +87,12 @@ None, B (2n, (s+1) m) or None), the Jacobians of (q^{k+1}, p^{k+1}) by (q^k, p^k
             }
             py::array_t<double> As(std::vector<py::ssize_t>{want_A ? N : 0, 2 * n, 2 * n});
             py::array_t<double> Bs(std::vector<py::ssize_t>{want_B ? N : 0, 2 * n, S1 * m});
-            auto a = As.mutable_unchecked<3>();
-            auto b = Bs.mutable_unchecked<3>();
-            int failed = -1;
+            double* a = want_A ? As.mutable_data() : nullptr;
+            double* b = want_B ? Bs.mutable_data() : nullptr;
+            int failed;
             {
               py::gil_scoped_release release;
-              MatX A, B, qc(n, S1), uk(m, S1), lk(mc, s);
-              for (int k = 0; k < N && failed < 0; ++k) {
-                for (int c = 0; c < S1; ++c) qc.col(c) = C.row(k).segment(c * n, n).transpose();
-                for (int c = 0; c < S1; ++c) uk.col(c) = U.row(k).segment(c * m, m).transpose();
-                for (int c = 0; c < s && mc; ++c) lk.col(c) = LAM.row(k).segment(c * mc, mc).transpose();
-                if (!lin.step_jacobians(qc, uk, want_A ? &A : nullptr, want_B ? &B : nullptr, lk)) {
-                  failed = k;
-                  break;
-                }
-                if (want_A)
-                  for (int i = 0; i < 2 * n; ++i)
-                    for (int j = 0; j < 2 * n; ++j) a(k, i, j) = A(i, j);
-                if (want_B)
-                  for (int i = 0; i < 2 * n; ++i)
-                    for (int j = 0; j < S1 * m; ++j) b(k, i, j) = B(i, j);
-              }
+              failed = lin.trajectory_jacobians(C, U, LAM, a, b);
             }
             if (failed >= 0)
               throw InputError("the DEL Jacobian is singular at step " + std::to_string(failed));
@@ -115,6 +101,41 @@ None, B (2n, (s+1) m) or None), the Jacobians of (q^{k+1}, p^{k+1}) by (q^k, p^k
           py::arg("multipliers") = py::none(), R"doc(
 control_points (K, (s+1) n) of K converged steps, u (K, (s+1) m), multipliers (K, s m_c); returns
 (A (K, 2n, 2n) or None, B (K, 2n, (s+1) m) or None), computed in C++ (GIL released).
+)doc")
+      .def("rollout_jacobians_batch", [](PyLinearizer& L, const ArrayLike& cps, int steps, const OptArrayLike& u,
+                                         bool want_A, bool want_B, const OptArrayLike& multipliers, const OptInt& threads)
+                                         -> Tuple<Optional<py::array_t<double>>, Optional<py::array_t<double>>, py::list> {
+            const Linearizer& lin = L.lin();
+            const int n = L.integ.n(), S1 = L.integ.s() + 1, s = S1 - 1, m = L.integ.m(), mc = L.integ.mc();
+            if (steps < 1) throw InputError("steps must be at least 1");
+            const MatX C = as_matrix(cps, "control_points (B steps, (s+1) n)", -1, S1 * n);
+            if (C.rows() % steps) throw InputError("control_points must have B steps rows");
+            const long B = C.rows() / steps;
+            const MatX U = u.is_none() ? MatX::Zero(C.rows(), S1 * m) : as_matrix(u, "u (B steps, (s+1) m)", C.rows(), S1 * m);
+            MatX LAM;
+            if (mc) {
+              if (multipliers.is_none()) throw InputError("a constrained model needs the multipliers of every step");
+              LAM = as_matrix(multipliers, "multipliers (B steps, s m_c)", C.rows(), s * mc);
+            }
+            const int nthreads = threads_arg(threads);
+            py::array_t<double> As(std::vector<py::ssize_t>{want_A ? B : 0, steps, 2 * n, 2 * n});
+            py::array_t<double> Bs(std::vector<py::ssize_t>{want_B ? B : 0, steps, 2 * n, S1 * m});
+            double* a = want_A ? As.mutable_data() : nullptr;
+            double* b = want_B ? Bs.mutable_data() : nullptr;
+            std::vector<std::string> errors;
+            {
+              py::gil_scoped_release release;
+              errors = trajectory_jacobians_batch(lin, static_cast<int>(B), steps, C, U, LAM, a, b, nthreads);
+            }
+            return py::make_tuple(want_A ? py::object(As) : py::none(), want_B ? py::object(Bs) : py::none(),
+                                  error_list(errors));
+          }, py::arg("control_points"), py::arg("steps"), py::arg("u") = py::none(), py::arg("want_A") = true,
+          py::arg("want_B") = true, py::arg("multipliers") = py::none(), py::arg("threads") = py::none(), R"doc(
+rollout_jacobians of B trajectories of `steps` converged steps each: control_points (B steps, (s+1) n),
+u (B steps, (s+1) m), multipliers (B steps, s m_c), trajectory b in rows b steps .. (b+1) steps - 1;
+in C++ on `threads` threads (None: HOVI_NUM_THREADS or every core), GIL released. Returns
+(A (B, steps, 2n, 2n) or None, B (B, steps, 2n, (s+1) m) or None, errors (B,): None, or the
+message for a trajectory with a singular step, whose blocks are left unset).
 )doc");
 }
 

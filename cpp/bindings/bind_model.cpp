@@ -11,6 +11,7 @@
 #include "hovi/algorithms/kinematics.hpp"
 #include "hovi/algorithms/mass_matrix.hpp"
 #include "hovi/errors.hpp"
+#include "hovi/model/model_serialization.hpp"
 #include "hovi/models/pendulum.hpp"
 #include "hovi/parsers/urdf.hpp"
 
@@ -218,6 +219,12 @@ axis: (3,) joint axis in the joint frame. com: (3,) centre of mass in the joint 
       .def("__copy__", &copy_of, "The same as copy().")
       .def("__deepcopy__", [](const PyModel& s, const py::object&) { return copy_of(s); }, py::arg("memo"),
            "The same as copy().")
+      .def(py::pickle([](const PyModel& s) { return py::bytes(serialize(s.model)); },
+                      [](const py::bytes& state) {
+                        auto pm = std::make_shared<PyModel>();
+                        pm->model = deserialize(state);
+                        return pm;
+                      }))
       .def_property_readonly("n", [](const PyModel& s) { return s.model.n(); }, "Number of joints = DoF = bodies.")
       .def_property_readonly("nq", [](const PyModel& s) { return s.model.n(); }, "Size of q (= n: one coordinate per joint).")
       .def_property_readonly("nv", [](const PyModel& s) { return s.model.n(); }, "Size of q̇ (= n).")

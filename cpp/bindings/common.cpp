@@ -65,6 +65,26 @@ MatX as_matrix(const py::handle& obj, const char* name, long rows, long cols) {
   return m;
 }
 
+int threads_arg(const py::handle& threads) {
+  if (threads.is_none()) return 0;
+  if (py::isinstance<py::bool_>(threads) || !PyIndex_Check(threads.ptr()))
+    throw InputError("threads must be a positive integer or None, got " + std::string(py::str(py::type::of(threads).attr("__name__"))));
+  const auto i = py::reinterpret_steal<py::object>(PyNumber_Index(threads.ptr()));
+  if (!i) throw py::error_already_set();
+  int overflow = 0;
+  const long long t = PyLong_AsLongLongAndOverflow(i.ptr(), &overflow);
+  if (overflow || t < 1 || t > 1 << 16)
+    throw InputError("threads must be a positive integer (None: HOVI_NUM_THREADS or every core), got " +
+                     std::string(py::str(threads)));
+  return static_cast<int>(t);
+}
+
+py::list error_list(const std::vector<std::string>& errors) {
+  py::list out;
+  for (const auto& e : errors) out.append(e.empty() ? py::object(py::none()) : py::str(e));
+  return out;
+}
+
 py::array_t<double> stack(const std::vector<Mat4>& mats) {
   py::array_t<double> out({static_cast<py::ssize_t>(mats.size()), py::ssize_t(4), py::ssize_t(4)});
   auto r = out.mutable_unchecked<3>();

@@ -40,6 +40,11 @@ using StrDict = py::typing::Dict<py::str, py::object>;  // dict[str, typing.Any]
 VecX as_vector(const py::handle& obj, const char* name, long n);
 // A 2-D real array of shape (rows, cols) (negative: any) converted to MatX; ValueError as as_vector.
 MatX as_matrix(const py::handle& obj, const char* name, long rows, long cols);
+// A thread count given as int | None (OptInt) for the batched calls: None -> 0 (HOVI_NUM_THREADS or
+// every core, parallel_for.hpp's thread_count); ValueError unless a positive integer.
+int threads_arg(const py::handle& threads);
+// The per-item errors of a batch (parallel_for.hpp) as a list: None where an item finished, else its message.
+py::list error_list(const std::vector<std::string>& errors);
 // A stack of SE(3)/4x4 or 6-vectors as numpy arrays of shape (n, 4, 4) / (n, 6).
 py::array_t<double> stack(const std::vector<Mat4>& mats);
 py::array_t<double> stack(const std::vector<Vec6>& vecs);

@@ -10,18 +10,19 @@ import numpy.typing as npt
 
 from . import _core
 from ._typing import FloatArray, IntArray
+from .batch import StepBatch, TrajectoryBatch
 
 
-def _check_trajectory_memory(steps: int, s: int, n: int) -> None:
-    """MemoryError, before anything is allocated, if a trajectory of ``steps`` steps (q, p and
-    control points, (steps+1) (s+3) n doubles) needs more than this machine's physical memory."""
-    need = (steps + 1) * (s + 3) * n * 8
+def _check_trajectory_memory(steps: int, s: int, n: int, count: int = 1) -> None:
+    """MemoryError, before anything is allocated, if ``count`` trajectories of ``steps`` steps (q, p
+    and control points, (steps+1) (s+3) n doubles each) need more than this machine's physical memory."""
+    need = count * (steps + 1) * (s + 3) * n * 8
     try:
         have = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
     except (ValueError, OSError, AttributeError):  # not POSIX: let the allocation decide
         return
     if need > have:
-        raise MemoryError(f"a rollout of {steps} steps needs {need / 1e9:.3g} GB for its trajectory, more than this "
+        raise MemoryError(f"{count} rollout(s) of {steps} steps need {need / 1e9:.3g} GB for its trajectory, more than this "
                           f"machine's {have / 1e9:.3g} GB: simulate in pieces (rollout from the last state)")
 
 
@@ -129,7 +130,8 @@ class Integrator:
 
     Threads: one Integrator may be used from several threads at once (each call runs on its own
     workspace, with the GIL released in rollouts and steps); results are those of the same calls
-    made in sequence. Each call depends on its arguments only.
+    made in sequence. Each call depends on its arguments only. ``rollout_batch`` and
+    ``step_batch`` run many initial states on a pool of C++ threads in one call.
 
     Controls ``u`` are given per control point, shape (s+1, m), or held constant over a step,
     shape (m,). Samples of a smooth u(t) keep order 2s; a zero-order hold is first-order
@@ -151,10 +153,21 @@ class Integrator:
             s = order // 2
         if not isinstance(model, _core.Model):
             raise TypeError(f"model must be a hovi.Model, got {type(model).__name__}")
-        self._core = _core.Integrator(model, int(s), float(dt), float(tol), float(step_tol), int(max_iterations),
-                                      int(max_backtracks), bool(line_search), direction, bool(reuse_jacobian),
-                                      float(reuse_contraction))
+        self._options: Dict[str, Any] = dict(
+            s=int(s), dt=float(dt), tol=float(tol), step_tol=float(step_tol), max_iterations=int(max_iterations),
+            max_backtracks=int(max_backtracks), line_search=bool(line_search), direction=direction,
+            reuse_jacobian=bool(reuse_jacobian), reuse_contraction=float(reuse_contraction))
+        self._core = _core.Integrator(model, **self._options)
         self.model = model
+
+    # Pickling (to other processes, cluster workers): the model (which pickles in full) and the
+    # options; the copy is made anew from them and computes exactly what this one does.
+    def __getstate__(self) -> Dict[str, Any]:
+        self._core.direction_path  # any call of the core raises ModelError once the model has changed
+        return {"model": self.model, "options": self._options}
+
+    def __setstate__(self, state: Dict[str, Any]) -> None:
+        self.__init__(state["model"], **state["options"])  # type: ignore[misc]
 
     # --- properties -------------------------------------------------------------------------
     @property
@@ -366,22 +379,115 @@ class Integrator:
                                    trajectory=traj)
         return traj
 
-    def _rollout_controls(self, u: Optional[npt.ArrayLike], steps: int) -> Optional[FloatArray]:
+    def _rollout_controls(self, u: Optional[npt.ArrayLike], steps: int,
+                          lead: Tuple[int, ...] = ()) -> Optional[FloatArray]:
+        """u of shape lead + (m,), lead + (steps, m) or lead + (steps, s+1, m) as the core takes it:
+        lead + (steps, (s+1) m); lead = (B,) for a batch."""
         m, S1 = self._core.n_controls, self.s + 1
         if u is None:
             return None
         if m == 0:
             raise ValueError("the model has no controls (add actuators or controls first), but u was given")
         U = np.asarray(u, dtype=float)
-        if U.shape == (m,):
-            U = np.broadcast_to(U, (steps, S1, m))
-        elif U.shape == (steps, m):
-            U = np.repeat(U[:, None, :], S1, axis=1)
-        elif U.shape != (steps, S1, m):
-            raise ValueError(f"u must have shape ({m},), ({steps}, {m}) or ({steps}, {S1}, {m}), got {U.shape}")
+        if U.shape == lead + (m,):
+            U = np.broadcast_to(U[..., None, None, :], lead + (steps, S1, m))
+        elif U.shape == lead + (steps, m):
+            U = np.repeat(U[..., None, :], S1, axis=-2)
+        elif U.shape != lead + (steps, S1, m):
+            shapes = ", ".join(str(lead + x) for x in ((m,), (steps, m), (steps, S1, m)))
+            raise ValueError(f"u must have shape {shapes}, got {U.shape}")
         if not np.all(np.isfinite(U)):
             raise ValueError("u contains NaN or infinity")
-        return np.ascontiguousarray(U.reshape(steps, S1 * m))
+        return np.ascontiguousarray(U.reshape(lead + (steps, S1 * m)))
+
+    def _step_controls(self, u: Optional[npt.ArrayLike], count: int) -> Optional[FloatArray]:
+        """u of ``count`` states, (count, m) held or (count, s+1, m) per control point, as the core takes
+        it: (count, (s+1) m)."""
+        if u is None:
+            return None
+        U = np.asarray(u, dtype=float)
+        m, S1 = self._core.n_controls, self.s + 1
+        if m and U.shape not in ((count, m), (count, S1, m)):
+            raise ValueError(f"u must have shape ({count}, {m}) or ({count}, {S1}, {m}), got {U.shape}")
+        per_step = self._rollout_controls(U[:, None] if U.ndim == 3 else U, 1, (count,))
+        assert per_step is not None
+        return per_step.reshape(count, -1)
+
+    def _batch_states(self, q: npt.ArrayLike, p: Optional[npt.ArrayLike], qdot: Optional[npt.ArrayLike],
+                      names: Tuple[str, str, str]) -> Tuple[FloatArray, FloatArray, bool]:
+        """(q (B, n), second (B, n), velocities) of a batch of states given with momenta or
+        velocities (default: at rest); each checked against the constraints as a single call does."""
+        Q = np.asarray(q, dtype=float)
+        if Q.ndim != 2 or Q.shape[1] != self.n:
+            raise ValueError(f"{names[0]} must be a 2-D array of shape (B, {self.n}), got shape {Q.shape}")
+        if len(Q) == 0:
+            raise ValueError(f"the batch is empty: {names[0]} has no rows (B = 0)")
+        if p is not None and qdot is not None:
+            raise ValueError(f"give {names[1]} or {names[2]}, not both")
+        velocities = p is None
+        second = np.asarray(p if p is not None else np.zeros_like(Q) if qdot is None else qdot, dtype=float)
+        if second.shape != Q.shape:
+            raise ValueError(f"{names[1] if p is not None else names[2]} must have the shape of {names[0]}, {Q.shape}, "
+                             f"got {second.shape}")
+        if self.n_constraints:
+            for b in range(len(Q)):
+                try:
+                    self._check_consistent(Q[b], second[b] if velocities else None)
+                except ValueError as e:
+                    raise ValueError(f"state {b} of the batch: {e}") from None
+        return Q, second, velocities
+
+    def rollout_batch(self, q0s: npt.ArrayLike, steps: int, *, p0s: Optional[npt.ArrayLike] = None,
+                      qdot0s: Optional[npt.ArrayLike] = None, u: Optional[npt.ArrayLike] = None,
+                      threads: Optional[int] = None) -> TrajectoryBatch:
+        """``steps`` steps from each of B initial states at once: q0s (B, n) with p0s (B, n) or qdot0s
+        (B, n) (default: at rest), in C++ on ``threads`` threads (default: the environment variable
+        HOVI_NUM_THREADS, else every core), with the GIL released.
+
+        Item b is exactly ``rollout(q0s[b], steps, qdot0=qdot0s[b], u=u[b], raise_on_failure=False)``,
+        bit for bit, whatever the number of threads (``TrajectoryBatch.trajectory(b)``). A failed
+        solve does not fail the batch: that item stops there and its status says why.
+        u: None, or per state (B, m) constant, (B, steps, m) held per step, or (B, steps, s+1, m) per
+        control point (np.broadcast_to shares one control sequence among the states).
+        Raises ValueError for bad input (shapes, B = 0, NaN or infinity, threads < 1, an initial
+        state that violates the constraints).
+        """
+        steps = int(steps)
+        if steps < 0:
+            raise ValueError("steps must be non-negative")
+        Q, second, velocities = self._batch_states(q0s, p0s, qdot0s, ("q0s", "p0s", "qdot0s"))
+        _check_trajectory_memory(steps, self.s, self.n, 2 * len(Q))  # the C++ results and the stacked arrays
+        U = self._rollout_controls(u, steps, (len(Q),))
+        raw = self._core.rollout_batch(Q, second, velocities, steps, None if U is None else U.reshape(-1, U.shape[-1]),
+                                       threads)
+        B, S1 = len(Q), self.s + 1
+        return TrajectoryBatch(
+            t=np.arange(steps + 1, dtype=np.float64) * self.dt, q=raw["q"], p=raw["p"],
+            control_points=raw["control_points"].reshape(B, steps, S1, self.n), iterations=raw["iterations"],
+            residuals=raw["residual"], factorizations=raw["factorizations"], steps=raw["steps"], status=raw["status"],
+            errors=raw["errors"], solve_seconds=raw["seconds"], integrator=self,
+            multipliers=raw["multipliers"].reshape(B, steps, self.s, self.n_constraints) if self.n_constraints else None)
+
+    def step_batch(self, qs: npt.ArrayLike, ps: Optional[npt.ArrayLike] = None, u: Optional[npt.ArrayLike] = None, *,
+                   qdots: Optional[npt.ArrayLike] = None, threads: Optional[int] = None) -> StepBatch:
+        """One step from each of B states at once: qs (B, n) with ps (B, n) or qdots (B, n) (default: at
+        rest), controls u (B, m) held or (B, s+1, m) per control point; in C++ on ``threads``
+        threads (default: HOVI_NUM_THREADS, else every core), GIL released.
+
+        Item b is exactly ``step(qs[b], p, u[b], raise_on_failure=False)`` (with p = ps[b], or
+        ``momentum(qs[b], qdots[b])``), bit for bit (``StepBatch.info(b)``); a failed solve is that
+        item's status and does not fail the batch. Raises ValueError for bad input (shapes,
+        B = 0, NaN or infinity, threads < 1, a state that violates the constraints).
+        """
+        Q, second, velocities = self._batch_states(qs, ps, qdots, ("qs", "ps", "qdots"))
+        U = self._step_controls(u, len(Q))
+        raw = self._core.step_batch(Q, second, velocities, U, threads)
+        cp = raw["control_points"]
+        return StepBatch(q_next=cp[:, -1].copy(), p_next=raw["p_next"], control_points=cp, converged=raw["converged"],
+                         iterations=raw["iterations"], factorizations=raw["factorizations"],
+                         residual_evaluations=raw["residual_evaluations"], residuals=raw["residual"],
+                         status=raw["status"], errors=raw["errors"], solve_seconds=raw["seconds"],
+                         multipliers=raw["multipliers"] if self.n_constraints else None)
 
     def _join(self, parts: List[Dict[str, Any]]) -> Trajectory:
         q = np.vstack([parts[0]["q"]] + [r["q"][1:] for r in parts[1:]])

@@ -10,6 +10,7 @@ import numpy.typing as npt
 
 from . import _core
 from ._typing import FloatArray
+from .batch import JacobianBatch, TrajectoryBatch
 from .integrator import ConvergenceError, Integrator, Trajectory
 
 
@@ -71,6 +72,12 @@ class Linearizer:
         self.integrator = integrator
         self._core = _core.Linearizer(integrator._core)
 
+    def __getstate__(self) -> dict[str, Integrator]:
+        return {"integrator": self.integrator}  # pickled with its integrator, made anew from it
+
+    def __setstate__(self, state: dict[str, Integrator]) -> None:
+        self.__init__(state["integrator"])  # type: ignore[misc]
+
     def del_jacobian(self, control_points: npt.ArrayLike, u: Optional[npt.ArrayLike] = None, *, with_u: bool = True,
                      multipliers: Optional[npt.ArrayLike] = None) -> DelJacobian:
         """Jacobian of (r^{k,0..s-1}, p^{k+1}) with respect to q^{k,0..s} (and u^{k,0..s}) at control
@@ -130,3 +137,40 @@ class Linearizer:
         if Bs is not None and hold:
             Bs = _hold(Bs, integ.model.n_controls)
         return As, Bs
+
+    def rollout_jacobians_batch(self, batch: TrajectoryBatch, u: Optional[npt.ArrayLike] = None, *, A: bool = True,
+                                B: bool = True, hold: bool = False, threads: Optional[int] = None) -> JacobianBatch:
+        """``rollout_jacobians`` of every trajectory of a TrajectoryBatch (``Integrator.rollout_batch``
+        of this linearizer's integrator) at once, in C++ on ``threads`` threads (default:
+        HOVI_NUM_THREADS, else every core), GIL released: A (B, K, 2n, 2n), B (B, K, 2n, (s+1) m) (or
+        (B, K, 2n, m) with hold=True), item b bit for bit what ``rollout_jacobians(batch.trajectory(b))``
+        gives. u as given to rollout_batch. Items whose rollout did not complete are not linearised
+        (NaN, and ``errors[b]`` says why); neither does a singular step fail the batch."""
+        integ = self.integrator
+        count, K = len(batch), batch.control_points.shape[1]
+        n, S1, m = integ.n, integ.s + 1, integ.model.n_controls
+        U = integ._rollout_controls(u, K, (count,))
+        errors: list[Optional[str]] = [None] * count
+        for b in range(count):
+            if batch.status[b] != "converged":
+                errors[b] = (batch.errors[b] or f"the rollout did not converge ({batch.status[b]}) at step "
+                             f"{batch.steps[b]}: linearise the converged part only")
+        As = np.full((count, K, 2 * n, 2 * n), np.nan) if A else None
+        Bs = np.full((count, K, 2 * n, S1 * m), np.nan) if B else None
+        todo = np.flatnonzero([e is None for e in errors])
+        if K and todo.size:
+            mult = None if batch.multipliers is None else batch.multipliers[todo].reshape(todo.size * K, -1)
+            a, b_, errs = self._core.rollout_jacobians_batch(
+                batch.control_points[todo].reshape(todo.size * K, -1), K,
+                None if U is None else U[todo].reshape(todo.size * K, -1), A, B, mult, threads)
+            for i, e in zip(todo, errs):
+                errors[i] = e
+            linearised = todo[[e is None for e in errs]]
+            ok = np.array([e is None for e in errs], dtype=bool)
+            if As is not None and a is not None:
+                As[linearised] = a[ok]
+            if Bs is not None and b_ is not None:
+                Bs[linearised] = b_[ok]
+        if Bs is not None and hold:
+            Bs = _hold(Bs, m)
+        return JacobianBatch(A=As, B=Bs, errors=errors)

@@ -23,6 +23,10 @@ void add_point_jacobian(const KinematicsView& kin, int b, const Vec3& x, double 
 const char* const kAxisNames = "xyz";
 }  // namespace
 
+void Constraint::save(ByteWriter&) const {
+  throw ModelError(std::string("a constraint of kind '") + kind() + "' cannot be serialised (it does not implement save)");
+}
+
 Eigen::Matrix<double, Eigen::Dynamic, 3> axes_selector(const std::string& axes) {
   if (axes.empty() || axes.size() > 3) throw ModelError("axes must be a non-empty subset of 'xyz', got '" + axes + "'");
   Eigen::Matrix<double, Eigen::Dynamic, 3> P = Eigen::Matrix<double, Eigen::Dynamic, 3>::Zero(axes.size(), 3);
@@ -65,7 +69,7 @@ Model with_constraint_forces(const Model& model) {
 
 // ---- PointConstraint -------------------------------------------------------------------------
 PointConstraint::PointConstraint(int body, const Vec3& point, const Vec3& target, const std::string& axes)
-    : body_(body), point_(point), target_(target), P_(axes_selector(axes)) {}
+    : body_(body), point_(point), target_(target), axes_(axes), P_(axes_selector(axes)) {}
 
 void PointConstraint::check(const Model& model) const { check_body(model, body_, kind()); }
 
@@ -84,9 +88,22 @@ void PointConstraint::add_force_elements(Model& aug, int first) const {
                                                  PointWrench::Frame::World, first + k));
 }
 
+void PointConstraint::save(ByteWriter& out) const {
+  out.put(body_);
+  out.put(point_);
+  out.put(target_);
+  out.put(axes_);
+}
+
+std::shared_ptr<const PointConstraint> PointConstraint::load(ByteReader& in) {
+  const int body = in.get<int>();
+  const Vec3 point = in.get_matrix<Vec3>(), target = in.get_matrix<Vec3>();
+  return std::make_shared<PointConstraint>(body, point, target, in.get_string());
+}
+
 // ---- LoopConstraint --------------------------------------------------------------------------
 LoopConstraint::LoopConstraint(int body1, const Vec3& point1, int body2, const Vec3& point2, const std::string& axes)
-    : body1_(body1), body2_(body2), point1_(point1), point2_(point2), P_(axes_selector(axes)) {}
+    : body1_(body1), body2_(body2), point1_(point1), point2_(point2), axes_(axes), P_(axes_selector(axes)) {}
 
 void LoopConstraint::check(const Model& model) const {
   check_body(model, body1_, kind());
@@ -110,6 +127,22 @@ void LoopConstraint::add_force_elements(Model& aug, int first) const {
     aug.add_wrench(std::make_shared<PointWrench>(body1_, point1_, f, Vec3::Zero(), PointWrench::Frame::World, first + k));
     aug.add_wrench(std::make_shared<PointWrench>(body2_, point2_, -f, Vec3::Zero(), PointWrench::Frame::World, first + k));
   }
+}
+
+void LoopConstraint::save(ByteWriter& out) const {
+  out.put(body1_);
+  out.put(point1_);
+  out.put(body2_);
+  out.put(point2_);
+  out.put(axes_);
+}
+
+std::shared_ptr<const LoopConstraint> LoopConstraint::load(ByteReader& in) {
+  const int body1 = in.get<int>();
+  const Vec3 point1 = in.get_matrix<Vec3>();
+  const int body2 = in.get<int>();
+  const Vec3 point2 = in.get_matrix<Vec3>();
+  return std::make_shared<LoopConstraint>(body1, point1, body2, point2, in.get_string());
 }
 
 // ---- OrientationConstraint -------------------------------------------------------------------
@@ -145,6 +178,16 @@ void OrientationConstraint::add_force_elements(Model& aug, int first) const {
     aug.add_wrench(std::make_shared<AlignmentTorque>(body_, Vec3::Unit(kAlignA[c]), R0_.col(kAlignB[c]), first + c));
 }
 
+void OrientationConstraint::save(ByteWriter& out) const {
+  out.put(body_);
+  out.put(R0_);
+}
+
+std::shared_ptr<const OrientationConstraint> OrientationConstraint::load(ByteReader& in) {
+  const int body = in.get<int>();
+  return std::make_shared<OrientationConstraint>(body, in.get_matrix<Mat3>());
+}
+
 // ---- JointCoupling ---------------------------------------------------------------------------
 JointCoupling::JointCoupling(const VecX& coefficients, double offset) : c_(coefficients), offset_(offset) {
   if (!c_.allFinite() || c_.cwiseAbs().maxCoeff() == 0)
@@ -165,6 +208,16 @@ void JointCoupling::jacobian(const KinematicsView&, Eigen::Ref<MatX> J) const { 
 
 void JointCoupling::add_force_elements(Model& aug, int first) const { aug.joint_forces.actuation.col(first) = c_; }
 
+void JointCoupling::save(ByteWriter& out) const {
+  out.put(c_);
+  out.put(offset_);
+}
+
+std::shared_ptr<const JointCoupling> JointCoupling::load(ByteReader& in) {
+  const VecX c = in.get_matrix<VecX>();
+  return std::make_shared<JointCoupling>(c, in.get<double>());
+}
+
 // ---- AlignmentTorque -------------------------------------------------------------------------
 AlignmentTorque::AlignmentTorque(int body, const Vec3& body_axis, const Vec3& world_axis, int control)
     : BodyWrench(body), a_(body_axis), d_(world_axis), control_(control) {}
@@ -181,6 +234,19 @@ void AlignmentTorque::add_derivatives(const SE3& g, const Twist&, const VecX& u,
 
 void AlignmentTorque::add_control_jacobian(const SE3& g, const Twist&, const VecX&, Eigen::Ref<MatX> Du) const {
   Du.col(control_).head<3>() += (g.R * a_).cross(d_);
+}
+
+void AlignmentTorque::save(ByteWriter& out) const {
+  out.put(body());
+  out.put(a_);
+  out.put(d_);
+  out.put(control_);
+}
+
+std::shared_ptr<const AlignmentTorque> AlignmentTorque::load(ByteReader& in) {
+  const int body = in.get<int>();
+  const Vec3 a = in.get_matrix<Vec3>(), d = in.get_matrix<Vec3>();
+  return std::make_shared<AlignmentTorque>(body, a, d, in.get<int>());
 }
 
 }  // namespace hovi

@@ -1,6 +1,12 @@
 #include "hovi/forces/body_wrench.hpp"
 
+#include "hovi/errors.hpp"
+
 namespace hovi {
+
+void BodyWrench::save(ByteWriter&) const {
+  throw ModelError(std::string("a body wrench of kind '") + kind() + "' cannot be serialised (it does not implement save)");
+}
 
 Mat6 world_force_D1(const Vec3& f, const Vec3& x) {
   Mat6 D1 = Mat6::Zero();
@@ -37,6 +43,23 @@ void PointWrench::add_control_jacobian(const SE3& g, const Twist&, const VecX&, 
   if (control_ >= 0) Du.col(control_) += unit_value(g);
 }
 
+void PointWrench::save(ByteWriter& out) const {
+  out.put(body());
+  out.put(point_);
+  out.put(force_);
+  out.put(torque_);
+  out.put(static_cast<int>(frame_ == Frame::World ? 0 : 1));
+  out.put(control_);
+}
+
+std::shared_ptr<const PointWrench> PointWrench::load(ByteReader& in) {
+  const int body = in.get<int>();
+  const Vec3 point = in.get_matrix<Vec3>(), force = in.get_matrix<Vec3>(), torque = in.get_matrix<Vec3>();
+  const int frame = in.get<int>();
+  if (frame != 0 && frame != 1) ByteReader::corrupt();
+  return std::make_shared<PointWrench>(body, point, force, torque, frame == 0 ? Frame::World : Frame::Body, in.get<int>());
+}
+
 BodyDrag::BodyDrag(int body, double linear, double angular)
     : BodyWrench(body), C_(linear, Vec3::Zero(), angular * Mat3::Identity()) {}
 
@@ -47,6 +70,18 @@ void BodyDrag::add_derivatives(const SE3& g, const Twist& v, const VecX&, Mat6& 
   const Wrench F = -(Cbar * v);
   D2 -= Cbar;
   D1 -= adD(F) + Cbar * ad(v);
+}
+
+void BodyDrag::save(ByteWriter& out) const {
+  out.put(body());
+  out.put(C_.m);        // linear
+  out.put(C_.I(0, 0));  // angular
+}
+
+std::shared_ptr<const BodyDrag> BodyDrag::load(ByteReader& in) {
+  const int body = in.get<int>();
+  const double linear = in.get<double>();
+  return std::make_shared<BodyDrag>(body, linear, in.get<double>());
 }
 
 }  // namespace hovi

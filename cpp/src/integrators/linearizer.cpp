@@ -89,4 +89,20 @@ bool Linearizer::step_jacobians(const Eigen::Ref<const MatX>& qc, const Eigen::R
   return true;
 }
 
+int Linearizer::trajectory_jacobians(const Eigen::Ref<const MatX>& C, const Eigen::Ref<const MatX>& U,
+                                     const Eigen::Ref<const MatX>& L, double* As, double* Bs) const {
+  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  const int n = model_.n(), s = quad_.s, S1 = s + 1, m = model_.n_controls();
+  MatX A, B, qc(n, S1), uk(m, S1), lk(mc_, s);
+  for (int k = 0; k < C.rows(); ++k) {
+    for (int c = 0; c < S1; ++c) qc.col(c) = C.row(k).segment(c * n, n).transpose();
+    for (int c = 0; c < S1; ++c) uk.col(c) = U.row(k).segment(c * m, m).transpose();
+    for (int c = 0; c < s && mc_; ++c) lk.col(c) = L.row(k).segment(c * mc_, mc_).transpose();
+    if (!step_jacobians(qc, uk, As ? &A : nullptr, Bs ? &B : nullptr, lk)) return k;
+    if (As) Eigen::Map<RowMajor>(As + std::size_t(k) * 4 * n * n, 2 * n, 2 * n) = A;
+    if (Bs) Eigen::Map<RowMajor>(Bs + std::size_t(k) * 2 * n * S1 * m, 2 * n, S1 * m) = B;
+  }
+  return -1;
+}
+
 }  // namespace hovi

@@ -46,11 +46,15 @@ class Model:
         """
         The same as copy().
         """
+    def __getstate__(self) -> bytes:
+        ...
     def __init__(self) -> None:
         """
         An empty model (add bodies with add_body).
         """
     def __repr__(self) -> str:
+        ...
+    def __setstate__(self, arg0: bytes) -> None:
         ...
     def add_actuator(self, joint: int | str, gear: typing.SupportsFloat | typing.SupportsIndex = 1.0) -> int:
         """
@@ -379,11 +383,32 @@ class Integrator:
         Returns a dict: q, p (K+1, n), control_points (K, (s+1) n), iterations, factorizations, residual,
         status (per attempted step), multipliers (K, s m_c), steps K, seconds.
         """
+    def rollout_batch(self, q0s: numpy.typing.ArrayLike, second: numpy.typing.ArrayLike, velocities: bool, steps: typing.SupportsInt | typing.SupportsIndex, u: numpy.typing.ArrayLike | None = None, threads: int | None = None) -> dict[str, typing.Any]:
+        """
+        `steps` steps from each of B initial states, q0s (B, n) with second (B, n) the momenta p0 or, if
+        velocities, the velocities q̇0 (p0 = M(q0) q̇0 per state); u (B steps, (s+1) m), state b's controls
+        in rows b steps .. (b+1) steps - 1. In C++ on `threads` threads (None: HOVI_NUM_THREADS or every
+        core), GIL released; each state exactly as rollout. Returns a dict: q, p (B, steps+1, n) and
+        control_points (B, steps, (s+1) n), multipliers (B, steps, s m_c), residual (B, steps) (NaN
+        where not reached), iterations, factorizations (B, steps) (-1 where not attempted), steps (B,)
+        completed, status (B,) ('converged', the failed step's status, or 'error'), seconds (B,) and
+        errors (B,) (an exception's message, or None).
+        """
     def step(self, q: numpy.typing.ArrayLike, p: numpy.typing.ArrayLike, u: numpy.typing.ArrayLike | None = None, guess: numpy.typing.ArrayLike | None = None, multipliers: numpy.typing.ArrayLike | None = None) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], dict[str, typing.Any]]:
         """
         One step from q, p (n,) (GIL released): guess (s+1, n) for a single Newton solve, else the robust
         fallbacks of hovi.Integrator.step; returns (control points (s+1, n), p_next (n,), info dict with
         status, converged, iterations, factorizations, residual_evaluations, residual, multipliers (s, m_c)).
+        """
+    def step_batch(self, qs: numpy.typing.ArrayLike, second: numpy.typing.ArrayLike, velocities: bool, u: numpy.typing.ArrayLike | None = None, threads: int | None = None) -> dict[str, typing.Any]:
+        """
+        One step (the fallbacks of step without a guess) from each of B states, qs (B, n) with second
+        (B, n) the momenta p or, if velocities, the velocities q̇; u (B, (s+1) m), row b = state b's
+        controls per control point. In C++ on `threads` threads (None: HOVI_NUM_THREADS or every core),
+        GIL released; each state exactly as step. Returns a dict: control_points (B, s+1, n) (the last
+        iterate where a solve failed), p_next (B, n), multipliers (B, s, m_c), residual (B,), iterations,
+        factorizations, residual_evaluations (B,), converged (B,), status (B,) (or 'error'), seconds (B,)
+        and errors (B,) (an exception's message, or None).
         """
     def velocity(self, q: numpy.typing.ArrayLike, p: numpy.typing.ArrayLike) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         """
@@ -452,6 +477,14 @@ class Linearizer:
         """
         control_points (K, (s+1) n) of K converged steps, u (K, (s+1) m), multipliers (K, s m_c); returns
         (A (K, 2n, 2n) or None, B (K, 2n, (s+1) m) or None), computed in C++ (GIL released).
+        """
+    def rollout_jacobians_batch(self, control_points: numpy.typing.ArrayLike, steps: typing.SupportsInt | typing.SupportsIndex, u: numpy.typing.ArrayLike | None = None, want_A: bool = True, want_B: bool = True, multipliers: numpy.typing.ArrayLike | None = None, threads: int | None = None) -> tuple[numpy.typing.NDArray[numpy.float64] | None, numpy.typing.NDArray[numpy.float64] | None, list]:
+        """
+        rollout_jacobians of B trajectories of `steps` converged steps each: control_points (B steps, (s+1) n),
+        u (B steps, (s+1) m), multipliers (B steps, s m_c), trajectory b in rows b steps .. (b+1) steps - 1;
+        in C++ on `threads` threads (None: HOVI_NUM_THREADS or every core), GIL released. Returns
+        (A (B, steps, 2n, 2n) or None, B (B, steps, 2n, (s+1) m) or None, errors (B,): None, or the
+        message for a trajectory with a singular step, whose blocks are left unset).
         """
     def step_jacobians(self, control_points: numpy.typing.ArrayLike, u: numpy.typing.ArrayLike | None = None, want_A: bool = True, want_B: bool = True, multipliers: numpy.typing.ArrayLike | None = None) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"] | None, typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"] | None]:
         """

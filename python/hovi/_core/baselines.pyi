@@ -48,7 +48,7 @@ def fig3_batch(model: hovi._core.Model, s: typing.SupportsInt | typing.SupportsI
     'recursive' (hovi: Algorithm 1, A.1/A.2, Algorithms 2/3 + chain rule) or 'autodiff' (Eigen
     AutoDiffScalar on a scalar-templated Lagrangian, dense LU), at control points q + c^a dt qdot.
     """
-def one_step_batch(model: hovi._core.Model, dt: typing.SupportsFloat | typing.SupportsIndex, q0: numpy.typing.ArrayLike, qdot0: numpy.typing.ArrayLike, method: str, tol: typing.SupportsFloat | typing.SupportsIndex = 1e-10, max_iterations: typing.SupportsInt | typing.SupportsIndex = 100) -> dict[str, typing.Any]:
+def one_step_batch(model: hovi._core.Model, dt: typing.SupportsFloat | typing.SupportsIndex, q0: numpy.typing.ArrayLike, qdot0: numpy.typing.ArrayLike, method: str, tol: typing.SupportsFloat | typing.SupportsIndex = 1e-10, max_iterations: typing.SupportsInt | typing.SupportsIndex = 100, threads: int | None = None) -> dict[str, typing.Any]:
     """
     One trapezoidal (s = 1) step from every state (rows of q0, qdot0, (N, n); p0 = M(q0) qdot0) by 'newton'
     (hovi's exact O(n) Newton with line search) or 'quasi_newton' (Lee et al. 2016), both from the
@@ -57,6 +57,9 @@ def one_step_batch(model: hovi._core.Model, dt: typing.SupportsFloat | typing.Su
     before dt), or 'newton+continuation' (continuation when Newton fails); all converged when
     ||r||_inf <= tol (1 + ||p0||_inf). Returns per-state arrays converged, iterations (Newton
     directions), residual_evaluations, status, seconds (timed in C++), residual, q_next (the last
-    iterate; after a stalled continuation the last point of the branch, at h_reached < dt) and
-    h_reached (continuation: how far in the step length the branch went; NaN otherwise).
+    iterate; after a stalled continuation the last point of the branch, at h_reached < dt),
+    h_reached (continuation: how far in the step length the branch went; NaN otherwise) and errors
+    (None, or the message of an exception a state raised: its status is 'error'). The states are
+    spread over `threads` C++ threads (None: HOVI_NUM_THREADS or every core; the results do not
+    depend on it, the times per solve may, as the threads share the machine).
     """

@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "hovi/model/model.hpp"
+#include "hovi/util/byte_stream.hpp"
 
 namespace hovi {
 
@@ -36,6 +37,9 @@ class Constraint {
   // Adds to `augmented` the elements whose generalized force is Dh^T λ with λ_k = u[first + k];
   // the controls first..first+dim()-1 already exist.
   virtual void add_force_elements(Model& augmented, int first) const = 0;
+  // Writes the parameters that the kind's load() reads back (model_serialization.hpp); throws
+  // ModelError for a kind that cannot be serialised (the default).
+  virtual void save(ByteWriter& out) const;
 };
 
 // All of a model's constraints stacked (rows in the order they were added).
@@ -55,6 +59,8 @@ class PointConstraint : public Constraint {
   PointConstraint(int body, const Vec3& point, const Vec3& target, const std::string& axes = "xyz");
   int dim() const override { return static_cast<int>(P_.rows()); }
   const char* kind() const override { return "point"; }
+  void save(ByteWriter& out) const override;
+  static std::shared_ptr<const PointConstraint> load(ByteReader& in);
   void check(const Model& model) const override;
   void value(const KinematicsView& kin, const Eigen::Ref<const VecX>& q, Eigen::Ref<VecX> h) const override;
   void jacobian(const KinematicsView& kin, Eigen::Ref<MatX> J) const override;
@@ -63,6 +69,7 @@ class PointConstraint : public Constraint {
  private:
   int body_;
   Vec3 point_, target_;
+  std::string axes_;
   Eigen::Matrix<double, Eigen::Dynamic, 3> P_;
 };
 
@@ -72,6 +79,8 @@ class LoopConstraint : public Constraint {
   LoopConstraint(int body1, const Vec3& point1, int body2, const Vec3& point2, const std::string& axes = "xyz");
   int dim() const override { return static_cast<int>(P_.rows()); }
   const char* kind() const override { return "loop"; }
+  void save(ByteWriter& out) const override;
+  static std::shared_ptr<const LoopConstraint> load(ByteReader& in);
   void check(const Model& model) const override;
   void value(const KinematicsView& kin, const Eigen::Ref<const VecX>& q, Eigen::Ref<VecX> h) const override;
   void jacobian(const KinematicsView& kin, Eigen::Ref<MatX> J) const override;
@@ -80,6 +89,7 @@ class LoopConstraint : public Constraint {
  private:
   int body1_, body2_;
   Vec3 point1_, point2_;
+  std::string axes_;
   Eigen::Matrix<double, Eigen::Dynamic, 3> P_;
 };
 
@@ -90,6 +100,8 @@ class OrientationConstraint : public Constraint {
   OrientationConstraint(int body, const Mat3& R0);
   int dim() const override { return 3; }
   const char* kind() const override { return "orientation"; }
+  void save(ByteWriter& out) const override;
+  static std::shared_ptr<const OrientationConstraint> load(ByteReader& in);
   void check(const Model& model) const override;
   void value(const KinematicsView& kin, const Eigen::Ref<const VecX>& q, Eigen::Ref<VecX> h) const override;
   void jacobian(const KinematicsView& kin, Eigen::Ref<MatX> J) const override;
@@ -106,6 +118,8 @@ class JointCoupling : public Constraint {
   JointCoupling(const VecX& coefficients, double offset);
   int dim() const override { return 1; }
   const char* kind() const override { return "joint_coupling"; }
+  void save(ByteWriter& out) const override;
+  static std::shared_ptr<const JointCoupling> load(ByteReader& in);
   void check(const Model& model) const override;
   void value(const KinematicsView& kin, const Eigen::Ref<const VecX>& q, Eigen::Ref<VecX> h) const override;
   void jacobian(const KinematicsView& kin, Eigen::Ref<MatX> J) const override;
@@ -126,6 +140,8 @@ class AlignmentTorque : public BodyWrench {
   void add_control_jacobian(const SE3& g, const Twist& v, const VecX& u, Eigen::Ref<MatX> Du) const override;
   int max_control_index() const override { return control_; }
   const char* kind() const override { return "alignment_torque"; }
+  void save(ByteWriter& out) const override;
+  static std::shared_ptr<const AlignmentTorque> load(ByteReader& in);
 
  private:
   Vec3 a_, d_;

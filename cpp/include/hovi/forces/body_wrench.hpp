@@ -9,6 +9,7 @@
 #include <memory>
 
 #include "hovi/spatial/algebra.hpp"
+#include "hovi/util/byte_stream.hpp"
 
 namespace hovi {
 
@@ -26,6 +27,9 @@ class BodyWrench {
   // The largest control index used, -1 if none (the model checks it against its controls).
   virtual int max_control_index() const { return -1; }
   virtual const char* kind() const = 0;
+  // Writes the parameters (body included) that the kind's load() reads back (model_serialization.hpp);
+  // throws ModelError for a kind that cannot be serialised (the default).
+  virtual void save(ByteWriter& out) const;
 
  private:
   int body_;
@@ -47,6 +51,8 @@ class PointWrench : public BodyWrench {
   void add_control_jacobian(const SE3& g, const Twist& v, const VecX& u, Eigen::Ref<MatX> Du) const override;
   int max_control_index() const override { return control_; }
   const char* kind() const override { return "point_wrench"; }
+  void save(ByteWriter& out) const override;
+  static std::shared_ptr<const PointWrench> load(ByteReader& in);
 
  private:
   Wrench unit_value(const SE3& g) const;  // the wrench for a scale of 1
@@ -65,6 +71,8 @@ class BodyDrag : public BodyWrench {
   void add_derivatives(const SE3& g, const Twist& v, const VecX& u, Mat6& D1, Mat6& D2) const override;
   void add_control_jacobian(const SE3&, const Twist&, const VecX&, Eigen::Ref<MatX>) const override {}
   const char* kind() const override { return "drag"; }
+  void save(ByteWriter& out) const override;
+  static std::shared_ptr<const BodyDrag> load(ByteReader& in);
 
  private:
   SpatialInertia C_;  // C in the body frame, stored as an inertia-like tensor

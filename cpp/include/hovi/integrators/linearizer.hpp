@@ -21,6 +21,8 @@ namespace hovi {
 class Linearizer {
  public:
   Linearizer(const Model& model, const Quadrature& quad, double dt);
+  const Model& model() const { return model_; }
+  const Quadrature& quadrature() const { return quad_; }
 
   // The DEL Jacobian (see del_jacobian.hpp for the layout). For a constrained model with
   // multipliers lambda (m_c x s), the equations include the constraint forces (and so their
@@ -32,6 +34,13 @@ class Linearizer {
   // and, for a constrained model, multipliers lambda (m_c x s). Returns false if dR/dy is singular.
   bool step_jacobians(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u, MatX* A, MatX* B,
                       const Eigen::Ref<const MatX>& lambda = MatX()) const;
+  // step_jacobians along K converged steps: control points C (K x (s+1) n, row k = vec(q^{k,0..s})
+  // column-major), controls U (K x (s+1) m, likewise) and multipliers L (K x s m_c; constrained
+  // models). A_k goes to As[k] and B_k to Bs[k], row-major blocks of a (K, 2n, 2n) and a
+  // (K, 2n, (s+1) m) array (null: not computed). Returns -1, or the first step whose dR/dy is
+  // singular (the blocks from it on are left as they were).
+  int trajectory_jacobians(const Eigen::Ref<const MatX>& C, const Eigen::Ref<const MatX>& U,
+                           const Eigen::Ref<const MatX>& L, double* As, double* Bs) const;
 
  private:
   struct Workspace {
