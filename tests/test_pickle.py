@@ -17,12 +17,13 @@ PROPERTIES = ["n", "total_mass", "gravity", "body_names", "joint_names", "joint_
 
 
 def everything():
-    """A 4-link pendulum with every force element, every kind of constraint and visuals."""
+    """A 4-link pendulum with every force element, armature, every kind of constraint and visuals."""
     model = hovi.models.pendulum(4)
     model.gravity = [0.2, 0.0, -9.7]
     model.add_spring(0, 3.0, 0.2)
     model.add_spring(0, 1.0, -0.1)
     model.add_damper(2, 0.4)
+    model.set_armature(1, 0.05)
     model.add_actuator(1, gear=2.0)
     c = model.add_control()
     model.add_point_wrench(3, force=[1, 0, 2], torque=[0, 0.1, 0], point=[0, 0, -0.5], frame="body", control=c)
@@ -75,6 +76,7 @@ def test_model_with_everything(rng):
     assert_same_model(model, copy, rng)
     assert copy.n_wrenches == 3 and copy.n_constraints == 3 and len(copy.visuals) == 2
     assert np.array_equal(copy.stiffness, model.stiffness)  # two springs on one joint, summed as before
+    assert np.array_equal(copy.armature, [0, 0.05, 0, 0])
     a, b = hovi.Integrator(model, s=2, dt=0.01), hovi.Integrator(copy, s=2, dt=0.01)
     q, qd = a.project(np.array([0.3, -0.2, 0.5, 0.1]), np.zeros(4))
     p = a.momentum(q, qd)

@@ -21,6 +21,7 @@ Model everything() {
   m.add_wrench(std::make_shared<PointWrench>(2, Vec3(0.1, 0, 0.2), Vec3(1, 2, 3), Vec3(0, 0.1, 0), PointWrench::Frame::Body, c));
   m.add_wrench(std::make_shared<PointWrench>(0, Vec3::Zero(), Vec3(0, 0, 1), Vec3::Zero(), PointWrench::Frame::World));
   m.add_wrench(std::make_shared<BodyDrag>(3, 0.7, 0.2));
+  m.set_armature(3, 0.02);
   m.add_wrench(std::make_shared<AlignmentTorque>(1, Vec3::UnitY(), Vec3::UnitZ(), c));
   m.add_constraint(std::make_shared<PointConstraint>(4, Vec3(0, 0, -0.25), Vec3(0.1, 0, -2), "xz"));
   m.add_constraint(std::make_shared<LoopConstraint>(1, Vec3(0.1, 0, 0), 3, Vec3(0, 0.1, 0), "y"));
@@ -50,6 +51,7 @@ TEST(ModelSerialization, RoundTripIsExact) {
   EXPECT_EQ(serialize(r), bytes);  // every field, written the same way, bit for bit
   ASSERT_EQ(r.n(), m.n());
   EXPECT_EQ(r.parent, m.parent);
+  EXPECT_EQ(r.armature, m.armature);
   EXPECT_EQ(r.children, m.children);
   for (int i = 0; i < m.n(); ++i) {
     EXPECT_EQ(r.S[i], m.S[i]);

@@ -9,7 +9,7 @@ namespace hovi {
 namespace {
 
 constexpr const char* kMagic = "hovi.Model";
-constexpr std::uint32_t kVersion = 1;
+constexpr std::uint32_t kVersion = 2;  // 2: joint armature
 constexpr std::uint32_t kByteOrder = 0x01020304;  // reads back as 0x04030201 on the other byte order
 
 void put(ByteWriter& out, const SE3& g) {
@@ -139,6 +139,7 @@ std::string serialize(const Model& model) {
   out.put(f.preload);
   out.put(f.damping);
   out.put(f.actuation);
+  out.put(model.armature);
   out.put(static_cast<int>(model.wrenches.size()));
   for (const auto& w : model.wrenches) {
     out.put(std::string(w->kind()));
@@ -197,6 +198,9 @@ Model deserialize(const std::string& bytes) {
       f.actuation.rows() != n || !f.stiffness.allFinite() || !f.preload.allFinite() || !f.damping.allFinite() ||
       !f.actuation.allFinite())
     ByteReader::corrupt();
+  const VecX armature = in.get_matrix<VecX>();
+  if (armature.size() != n) ByteReader::corrupt();
+  for (int i = 0; i < n; ++i) model.set_armature(i, armature[i]);  // checks each value
   const int n_wrenches = in.get<int>();
   for (int k = 0; k < n_wrenches; ++k) model.add_wrench(get_wrench(in));
   const int n_constraints = in.get<int>();
