@@ -32,7 +32,10 @@ from collections import defaultdict
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from common import update_readme_section, write_json  # noqa: E402
+from common import ROOT, update_readme_section, write_json  # noqa: E402
+
+sys.path.insert(0, os.path.join(ROOT, "tests"))
+from del_reference import fd4  # noqa: E402  (the tests' fourth-order central differences)
 
 import hovi  # noqa: E402
 
@@ -131,15 +134,6 @@ def relative(got, want) -> float:
     return float(np.abs(np.asarray(got) - want).max() / max(np.abs(want).max(), 1e-300))
 
 
-def fd4_gradient(f, x, h):
-    g = np.zeros_like(x)
-    for idx in np.ndindex(x.shape):
-        e = np.zeros_like(x)
-        e[idx] = h
-        g[idx] = (-f(x + 2 * e) + 8 * f(x + e) - 8 * f(x - e) + f(x - 2 * e)) / (12 * h)
-    return g
-
-
 def step_check(tw: Twin, rng, dt=1e-3):
     """One hovi step (s = 1) from a random state against Pinocchio's DEL equations: the largest of
     |r^{k,0}| and |p^{k+1} - D_2 L_d|, relative to the momenta, with L_d from Pinocchio's energies."""
@@ -161,7 +155,7 @@ def step_check(tw: Twin, rng, dt=1e-3):
             L += w[a] * dt * (K - pin.computePotentialEnergy(pm, tw.pm_data, qp))
         return L
 
-    D = fd4_gradient(Ld, info.control_points, 1e-4)
+    D = fd4(Ld, info.control_points, 1e-4)
     scale = max(np.abs(p0).max(), np.abs(p1).max(), 1e-300)
     return "converged", float(max(np.abs(p0 + D[0]).max(), np.abs(p1 - D[1]).max()) / scale)
 

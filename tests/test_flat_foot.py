@@ -113,11 +113,13 @@ def test_bad_flat_foot_input_is_refused_with_a_reason():
     for kwargs, match in (({"body": "heel"}, "unknown foot body 'heel'"), ({"body": 9}, "unknown foot body 9"),
                           ({"X": 0.0}, "half-size X"), ({"mu": -1.0}, "mu must be"),
                           ({"centre": (0, 0)}, "centre must be 3"), ({"q0": q0[:3]}, "q0 must be"),
-                          ({"q0": q0 + [0, 0, 0, 0, 0.2, 0]}, "not flat at q0: its z axis is 11.5 degrees")):
+                          ({"q0": q0 + [0, 0, 0, 0, 0.2, 0]}, "not flat at q0: its z axis is 11.5 degrees"),
+                          ({"scale": 0.0}, "scale must be positive")):
         args = {"body": "block", "centre": (0, 0, -0.1), "X": 0.1, "Y": 0.1, "mu": 0.5, "q0": q0, **kwargs}
         with pytest.raises(ValueError, match=match):
             FlatFoot(block_model(), **args)
     foot, prob, _ = standing_block(0.0)
+    assert foot.cone(n_controls=foot.model.n_controls + 3).A.shape == (17, 10)  # inputs appended after the foot's
     with pytest.raises(ValueError, match="7 columns"):
         prob.add_constraint(trajopt.InputConstraint(np.ones((2, 3)), 0.0, 1.0))
     with pytest.raises(ValueError, match="lower <= upper"):

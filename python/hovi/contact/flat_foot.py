@@ -52,7 +52,8 @@ class FlatFoot:
     ``self.model`` is a copy of ``model`` with six inputs appended (``first_input`` ..
     ``first_input + 5``): the force and torque at the sole centre along the sole frame's axes, in
     units of ``scale`` N and N m (default: the robot's weight, so that the inputs are of order
-    one; ``wrench(u)`` converts). Add ``stance()`` (a path constraint) and ``cone()`` (an input constraint) to the Problem.
+    one; ``wrench(u)`` converts). Add ``stance()`` (a path constraint) and ``cone()`` (an input
+    constraint) to the Problem.
     """
 
     def __init__(self, model: Model, body: Union[str, int], centre: Sequence[float], X: float, Y: float,
@@ -72,15 +73,17 @@ class FlatFoot:
         if q0.shape != (model.n,) or not np.all(np.isfinite(q0)):
             raise ValueError(f"q0 must be {model.n} finite numbers, got shape {q0.shape}")
         pose = model.joint_placements(q0)[self.body]
-        self.R0, origin = pose[:3, :3], pose[:3, 3]
+        self.R0 = pose[:3, :3]
         tilt = np.degrees(np.arccos(np.clip(self.R0[2, 2], -1.0, 1.0)))
         if tilt > 1e-3:  # degrees
             raise ValueError(f"the foot is not flat at q0: its z axis is {tilt:.3g} degrees from vertical")
         self.X, self.Y, self.mu, self.q0 = float(X), float(Y), float(mu), q0
-        self.height = float(origin[2] + self.R0[2] @ self.centre)          # of the sole on the ground
         self.model = model.copy()
         self.first_input = self.model.n_controls
-        self.scale = max(model.total_mass * float(np.linalg.norm(model.gravity)), 1e-12) if scale is None else float(scale)
+        weight = model.total_mass * float(np.linalg.norm(model.gravity))
+        self.scale = (weight if weight > 0 else 1.0) if scale is None else float(scale)
+        if not (np.isfinite(self.scale) and self.scale > 0):
+            raise ValueError(f"scale must be positive and finite, got {scale}")
         for axis in self.R0.T:                                               # f along the sole axes
             self.model.add_point_wrench(self.body, force=self.scale * axis, point=self.centre,
                                         control=self.model.add_control())
@@ -93,10 +96,12 @@ class FlatFoot:
         from ..trajopt.path_constraints import PoseHeld
         return PoseHeld(self.body, self.q0, point=self.centre, size=(self.X, self.Y))
 
-    def cone(self):
-        """The input constraint G w >= 0 (``wrench_cone``) on the foot's wrench inputs at every point."""
+    def cone(self, n_controls: int | None = None):
+        """The input constraint G w >= 0 (``wrench_cone``) on the foot's wrench inputs at every point,
+        for a model with ``n_controls`` controls (default: ``self.model``'s; more if inputs were
+        appended after the foot's, e.g. by ``Contacts(foot.model, ...)``)."""
         from ..trajopt.input_constraints import InputConstraint
-        A = np.zeros((17, self.model.n_controls))
+        A = np.zeros((17, self.model.n_controls if n_controls is None else int(n_controls)))
         A[:, self.first_input:self.first_input + 6] = wrench_cone(self.X, self.Y, self.mu)
         return InputConstraint(A, lower=np.zeros(17), upper=np.full(17, np.inf))
 
