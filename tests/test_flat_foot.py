@@ -124,3 +124,17 @@ def test_bad_flat_foot_input_is_refused_with_a_reason():
         prob.add_constraint(trajopt.InputConstraint(np.ones((2, 3)), 0.0, 1.0))
     with pytest.raises(ValueError, match="lower <= upper"):
         trajopt.InputConstraint(np.ones((1, 7)), 1.0, 0.0)
+
+
+def test_bad_pose_held_input_is_refused_with_a_reason():
+    model = block_model()
+    q0 = np.array([0.0, 0.0, 0.1, 0.0, 0.0, 0.0])
+    for kwargs, match in (({"point": (0, 0)}, "point must be 3"), ({"point": (0, 0, np.nan)}, "point must be 3"),
+                          ({"size": (0.1, 0.0)}, "size must be two positive"), ({"size": (0.1,)}, "size must be two")):
+        with pytest.raises(ValueError, match=match):
+            trajopt.PoseHeld("block", q0, **kwargs)
+    prob = trajopt.Problem(model, N=4, T=0.2)
+    with pytest.raises(ValueError, match="q0 must be 6 finite numbers"):
+        prob.add_constraint(trajopt.PoseHeld("block", q0[:5]))
+    with pytest.raises(ValueError, match="unknown body 'foot'"):
+        prob.add_constraint(trajopt.PoseHeld("foot", q0))

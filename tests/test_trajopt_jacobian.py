@@ -24,6 +24,9 @@ def every_path_constraint(prob):
     prob.add_constraint(trajopt.CallbackPathConstraint(
         lambda t, Q: np.sin(Q) @ c[:, None] * t[:, None], lambda t, Q: (np.cos(Q) * c)[:, None, :] * t[:, None, None],
         lower=-1.0, upper=1.0, window=(0, prob.T)))
+    prob.add_constraint(trajopt.PoseHeld(n - 1, prob.q0, point=[0, 0, -0.4], size=(0.2, 0.1), window=(0.3, prob.T)))
+    A = np.arange(1.0, 2 * prob.model.n_controls + 1).reshape(2, -1) * [[1], [-1]]
+    prob.add_constraint(trajopt.InputConstraint(A, lower=[-5.0, -np.inf], upper=[np.inf, 5.0]))
     return prob
 
 

@@ -1,11 +1,17 @@
 """The paper's Sec. 6 examples on its three robots (``hovi example NAME``): each module builds its
-trajectory-optimisation problem (``build(quick)`` -> ``Example``), ``report.run`` solves, checks,
-replays and writes it."""
-from .example import Example, Scenery
+trajectory-optimisation problem (``build(quick)`` -> ``example.Example``), ``report.run`` solves,
+checks, replays and writes it. Importing this package loads nothing heavy (the command line lists
+NAMES without IPOPT or scipy)."""
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from .example import Example
 
 NAMES = ("atlas",)
 
-__all__ = ["Example", "Scenery", "NAMES", "build"]
+__all__ = ["NAMES", "build"]
 
 
 def build(name: str, quick: bool = False) -> Example:
