@@ -2,20 +2,31 @@
 the trapezoidal VI (s = 1), the Simpson VI (s = 2, the paper's) and implicit Hermite-Simpson
 collocation of the same problem, all by IPOPT with the Lagrangian's Hessian (trajopt.hessian):
 iterations, solve time, the feasibility figures and, for the VIs, the one-stage replay drift.
+Contact-implicit examples (Spring Flamingo, LittleDog) run with the trapezoidal VI only: their
+complementarity conditions need controls at the configuration points, which Hermite-Simpson does not
+have, and with s = 2 an impact inside a stage rebounds (hovi.contact.contacts).
 
-    python bench/robot_examples.py [--quick]
+    python bench/robot_examples.py [--quick] [--only NAME ...]
 
-Writes bench/results/robot_examples.json (robot_examples_quick.json) and the table in bench/README.md.
+Writes bench/results/robot_examples.json (robot_examples_quick.json; with --only, the named examples'
+rows replace theirs and the others are kept) and the table in bench/README.md.
 """
 from __future__ import annotations
 
 import argparse
+import json
+import os
 import time
 
-from common import update_readme_section, write_json
+from common import RESULTS, update_readme_section, write_json
 from hovi.robot_examples import NAMES, build, report
 
 METHODS = [("vi", 1), ("vi", 2), ("hs-implicit", 2)]
+
+
+def methods_of(name: str, quick: bool):
+    """The (method, s) pairs an example is solved with: the trapezoidal VI only if ``quick`` or with contacts."""
+    return METHODS[:1] if quick or build(name, quick=True).problem.contacts is not None else METHODS
 
 
 def run_one(name: str, quick: bool, method: str, s: int) -> dict:
@@ -38,10 +49,17 @@ def run_one(name: str, quick: bool, method: str, s: int) -> dict:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="the quick problems, the trapezoidal VI only")
+    ap.add_argument("--only", nargs="+", choices=NAMES, default=list(NAMES), help="the examples to run")
     args = ap.parse_args()
-    methods = METHODS[:1] if args.quick else METHODS
-    rows = [run_one(name, args.quick, method, s) for name in NAMES for method, s in methods]
-    path = write_json("robot_examples_quick.json" if args.quick else "robot_examples.json", {"rows": rows})
+    name = "robot_examples_quick.json" if args.quick else "robot_examples.json"
+    kept = []
+    if set(args.only) != set(NAMES) and os.path.exists(os.path.join(RESULTS, name)):
+        with open(os.path.join(RESULTS, name)) as f:
+            kept = [r for r in json.load(f)["rows"] if r["example"] not in args.only]
+    rows = kept + [run_one(example, args.quick, method, s) for example in args.only
+                   for method, s in methods_of(example, args.quick)]
+    rows.sort(key=lambda r: NAMES.index(r["example"]))
+    path = write_json(name, {"rows": rows})
     print(f"wrote {path}")
     if args.quick:
         return

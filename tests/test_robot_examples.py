@@ -8,7 +8,10 @@ import pytest
 from hovi.cli import main
 from hovi.robot_examples import build
 from hovi.robot_examples.atlas import centre_of_mass, single_support, sole, static_controls
-from hovi.robots import atlas
+from hovi.contact.terrain import Box
+from hovi.robot_examples import flamingo
+from hovi.robot_examples.flamingo import JumpPlan, box_distance, obstacle_circles
+from hovi.robots import atlas, spring_flamingo
 
 pytest.importorskip("cyipopt")
 
@@ -47,6 +50,45 @@ def test_atlas_reaches_the_ball_on_one_foot(tmp_path, capsys):
     assert np.all(data["contact_forces"][:-1, 2] > 0)
     for name in ("atlas.png", "atlas.html", "atlas.mp4"):
         assert (tmp_path / name).stat().st_size > 10_000
+
+
+def test_flamingo_plan_puts_the_ankles_where_it_says_with_level_soles():
+    robot = spring_flamingo()
+    plan = JumpPlan(robot)
+    t = np.linspace(0.0, 1.1, 23)
+    q = plan.configurations(t)
+    model = robot.model
+    for qk, ankle in zip(q, plan.ankle(t)):
+        for side in ("left", "right"):
+            foot = model.joint_placements(qk)[model.body_index(f"{side}_foot")]
+            np.testing.assert_allclose(foot[[0, 2], 3], ankle, atol=1e-12)  # inverse kinematics, checked forward
+            np.testing.assert_allclose(foot[:3, :3], np.eye(3), atol=1e-12)  # the sole level
+    np.testing.assert_allclose(plan.velocities(np.zeros(1))[0, 0], -0.26, atol=1e-8)
+
+
+def test_obstacle_circles_cover_the_box_and_distance_is_signed():
+    box = flamingo.OBSTACLE
+    x, z = np.meshgrid(np.linspace(box.x0, box.x1, 41), np.linspace(0.0, box.top, 17))
+    inside = np.column_stack([x.ravel(), np.zeros(x.size), z.ravel()])
+    centres = np.array(obstacle_circles(box))
+    d = np.hypot(inside[:, None, 0] - centres[None, :, 0], inside[:, None, 2] - centres[None, :, 1]).min(1)
+    assert d.max() < flamingo.CIRCLE_RADIUS                      # every point of the box inside a circle
+    probe = np.array([[box.x0 - 0.1, 0, 0.05], [(box.x0 + box.x1) / 2, 0, box.top + 0.2], [box.x1 - 0.01, 0, 0.1]])
+    np.testing.assert_allclose(box_distance(probe, box), [0.1, 0.2, -0.01], atol=1e-12)
+    with pytest.raises(ValueError, match="do not cover"):
+        obstacle_circles(Box(0.0, 0.1, 0.16))
+
+
+def test_flamingo_jumps_the_obstacle(tmp_path, capsys):
+    assert main(["example", "flamingo", "--quick", "--quiet", "--no-animate", "--output", str(tmp_path)]) == 0
+    s = json.loads((tmp_path / "flamingo.json").read_text())
+    assert s["success"] and s["feasible"], s["failures"]
+    assert s["constraint_violation"] <= 1e-6 and s["exact_solve"] == 1.0
+    assert s["complementarity"] <= 1e-6 and s["normal_complementarity"] <= 1e-6 and s["penetration"] <= 1e-6
+    assert s["obstacle_clearance"] >= 0 and s["feet_beyond_obstacle"] >= 0   # over the box, both feet past it
+    assert s["replay_one_step_drift"] <= 1e-6   # each stage is the integrator's step, to IPOPT's constr_viol_tol 1e-8
+    forces = np.load(tmp_path / "flamingo.npz")["contact_forces"]
+    assert np.any(forces[:-1].sum(1) == 0)                                   # a flight phase: no contact force
 
 
 def test_unknown_example_is_refused():

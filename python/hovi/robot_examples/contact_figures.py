@@ -1,0 +1,31 @@
+"""The feasibility figures of a contact-implicit solution (``hovi.trajopt.solve_contact``), computed
+from the trajectory itself rather than read from the solver's rows: the deepest penetration of a
+contact point at any configuration point, and the largest normal complementarity product
+lambda_i phi(q_{i+1}) (the pairing of ``hovi.contact.contacts``); beside them the solver's own
+largest product over all pairs (normal, cone and sliding) and whether its exact solve finished."""
+from __future__ import annotations
+
+from typing import Dict
+
+import numpy as np
+
+from ..contact import Contacts
+from ..trajopt import Result
+
+
+def contact_figures(contacts: Contacts, result: Result) -> Dict[str, float]:
+    """{'penetration', 'normal_complementarity', 'complementarity', 'exact_solve'} of ``result``
+    (its configuration points are the trajectory's points: s = 1)."""
+    if result.transcription.s != 1:
+        raise ValueError(f"the contact figures read the knots of s = 1, got s = {result.transcription.s}")
+    tr = result.trajectory
+    phi = np.array([contacts.gaps(q) for q in tr["q"]])                     # (P, C)
+    lam = tr["u"][:, [contacts.input_index(c, "normal") for c in range(contacts.n_contacts)]]
+    return {"penetration": float(max(0.0, -phi.min())),
+            "normal_complementarity": float(np.abs(lam[:-1] * phi[1:]).max()),
+            "complementarity": float(result.contact["complementarity"]),
+            "exact_solve": float(result.contact["finished"])}
+
+
+CONTACT_BOUNDS = {"penetration": ("<=", 1e-6), "normal_complementarity": ("<=", 1e-6),
+                  "complementarity": ("<=", 1e-6), "exact_solve": (">=", 1.0)}
