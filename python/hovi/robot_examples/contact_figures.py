@@ -14,11 +14,12 @@ from ..trajopt import Result
 
 
 def contact_figures(contacts: Contacts, result: Result) -> Dict[str, float]:
-    """{'penetration', 'normal_complementarity', 'complementarity', 'exact_solve'} of ``result``
-    (its configuration points are the trajectory's points: s = 1)."""
-    if result.transcription.s != 1:
-        raise ValueError(f"the contact figures read the knots of s = 1, got s = {result.transcription.s}")
+    """{'penetration', 'normal_complementarity', 'complementarity', 'exact_solve'} of ``result``, a
+    VI solution with controls at every control point (the configuration points of the contact
+    conditions: the trajectory's points)."""
     tr = result.trajectory
+    if len(tr["q"]) != len(tr["u"]):
+        raise ValueError("the contact figures need controls at every configuration point (controls='per_point')")
     phi = np.array([contacts.gaps(q) for q in tr["q"]])                     # (P, C)
     lam = tr["u"][:, [contacts.input_index(c, "normal") for c in range(contacts.n_contacts)]]
     return {"penetration": float(max(0.0, -phi.min())),

@@ -5,8 +5,8 @@ from walking at 0.26 m/s to its hip over a goal 0.74 m ahead after 1.1 s.
 
 The obstacle is a path constraint, not terrain: ``hovi.contact.Terrain`` boxes are steps in the
 ground height, so the gap row of a contact point jumps by the box's height where the point crosses
-its edge, and IPOPT's line search cannot cross that step (measured on this problem, N = 22: primal
-infeasibility oscillating between 1 and 10 for 300 iterations of the first relaxed solve). The
+its edge, and IPOPT's line search cannot cross that step (bench/README.md, "The paper's robots":
+a first version of this problem did not finish its first relaxed solve in 20 minutes). The
 feet instead stay outside circles that cover the box in the sagittal plane (``obstacle_circles``,
 smooth ``trajopt.Clearance`` rows), and the contacts see flat ground. The check
 ``obstacle_clearance`` measures the real box against points all along both soles and shins.

@@ -16,6 +16,11 @@ from ..trajopt import Result
 from .example import Example
 
 
+def ipopt_iterations(result: Result) -> int:
+    """IPOPT iterations of the whole solve: for a contact-implicit one, of all its relaxed and exact solves."""
+    return int(result.contact["iterations"] if result.contact else result.iterations)
+
+
 def replay_figures(example: Example, result: Result) -> Dict[str, Any]:
     """The optimised controls (and contact forces) re-simulated by the integrator: each stage from
     its optimised (q^k, p^k) (the largest distance of the step's end from q^{k+1}: how exactly the
@@ -106,7 +111,7 @@ def run(example: Example, output: str, *, animation: bool = True, plots: bool = 
     summary: Dict[str, Any] = {
         "example": example.name, "description": example.description, "dof": example.robot.model.n,
         "N": example.problem.N, "T": example.problem.T, "transcription": result.transcription.name,
-        "status": result.status, "success": bool(result.success), "iterations": int(result.iterations),
+        "status": result.status, "success": bool(result.success), "iterations": ipopt_iterations(result),
         "solve_seconds": wall, "ipopt_seconds": float(result.wall_seconds), "cost": float(result.cost),
         "constraint_violation": float(result.constraint_violation), **result.sizes, **figures,
         "contact_solves": result.contact.get("solves", []), **replay_figures(example, result),
