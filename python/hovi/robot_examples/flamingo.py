@@ -40,15 +40,15 @@ HIP_HEIGHT = 0.6                  # the hip stays above this (m)
 KNEE_HEIGHT = 0.1                 # the knees stay above this (m)
 
 
-def leg_angles(hip: np.ndarray, ankle: np.ndarray) -> Tuple[float, float, float]:
-    """(hip, knee, ankle) joint angles that put the ankle axis at ``ankle`` (x, z) below a hip at
-    ``hip`` (x, z), knee flexed (negative), with the base and the sole level. With a = hip angle,
-    b = knee angle, the ankle sits at hip - (L1 sin a + L2 sin(a + b), L1 cos a + L2 cos(a + b))."""
-    d = np.asarray(ankle, float) - np.asarray(hip, float)
-    reach = min(float(np.hypot(*d)), THIGH + SHIN - 1e-4)
-    knee = -float(np.arccos(np.clip((reach ** 2 - THIGH ** 2 - SHIN ** 2) / (2 * THIGH * SHIN), -1.0, 1.0)))
-    a = float(np.arctan2(-d[0], -d[1]) - np.arctan2(SHIN * np.sin(knee), THIGH + SHIN * np.cos(knee)))
-    return a, knee, -(a + knee)
+def leg_angles(hip: np.ndarray, ankle: np.ndarray) -> np.ndarray:
+    """(hip, knee, ankle) joint angles (K, 3) that put the ankle axis at ``ankle`` (K, 2) (x, z) below
+    a hip at ``hip`` (K, 2), knee flexed (negative), with the base and the sole level. With a = hip
+    angle, b = knee angle, the ankle sits at hip - (L1 sin a + L2 sin(a + b), L1 cos a + L2 cos(a + b))."""
+    d = np.atleast_2d(np.asarray(ankle, float) - np.asarray(hip, float))
+    reach = np.minimum(np.hypot(d[:, 0], d[:, 1]), THIGH + SHIN - 1e-4)
+    knee = -np.arccos(np.clip((reach ** 2 - THIGH ** 2 - SHIN ** 2) / (2 * THIGH * SHIN), -1.0, 1.0))
+    a = np.arctan2(-d[:, 0], -d[:, 1]) - np.arctan2(SHIN * np.sin(knee), THIGH + SHIN * np.cos(knee))
+    return np.column_stack([a, knee, -(a + knee)])
 
 
 class JumpPlan:
@@ -76,9 +76,9 @@ class JumpPlan:
         t = np.atleast_1d(np.asarray(t, float))
         q = np.zeros((len(t), self.model.n))
         q[:, :2] = self.hip(t)
-        for k, (hip, ankle) in enumerate(zip(q[:, :2], self.ankle(t))):
-            for joints in self.legs:
-                q[k, joints] = leg_angles(hip, ankle)
+        angles = leg_angles(q[:, :2], self.ankle(t))
+        for joints in self.legs:
+            q[:, joints] = angles
         return q
 
     def velocities(self, t: np.ndarray, h: float = 1e-6) -> np.ndarray:
