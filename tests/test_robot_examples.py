@@ -10,7 +10,7 @@ from hovi.robot_examples import build
 from hovi.robot_examples.atlas import centre_of_mass, single_support, sole, static_controls
 from hovi.contact.terrain import Box
 from hovi.robot_examples import flamingo
-from hovi.robot_examples.flamingo import JumpPlan, box_distance, obstacle_circles
+from hovi.robot_examples.flamingo import JumpPlan, box_distance, leg_points, obstacle_circles
 from hovi.robots import atlas, spring_flamingo
 
 pytest.importorskip("cyipopt")
@@ -64,6 +64,10 @@ def test_flamingo_plan_puts_the_ankles_where_it_says_with_level_soles():
             np.testing.assert_allclose(foot[[0, 2], 3], ankle, atol=1e-12)  # inverse kinematics, checked forward
             np.testing.assert_allclose(foot[:3, :3], np.eye(3), atol=1e-12)  # the sole level
     np.testing.assert_allclose(plan.velocities(np.zeros(1))[0, 0], -0.26, atol=1e-8)
+    points = leg_points(robot, q[0]).reshape(4, 25, 3)  # left sole, left shin, right sole, right shin
+    np.testing.assert_allclose(points[1, [0, -1]][:, [0, 2]], [model.joint_placements(q[0])[model.body_index(b)][[0, 2], 3]
+                                                               for b in ("left_lower_leg", "left_foot")], atol=1e-12)
+    np.testing.assert_allclose(points[0, :, 2], 0.0, atol=1e-12)  # the sole on the ground at the start
 
 
 def test_obstacle_circles_cover_the_box_and_distance_is_signed():

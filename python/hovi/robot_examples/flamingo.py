@@ -123,14 +123,14 @@ def box_distance(points: np.ndarray, box: Box) -> np.ndarray:
 
 
 def leg_points(robot: Robot, q: np.ndarray) -> np.ndarray:
-    """World points (K, 3) along both soles (toe to heel) and both shins (ankle to knee) at q."""
+    """World points (K, 3) along both soles (toe to heel) and both shins (knee to ankle) at q."""
     model = robot.model
     toe, heel = (np.array(c.point) for c in robot.contacts[:2])
-    shin_top = np.array([0.0, 0.0, SHIN])
+    ankle = np.array([0.0, 0.0, -SHIN])  # in the lower leg's frame, whose origin is the knee axis
     out = []
     for side in ("left", "right"):
         out.append(_segment_points(model, q, f"{side}_foot", toe, heel))
-        out.append(_segment_points(model, q, f"{side}_lower_leg", np.zeros(3), shin_top))
+        out.append(_segment_points(model, q, f"{side}_lower_leg", np.zeros(3), ankle))
     return np.concatenate(out)
 
 
