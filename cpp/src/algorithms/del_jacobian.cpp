@@ -1,6 +1,7 @@
 #include "hovi/algorithms/del_jacobian.hpp"
 
 #include "hovi/algorithms/gravity_hessian.hpp"
+#include "hovi/algorithms/kinematics.hpp"
 #include "hovi/algorithms/kinetic_hessians.hpp"
 
 namespace hovi {
@@ -10,19 +11,22 @@ DelJacobianWorkspace::DelJacobianWorkspace(const Model& model, const Quadrature&
       Vqq(quad.s + 1), qdot(model.n(), quad.s + 1) {}
 
 void dlagrangian_hessian(const Model& model, const Quadrature& quad, DelJacobianWorkspace& ws,
-                         const Eigen::Ref<const MatX>& qc, double dt, Eigen::Ref<MatX> D2Ld) {
+                         const Eigen::Ref<const MatX>& qc, double dt, Eigen::Ref<MatX> D2Ld,
+                         const DelWorkspace* kinematics) {
   const int n = model.n(), S1 = quad.s + 1;
   const VecX& w = quad.w;
   const MatX& b = quad.b;
   ws.qdot.noalias() = qc * b.transpose() / dt;
   const bool gravity = model.has_gravity();
   for (int a = 0; a < S1; ++a) {
-    kinetic_hessians(model, ws.data, qc.col(a), ws.qdot.col(a));
+    if (kinematics) kinematics->kinematics_at(a, ws.data);
+    else forward_kinematics(model, ws.data, qc.col(a), ws.qdot.col(a));
+    kinetic_hessians(model, ws.data);
     ws.Kvv[a] = ws.data.Kvv;
     ws.Kvq[a] = ws.data.Kvq;
     ws.Kqv[a] = ws.data.Kqv;
     ws.Kqq[a] = ws.data.Kqq;
-    if (gravity) ws.Vqq[a] = gravity_hessian(model, ws.data, qc.col(a));
+    if (gravity) ws.Vqq[a] = gravity_hessian(model, ws.data);
   }
   for (int bb = 0; bb < S1; ++bb)
     for (int c = 0; c < S1; ++c) {
@@ -41,9 +45,9 @@ void dlagrangian_hessian(const Model& model, const Quadrature& quad, DelJacobian
 
 void del_jacobian(const Model& model, const Quadrature& quad, DelJacobianWorkspace& ws,
                   const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u, double dt, Eigen::Ref<MatX> Jq,
-                  MatX* Ju) {
+                  MatX* Ju, const DelWorkspace* kinematics) {
   const int n = model.n(), m = model.n_controls(), S1 = quad.s + 1;
-  dlagrangian_hessian(model, quad, ws, qc, dt, Jq);
+  dlagrangian_hessian(model, quad, ws, qc, dt, Jq, kinematics);
   const bool joint = model.joint_forces.any(), wrenches = !model.wrenches.empty();
   if (Ju) Ju->setZero(S1 * n, S1 * m);
   if (!joint && !wrenches) return;  // no non-conservative forces: nothing more to add

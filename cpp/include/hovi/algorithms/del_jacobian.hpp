@@ -15,6 +15,7 @@
 #pragma once
 #include <vector>
 
+#include "hovi/algorithms/del_workspace.hpp"
 #include "hovi/algorithms/force_jacobians.hpp"
 #include "hovi/quadrature/lobatto.hpp"
 
@@ -28,13 +29,16 @@ struct DelJacobianWorkspace {
   MatX qdot;                                  // n x (s+1)
 };
 
-// D^2 L_d at the control points qc (n x (s+1)).
+// D^2 L_d at the control points qc (n x (s+1)). `kinematics`, unless null, is a del_residual
+// workspace evaluated at the same qc and dt, whose forward kinematics are reused.
 void dlagrangian_hessian(const Model& model, const Quadrature& quad, DelJacobianWorkspace& ws,
-                         const Eigen::Ref<const MatX>& qc, double dt, Eigen::Ref<MatX> D2Ld);
+                         const Eigen::Ref<const MatX>& qc, double dt, Eigen::Ref<MatX> D2Ld,
+                         const DelWorkspace* kinematics = nullptr);
 
-// Jq (and Ju unless null) of the DEL equations at qc with controls u (m x (s+1)).
+// Jq (and Ju unless null) of the DEL equations at qc with controls u (m x (s+1)); `kinematics`
+// as for dlagrangian_hessian.
 void del_jacobian(const Model& model, const Quadrature& quad, DelJacobianWorkspace& ws,
                   const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u, double dt, Eigen::Ref<MatX> Jq,
-                  MatX* Ju);
+                  MatX* Ju, const DelWorkspace* kinematics = nullptr);
 
 }  // namespace hovi

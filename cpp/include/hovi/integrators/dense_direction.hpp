@@ -22,10 +22,11 @@ inline bool uses_dense_direction(Direction direction, const Model& model, int s)
 class DenseDirection {
  public:
   DenseDirection(const Model& model, const Quadrature& quad);
-  // Factors J = dr/dq^{k,1..s} at the control points qc (n x (s+1)) with controls u (m x (s+1)).
-  // Returns false if J is singular to working precision.
+  // Factors J = dr/dq^{k,1..s} at the control points qc (n x (s+1)) with controls u (m x (s+1)),
+  // reusing the forward kinematics of `kinematics` (a del_residual workspace at the same qc and
+  // dt) unless null. Returns false if J is singular to working precision.
   bool factor(const Model& model, const Quadrature& quad, const Eigen::Ref<const MatX>& qc,
-              const Eigen::Ref<const MatX>& u, double dt);
+              const Eigen::Ref<const MatX>& u, double dt, const DelWorkspace* kinematics = nullptr);
   // dq = -J^{-1} r, r and dq n x s (column gamma-1 = δq^{k,gamma}).
   void solve(const Eigen::Ref<const MatX>& r, Eigen::Ref<MatX> dq);
 
