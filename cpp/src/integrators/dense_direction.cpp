@@ -13,14 +13,13 @@ bool dense_direction_is_faster(const Model& model, int s) {
 }
 
 DenseDirection::DenseDirection(const Model& model, const Quadrature& quad)
-    : ws_(model, quad), Jq_((quad.s + 1) * model.n(), (quad.s + 1) * model.n()),
+    : ws_(model, quad), J_(quad.s * model.n(), quad.s * model.n()),
       lu_(quad.s * model.n()), x_(quad.s * model.n()) {}
 
 bool DenseDirection::factor(const Model& model, const Quadrature& quad, const Eigen::Ref<const MatX>& qc,
                             const Eigen::Ref<const MatX>& u, double dt, const DelWorkspace* kinematics) {
-  const int n = model.n(), sn = quad.s * n;
-  del_jacobian(model, quad, ws_, qc, u, dt, Jq_, nullptr, kinematics);
-  lu_.compute(Jq_.block(0, n, sn, sn));  // rows: r^{k,0..s-1}; columns: q^{k,1..s}
+  del_jacobian(model, quad, ws_, qc, u, dt, J_, nullptr, kinematics, BlockWindow::newton(quad.s));
+  lu_.compute(J_);
   const double rcond = lu_.rcond();      // O((sn)^2) estimate of the reciprocal condition number
   return std::isfinite(rcond) && rcond > 1e-15;
 }

@@ -1,6 +1,6 @@
 // The Newton direction of the DEL equations by a dense solve: the Jacobian dr^{k,0..s-1} /
-// dq^{k,1..s} (an s n square block of del_jacobian.hpp's Jq, from the linearisation in
-// O(s^2 n^2)) and one LU factorisation, O(s^3 n^3); each further right-hand side costs
+// dq^{k,1..s} (the s n square window of del_jacobian.hpp's Jq, from the linearisation in
+// O(s^2 n^2), only those blocks computed) and one LU factorisation, O(s^3 n^3); each further right-hand side costs
 // O(s^2 n^2). Below a crossover in n (per s, measured in bench/direction_crossover.py) this is
 // cheaper than the recursive O(s^3 n) direction of Algorithms A.1/A.2, whose constant is large.
 #pragma once
@@ -32,8 +32,8 @@ class DenseDirection {
 
  private:
   DelJacobianWorkspace ws_;
-  MatX Jq_;                      // ((s+1) n) square: the full DEL Jacobian of del_jacobian.hpp
-  Eigen::PartialPivLU<MatX> lu_;  // of its block rows 0..s-1, columns 1..s
+  MatX J_;                        // (s n) square: the window BlockWindow::newton of the DEL Jacobian
+  Eigen::PartialPivLU<MatX> lu_;  // of J_
   VecX x_;
 };
 
