@@ -29,7 +29,7 @@ void dlagrangian_hessian(const Model& model, const Quadrature& quad, DelJacobian
   const BlockWindow win = resolved(window, S1);
   const VecX& w = quad.w;
   const MatX& b = quad.b;
-  ws.qdot.noalias() = qc * b.transpose() / dt;
+  ws.qdot.noalias() = qc.lazyProduct(b.transpose()) / dt;  // coefficient-wise: no temporary
   const bool gravity = model.has_gravity();
   for (int a = 0; a < S1; ++a) {
     if (kinematics) kinematics->kinematics_at(a, ws.data);

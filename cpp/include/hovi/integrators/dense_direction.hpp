@@ -34,7 +34,7 @@ class DenseDirection {
   DelJacobianWorkspace ws_;
   MatX J_;                        // (s n) square: the window BlockWindow::newton of the DEL Jacobian
   Eigen::PartialPivLU<MatX> lu_;  // of J_
-  VecX x_;
+  VecX x_, y_;  // right-hand side and solution
 };
 
 }  // namespace hovi
