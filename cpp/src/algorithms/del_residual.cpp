@@ -12,7 +12,7 @@ void del_residual(const Model& model, const Quadrature& quad, DelWorkspace& ws, 
   assert(u.rows() == model.n_controls() && u.cols() == S1);
   ws.dt = dt;
   ws.u = u;
-  ws.qdot.noalias() = q * quad.b.transpose() / dt;  // q̇_i^a = (1/dt) sum_b b^{ab} q_i^b
+  ws.qdot.noalias() = q.lazyProduct(quad.b.transpose()) / dt;  // q̇_i^a = (1/dt) sum_b b^{ab} q_i^b
   const bool gravity = model.has_gravity();
   const bool wrenches = !model.wrenches.empty();
 

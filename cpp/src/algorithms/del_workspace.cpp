@@ -18,4 +18,14 @@ DelWorkspace::DelWorkspace(const Model& model, const Quadrature& quad) : n(model
   for (const auto& w : model.wrenches) wrenches[w->body()].push_back(w.get());
 }
 
+void DelWorkspace::kinematics_at(int a, Data& data) const {
+  for (int i = 0; i < n; ++i) {
+    const int k = at(i, a);
+    data.g[i] = g[k];
+    data.Sbar[i] = Sbar[k];
+    data.Mbar[i] = Mbar[k];
+    data.v[i] = v[k];
+  }
+}
+
 }  // namespace hovi

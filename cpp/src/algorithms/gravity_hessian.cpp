@@ -6,6 +6,10 @@ namespace hovi {
 
 const MatX& gravity_hessian(const Model& model, Data& data, const Eigen::Ref<const VecX>& q) {
   forward_kinematics(model, data, q);
+  return gravity_hessian(model, data);
+}
+
+const MatX& gravity_hessian(const Model& model, Data& data) {
   const int n = model.n();
   const Mat3 G = hat(model.gravity);
   for (int i = 0; i < n; ++i) {

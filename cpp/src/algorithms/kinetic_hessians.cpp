@@ -7,6 +7,10 @@ namespace hovi {
 void kinetic_hessians(const Model& model, Data& data, const Eigen::Ref<const VecX>& q,
                       const Eigen::Ref<const VecX>& qdot) {
   forward_kinematics(model, data, q, qdot);
+  kinetic_hessians(model, data);
+}
+
+void kinetic_hessians(const Model& model, Data& data) {
   const int n = model.n();
   for (int i = 0; i < n; ++i) {
     data.Sdot[i] = ad(data.v[i], data.Sbar[i]);      // Ṡ̄_i = ad_{v̄_i} S̄_i

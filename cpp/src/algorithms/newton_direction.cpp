@@ -30,6 +30,7 @@ NewtonWorkspace::NewtonWorkspace(const Model& model, const Quadrature& quad) : n
   Xi.resize(S * S);
   xi.resize(S);
   Lambda.resize(S, S);
+  Lambda_lu = Eigen::PartialPivLU<PivotBlock>(s);
   Lambda_inv.assign(N, MatX(S, S));
   corr_mu.resize(N * S1);
   corr_Gamma.resize(N * S1);
@@ -185,7 +186,7 @@ bool newton_factor(const Model& model, const Quadrature& quad, DelWorkspace& del
       }
     }
     // Λ̄ = Λ^{-1}; X, Y = -Λ̄ (Θ̄, Ξ̄)
-    const Eigen::PartialPivLU<MatX> lu(ws.Lambda);
+    const auto& lu = ws.Lambda_lu.compute(ws.Lambda);
     const double scale = ws.Lambda.cwiseAbs().maxCoeff();
     if (!(scale > 0) || !(lu.matrixLU().diagonal().cwiseAbs().minCoeff() > 1e-14 * scale)) return false;
     MatX& Linv = ws.Lambda_inv[i];

@@ -40,6 +40,8 @@ GalerkinIntegrator::GalerkinIntegrator(Model model, int s, double dt, SolverOpti
   // E(b, a) = l_b(1 + c^a): the previous step's polynomial evaluated at this step's points.
   extrapolate_.resize(s + 1, s + 1);
   for (int a = 0; a <= s; ++a) extrapolate_.col(a) = quad_.basis(1 + quad_.c[a]);
+  // Both predictors are shifted to pass through q^{k,0}: columns a = 1..s minus column 0.
+  extrapolate_ = (extrapolate_.rightCols(s).colwise() - extrapolate_.col(0)).eval();
   // Least-squares extrapolation from the points of the last two steps, at times (in steps)
   // -2 + c^a (a = 0..s) and -1 + c^a (a = 1..s), to this step's c^a.
   const int degree = std::min(std::max(2, 2 * s - 1), 7);
@@ -51,6 +53,7 @@ GalerkinIntegrator::GalerkinIntegrator(Model model, int s, double dt, SolverOpti
   for (int a = 0; a <= s; ++a)
     for (int d = 0; d <= degree; ++d) Vt(a, d) = std::pow(quad_.c[a], d);
   extrapolate2_ = (Vt * V.completeOrthogonalDecomposition().pseudoInverse()).transpose();
+  extrapolate2_ = (extrapolate2_.rightCols(s).colwise() - extrapolate2_.col(0)).eval();
   pool_.acquire();  // one workspace made up front: a bad model fails here, not in the first call
 }
 
@@ -189,19 +192,16 @@ void GalerkinIntegrator::guess_from_velocity(const VecX& qdot, Eigen::Ref<MatX> 
 
 void GalerkinIntegrator::guess_from_history(const Eigen::Ref<const MatX>& before_previous,
                                             const Eigen::Ref<const MatX>& previous, Eigen::Ref<MatX> qc) const {
-  const int s = quad_.s;
-  const VecX q0 = qc.col(0);
-  qc.noalias() = before_previous * extrapolate2_.topRows(s + 1) + previous.rightCols(s) * extrapolate2_.bottomRows(s);
-  const VecX shift = q0 - qc.col(0);
-  qc.colwise() += shift;
+  const int s = quad_.s;  // (lazy products: no temporaries, no allocation)
+  qc.rightCols(s).noalias() = before_previous.lazyProduct(extrapolate2_.topRows(s + 1)) +
+                              previous.rightCols(s).lazyProduct(extrapolate2_.bottomRows(s));
+  qc.rightCols(s).colwise() += qc.col(0);
 }
 
 void GalerkinIntegrator::guess_from_previous(const Eigen::Ref<const MatX>& previous, Eigen::Ref<MatX> qc) const {
-  const VecX q0 = qc.col(0);
-  qc.noalias() = previous * extrapolate_;
   // Keep q^{k,0} exactly and shift the extrapolation to pass through it.
-  const VecX shift = q0 - qc.col(0);
-  qc.colwise() += shift;
+  qc.rightCols(quad_.s).noalias() = previous.lazyProduct(extrapolate_);
+  qc.rightCols(quad_.s).colwise() += qc.col(0);
 }
 
 Rollout GalerkinIntegrator::rollout(const VecX& q0, const VecX& p0, int N, const MatX& u, const MatX& previous,

@@ -33,7 +33,7 @@ bool NewtonSolver::factor(const Model& model, const Quadrature& quad, const Solv
   factor_dense_ = uses_dense_direction(opt.direction, model, quad.s);
   if (factor_dense_) {
     if (!dense_) dense_ = std::make_unique<DenseDirection>(model, quad);
-    if (!dense_->factor(model, quad, qc, u, dt)) return false;
+    if (!dense_->factor(model, quad, qc, u, dt, &del)) return false;  // del holds Algorithm 1 at qc
   } else {
     if (!newton_factor(model, quad, del, factor_)) return false;
     del_factor_.Sbar = del.Sbar;  // newton_solve reads the kinematics of the factorisation

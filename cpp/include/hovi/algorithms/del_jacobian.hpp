@@ -15,10 +15,20 @@
 #pragma once
 #include <vector>
 
+#include "hovi/algorithms/del_workspace.hpp"
 #include "hovi/algorithms/force_jacobians.hpp"
 #include "hovi/quadrature/lobatto.hpp"
 
 namespace hovi {
+
+// The block rows row0..row0+rows-1 and block columns col0..col0+cols-1 of that layout (counts
+// -1: through block s). A matrix filled through a window is (rows n) x (cols n) and holds those
+// blocks only; nothing outside them is computed.
+struct BlockWindow {
+  int row0 = 0, col0 = 0, rows = -1, cols = -1;
+  // The Newton direction's dr^{k,0..s-1} / dq^{k,1..s}.
+  static BlockWindow newton(int s) { return {0, 1, s, s}; }
+};
 
 struct DelJacobianWorkspace {
   DelJacobianWorkspace(const Model& model, const Quadrature& quad);
@@ -28,13 +38,16 @@ struct DelJacobianWorkspace {
   MatX qdot;                                  // n x (s+1)
 };
 
-// D^2 L_d at the control points qc (n x (s+1)).
+// D^2 L_d (its window) at the control points qc (n x (s+1)). `kinematics`, unless null, is a
+// del_residual workspace evaluated at the same qc and dt, whose forward kinematics are reused.
 void dlagrangian_hessian(const Model& model, const Quadrature& quad, DelJacobianWorkspace& ws,
-                         const Eigen::Ref<const MatX>& qc, double dt, Eigen::Ref<MatX> D2Ld);
+                         const Eigen::Ref<const MatX>& qc, double dt, Eigen::Ref<MatX> D2Ld,
+                         const DelWorkspace* kinematics = nullptr, BlockWindow window = {});
 
-// Jq (and Ju unless null) of the DEL equations at qc with controls u (m x (s+1)).
+// Jq (its window) and Ju (all rows, unless null) of the DEL equations at qc with controls u
+// (m x (s+1)); `kinematics` as for dlagrangian_hessian.
 void del_jacobian(const Model& model, const Quadrature& quad, DelJacobianWorkspace& ws,
                   const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u, double dt, Eigen::Ref<MatX> Jq,
-                  MatX* Ju);
+                  MatX* Ju, const DelWorkspace* kinematics = nullptr, BlockWindow window = {});
 
 }  // namespace hovi

@@ -4,7 +4,7 @@
 #pragma once
 #include <vector>
 
-#include "hovi/model/model.hpp"
+#include "hovi/model/data.hpp"
 #include "hovi/quadrature/lobatto.hpp"
 
 namespace hovi {
@@ -12,6 +12,9 @@ namespace hovi {
 struct DelWorkspace {
   DelWorkspace(const Model& model, const Quadrature& quad);
   int at(int i, int a) const { return i * (s + 1) + a; }
+  // The kinematics of control point a (g, S̄, M̄, v̄) into data, as forward_kinematics(q^{k,a},
+  // q̇^{k,a}) would leave them: the D^2 L_d of a step reuses Algorithm 1's forward pass.
+  void kinematics_at(int a, Data& data) const;
 
   int n, s;
   double dt = 0;

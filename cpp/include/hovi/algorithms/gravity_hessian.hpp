@@ -6,4 +6,6 @@
 namespace hovi {
 // Returns data.Vqq.
 const MatX& gravity_hessian(const Model& model, Data& data, const Eigen::Ref<const VecX>& q);
+// The same from the kinematics already in data (g, S̄ of forward_kinematics).
+const MatX& gravity_hessian(const Model& model, Data& data);
 }  // namespace hovi

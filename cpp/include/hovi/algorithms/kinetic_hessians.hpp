@@ -9,4 +9,6 @@ namespace hovi {
 // Fills data.Kvv, data.Kvq, data.Kqv, data.Kqq.
 void kinetic_hessians(const Model& model, Data& data, const Eigen::Ref<const VecX>& q,
                       const Eigen::Ref<const VecX>& qdot);
+// The same from the kinematics already in data (g, S̄, M̄, v̄ of forward_kinematics with q̇).
+void kinetic_hessians(const Model& model, Data& data);
 }  // namespace hovi

@@ -4,6 +4,7 @@
 // (stored at gamma-1, nu-1); the residual rows a in 0..s-1. Joint armature (del_residual.hpp)
 // depends on joint i's own control points only, so it enters the pivot block Λ_i alone.
 #pragma once
+#include <Eigen/LU>
 #include <vector>
 
 #include "hovi/algorithms/del_workspace.hpp"
@@ -38,7 +39,11 @@ struct NewtonWorkspace {
   // Scratch of one body
   std::vector<Vec6> Theta, Xi;  // Θ̄^{a rho} (s x (s+1)), Ξ̄^{a nu} (s x s), as column vectors
   VecX xi;                      // ξ̄^a
-  MatX Lambda;                  // Λ_i, s x s
+  // Λ_i (s x s) and its factorisation, with storage for s <= 16 (Quadrature's limit) inline:
+  // factoring it allocates nothing.
+  using PivotBlock = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 16, 16>;
+  PivotBlock Lambda;
+  Eigen::PartialPivLU<PivotBlock> Lambda_lu;
   // Forward pass
   std::vector<Twist> eta, dv;   // η̄_i^nu (n x s), spatial variation δ̄v̄_i^rho (n x (s+1))
 };

@@ -1,6 +1,6 @@
 // The Newton direction of the DEL equations by a dense solve: the Jacobian dr^{k,0..s-1} /
-// dq^{k,1..s} (an s n square block of del_jacobian.hpp's Jq, from the linearisation in
-// O(s^2 n^2)) and one LU factorisation, O(s^3 n^3); each further right-hand side costs
+// dq^{k,1..s} (the s n square window of del_jacobian.hpp's Jq, from the linearisation in
+// O(s^2 n^2), only those blocks computed) and one LU factorisation, O(s^3 n^3); each further right-hand side costs
 // O(s^2 n^2). Below a crossover in n (per s, measured in bench/direction_crossover.py) this is
 // cheaper than the recursive O(s^3 n) direction of Algorithms A.1/A.2, whose constant is large.
 #pragma once
@@ -22,18 +22,19 @@ inline bool uses_dense_direction(Direction direction, const Model& model, int s)
 class DenseDirection {
  public:
   DenseDirection(const Model& model, const Quadrature& quad);
-  // Factors J = dr/dq^{k,1..s} at the control points qc (n x (s+1)) with controls u (m x (s+1)).
-  // Returns false if J is singular to working precision.
+  // Factors J = dr/dq^{k,1..s} at the control points qc (n x (s+1)) with controls u (m x (s+1)),
+  // reusing the forward kinematics of `kinematics` (a del_residual workspace at the same qc and
+  // dt) unless null. Returns false if J is singular to working precision.
   bool factor(const Model& model, const Quadrature& quad, const Eigen::Ref<const MatX>& qc,
-              const Eigen::Ref<const MatX>& u, double dt);
+              const Eigen::Ref<const MatX>& u, double dt, const DelWorkspace* kinematics = nullptr);
   // dq = -J^{-1} r, r and dq n x s (column gamma-1 = δq^{k,gamma}).
   void solve(const Eigen::Ref<const MatX>& r, Eigen::Ref<MatX> dq);
 
  private:
   DelJacobianWorkspace ws_;
-  MatX Jq_;                      // ((s+1) n) square: the full DEL Jacobian of del_jacobian.hpp
-  Eigen::PartialPivLU<MatX> lu_;  // of its block rows 0..s-1, columns 1..s
-  VecX x_;
+  MatX J_;                        // (s n) square: the window BlockWindow::newton of the DEL Jacobian
+  Eigen::PartialPivLU<MatX> lu_;  // of J_
+  VecX x_, y_;  // right-hand side and solution
 };
 
 }  // namespace hovi

@@ -126,8 +126,8 @@ class GalerkinIntegrator {
   Model model_;
   Quadrature quad_;
   double dt_;
-  MatX extrapolate_;   // E(b, a) = l_b(1 + c^a), for guess_from_previous
-  MatX extrapolate2_;  // (2s+1) x (s+1), for guess_from_history
+  MatX extrapolate_;   // E(b, a) - E(b, 0), E(b, a) = l_b(1 + c^a), a = 1..s: for guess_from_previous
+  MatX extrapolate2_;  // (2s+1) x s, likewise for guess_from_history
   mutable WorkspacePool<IntegratorWorkspace> pool_;
 };
 

@@ -91,14 +91,26 @@ struct SpatialInertia {
     M.bottomRightCorner<3, 3>() = m * Mat3::Identity();
     return M;
   }
-  // Ad_g^{-T} M Ad_g^{-1}: the same body's inertia expressed in the frame g maps into.
+  // Ad_g^{-T} M Ad_g^{-1}: the same body's inertia expressed in the frame g maps into. With
+  // h_R = R h and hat(a) hat(b) = b a^T - (a.b) 1, the rotational inertia about the new origin,
+  //   R I R^T - (p^ h_R^ + h_R^ p^) - m p^ p^
+  //     = R I R^T + (2 p.h_R + m |p|^2) 1 - h_R p^T - p h_R^T - m p p^T,
+  // is symmetric: only its upper triangle is computed.
   SpatialInertia transformed(const SE3& g) const {
+    const Vec3& p = g.p;
     const Vec3 hr = g.R * h;
-    const Mat3 Ir = g.R * I * g.R.transpose();
-    const Vec3 hn = hr + m * g.p;
-    // I about the new origin: Ir - (p^ hr^ + hr^ p^) - m p^ p^
-    const Mat3 P = hat(g.p), H = hat(hr);
-    return SpatialInertia(m, hn, Ir - P * H - H * P - m * P * P);
+    const Mat3 RI = g.R * I;
+    const Vec3 k = hr + 0.5 * m * p;  // h_R p^T + p h_R^T + m p p^T = k p^T + p k^T
+    const double d = 2 * p.dot(hr) + m * p.squaredNorm();
+    SpatialInertia out;
+    out.m = m;
+    out.h = hr + m * p;
+    for (int r = 0; r < 3; ++r)
+      for (int c = r; c < 3; ++c) {
+        const double x = RI.row(r).dot(g.R.row(c)) - k[r] * p[c] - p[r] * k[c];
+        out.I(r, c) = out.I(c, r) = r == c ? x + d : x;
+      }
+    return out;
   }
 };
 

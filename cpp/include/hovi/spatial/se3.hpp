@@ -32,18 +32,28 @@ struct SE3 {
   }
 };
 
-// exp(hat(S) q) for a twist S = (omega, v): Rodrigues' formula, exact for any twist.
+// exp(hat(S) q) for a twist S = (omega, v): Rodrigues' formula, exact for any twist. With
+// a = omega / |omega|, A = hat(a) and A^2 = a a^T - 1, theta = |omega| q:
+//   R = 1 + sin(theta) A + (1 - cos(theta)) A^2,
+//   p = (theta v + (1 - cos(theta)) A v + (theta - sin(theta)) A^2 v) / |omega|,
+// evaluated without forming a 3x3 product.
 inline SE3 exp_twist(const Twist& S, double q) {
   const Vec3 w = S.head<3>(), v = S.tail<3>();
   const double th = w.norm();
   if (th < 1e-14) return SE3(Mat3::Identity(), v * q);
   const Vec3 a = w / th;
-  const double t = th * q, s = std::sin(t), c = std::cos(t);
-  const Mat3 A = hat(a);
-  const Mat3 R = Mat3::Identity() + s * A + (1 - c) * A * A;
-  // p = (I t + (1-c) A + (t - s) A^2) v / th
-  const Mat3 V = Mat3::Identity() * t + (1 - c) * A + (t - s) * A * A;
-  return SE3(R, V * v / th);
+  const double t = th * q, s = std::sin(t), c = std::cos(t), c1 = 1 - c;
+  SE3 g;
+  g.R.noalias() = c1 * a * a.transpose();
+  g.R.diagonal().array() += c;
+  const Vec3 sa = s * a;
+  g.R(0, 1) -= sa.z(), g.R(1, 0) += sa.z();
+  g.R(0, 2) += sa.y(), g.R(2, 0) -= sa.y();
+  g.R(1, 2) -= sa.x(), g.R(2, 1) += sa.x();
+  const Vec3 axv = a.cross(v);
+  const double av = a.dot(v);
+  g.p = (s * v + c1 * axv + (t - s) * av * a) / th;  // t v + (t - s)(a (a.v) - v) = s v + (t - s) a (a.v)
+  return g;
 }
 
 }  // namespace hovi
