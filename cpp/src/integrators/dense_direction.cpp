@@ -8,7 +8,7 @@ namespace hovi {
 bool dense_direction_is_faster(const Model& model, int s) {
   // Largest n at which the dense path won, s = 1..4 (bench/results/direction_crossover.json);
   // beyond s = 4 the last entry.
-  static constexpr int crossover[] = {0, 16, 24, 24, 24};
+  static constexpr int crossover[] = {0, 48, 48, 48, 32};
   return model.n() <= crossover[std::min(std::max(s, 1), 4)];
 }
 
