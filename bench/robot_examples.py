@@ -38,7 +38,7 @@ def run_one(name: str, quick: bool, method: str, s: int) -> dict:
     figures = example.checks(result)
     row = {"example": name, "method": method if method != "vi" else f"vi s={s}", "N": example.problem.N,
            "T": example.problem.T, "success": bool(result.success), "status": result.status,
-           "iterations": report.ipopt_iterations(result), "solve_seconds": wall, **result.sizes, **figures,
+           "iterations": report.ipopt_totals(result)[0], "solve_seconds": wall, **result.sizes, **figures,
            "contact_solves": result.contact.get("solves", []),
            "feasible": bool(result.success) and not example.failures(figures)}
     if method == "vi":

@@ -83,6 +83,14 @@ def test_obstacle_circles_cover_the_box_and_distance_is_signed():
         obstacle_circles(Box(0.0, 0.1, 0.16))
 
 
+def test_contact_figures_refuse_a_trajectory_without_controls_at_every_point():
+    from types import SimpleNamespace
+    from hovi.robot_examples.contact_figures import contact_figures
+    result = SimpleNamespace(trajectory={"q": np.zeros((5, 9)), "u": np.zeros((3, 20))})
+    with pytest.raises(ValueError, match="controls at every configuration point"):
+        contact_figures(None, result)
+
+
 def test_flamingo_jumps_the_obstacle(tmp_path, capsys):
     assert main(["example", "flamingo", "--quick", "--quiet", "--no-animate", "--output", str(tmp_path)]) == 0
     s = json.loads((tmp_path / "flamingo.json").read_text())

@@ -7,7 +7,7 @@ from __future__ import annotations
 import json
 import os
 import time
-from typing import Any, Dict
+from typing import Any, Dict, Tuple
 
 import numpy as np
 
@@ -16,9 +16,12 @@ from ..trajopt import Result
 from .example import Example
 
 
-def ipopt_iterations(result: Result) -> int:
-    """IPOPT iterations of the whole solve: for a contact-implicit one, of all its relaxed and exact solves."""
-    return int(result.contact["iterations"] if result.contact else result.iterations)
+def ipopt_totals(result: Result) -> Tuple[int, float]:
+    """(iterations, seconds in IPOPT) of the whole solve: for a contact-implicit one, of all its
+    relaxed and exact solves."""
+    if result.contact:
+        return int(result.contact["iterations"]), float(result.contact["wall_seconds"])
+    return int(result.iterations), float(result.wall_seconds)
 
 
 def replay_figures(example: Example, result: Result) -> Dict[str, Any]:
@@ -108,11 +111,12 @@ def run(example: Example, output: str, *, animation: bool = True, plots: bool = 
     wall = time.perf_counter() - t0
     figures = example.checks(result)
     failures = ([] if result.success else [f"IPOPT: {result.status}"]) + example.failures(figures)
+    iterations, ipopt_seconds = ipopt_totals(result)
     summary: Dict[str, Any] = {
         "example": example.name, "description": example.description, "dof": example.robot.model.n,
         "N": example.problem.N, "T": example.problem.T, "transcription": result.transcription.name,
-        "status": result.status, "success": bool(result.success), "iterations": ipopt_iterations(result),
-        "solve_seconds": wall, "ipopt_seconds": float(result.wall_seconds), "cost": float(result.cost),
+        "status": result.status, "success": bool(result.success), "iterations": iterations,
+        "solve_seconds": wall, "ipopt_seconds": ipopt_seconds, "cost": float(result.cost),
         "constraint_violation": float(result.constraint_violation), **result.sizes, **figures,
         "contact_solves": result.contact.get("solves", []), **replay_figures(example, result),
         "feasible": not failures, "failures": failures}
