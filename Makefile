@@ -37,7 +37,7 @@ ctest: setup build/cpp/CMakeCache.txt
 	cd build/cpp && ctest --output-on-failure -j $(JOBS)
 
 pytest: build setup-test
-	$(PY) -m pytest -q tests
+	$(PY) -m pytest -q --durations=15 tests
 
 demo: build
 	$(PY) -m hovi simulate pendulum:32 --order 4 --dt 0.01 --duration 10 --output results --animate
