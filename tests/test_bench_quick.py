@@ -23,3 +23,21 @@ def test_bench_script_quick_mode(command):
     stem = script[:-3]
     results = os.listdir(os.path.join(BENCH, "results"))
     assert any(f.startswith(stem.split("_")[0]) and "quick" in f and f.endswith(".json") for f in results), results
+
+
+def test_pareto_time_to_reach_takes_the_cheapest_crossing():
+    """bench/pareto.py's equal-error run time: log-log interpolation across the level, and the cheapest
+    point or crossing when run time falls with dt (large steps needing many Newton iterations)."""
+    sys.path.insert(0, BENCH)
+    try:
+        import numpy as np
+        from pareto import time_to_reach
+    finally:
+        sys.path.remove(BENCH)
+    curve = np.array([[1.0, 1e-2], [10.0, 1e-4]])              # (seconds, error) by decreasing dt
+    t, bound = time_to_reach(curve, 1e-3)
+    assert not bound and abs(t - np.sqrt(10.0)) < 1e-12       # halfway in log error -> halfway in log time
+    assert time_to_reach(curve, 1e-5) is None
+    assert time_to_reach(curve, 1e-1) == (1.0, True)
+    slow_then_fast = np.array([[5.0, 1e-2], [8.0, 5e-4], [3.0, 1e-4]])  # the smaller dt is cheaper
+    assert time_to_reach(slow_then_fast, 1e-3)[0] == 3.0
