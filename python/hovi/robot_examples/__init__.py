@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING
 if TYPE_CHECKING:
     from .example import Example
 
-NAMES = ("atlas",)
+NAMES = ("atlas", "littledog")
 
 __all__ = ["NAMES", "build"]
 
