@@ -35,7 +35,8 @@ def run_one(name: str, quick: bool, method: str, s: int) -> dict:
     figures = example.checks(result)
     row = {"example": name, "method": method if method != "vi" else f"vi s={s}", "N": example.problem.N,
            "T": example.problem.T, "success": bool(result.success), "status": result.status,
-           "iterations": int(result.contact.get("iterations", result.iterations)), "solve_seconds": wall, **result.sizes, **figures,
+           "iterations": int(result.contact.get("iterations", result.iterations)),  # all the contact solves'
+           "solve_seconds": wall, **result.sizes, **figures,
            "feasible": bool(result.success) and not example.failures(figures)}
     if method == "vi":
         row.update(report.replay_figures(example, result))

@@ -4,10 +4,11 @@ Coulomb friction (hovi.contact.Contacts) and ``trajopt.solve_contact`` finds whe
 the ground; no gait or contact schedule is given to the solver.
 
 The paper gives no terrain dimensions. Here: flat ground with two gaps across the path, each
-GAP_WIDTH (4 cm, twice the foot's diameter) wide and GAP_DEPTH deep, the first 0.22 m and the
-second 0.50 m ahead of the body's start; the dog starts at rest in its home pose with the feet on
-the ground (x = -0.067 and 0.067 m) and its body must be 0.8 m ahead after 3.2 s, so every foot
-crosses both gaps. The quick version crosses one gap nearer the start in 1.2 s.
+GAP_WIDTH (4 cm, twice the foot's diameter) wide and GAP_DEPTH (0.5 m, out of a leg's reach)
+deep, the first 0.22 m and the second 0.50 m ahead of the body's start, with a keep-out circle
+over each that the feet stay out of (``gap_clearances``). The dog starts at rest in its home
+pose with the feet on the ground (x = -0.067 and 0.067 m) and its body must be 0.8 m ahead after
+3.2 s, so every foot crosses both gaps. The quick version crosses one gap nearer the start in 1.2 s.
 
 The solver starts from a kinematic trot (``Gait``): the body moving forward at a constant height,
 diagonal feet swinging together on footholds that avoid the gaps, the leg angles by inverse
@@ -16,7 +17,7 @@ the contact sequence, the footholds and the forces."""
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Dict, List, Sequence, Tuple
+from typing import Dict, List, Tuple
 
 import numpy as np
 from scipy.optimize import least_squares
@@ -38,12 +39,13 @@ LOADED = 1e-6         # a normal force above this (N) loads a foot
 
 @dataclass(frozen=True)
 class Course:
-    """The horizon T (s) in N stages, the gaps' near edges (m, along x) and the gait of the guess:
+    """The horizon T (s) in N stages, the gaps' near edges (m, along x) and width, and the gait of the guess:
     a trot of ``period`` (s) whose diagonal pairs swing for ``swing`` (s) to ``height`` (m) above
     the ground, starting at ``start`` (s); footholds at least ``margin`` (m) from a gap's edge."""
     T: float
     N: int
     gaps: Tuple[float, ...]
+    width: float = GAP_WIDTH
     period: float = 0.4
     swing: float = 0.16
     height: float = 0.03
@@ -61,7 +63,7 @@ QUICK = Course(T=1.2, N=24, gaps=(0.12,))
 
 def terrain(robot: Robot, course: Course) -> Terrain:
     """Ground under the foot-sphere centres (the surface plus the radius) with the course's gaps."""
-    return Terrain(ground=robot.contact_radius, gaps=[Gap(x, x + GAP_WIDTH, GAP_DEPTH) for x in course.gaps])
+    return Terrain(ground=robot.contact_radius, gaps=[Gap(x, x + course.width, GAP_DEPTH) for x in course.gaps])
 
 
 def feet_at(robot: Robot, q: np.ndarray) -> np.ndarray:
@@ -207,10 +209,12 @@ def gap_clearances(robot: Robot, terrain: Terrain, T: float) -> List[trajopt.Cle
     """Every foot-sphere centre outside a circle (in the x-z plane) over each gap, centred on it at
     the ground's height, reaching a foot radius beyond its edges, at every configuration point in
     [0, T]: the feet keep out of the gaps (a loaded foot stands fully on the ground) and step over
-    them (the centre 3 cm above its resting height over the gap's centre, 2.3 cm over its edges). The gap
-    itself, a step in the terrain's height, gives the solver no gradient that moves a foot out of
-    it; the circles do (measured on the quick problem: without them a foot lands inside the gap
-    and the first relaxed solve fails; with them it converges)."""
+    them (a sphere's centre 3 cm above its resting height over the gap's centre, 2.3 cm over its
+    edges). The gap itself, a step in the terrain's height, gives the solver no gradient that
+    moves a foot out of it; the circles do. Measured on the quick problem: without them a foot
+    landed inside the gap (on its bottom when 0.1 m deep; hovering in it, loaded, when 0.5 m deep,
+    since the relaxed complementarity lets a loaded foot hover) and the first relaxed solve
+    failed after 150-300 iterations; with them every solve converged."""
     r = robot.contact_radius
     return [trajopt.Clearance(body, point, center=((g.x0 + g.x1) / 2, 0.0, terrain.ground),
                               radius=(g.x1 - g.x0) / 2 + r, axes="xz", window=(0.0, T))
@@ -260,15 +264,14 @@ BOUNDS = {"constraint_violation": ("<=", 1e-6), "complementarity": ("<=", 1e-6),
 
 
 def scenery(robot: Robot, terrain: Terrain, x_range: Tuple[float, float]) -> Scenery:
-    """Boxes for the ground pieces and the gaps' bottoms over x_range (their tops at the terrain's
-    height less the foot radius: where the spheres touch), 0.3 m wide."""
+    """Boxes for the pieces of ground between the gaps over x_range, 0.3 m wide, their tops where
+    the foot spheres touch them (the terrain's height less the radius); the gaps are left open."""
     out = Scenery()
     for x0, x1, h in terrain.segments(x_range):
-        top = h - robot.contact_radius
-        colour = (0.55, 0.6, 0.55, 1.0) if h >= terrain.ground else (0.35, 0.3, 0.3, 1.0)
-        out.add("box", (x1 - x0, 0.3, 0.02), ((x0 + x1) / 2, 0.0, top - 0.01), colour)
+        if h >= terrain.ground:
+            top = h - robot.contact_radius
+            out.add("box", (x1 - x0, 0.3, 0.02), ((x0 + x1) / 2, 0.0, top - 0.01), (0.55, 0.6, 0.55, 1.0))
     return out
-
 
 def build(quick: bool = False) -> Example:
     """The walk over both gaps in 3.2 s (N = 64) or, ``quick``, over one gap in 1.2 s (N = 24)."""

@@ -106,7 +106,8 @@ def run(example: Example, output: str, *, animation: bool = True, plots: bool = 
     summary: Dict[str, Any] = {
         "example": example.name, "description": example.description, "dof": example.robot.model.n,
         "N": example.problem.N, "T": example.problem.T, "transcription": result.transcription.name,
-        "status": result.status, "success": bool(result.success), "iterations": int(result.iterations),
+        "status": result.status, "success": bool(result.success),
+        "iterations": int(result.contact.get("iterations", result.iterations)),  # all the solves of solve_contact
         "solve_seconds": wall, "ipopt_seconds": float(result.wall_seconds), "cost": float(result.cost),
         "constraint_violation": float(result.constraint_violation), **result.sizes, **figures,
         "contact_solves": result.contact.get("solves", []), **replay_figures(example, result),
