@@ -39,8 +39,8 @@ LOADED = 1e-6         # a normal force above this (N) loads a foot
 
 @dataclass(frozen=True)
 class Course:
-    """The horizon T (s) in N stages, the gaps' near edges (m, along x) and width, and the gait of the guess:
-    a trot of ``period`` (s) whose diagonal pairs swing for ``swing`` (s) to ``height`` (m) above
+    """The horizon T (s) in N stages, the gaps' near edges (m, along x) and width (m), and the gait
+    of the guess: a trot of ``period`` (s) whose diagonal pairs swing for ``swing`` (s) to ``height`` (m) above
     the ground, starting at ``start`` (s); footholds at least ``margin`` (m) from a gap's edge."""
     T: float
     N: int
@@ -111,8 +111,8 @@ def standing_pose(robot: Robot) -> np.ndarray:
 class Gait:
     """The kinematic trot the solver starts from, on ``course`` from the standing pose q0 (n,):
     the body moves along x, accelerating evenly over the first period, to ``course.distance`` at
-    T; feet FL, BR and then FR, BL swing in turns, each landing half a stance ahead of where its
-    hip will be at the middle of its stance (moved out of a gap by ``course.margin``)."""
+    T; feet FL, BR and then FR, BL swing in turns, each landing where its place in the home pose
+    will be at the middle of its next stance (moved out of a gap by ``course.margin``)."""
 
     def __init__(self, robot: Robot, course: Course, q0: np.ndarray, terrain: Terrain) -> None:
         self.robot, self.course, self.q0, self.terrain = robot, course, q0, terrain
@@ -177,8 +177,8 @@ class Gait:
         """(q(t), v(t), u(t)) for the solver: the trot on a grid of dt / samples_per_stage,
         interpolated. The controls at t act on the motion to t + dt (hovi.contact: the last point's
         equal those before it): they hold the configuration at t + dt at rest with the feet on the
-        ground over the interval carrying the weight (normal forces, no friction), and a foot's slack is the
-        largest component of its velocity over [t, t + dt] (so its sliding rows hold)."""
+        ground over the interval carrying the weight (normal forces, no friction), and a foot's
+        slack is the largest component of its velocity over [t, t + dt] (so its sliding rows hold)."""
         c = self.course
         h = dt / samples_per_stage
         t = np.arange(0.0, c.T + h / 2, h)
@@ -196,6 +196,7 @@ class Gait:
         return table(q), table(v), table(u)
 
     def _controls(self, contacts: Contacts, q_next: np.ndarray, t: float, dt: float) -> np.ndarray:
+        """The guess's controls (m,) at time t (see ``guess``), q_next (n,) the configuration at t + dt."""
         down = self.on_ground(t) & self.on_ground(t + dt)  # a landing foot slides in the guess: no load
         columns = list(range(contacts.m_user)) + [contacts.input_index(f, "normal") for f in range(4) if down[f]]
         u = static_controls(contacts.model, q_next, columns)
