@@ -40,8 +40,9 @@ LOADED = 1e-6         # a normal force above this (N) loads a foot
 @dataclass(frozen=True)
 class Course:
     """The horizon T (s) in N stages, the gaps' near edges (m, along x) and width (m), and the gait
-    of the guess: a trot of ``period`` (s) whose diagonal pairs swing for ``swing`` (s) to ``height`` (m) above
-    the ground, starting at ``start`` (s); footholds at least ``margin`` (m) from a gap's edge."""
+    of the guess: a trot of ``period`` (s) whose diagonal pairs swing for ``swing`` (s) to
+    ``height`` (m) above the ground, starting at ``start`` (s); footholds at least ``margin`` (m)
+    from a gap's edge."""
     T: float
     N: int
     gaps: Tuple[float, ...]
