@@ -7,11 +7,12 @@ import pytest
 
 from hovi.cli import main
 from hovi.robot_examples import build
+from hovi.robot_examples import littledog as littledog_example
 from hovi.robot_examples.atlas import centre_of_mass, single_support, sole, static_controls
 from hovi.contact.terrain import Box
 from hovi.robot_examples import flamingo
 from hovi.robot_examples.flamingo import JumpPlan, box_distance, leg_points, obstacle_circles
-from hovi.robots import atlas, spring_flamingo
+from hovi.robots import atlas, littledog, spring_flamingo
 
 pytest.importorskip("cyipopt")
 
@@ -106,3 +107,46 @@ def test_flamingo_jumps_the_obstacle(tmp_path, capsys):
 def test_unknown_example_is_refused():
     with pytest.raises(ValueError, match="unknown example 'flamingo2'"):
         build("flamingo2")
+
+
+def test_littledog_standing_pose_and_trot_guess():
+    robot = littledog()
+    course = littledog_example.QUICK
+    q0 = littledog_example.standing_pose(robot)
+    np.testing.assert_allclose(littledog_example.feet_at(robot, q0)[:, 2], robot.contact_radius, atol=1e-12)
+    terrain = littledog_example.terrain(robot, course)
+    gait = littledog_example.Gait(robot, course, q0, terrain)
+    landings = np.array([x for steps in gait.steps for _, _, x in steps])
+    assert littledog_example.gap_margin(terrain, landings).min() >= course.margin - 1e-12  # footholds off the gaps
+    t = np.linspace(0.0, course.T, 13)
+    q = [q0]
+    for tk in t[1:]:
+        q.append(gait.configuration(tk, q[-1]))
+    feet = np.array([littledog_example.feet_at(robot, qk) for qk in q])
+    down = np.array([gait.on_ground(tk) for tk in t])
+    np.testing.assert_allclose(feet[down][:, 2], robot.contact_radius, atol=1e-9)   # the stance feet on the ground
+    assert np.all(feet[~down][:, 2] >= robot.contact_radius - 1e-12)
+    assert q[-1][0] == pytest.approx(course.distance)
+    with pytest.raises(ValueError, match="cannot reach"):
+        littledog_example.place_feet(robot, q0[:6], feet[0] + [0.3, 0, 0], q0)
+
+
+def test_littledog_walks_over_a_gap(tmp_path, capsys):
+    pytest.importorskip("meshcat")
+    assert main(["example", "littledog", "--quick", "--quiet", "--output", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "foothold_gap_margin" in out
+    s = json.loads((tmp_path / "littledog.json").read_text())
+    assert s["success"] and s["feasible"], s["failures"]
+    assert s["exact_solve"] == 1.0 and s["constraint_violation"] <= 1e-6
+    assert s["complementarity"] <= 1e-6 and s["penetration"] <= 1e-6 and s["normal_complementarity"] <= 1e-6
+    assert s["past_last_gap"] >= 0 and s["foothold_gap_margin"] >= 0
+    assert s["average_speed"] >= littledog_example.SPEED - 1e-6
+    assert s["replay_one_step_drift"] <= 1e-9                 # each stage is the integrator's step
+    data = np.load(tmp_path / "littledog.npz")
+    assert data["q"].shape == (littledog_example.QUICK.N + 1, 18)
+    assert data["contact_forces"].shape == (littledog_example.QUICK.N + 1, 4)
+    assert np.all(data["contact_forces"] >= 0)
+    assert np.any(data["contact_forces"][:-1] == 0)                          # feet lifted: no force on them
+    for name in ("littledog.png", "littledog.html", "littledog.mp4"):
+        assert (tmp_path / name).stat().st_size > 10_000

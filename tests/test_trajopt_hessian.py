@@ -15,6 +15,8 @@ def test_coloured_hessian_equals_dense_central_differences_of_the_lagrangian_gra
         H = LagrangianHessian(nlp)
         rng = np.random.default_rng(5)
         x = np.clip(rng.uniform(-1, 1, nlp.n_variables), nlp.lower, nlp.upper)
+        probed = LagrangianHessian(nlp, probe=np.zeros(nlp.n_variables))   # the pattern found elsewhere than x
+        assert probed.n_colours < H.n_colours and len(probed.rows) < len(H.rows)
         lam, sigma = rng.normal(size=nlp.n_constraints), 0.7
         dense = np.empty((nlp.n_variables, nlp.n_variables))
         for j in range(nlp.n_variables):
@@ -22,10 +24,11 @@ def test_coloured_hessian_equals_dense_central_differences_of_the_lagrangian_gra
             e[j] = 1e-5
             dense[:, j] = (H.gradient(x + e, lam, sigma) - H.gradient(x - e, lam, sigma)) / 2e-5
         scale = np.abs(dense).max()
-        sparse = np.zeros_like(dense)
-        sparse[H.rows, H.cols] = H.values(x, lam, sigma)
         lower = np.tril(dense)
-        assert np.abs(sparse - lower).max() <= 1e-6 * scale          # values, and no entry outside the pattern
+        for hessian in (H, probed):
+            sparse = np.zeros_like(dense)
+            sparse[hessian.rows, hessian.cols] = hessian.values(x, lam, sigma)
+            assert np.abs(sparse - lower).max() <= 1e-6 * scale      # values, and no entry outside the pattern
         assert np.abs(dense - dense.T).max() <= 1e-6 * scale         # (the Hessian is symmetric)
 
 

@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING
 if TYPE_CHECKING:
     from .example import Example
 
-NAMES = ("flamingo", "atlas")
+NAMES = ("flamingo", "littledog", "atlas")
 
 __all__ = ["NAMES", "build"]
 

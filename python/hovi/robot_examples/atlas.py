@@ -4,7 +4,7 @@ inside the cone of its sole, with the centre of pressure in the sole), the left 
 ground, the left hand at the ball at the final time, from a single-support stance at rest."""
 from __future__ import annotations
 
-from typing import Dict
+from typing import Dict, Sequence
 
 import numpy as np
 from scipy.optimize import least_squares
@@ -65,12 +65,16 @@ def single_support(robot: Robot, lift: float = LIFT) -> np.ndarray:
     return q
 
 
-def static_controls(model, q: np.ndarray) -> np.ndarray:
+def static_controls(model, q: np.ndarray, controls: Sequence[int] | None = None) -> np.ndarray:
     """Controls u (m,) that hold configuration q (n,) at rest: Q(q, 0, u) = G(q), with Q = Q0 + (dQ/du) u
-    the non-conservative force (force_jacobians) and G(q) = inverse_dynamics(q, 0, 0) the gravity force."""
+    the non-conservative force (force_jacobians) and G(q) = inverse_dynamics(q, 0, 0) the gravity force;
+    the least-squares (least-norm) u using only the ``controls`` (indices; default all), the others zero."""
     zero = np.zeros(model.n)
     Q0, _, _, Qu = model.force_jacobians(q, zero)
-    return np.linalg.lstsq(Qu, model.inverse_dynamics(q, zero, zero) - Q0, rcond=None)[0]
+    cols = np.arange(model.n_controls) if controls is None else np.asarray(controls, dtype=int)
+    u = np.zeros(model.n_controls)
+    u[cols] = np.linalg.lstsq(Qu[:, cols], model.inverse_dynamics(q, zero, zero) - Q0, rcond=None)[0]
+    return u
 
 
 def build(quick: bool = False) -> Example:

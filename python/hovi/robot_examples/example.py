@@ -3,7 +3,7 @@ its solver starts, and the figures that say whether its answer is feasible (``ho
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, Callable, Dict, List, Tuple
+from typing import Any, Callable, Dict, List, Optional, Tuple
 
 import numpy as np
 
@@ -28,7 +28,8 @@ class Example:
     """``problem`` on ``robot``, solved from ``guess`` with IPOPT ``options`` (``report.solve``);
     ``checks(result)`` the example's feasibility figures (each a float, with the bound it must meet
     in ``bounds``);
-    ``contact_forces(u (P, m))`` the contact forces (P, k) named by ``force_labels``."""
+    ``contact_forces(u (P, m))`` the contact forces (P, k) named by ``force_labels``; ``epsilons`` the
+    relaxation homotopy of a contact-implicit problem (``trajopt.solve_contact``; None: its default)."""
     name: str
     description: str
     robot: Robot
@@ -40,6 +41,7 @@ class Example:
     contact_forces: Callable[[np.ndarray], np.ndarray]
     force_labels: List[str]
     scenery: Scenery = field(default_factory=Scenery)
+    epsilons: Optional[Tuple[float, ...]] = None
 
     def failures(self, figures: Dict[str, float]) -> List[str]:
         """The figures that miss their bounds, as readable sentences (empty: feasible)."""

@@ -147,10 +147,10 @@ class _Callbacks:
 class _CallbacksWithHessian(_Callbacks):
     """_Callbacks plus the Lagrangian's Hessian (hessian.LagrangianHessian) for IPOPT's exact Newton steps."""
 
-    def __init__(self, nlp: NLP, verbose: bool, evaluation_error: type):
+    def __init__(self, nlp: NLP, verbose: bool, evaluation_error: type, probe: np.ndarray):
         super().__init__(nlp, verbose, evaluation_error)
         from .hessian import LagrangianHessian
-        self.H = LagrangianHessian(nlp)
+        self.H = LagrangianHessian(nlp, probe)
 
     def hessianstructure(self):
         return self.H.structure
@@ -169,8 +169,9 @@ def solve(problem: Problem, transcription: str = "vi", *, s: int = 2, guess: Gue
     u(t)) of times t (K,) returning (K, n), (K, n), (K, m).
 
     hessian: 'lbfgs' (IPOPT's limited-memory approximation: cheap iterations, many of them) or 'fd'
-    (the Lagrangian's Hessian by coloured differences of the exact gradient, hessian.py: a few
-    hundred Jacobian evaluations per iteration, far fewer iterations on large robots).
+    (the Lagrangian's Hessian by coloured differences of the exact gradient, hessian.py, its
+    pattern probed near the starting point: about a hundred Jacobian evaluations per iteration on
+    the paper's robots, far fewer iterations on large robots).
 
     The result's ``timing`` splits the wall time: 'evaluations' (the C++ transcription calls),
     'callbacks' (all time in hovi's callbacks: evaluations, costs, path constraints, Python and
@@ -188,7 +189,10 @@ def solve(problem: Problem, transcription: str = "vi", *, s: int = 2, guess: Gue
     nlp.eval_seconds = 0.0
     if hessian not in ("lbfgs", "fd"):
         raise ValueError(f"hessian must be 'lbfgs' or 'fd', got '{hessian}'")
-    cb = (_Callbacks if hessian == "lbfgs" else _CallbacksWithHessian)(nlp, verbose, cyipopt.CyIpoptEvaluationError)
+    if hessian == "lbfgs":
+        cb = _Callbacks(nlp, verbose, cyipopt.CyIpoptEvaluationError)
+    else:  # the Hessian's pattern probed near the start (hessian.LagrangianHessian)
+        cb = _CallbacksWithHessian(nlp, verbose, cyipopt.CyIpoptEvaluationError, x0)
     ip = cyipopt.Problem(n=nlp.n_variables, m=nlp.n_constraints, problem_obj=cb, lb=nlp.lower, ub=nlp.upper,
                          cl=nlp.cl, cu=nlp.cu)
     defaults = dict(DEFAULT_OPTIONS)
