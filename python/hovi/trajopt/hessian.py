@@ -81,7 +81,9 @@ class LagrangianHessian:
         colour of P, the gradient's change when that colour's variables move by about 10% (not a
         derivative: any dependence shows) names, in each changed component i, the one variable of
         that colour coupled to i. Assumes that where a function depends on a variable somewhere, it
-        does near x (no piece of a piecewise function on which the dependence vanishes)."""
+        does near x (no piece of a piecewise function on which the dependence vanishes). An entry
+        missed there leaves IPOPT's Newton steps inexact, not its answer: IPOPT's convergence tests
+        use the exact gradient and Jacobian, so a wrong Hessian costs iterations, never feasibility."""
         nv = self.nlp.n_variables
         scale = 0.1 * np.maximum(1.0, np.abs(x))
         x = x + scale * rng.standard_normal(nv)
