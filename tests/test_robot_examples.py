@@ -131,6 +131,17 @@ def test_littledog_standing_pose_and_trot_guess():
         littledog_example.place_feet(robot, q0[:6], feet[0] + [0.3, 0, 0], q0)
 
 
+def test_littledog_mouth_clearance_measures_the_spheres_against_the_gap_edges():
+    from hovi.contact import Gap, Terrain
+    r = 0.01
+    terrain = Terrain(ground=r, gaps=[Gap(0.0, 0.04, 0.5)])                      # the surface at z = 0
+    clearance = littledog_example.mouth_clearance
+    assert clearance(terrain, r, np.array([[-0.1, 0, r], [0.2, 0, 0.0]])) == np.inf           # none over the gap
+    assert clearance(terrain, r, np.array([[0.02, 0, 0.05]])) == pytest.approx(np.hypot(0.02, 0.05) - r)
+    assert clearance(terrain, r, np.array([[0.035, 0, r]])) == pytest.approx(np.hypot(0.005, r) - r)
+    assert clearance(terrain, r, np.array([[0.004, 0, -0.02], [0.02, 0, 0.05]])) == pytest.approx(0.004 - r)
+
+
 def test_littledog_walks_over_a_gap(tmp_path, capsys):
     pytest.importorskip("meshcat")
     assert main(["example", "littledog", "--quick", "--quiet", "--output", str(tmp_path)]) == 0
@@ -141,6 +152,7 @@ def test_littledog_walks_over_a_gap(tmp_path, capsys):
     assert s["exact_solve"] == 1.0 and s["constraint_violation"] <= 1e-6
     assert s["complementarity"] <= 1e-6 and s["penetration"] <= 1e-6 and s["normal_complementarity"] <= 1e-6
     assert s["past_last_gap"] >= 0 and s["foothold_gap_margin"] >= 0
+    assert s["edge_clearance"] >= 0                           # no foot clips a gap's edge between the points
     assert s["average_speed"] >= littledog_example.SPEED - 1e-6
     assert s["replay_one_step_drift"] <= 1e-9                 # each stage is the integrator's step
     data = np.load(tmp_path / "littledog.npz")

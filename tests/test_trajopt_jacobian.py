@@ -19,11 +19,12 @@ def every_path_constraint(prob):
     n = prob.model.n
     prob.add_constraint(trajopt.BodyPoint(n - 1, [0, 0, -0.5], target=[0.1, 0.2, -0.9], at=0.5 * prob.T))
     prob.add_constraint(trajopt.BodyPoint(0, [0, 0, -0.5], axes="z", lower=-0.6, window=(0, prob.T)))
-    prob.add_constraint(trajopt.Clearance(1, [0, 0, -0.25], center=[0.3, 0.0, -0.6], radius=0.1, window=(0.2, 0.6)))
+    prob.add_constraint(trajopt.Clearance(1, [0, 0, -0.25], center=[0.3, 0.0, -0.6], radius=0.1, window=(0.2, 0.6),
+                                          between=2))
     c = np.arange(1, n + 1.0)
     prob.add_constraint(trajopt.CallbackPathConstraint(
         lambda t, Q: np.sin(Q) @ c[:, None] * t[:, None], lambda t, Q: (np.cos(Q) * c)[:, None, :] * t[:, None, None],
-        lower=-1.0, upper=1.0, window=(0, prob.T)))
+        lower=-1.0, upper=1.0, window=(0, prob.T), between=1))
     prob.add_constraint(trajopt.PoseHeld(n - 1, prob.q0, point=[0, 0, -0.4], size=(0.2, 0.1), window=(0.3, prob.T)))
     A = np.arange(1.0, 2 * prob.model.n_controls + 1).reshape(2, -1) * [[1], [-1]]
     prob.add_constraint(trajopt.InputConstraint(A, lower=[-5.0, -np.inf], upper=[np.inf, 5.0]))
@@ -132,7 +133,7 @@ def test_exact_sides_fix_inputs_and_rows():
     assert np.all(nlp.upper[beta] == 0)
     gamma = u_off[:E, None] + np.array([contacts.input_index(c, "slack") for c in range(C)])
     assert np.all(nlp.upper[gamma] == np.inf)  # psi = 0 chosen: gamma free
-    row0 = nlp.core.n_constraints + sum(len(idx) * r for _, idx, _, r in nlp.paths)
+    row0 = nlp.core.n_constraints + sum(len(t) * len(c.lower) for c, t, _, _ in nlp.paths)
     cl, cu = nlp.cl[row0:row0 + cr.count], nlp.cu[row0:row0 + cr.count]
     EC = E * C
     np.testing.assert_array_equal(cu[:EC], np.where(normal.ravel(), 0.0, np.inf))   # phi rows

@@ -99,6 +99,46 @@ def test_path_constraints_hold_at_the_solution():
     assert r.cost > free * (1 + 1e-3)  # the constraints cost effort
 
 
+@pytest.mark.parametrize("name,s", [("vi", 1), ("vi", 2), ("vi", 3), ("hs-implicit", 2)])
+def test_samples_between_points_lie_on_the_trajectory_polynomial(name, s):
+    """Transcription.q_samples: b configurations between each two consecutive points, at evenly
+    spaced times, equal the transcription's own interpolant q(t) there."""
+    tr = trajopt.transcribe(examples.cartpole_swingup(N=4), name, s)
+    x = np.random.default_rng(s).normal(size=tr.core.n_variables)
+    tq, offsets = tr.q_points()
+    t, points, weights = tr.q_samples(3)
+    expected = tq[:-1, None] + np.diff(tq)[:, None] * np.array([0.25, 0.5, 0.75])
+    np.testing.assert_allclose(t, expected.ravel(), rtol=0, atol=1e-14)
+    Q = np.einsum("pk,pkj->pj", weights, x[offsets[points][:, :, None] + np.arange(tr.n)])
+    np.testing.assert_allclose(Q, tr.interpolants(x)[0](t), rtol=0, atol=1e-12)
+
+
+def test_path_constraint_between_points_holds_along_the_trajectory():
+    """The tip above z = -0.49 over [1.5, 2] s: the swing-up passes the bottom within one stage
+    unless the bound is also imposed between the points (between = 3); then it holds at every
+    sample, at a higher cost."""
+    tip, lower = [0, 0, -0.5], -0.49
+
+    def solve(between):
+        prob = examples.pendulum_swingup(N=20)
+        prob.add_constraint(trajopt.BodyPoint(0, tip, axes="z", lower=lower, window=(1.5, 2.0), between=between))
+        r = trajopt.solve(prob, "vi", s=1, verbose=False)
+        assert r.success, r.status
+        return r
+
+    def tip_z(r, t):
+        Q = r.transcription.interpolants(r.x)[0](t)
+        return hovi._core.trajopt.body_point_kinematics(r.transcription.model, Q, [0] * len(Q),
+                                                        np.tile(tip, (len(Q), 1)))[0][:, 2]
+
+    sampled, points_only = solve(3), solve(0)
+    t, _, _ = sampled.transcription.q_samples(3)
+    t = t[(t >= 1.5) & (t <= 2.0)]
+    assert tip_z(sampled, t).min() >= lower - 1e-8
+    assert tip_z(points_only, t).min() < lower - 1e-3
+    assert sampled.cost > points_only.cost * 1.1
+
+
 def test_bad_problems_raise_clear_errors():
     model = hovi.models.pendulum(2)
     model.add_actuator(0)
@@ -134,6 +174,10 @@ def test_bad_costs_and_path_constraints_raise_clear_errors():
         trajopt.BodyPoint(0, target=[0, 0, 0], window=(1.0, 0.5))
     with pytest.raises(ValueError, match="axes must be"):
         trajopt.BodyPoint(0, target=[0, 0], axes="xw", at=0.5)
+    with pytest.raises(ValueError, match="between must be a non-negative integer"):
+        trajopt.Clearance(0, center=[0, 0, 0], radius=0.1, window=(0, 1), between=-1)
+    with pytest.raises(ValueError, match="between= samples a window"):
+        trajopt.BodyPoint(0, target=[0, 0, 0], at=0.5, between=2)
     with pytest.raises(ValueError, match="radius must be positive"):
         trajopt.Clearance(0, center=[0, 0, 0], radius=0.0, at=0.5)
     with pytest.raises(hovi.ModelError, match="out of range"):

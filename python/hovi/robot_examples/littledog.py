@@ -214,22 +214,40 @@ class Gait:
         return u
 
 
+BETWEEN = 2          # samples of the gap circles between each two configuration points
+
+
 def gap_clearances(robot: Robot, terrain: Terrain, T: float) -> List[trajopt.Clearance]:
     """Every foot-sphere centre outside a circle (in the x-z plane) over each gap, centred on it at
     the ground's height, reaching a foot radius beyond its edges, at every configuration point in
-    [0, T]: the feet keep out of the gaps (a loaded foot stands fully on the ground) and step over
-    them (a sphere's centre 3 cm above its resting height over the gap's centre, 2.3 cm over its
-    edges). The gap itself, a step in the terrain's height, gives the solver no gradient that
-    moves a foot out of it; the circles do. Measured on the quick problem (then N = 24): without
-    them a foot landed inside the gap (on its bottom when 0.1 m deep; hovering in it, loaded, when
-    0.5 m deep, since the relaxed complementarity lets a loaded foot hover) and the first relaxed
-    solve failed after 150-300 iterations; with them every solve converged. They act at the
-    configuration points only: between two points a foot may cross the gap's mouth at ground level
-    (bench/README.md, "What the checks do not see")."""
+    [0, T] and BETWEEN configurations between each two (on the trajectory's polynomial): the feet
+    keep out of the gaps (a loaded foot stands fully on the ground) and step over them (a sphere's
+    centre 3 cm above its resting height over the gap's centre, 2.3 cm over its edges). The gap
+    itself, a step in the terrain's height, gives the solver no gradient that moves a foot out of
+    it; the circles do. Measured on the quick problem (then N = 24): without them a foot landed
+    inside the gap (on its bottom when 0.1 m deep; hovering in it, loaded, when 0.5 m deep, since
+    the relaxed complementarity lets a loaded foot hover) and the first relaxed solve failed after
+    150-300 iterations; with them every solve converged. At the configuration points alone, a foot
+    on the ground at the points either side of a gap crossed its mouth at ground level within one
+    stage, clipping its edges (bench/README.md, "What the checks see between the points")."""
     r = robot.contact_radius
     return [trajopt.Clearance(body, point, center=((g.x0 + g.x1) / 2, 0.0, terrain.ground),
-                              radius=(g.x1 - g.x0) / 2 + r, axes="xz", window=(0.0, T))
+                              radius=(g.x1 - g.x0) / 2 + r, axes="xz", window=(0.0, T), between=BETWEEN)
             for g in terrain.gaps for body, point in robot.contact_points]
+
+
+def mouth_clearance(terrain: Terrain, radius: float, centres: np.ndarray) -> float:
+    """How far the foot spheres (centres (P, 3)) that are over a gap's mouth keep from its edges:
+    for a centre above the ground's surface the distance to the nearer edge's corner, below it to
+    the nearer wall, less the radius; negative: the sphere cuts an edge. inf if none is over a gap."""
+    x, z = centres[:, 0], centres[:, 2] - (terrain.ground - radius)      # height above the surface
+    out = np.inf
+    for g in terrain.gaps:
+        over = (x > g.x0) & (x < g.x1)
+        dx = np.minimum(x[over] - g.x0, g.x1 - x[over])
+        d = np.where(z[over] >= 0, np.hypot(dx, np.maximum(z[over], 0)), dx)
+        out = min(out, float(d.min(initial=np.inf)) - radius)
+    return out
 
 
 def gap_margin(terrain: Terrain, x: np.ndarray) -> np.ndarray:
@@ -245,11 +263,14 @@ def figures(robot: Robot, contacts: Contacts, course: Course, result: Result) ->
     bottom over a gap; the normal complementarity recomputed from the feet's positions; the
     solver's largest product; whether the exact solve finished); friction beyond the cone; how far
     the loaded feet stand from the gaps (a foot carrying a normal force at one point stands at the
-    next; negative: inside a gap); how far the last foot ends beyond the last gap; the body's
-    average speed."""
+    next; negative: inside a gap); how far the feet keep from the gaps' edges along the whole
+    trajectory (``mouth_clearance`` at the points and 20 configurations between each two); how far
+    the last foot ends beyond the last gap; the body's average speed."""
     tr = result.trajectory
     q, u = tr["q"], tr["u"]
     feet = np.array([feet_at(robot, qk) for qk in q])                                   # (P, 4, 3)
+    t_dense = result.transcription.q_samples(20)[0]
+    path = [feet_at(robot, qk) for qk in result.transcription.interpolants(result.x)[0](t_dense)]
     force = contacts.forces(u)                                                          # (P, 4, 3)
     normal = force[:-1, :, 2]
     friction = np.abs(force[:-1, :, :2]).sum(-1)         # the friction pyramid: |f_x| + |f_y| <= mu f_z
@@ -257,12 +278,14 @@ def figures(robot: Robot, contacts: Contacts, course: Course, result: Result) ->
     return {"constraint_violation": float(result.constraint_violation), **contact_figures(contacts, result),
             "friction_beyond_cone": float(max(0.0, (friction - contacts.mu * normal).max())),
             "foothold_gap_margin": float(gap_margin(contacts.terrain, standing).min()) if len(standing) else np.inf,
+            "edge_clearance": mouth_clearance(contacts.terrain, robot.contact_radius,
+                                              np.concatenate([feet.reshape(-1, 3), *path])),
             "past_last_gap": float(feet[-1, :, 0].min() - max(g.x1 for g in contacts.terrain.gaps)),
             "average_speed": float((q[-1, 0] - q[0, 0]) / course.T)}
 
 
 BOUNDS = {"constraint_violation": ("<=", 1e-6), **CONTACT_BOUNDS, "friction_beyond_cone": ("<=", 1e-6),
-          "foothold_gap_margin": (">=", 0.0), "past_last_gap": (">=", 0.0), "average_speed": (">=", SPEED - 1e-6)}
+          "foothold_gap_margin": (">=", 0.0), "edge_clearance": (">=", 0.0), "past_last_gap": (">=", 0.0), "average_speed": (">=", SPEED - 1e-6)}
 
 
 def scenery(robot: Robot, terrain: Terrain, x_range: Tuple[float, float]) -> Scenery:

@@ -48,6 +48,9 @@ class HermiteSimpsonTranscription(Transcription):
     def q_points(self):
         return np.arange(self.n_points) * self.dt / 2, self.q_off + np.arange(self.n_points) * self.n
 
+    def stage_nodes(self):
+        return np.array([0.0, 0.5, 1.0])  # knot, midpoint, knot: the quadratic of ``interpolants``
+
     def bounds(self):
         pr, n, nv = self.problem, self.n, self.core.n_variables
         lb, ub = np.full(nv, -np.inf), np.full(nv, np.inf)

@@ -27,18 +27,24 @@ class NLP:
         rows, cols = [np.asarray(a, dtype=np.int64) for a in self.core.structure]
         cl, cu = [np.zeros(self.core.n_constraints)], [np.zeros(self.core.n_constraints)]
         row0 = self.core.n_constraints
-        self.paths = []  # (constraint, point indices, first row, rows per point)
+        self.paths = []  # (constraint, times (P,), configuration points (P, K), weights (P, K))
         for c in self.problem.path_constraints:
             idx = c.points(tq)
+            groups = [(tq[idx], idx[:, None], np.ones((len(idx), 1)))]
+            if c.between:
+                ts, points, weights = tr.q_samples(c.between)
+                keep = c.in_window(ts)
+                groups.append((ts[keep], points[keep], weights[keep]))
             r = len(c.lower)
-            self.paths.append((c, idx, row0, r))
-            prow = row0 + np.arange(len(idx) * r)
-            rows_c = np.repeat(prow, n)
-            cols_c = (np.repeat(offsets[idx], r)[:, None] + np.arange(n)).ravel()
-            rows, cols = np.concatenate([rows, rows_c]), np.concatenate([cols, cols_c])
-            cl.append(np.tile(c.lower, len(idx)))
-            cu.append(np.tile(c.upper, len(idx)))
-            row0 += len(idx) * r
+            for t, points, weights in groups:
+                self.paths.append((c, t, points, weights))
+                P, K = points.shape
+                rows_c = np.repeat(row0 + np.arange(P * r), K * n)            # row (p, i): columns (k, j)
+                cols_c = np.repeat((offsets[points][:, :, None] + np.arange(n)).reshape(P, 1, K * n), r, 1).ravel()
+                rows, cols = np.concatenate([rows, rows_c]), np.concatenate([cols, cols_c])
+                cl.append(np.tile(c.lower, P))
+                cu.append(np.tile(c.upper, P))
+                row0 += P * r
         self.contact_rows = None
         if self.problem.contacts is not None:
             from .complementarity import ContactRows
@@ -116,10 +122,10 @@ class NLP:
     def _path(self, x, with_jacobian):
         n = self.tr.n
         out = []
-        for c, idx, _, r in self.paths:
-            Q = x[self.offsets[idx][:, None] + np.arange(n)]
-            values, jac = c.evaluate(self.problem.model, self.tq[idx], Q)
-            out.append(jac.ravel() if with_jacobian else values.ravel())
+        for c, t, points, weights in self.paths:
+            Q = np.einsum("pk,pkj->pj", weights, x[self.offsets[points][:, :, None] + np.arange(n)])
+            values, jac = c.evaluate(self.problem.model, t, Q)
+            out.append(np.einsum("pk,prj->prkj", weights, jac).ravel() if with_jacobian else values.ravel())
         return out
 
     def _contacts(self, x, with_jacobian):

@@ -1,6 +1,8 @@
 """Path constraints: conditions on the configuration at the transcription's configuration points
 (the VI's control points, Hermite-Simpson's knots and midpoints) at one time or over a window,
-``lower <= c(q) <= upper``. Each is evaluated for all its points in one vectorised call."""
+``lower <= c(q) <= upper``; over a window optionally also at ``between`` configurations between
+each two consecutive points, on the trajectory's polynomial (Transcription.q_samples). Each is
+evaluated for all its points in one vectorised call."""
 from __future__ import annotations
 
 from typing import Callable, Tuple
@@ -26,27 +28,37 @@ def _axes(axes: str) -> list[int]:
 
 class PathConstraint:
     """Base: ``at`` a time (the configuration point nearest to it) or ``window`` (t0, t1) (every
-    configuration point in it); ``evaluate(model, t, Q) -> (values (P, r), jacobians (P, r, n))``
-at the points' times t (P,) and configurations Q (P, n)."""
+    configuration point in it and, with ``between`` = b > 0, b evenly spaced configurations between
+    each two consecutive points in it: an obstacle a point could otherwise pass within one stage);
+    ``evaluate(model, t, Q) -> (values (P, r), jacobians (P, r, n))`` at the points' times t (P,)
+    and configurations Q (P, n)."""
 
-    def __init__(self, at: float | None = None, window: tuple[float, float] | None = None):
+    def __init__(self, at: float | None = None, window: tuple[float, float] | None = None, between: int = 0):
         if (at is None) == (window is None):
             raise ValueError("give exactly one of at= (a time) or window= (t0, t1)")
         if window is not None and not window[0] <= window[1]:
             raise ValueError(f"window must satisfy t0 <= t1, got {window}")
-        self.at, self.window = at, window
+        if isinstance(between, bool) or not isinstance(between, (int, np.integer)) or between < 0:
+            raise ValueError(f"between must be a non-negative integer, got {between!r}")
+        if between and window is None:
+            raise ValueError("between= samples a window; a constraint at= one time has none")
+        self.at, self.window, self.between = at, window, int(between)
 
     def points(self, t: np.ndarray) -> np.ndarray:
-        """Indices (P,) of the configuration points (times t (N,)) where the constraint applies."""
+        """Indices (P,) of the points (times t (N,)) where the constraint applies."""
         if self.at is not None:
             if not t[0] - 1e-12 <= self.at <= t[-1] + 1e-12:
                 raise ValueError(f"time {self.at} lies outside the horizon [{t[0]}, {t[-1]}]")
             return np.array([int(np.argmin(np.abs(t - self.at)))])
-        eps = 1e-9 * max(t[-1], 1.0)
-        idx = np.nonzero((t >= self.window[0] - eps) & (t <= self.window[1] + eps))[0]
+        idx = self.in_window(t)
         if len(idx) == 0:
             raise ValueError(f"no configuration point lies in the window {self.window}")
         return idx
+
+    def in_window(self, t: np.ndarray) -> np.ndarray:
+        """Indices (P,) of the times t (N,) in the window (P may be 0)."""
+        eps = 1e-9 * max(np.max(t), 1.0)
+        return np.nonzero((t >= self.window[0] - eps) & (t <= self.window[1] + eps))[0]
 
     def bind(self, model: _core.Model) -> PathConstraint:
         """Resolve names against the model (raises ValueError naming what is unknown); returns self."""
@@ -67,8 +79,8 @@ class BodyPoint(PathConstraint):
 
     def __init__(self, body: int | str, point: npt.ArrayLike = (0.0, 0.0, 0.0), *, target: npt.ArrayLike | None = None,
                  lower: npt.ArrayLike | None = None, upper: npt.ArrayLike | None = None, axes: str = "xyz",
-                 at: float | None = None, window: tuple[float, float] | None = None):
-        super().__init__(at, window)
+                 at: float | None = None, window: tuple[float, float] | None = None, between: int = 0):
+        super().__init__(at, window, between)
         self.body, self.point, self.rows = body, np.asarray(point, float), _axes(axes)
         r = len(self.rows)
         if target is not None:
@@ -100,8 +112,9 @@ class Clearance(BodyPoint):
     obstacle; with axes='xz', a circle in that plane): |P (x - center)|^2 >= radius^2."""
 
     def __init__(self, body: int | str, point: npt.ArrayLike = (0.0, 0.0, 0.0), *, center: npt.ArrayLike,
-                 radius: float, axes: str = "xyz", at: float | None = None, window: tuple[float, float] | None = None):
-        super().__init__(body, point, axes=axes, at=at, window=window)
+                 radius: float, axes: str = "xyz", at: float | None = None, window: tuple[float, float] | None = None,
+                 between: int = 0):
+        super().__init__(body, point, axes=axes, at=at, window=window, between=between)
         self.center = np.asarray(center, float)
         if radius <= 0:
             raise ValueError("radius must be positive")
@@ -121,8 +134,9 @@ class PoseHeld(PathConstraint):
     (1 row): six independent rows."""
 
     def __init__(self, body: int | str, q0: npt.ArrayLike, point: npt.ArrayLike = (0.0, 0.0, 0.0),
-                 size: tuple[float, float] = (0.1, 0.1), window: tuple[float, float] = (-np.inf, np.inf)):
-        super().__init__(window=window)
+                 size: tuple[float, float] = (0.1, 0.1), window: tuple[float, float] = (-np.inf, np.inf),
+                 between: int = 0):
+        super().__init__(window=window, between=between)
         self.body, self.q0, self.point = body, np.asarray(q0, float), np.asarray(point, float)
         if self.point.shape != (3,) or not np.all(np.isfinite(self.point)):
             raise ValueError(f"point must be 3 finite numbers, got {point!r}")
@@ -158,8 +172,8 @@ class CallbackPathConstraint(PathConstraint):
 
     def __init__(self, fun: Callable[[np.ndarray, np.ndarray], npt.ArrayLike],
                  jac: Callable[[np.ndarray, np.ndarray], npt.ArrayLike], lower: npt.ArrayLike, upper: npt.ArrayLike, *,
-                 at: float | None = None, window: tuple[float, float] | None = None):
-        super().__init__(at, window)
+                 at: float | None = None, window: tuple[float, float] | None = None, between: int = 0):
+        super().__init__(at, window, between)
         self.fun, self.jac = fun, jac
         self.lower, self.upper = np.atleast_1d(np.asarray(lower, float)), np.atleast_1d(np.asarray(upper, float))
         if self.lower.shape != self.upper.shape or np.any(self.lower > self.upper):

@@ -28,6 +28,11 @@ class Transcription:
         """(t (P,), offsets (P,)): times of the configuration variables and their offsets in x."""
         raise NotImplementedError
 
+    def stage_nodes(self) -> np.ndarray:
+        """Nodes (K,) on [0, 1] of a stage's configuration points: stage k's configuration is the
+        polynomial through q_points k (K - 1) .. k (K - 1) + K - 1 at these nodes (``interpolants``)."""
+        raise NotImplementedError
+
     def bounds(self):
         """(lower, upper) of x: joint and control bounds, boundary conditions as fixed variables."""
         raise NotImplementedError
@@ -52,6 +57,23 @@ class Transcription:
         raise NotImplementedError
 
     # --- shared helpers ---------------------------------------------------------------------
+    def q_samples(self, between: int):
+        """``between`` (>= 1) evenly spaced configurations between each two consecutive
+        configuration points, on the stage's polynomial (``stage_nodes``), as weighted sums of the
+        stage's points: (t (P,), points (P, K), weights (P, K)), sample p = sum_k weights[p, k]
+        q_points[points[p, k]]."""
+        tq, _ = self.q_points()
+        nodes = self.stage_nodes()
+        K = len(nodes)
+        N = (len(tq) - 1) // (K - 1)
+        frac = np.arange(1, between + 1) / (between + 1)
+        tau = (nodes[:-1, None] + frac[None, :] * np.diff(nodes)[:, None]).ravel()  # ((K - 1) between,) in (0, 1)
+        first = np.arange(N) * (K - 1)
+        h = tq[first + K - 1] - tq[first]
+        t = (tq[first][:, None] + h[:, None] * tau[None, :]).ravel()
+        points = np.repeat((first[:, None] + np.arange(K))[:, None, :], len(tau), 1).reshape(-1, K)
+        return t, points, np.tile(lagrange_basis(nodes, tau), (N, 1))
+
     def _tile_bounds(self, lower, upper, count):
         return np.tile(lower, count), np.tile(upper, count)
 

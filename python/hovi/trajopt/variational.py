@@ -62,6 +62,9 @@ class VariationalTranscription(Transcription):
         t = np.append(t, self.N * self.dt)
         return t, self.q_off + np.arange(self.n_points) * self.n
 
+    def stage_nodes(self):
+        return self.nodes  # Lobatto points: q(t) interpolates a stage's s + 1 control points (Sec. 2, eq. (2))
+
     def u_points(self):
         """(P,) offsets of the controls at the configuration points of q_points (per-point controls)."""
         if self.problem.controls != "per_point":
