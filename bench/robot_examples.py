@@ -67,8 +67,12 @@ def main() -> None:
     rows.sort(key=lambda r: NAMES.index(r["example"]))
     path = write_json(name, {"rows": rows})
     print(f"wrote {path}")
-    if args.quick:
-        return
+    if not args.quick:
+        write_table(rows)
+
+
+def write_table(rows: list) -> None:
+    """The README table of the full rows (one per example and method)."""
     lines = ["| example | transcription | N | variables | IPOPT iterations | solve [s] | feasible | constraint violation "
              "| one-stage replay drift |", "|---|---|---|---|---|---|---|---|---|"]
     for r in rows:

@@ -114,9 +114,9 @@ def test_samples_between_points_lie_on_the_trajectory_polynomial(name, s):
 
 
 def test_path_constraint_between_points_holds_along_the_trajectory():
-    """The tip above z = -0.49 over [1.5, 2] s: the swing-up passes the bottom within one stage
-    unless the bound is also imposed between the points (between = 3); then it holds at every
-    sample, at a higher cost."""
+    """The tip above z = -0.49 over [1.5, 2] s, which the swing-up's last pass through the bottom
+    breaks within one stage: with between = 3 the bound holds at every sample on the VI's
+    polynomial, where the solution constrained at the points alone violates it, at a higher cost."""
     tip, lower = [0, 0, -0.5], -0.49
 
     def solve(between):
