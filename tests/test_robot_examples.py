@@ -98,7 +98,7 @@ def test_flamingo_jumps_the_obstacle(tmp_path, capsys):
     assert s["success"] and s["feasible"], s["failures"]
     assert s["constraint_violation"] <= 1e-6 and s["exact_solve"] == 1.0
     assert s["complementarity"] <= 1e-6 and s["normal_complementarity"] <= 1e-6 and s["penetration"] <= 1e-6
-    assert s["obstacle_clearance"] >= 0 and s["feet_beyond_obstacle"] >= 0   # over the box, both feet past it
+    assert s["obstacle_clearance"] >= 0 and s["feet_beyond_obstacle"] >= 0   # over the box all along, both feet past it
     assert s["replay_one_step_drift"] <= 1e-6   # each stage is the integrator's step, to IPOPT's constr_viol_tol 1e-8
     forces = np.load(tmp_path / "flamingo.npz")["contact_forces"]
     assert np.any(forces[:-1].sum(1) == 0)                                   # a flight phase: no contact force

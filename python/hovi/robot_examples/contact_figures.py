@@ -2,7 +2,9 @@
 from the trajectory itself rather than read from the solver's rows: the deepest penetration of a
 contact point at any configuration point, and the largest normal complementarity product
 lambda_i phi(q_{i+1}) (the pairing of ``hovi.contact.contacts``); beside them the solver's own
-largest product over all pairs (normal, cone and sliding) and whether its exact solve finished."""
+largest product over all pairs (normal, cone and sliding) and whether its exact solve finished.
+``path_configurations``: the configurations along the whole solution, for obstacle checks that
+must hold between the configuration points too."""
 from __future__ import annotations
 
 from typing import Dict
@@ -26,6 +28,13 @@ def contact_figures(contacts: Contacts, result: Result) -> Dict[str, float]:
             "normal_complementarity": float(np.abs(lam[:-1] * phi[1:]).max()),
             "complementarity": float(result.contact["complementarity"]),
             "exact_solve": float(result.contact["finished"])}
+
+
+def path_configurations(result: Result, between: int = 200) -> np.ndarray:
+    """The configurations (P, n) of the solution at its configuration points and at ``between``
+    evenly spaced times between each two, on the transcription's polynomial."""
+    tr = result.transcription
+    return np.vstack([result.trajectory["q"], tr.interpolants(result.x)[0](tr.q_samples(between)[0])])
 
 
 CONTACT_BOUNDS = {"penetration": ("<=", 1e-6), "normal_complementarity": ("<=", 1e-6),

@@ -28,7 +28,7 @@ from ..contact import Contacts, Gap, Terrain
 from ..robots import Robot, littledog
 from ..trajopt import Problem, Result
 from .atlas import static_controls
-from .contact_figures import CONTACT_BOUNDS, contact_figures
+from .contact_figures import CONTACT_BOUNDS, contact_figures, path_configurations
 from .example import Example, Scenery
 
 MU = 0.8              # friction coefficient of the feet
@@ -264,13 +264,12 @@ def figures(robot: Robot, contacts: Contacts, course: Course, result: Result) ->
     solver's largest product; whether the exact solve finished); friction beyond the cone; how far
     the loaded feet stand from the gaps (a foot carrying a normal force at one point stands at the
     next; negative: inside a gap); how far the feet keep from the gaps' edges along the whole
-    trajectory (``mouth_clearance`` at the points and 20 configurations between each two); how far
+    trajectory (``mouth_clearance`` at the points and 200 configurations between each two); how far
     the last foot ends beyond the last gap; the body's average speed."""
     tr = result.trajectory
     q, u = tr["q"], tr["u"]
     feet = np.array([feet_at(robot, qk) for qk in q])                                   # (P, 4, 3)
-    t_dense = result.transcription.q_samples(20)[0]
-    path = [feet_at(robot, qk) for qk in result.transcription.interpolants(result.x)[0](t_dense)]
+    path = np.array([feet_at(robot, qk) for qk in path_configurations(result)])          # (P', 4, 3)
     force = contacts.forces(u)                                                          # (P, 4, 3)
     normal = force[:-1, :, 2]
     friction = np.abs(force[:-1, :, :2]).sum(-1)         # the friction pyramid: |f_x| + |f_y| <= mu f_z
@@ -278,8 +277,7 @@ def figures(robot: Robot, contacts: Contacts, course: Course, result: Result) ->
     return {"constraint_violation": float(result.constraint_violation), **contact_figures(contacts, result),
             "friction_beyond_cone": float(max(0.0, (friction - contacts.mu * normal).max())),
             "foothold_gap_margin": float(gap_margin(contacts.terrain, standing).min()) if len(standing) else np.inf,
-            "edge_clearance": mouth_clearance(contacts.terrain, robot.contact_radius,
-                                              np.concatenate([feet.reshape(-1, 3), *path])),
+            "edge_clearance": mouth_clearance(contacts.terrain, robot.contact_radius, path.reshape(-1, 3)),
             "past_last_gap": float(feet[-1, :, 0].min() - max(g.x1 for g in contacts.terrain.gaps)),
             "average_speed": float((q[-1, 0] - q[0, 0]) / course.T)}
 
