@@ -1,7 +1,7 @@
 """The paper's robot examples (hovi.robot_examples, ``hovi example NAME``) in full: each solved with
 the trapezoidal VI (s = 1), the Simpson VI (s = 2, the paper's) and implicit Hermite-Simpson
 collocation of the same problem, all by IPOPT with the Lagrangian's Hessian (trajopt.hessian):
-iterations, solve time, the feasibility figures and, for the VIs, the one-stage replay drift.
+iterations, solve time, the feasibility figures and, for the VIs, the replay figures (report.replay_figures).
 Contact-implicit examples (Spring Flamingo, LittleDog) run with the VIs only: their complementarity
 conditions need controls at the configuration points, which Hermite-Simpson does not have.
 LittleDog's full problem runs with the trapezoidal VI only (VI_S1_ONLY): its s = 1 solve alone
@@ -44,7 +44,8 @@ def run_one(name: str, quick: bool, method: str, s: int) -> dict:
            "T": example.problem.T, "success": bool(result.success), "status": result.status,
            "iterations": report.ipopt_totals(result)[0], "solve_seconds": wall, **result.sizes, **figures,
            "contact_solves": result.contact.get("solves", []),
-           "feasible": bool(result.success) and not example.failures(figures)}
+           "failures": ([] if result.success else [result.status]) + example.failures(figures)}
+    row["feasible"] = not row["failures"]
     if method == "vi":
         row.update(report.replay_figures(example, result))
     print(f"{name:8s} {row['method']:12s} N = {row['N']:3d}: {row['iterations']:4d} iterations, {wall:7.1f} s, "
@@ -74,12 +75,15 @@ def main() -> None:
 def write_table(rows: list) -> None:
     """The README table of the full rows (one per example and method)."""
     lines = ["| example | transcription | N | variables | IPOPT iterations | solve [s] | feasible | constraint violation "
-             "| one-stage replay drift |", "|---|---|---|---|---|---|---|---|---|"]
+             "| stage DEL residual | one-stage replay drift |", "|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
+        residual = f"{r['replay_stage_residual']:.1e}" if "replay_stage_residual" in r else "-"
         drift = f"{r['replay_one_step_drift']:.1e}" if "replay_one_step_drift" in r else "-"
+        if r.get("replay_steps_elsewhere"):
+            drift += f" ({r['replay_steps_elsewhere']} elsewhere)"
         lines.append(f"| {r['example']} | {r['method']} | {r['N']} | {r['variables']} | {r['iterations']} | "
-                     f"{r['solve_seconds']:.1f} | {'yes' if r['feasible'] else 'no: ' + r['status']} | "
-                     f"{r['constraint_violation']:.1e} | {drift} |")
+                     f"{r['solve_seconds']:.1f} | {'yes' if r['feasible'] else 'no: ' + '; '.join(r.get('failures', [r['status']]))} | "
+                     f"{r['constraint_violation']:.1e} | {residual} | {drift} |")
     update_readme_section("robot_examples", "\n".join(lines))
 
 

@@ -155,8 +155,10 @@ def cmd_example(args) -> int:
           f"{s['constraint_violation']:.2e}")
     for key in example.bounds:
         print(f"  {key}: {s[key]:.3g}")
-    print(f"replayed with the integrator: one stage from each optimised state lands {s['replay_one_step_drift']:.2e} "
-          f"from the next; the whole horizon open loop drifts {s['replay_open_loop_drift']:.2e}")
+    print(f"checked with the integrator: the stages' DEL residual {s['replay_stage_residual']:.2e}; a step from each "
+          f"optimised state lands {s['replay_one_step_drift']:.2e} from the next ({s['replay_steps_elsewhere']} more than 1e-6 "
+          f"away: with a small residual, another root of the DEL equations; {s['replay_failed_steps']} failed); the whole horizon open loop drifts "
+          f"{s['replay_open_loop_drift']:.2e}")
     print(f"energy along the motion: {s['energy_start']:.6g} -> {s['energy_end']:.6g} J (range {s['energy_min']:.6g} "
           f".. {s['energy_max']:.6g})")
     print("wrote " + ", ".join(s["files"]))

@@ -12,6 +12,12 @@ from ..trajopt import Problem, Result
 from ..trajopt.ipopt import Guess
 
 
+def samples_between(dt: float, spacing: float) -> int:
+    """How many samples between two configuration points dt apart hold a path constraint at least
+    every ``spacing`` seconds (``between=`` of a ``trajopt.PathConstraint``)."""
+    return int(np.ceil(dt / spacing - 1e-9)) - 1
+
+
 @dataclass
 class Scenery:
     """World shapes shown with the robot (terrain, obstacles, a ball): (shape, size (as Model.add_visual takes it),

@@ -30,7 +30,7 @@ from ..contact.terrain import Box
 from ..robots import Robot, spring_flamingo
 from ..trajopt import Problem, Result
 from .contact_figures import CONTACT_BOUNDS, contact_figures, path_configurations
-from .example import Example, Scenery
+from .example import Example, Scenery, samples_between
 
 MU = 0.8                          # friction coefficient of the ground
 T = 1.1                           # duration (s), the paper's
@@ -160,7 +160,7 @@ def build(quick: bool = False) -> Example:
     prob.add_constraint(trajopt.BodyPoint("base_link", lower=HIP_HEIGHT, axes="z", window=(0.0, T)))
     for side in ("left", "right"):
         prob.add_constraint(trajopt.BodyPoint(f"{side}_lower_leg", lower=KNEE_HEIGHT, axes="z", window=(0.0, T)))
-    between = int(np.ceil(prob.dt / SAMPLE_SPACING - 1e-9)) - 1
+    between = samples_between(prob.dt, SAMPLE_SPACING)
     for cx, cz in obstacle_circles(OBSTACLE):
         for body, point in robot.contact_points:
             prob.add_constraint(trajopt.Clearance(body, point, center=(cx, 0.0, cz), radius=CIRCLE_RADIUS, axes="xz",

@@ -29,7 +29,7 @@ from ..robots import Robot, littledog
 from ..trajopt import Problem, Result
 from .atlas import static_controls
 from .contact_figures import CONTACT_BOUNDS, contact_figures, path_configurations
-from .example import Example, Scenery
+from .example import Example, Scenery, samples_between
 
 MU = 0.8              # friction coefficient of the feet
 SPEED = 0.25          # the average forward speed the body must reach (m/s; the paper's)
@@ -214,25 +214,30 @@ class Gait:
         return u
 
 
-BETWEEN = 2          # samples of the gap circles between each two configuration points
+SAMPLE_SPACING = 0.01  # s: the gap circles hold at least this often between the configuration points
 
 
-def gap_clearances(robot: Robot, terrain: Terrain, T: float) -> List[trajopt.Clearance]:
+def gap_clearances(robot: Robot, terrain: Terrain, T: float, dt: float) -> List[trajopt.Clearance]:
     """Every foot-sphere centre outside a circle (in the x-z plane) over each gap, centred on it at
-    the ground's height, reaching a foot radius beyond its edges, at every configuration point in
-    [0, T] and BETWEEN configurations between each two (on the trajectory's polynomial): the feet
-    keep out of the gaps (a loaded foot stands fully on the ground) and step over them (a sphere's
-    centre 3 cm above its resting height over the gap's centre, 2.3 cm over its edges). The gap
-    itself, a step in the terrain's height, gives the solver no gradient that moves a foot out of
-    it; the circles do. Measured on the quick problem (then N = 24): without them a foot landed
-    inside the gap (on its bottom when 0.1 m deep; hovering in it, loaded, when 0.5 m deep, since
-    the relaxed complementarity lets a loaded foot hover) and the first relaxed solve failed after
-    150-300 iterations; with them every solve converged. At the configuration points alone, a foot
-    on the ground at the points either side of a gap crossed its mouth at ground level within one
-    stage, clipping its edges (bench/README.md, "What the checks see between the points")."""
+    the ground's surface, reaching a foot radius beyond its edges, at every configuration point in
+    [0, T] and every SAMPLE_SPACING between each two (on the trajectory's polynomial, dt apart): the
+    feet keep out of the gaps (a loaded foot stands fully on the ground) and step over them (a
+    sphere's centre 2 cm above its resting height over the gap's centre, 1.25 cm over its edges).
+    A centre outside the circle keeps a radius from both edges' corners, above and below the
+    surface. The gap itself, a step in the terrain's height, gives the solver no gradient that
+    moves a foot out of it; the circles do. Measured on the quick problem (then N = 24): without
+    them a foot landed inside the gap (on its bottom when 0.1 m deep; hovering in it, loaded, when
+    0.5 m deep, since the relaxed complementarity lets a loaded foot hover) and the first relaxed
+    solve failed after 150-300 iterations; with them every solve converged. At the configuration
+    points alone, a foot on the ground at the points either side of a gap crossed its mouth at
+    ground level within one stage, clipping its edges; with circles centred a radius higher (at
+    the resting centres' height: they reach only 2 cm below the surface) a landing foot dipped
+    under them into the gap's far wall between two points, 10 mm deep (bench/README.md, "What the
+    checks see between the points")."""
     r = robot.contact_radius
-    return [trajopt.Clearance(body, point, center=((g.x0 + g.x1) / 2, 0.0, terrain.ground),
-                              radius=(g.x1 - g.x0) / 2 + r, axes="xz", window=(0.0, T), between=BETWEEN)
+    return [trajopt.Clearance(body, point, center=((g.x0 + g.x1) / 2, 0.0, terrain.ground - r),
+                              radius=(g.x1 - g.x0) / 2 + r, axes="xz", window=(0.0, T),
+                              between=samples_between(dt, SAMPLE_SPACING))
             for g in terrain.gaps for body, point in robot.contact_points]
 
 
@@ -311,7 +316,7 @@ def build(quick: bool = False) -> Example:
     posture = np.r_[0.0, 1.0, 0.0, 1.0, 1.0, 1.0, np.full(12, 1e-2)]  # y, yaw, pitch, roll; the legs lightly
     prob.add_cost(trajopt.StateTracking(q0, weight=posture, velocity_weight=1e-3))
     prob.add_contacts(contacts)
-    for constraint in gap_clearances(robot, ground, course.T):
+    for constraint in gap_clearances(robot, ground, course.T, prob.dt):
         prob.add_constraint(constraint)
     prob.add_constraint(trajopt.BodyPoint("body", lower=q0[0] + course.distance, axes="x", at=course.T))
     gait = Gait(robot, course, q0, ground)
