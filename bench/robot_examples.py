@@ -1,16 +1,13 @@
 """The paper's robot examples (hovi.robot_examples, ``hovi example NAME``) in full: each solved with
 the trapezoidal VI (s = 1), the Simpson VI (s = 2, the paper's) and implicit Hermite-Simpson
-collocation of the same problem, all by IPOPT with the Lagrangian's Hessian (trajopt.hessian):
-iterations, solve time, the feasibility figures and, for the VIs, the replay figures (report.replay_figures).
-Contact-implicit examples (Spring Flamingo, LittleDog) run with the VIs only: their complementarity
-conditions need controls at the configuration points, which Hermite-Simpson does not have.
-LittleDog's full problem runs with the trapezoidal VI only (VI_S1_ONLY): its s = 1 solve alone
-took 2282 s, and with s = 2 an impact inside a stage can rebound (hovi.contact.contacts).
+collocation of the same problem and contact model, all by IPOPT with the Lagrangian's Hessian
+(trajopt.hessian): iterations, solve time, the feasibility figures and, for the VIs, the replay
+figures (report.replay_figures).
 
-    python bench/robot_examples.py [--quick] [--only NAME ...]
+    python bench/robot_examples.py [--quick] [--only NAME ...] [--methods vi1 vi2 hs]
 
-Writes bench/results/robot_examples.json (robot_examples_quick.json; with --only, the named examples'
-rows replace theirs and the others are kept) and the table in bench/README.md.
+Writes bench/results/robot_examples.json (robot_examples_quick.json; with --only or --methods, the
+rows run replace theirs and the others are kept) and the table in bench/README.md.
 """
 from __future__ import annotations
 
@@ -22,16 +19,11 @@ import time
 from common import RESULTS, update_readme_section, write_json
 from hovi.robot_examples import NAMES, build, report
 
-METHODS = [("vi", 1), ("vi", 2), ("hs-implicit", 2)]
-VI_S1_ONLY = ("littledog",)  # see the module docstring
+METHODS = {"vi1": ("vi", 1), "vi2": ("vi", 2), "hs": ("hs-implicit", 2)}
 
 
-def methods_of(name: str, quick: bool):
-    """The (method, s) pairs an example is solved with: the trapezoidal VI only if ``quick`` or the example is in
-    VI_S1_ONLY, the VIs only with contacts."""
-    if quick or name in VI_S1_ONLY:
-        return METHODS[:1]
-    return [m for m in METHODS if m[0] == "vi"] if build(name, quick=True).problem.contacts is not None else METHODS
+def label(method: str, s: int) -> str:
+    return f"vi s={s}" if method == "vi" else method
 
 
 def run_one(name: str, quick: bool, method: str, s: int) -> dict:
@@ -40,7 +32,7 @@ def run_one(name: str, quick: bool, method: str, s: int) -> dict:
     result = report.solve(example, method, s)
     wall = time.perf_counter() - t0
     figures = example.checks(result)
-    row = {"example": name, "method": method if method != "vi" else f"vi s={s}", "N": example.problem.N,
+    row = {"example": name, "method": label(method, s), "N": example.problem.N,
            "T": example.problem.T, "success": bool(result.success), "status": result.status,
            "iterations": report.ipopt_totals(result)[0], "solve_seconds": wall, **result.sizes, **figures,
            "contact_solves": result.contact.get("solves", []),
@@ -57,15 +49,20 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="the quick problems, the trapezoidal VI only")
     ap.add_argument("--only", nargs="+", choices=NAMES, default=list(NAMES), help="the examples to run")
+    ap.add_argument("--methods", nargs="+", choices=list(METHODS), default=list(METHODS),
+                    help="the transcriptions (--quick: the trapezoidal VI only)")
     args = ap.parse_args()
     name = "robot_examples_quick.json" if args.quick else "robot_examples.json"
+    methods = [METHODS["vi1"]] if args.quick else [METHODS[m] for m in args.methods]
+    runs = [(example, method, s) for example in args.only for method, s in methods]
     kept = []
-    if set(args.only) != set(NAMES) and os.path.exists(os.path.join(RESULTS, name)):
+    if os.path.exists(os.path.join(RESULTS, name)):
+        redone = {(example, label(method, s)) for example, method, s in runs}
         with open(os.path.join(RESULTS, name)) as f:
-            kept = [r for r in json.load(f)["rows"] if r["example"] not in args.only]
-    rows = kept + [run_one(example, args.quick, method, s) for example in args.only
-                   for method, s in methods_of(example, args.quick)]
-    rows.sort(key=lambda r: NAMES.index(r["example"]))
+            kept = [r for r in json.load(f)["rows"] if (r["example"], r["method"]) not in redone]
+    rows = kept + [run_one(example, args.quick, method, s) for example, method, s in runs]
+    order = [label(*m) for m in METHODS.values()]
+    rows.sort(key=lambda r: (NAMES.index(r["example"]), order.index(r["method"])))
     path = write_json(name, {"rows": rows})
     print(f"wrote {path}")
     if not args.quick:

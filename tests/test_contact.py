@@ -131,9 +131,6 @@ def test_bad_contact_input_is_refused_with_a_reason():
         trajopt.Problem(contacts.model, N=4, T=0.2, controls="held").add_contacts(contacts)
     with pytest.raises(ValueError, match="solve_contact"):  # the exact conditions straight to IPOPT
         trajopt.solve(prob, verbose=False)
-    prob.complementarity_epsilon = 0.1
-    with pytest.raises(ValueError, match="controls at its configuration points"):
-        trajopt.solve(prob, "hs-implicit", verbose=False)
     for kwargs, match in (({"epsilons": ()}, "epsilons"), ({"epsilons": (1e-2, 1e-1)}, "decreasing"),
                           ({"epsilons": (0.1, 0.0)}, "positive"), ({"s": 0}, "s must be"),
                           ({"finish_below": -1.0}, "finish_below")):
@@ -145,6 +142,73 @@ def test_bad_contact_input_is_refused_with_a_reason():
     plain = trajopt.Problem(model, N=4, T=0.2).initial_state([0.0, 0.1]).add_cost(trajopt.ControlEffort())
     with pytest.raises(ValueError, match="no contacts"):
         trajopt.solve_contact(plain)
+
+
+def hermite_simpson_defects(result, contacts, mass=1.0):
+    """The Hermite-Simpson equations of the planar point mass with its accelerations computed here from
+    the optimised contact forces (a = F / m - g z, the slider massless), at every interval: the
+    collocation residuals of q and v at the knot and the midpoint (Lobatto IIIA, separated form)."""
+    tr, h = result.trajectory, result.transcription.dt
+    q, v = tr["q"], tr["v"]
+    a = contacts.forces(tr["u"])[:, 0, [0, 2]] / mass - [0.0, G]
+    k, m, k1 = slice(0, -1, 2), slice(1, None, 2), slice(2, None, 2)
+    return np.concatenate([
+        v[k1] - v[k] - h / 6 * (a[k] + 4 * a[m] + a[k1]), q[k1] - q[k] - h / 6 * (v[k] + 4 * v[m] + v[k1]),
+        v[m] - (v[k] + v[k1]) / 2 - h / 8 * (a[k] - a[k1]), q[m] - (q[k] + q[k1]) / 2 - h / 8 * (v[k] - v[k1])]).ravel()
+
+
+@pytest.mark.parametrize("name", ["hs-implicit", "hs-explicit"])
+def test_hermite_simpson_drop_with_the_same_contact_conditions(name):
+    """Hermite-Simpson collocation with the VI's contact conditions on its knots and midpoints
+    (the input at a point complementary to the gap at the next: hovi.trajopt.complementarity): the
+    dropped mass falls freely (collocation is exact for a constant acceleration), lands without
+    penetrating, and rests on the ground with the Simpson average of the normal force over each
+    interval equal to its weight (the knot and midpoint forces themselves are not unique at rest:
+    a_knot = c, a_mid = -c / 2 leaves every q and v unchanged). The impact inside an interval
+    rebounds (as the VI's with s = 2), below the drop height."""
+    model = planar_point_mass()
+    z0, T, N = 0.3, 0.5, 25
+    contacts, prob = contact_problem(model, [0.0, z0], [0.0, 0.0], T, N, mu=0.5)
+    result = trajopt.solve_contact(prob, transcription=name)
+    assert result.success and result.contact["finished"], result.status
+    assert result.contact["penetration"] <= 1e-6 and result.contact["complementarity"] <= 1e-6
+    np.testing.assert_allclose(hermite_simpson_defects(result, contacts), 0, atol=1e-8)
+    t, z = result.trajectory["t"], result.trajectory["q"][:, 1]
+    normal = result.trajectory["u"][:, contacts.input_index(0, "normal")]
+    impact = np.sqrt(2 * z0 / G)
+    before = t < impact - result.transcription.dt
+    np.testing.assert_allclose(z[before], z0 - G * t[before] ** 2 / 2, atol=1e-8)
+    np.testing.assert_allclose(normal[before], 0, atol=1e-5)
+    assert z[t > impact].max() < 0.25 * z0  # the rebound loses energy
+    end = t > T - 0.08
+    np.testing.assert_allclose(z[end], 0, atol=1e-6)
+    knots = np.flatnonzero(end[:-2] & (np.arange(len(t) - 2) % 2 == 0))  # intervals resting from their knot on
+    simpson = (normal[knots] + 4 * normal[knots + 1] + normal[knots + 2]) / 6
+    np.testing.assert_allclose(simpson, G, rtol=1e-6)
+
+
+def test_hermite_simpson_sliding_block_stops_where_coulomb_friction_says():
+    """The VI's sliding test with Hermite-Simpson: the same stopping distance and the cone saturated
+    at every point while sliding. (The solution found puts the forces on the midpoints, about
+    1.5 m g there and none at the knots: the non-unique knot/midpoint split of the drop test; the
+    conditions hold the points on the ground but not the velocities at them, which oscillate by up
+    to 1.3e-4 m/s.)"""
+    model = planar_point_mass()
+    mu, v0 = 0.5, 1.0
+    contacts, prob = contact_problem(model, [0.0, 0.0], [v0, 0.0], 0.4, 40, mu)
+    result = trajopt.solve_contact(prob, transcription="hs-implicit")
+    assert result.success and result.contact["finished"], result.status
+    assert result.contact["penetration"] <= 1e-6 and result.contact["complementarity"] <= 1e-6
+    assert result.constraint_violation <= 1e-6
+    # the collocation equations hold to the solution's own constraint violation (4.7e-8 here)
+    np.testing.assert_allclose(hermite_simpson_defects(result, contacts), 0, atol=1.01 * result.constraint_violation)
+    t, q = result.trajectory["t"], result.trajectory["q"]
+    forces = contacts.forces(result.trajectory["u"])[:, 0]
+    stop = v0 / (mu * G)
+    assert q[-1, 0] == pytest.approx(v0 ** 2 / (2 * mu * G), rel=0.02)
+    sliding = (t > 0) & (t < stop - 2 * result.transcription.dt)
+    np.testing.assert_allclose(forces[sliding, 0], -mu * forces[sliding, 2], rtol=1e-3, atol=1e-8)  # saturated cone
+    np.testing.assert_allclose(q[t > stop + 2 * result.transcription.dt, 0], q[-1, 0], atol=1e-6)  # at rest
 
 
 def test_order_four_finds_the_unique_discrete_solution_which_rebounds():

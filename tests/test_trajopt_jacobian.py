@@ -100,18 +100,22 @@ def tumbling_block():
     return contacts, prob.add_contacts(contacts)
 
 
-@pytest.mark.parametrize("s", [1, 2, 3])
+CONTACT_METHODS = [("vi", 1), ("vi", 2), ("vi", 3), ("hs-implicit", 2), ("hs-explicit", 2)]
+
+
+@pytest.mark.parametrize("name,s", CONTACT_METHODS, ids=[f"{m}-{s}" for m, s in CONTACT_METHODS])
 @pytest.mark.parametrize("exact", [False, True], ids=["relaxed", "exact-sides"])
-def test_contact_jacobian_matches_finite_differences(s, exact):
+def test_contact_jacobian_matches_finite_differences(name, s, exact):
     contacts, prob = tumbling_block()
     prob.complementarity_epsilon = 1e-2
+    E = prob.N * s  # pairs: the VI's control points, Hermite-Simpson's knots and midpoints, less the last
     if exact:  # one side of every pair fixed: the same rows, other bounds
         rng = np.random.default_rng(5)
-        E, C = prob.N * s, contacts.n_contacts
+        C = contacts.n_contacts
         prob.complementarity_branches = Branches(rng.random((E, C)) < 0.5, rng.random((E, C)) < 0.5,
                                                  rng.random((E, C, contacts.d)) < 0.5)
-    nlp = trajopt.NLP(trajopt.transcribe(prob, "vi", s))
-    assert nlp.contact_rows.count == (prob.N * s) * 2 * (4 + 2 * 4) + 2 * 6
+    nlp = trajopt.NLP(trajopt.transcribe(prob, name, s))
+    assert nlp.contact_rows.count == E * 2 * (4 + 2 * 4) + 2 * 6
     check_against_finite_differences(nlp, np.random.default_rng(s).normal(scale=0.3, size=nlp.n_variables))
 
 

@@ -112,8 +112,8 @@ def solve(example: Example, method: str = "vi", s: int = 1, verbose: bool = Fals
     trajopt.hessian), from the example's guess."""
     if example.problem.contacts is not None:
         epsilons = {} if example.epsilons is None else {"epsilons": example.epsilons}
-        return trajopt.solve_contact(example.problem, s=s, guess=example.guess, options=example.options,
-                                     verbose=verbose, hessian="fd", **epsilons)
+        return trajopt.solve_contact(example.problem, s=s, transcription=method, guess=example.guess,
+                                     options=example.options, verbose=verbose, hessian="fd", **epsilons)
     return trajopt.solve(example.problem, method, s=s, guess=example.guess, options=example.options, verbose=verbose,
                          hessian="fd")
 

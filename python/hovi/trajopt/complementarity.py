@@ -21,7 +21,15 @@ product rows are then dropped from the bounds (-inf, inf). That is a smooth NLP 
 satisfies the complementarity exactly (``hovi.trajopt.solve_contact`` uses it to finish).
 
 The transcription gives the offsets of q_j and of the controls u_j at its configuration points
-(``q_points``, ``u_points``); nothing else of it is used.
+(``q_points``, ``u_points``); nothing else of it is used. The same rows serve every transcription
+with per-point controls. In the VI the points are a stage's control points, and the inputs at
+point i enter the DEL equations of the stage after it. In Hermite-Simpson collocation they are the
+knots and midpoints (pairs over half intervals), and the inputs at point i enter the acceleration
+a_i collocated there; that acceleration moves the next point, which the pairing needs: with h the
+interval, q_m = q_k + h v_k / 2 + h^2 (3 a_k + 4 a_m - a_{k+1}) / 48 and q_{k+1} = q_k + h v_k
++ h^2 (a_k + 2 a_m) / 6, so a knot's force moves the midpoint after it (3 h^2 / 48 of a_k, and h^2 / 12 more through
+v_k = v_{k-1} + h (a_{k-1} + 4 a_{m-1} + a_k) / 6 after the first knot) and a midpoint's force
+the next knot (h^2 / 3 of a_m).
 """
 from __future__ import annotations
 
@@ -45,9 +53,6 @@ class Branches:
 
 class ContactRows:
     def __init__(self, contacts: Contacts, tr, epsilon: float, branches: Optional[Branches] = None) -> None:
-        if not hasattr(tr, "u_points"):
-            raise ValueError(f"contact conditions need a transcription with controls at its configuration points; "
-                             f"{tr.name} has none")
         if not (np.isfinite(epsilon) and epsilon >= 0):
             raise ValueError(f"the complementarity relaxation must be finite and >= 0, got {epsilon}")
         self.contacts, self.epsilon, self.branches = contacts, float(epsilon), branches

@@ -103,13 +103,15 @@ def branches_of(rows: ContactRows, x: np.ndarray) -> Branches:
 
 
 def solve_contact(problem: Problem, epsilons: Sequence[float] = DEFAULT_EPSILONS, *, s: int = 1,
-                  guess: Guess = "rollout", finish_below: float = FINISH_BELOW, options: dict[str, Any] | None = None,
-                  verbose: bool = False, hessian: str = "lbfgs") -> Result:
-    """Solve ``problem`` (with ``add_contacts``) with the VI of order 2s: the relaxation homotopy
-    over ``epsilons`` (positive, decreasing), and after each relaxed solve with epsilon <=
-    ``finish_below`` the exact solve on the sides of the complementarity pairs it shows, until one
-    succeeds (finish_below = 0: relaxed solves only). ``options`` go to every IPOPT solve (the
-    relaxed ones default to tol = RELAXED_TOL); ``hessian`` as in ``solve``.
+                  transcription: str = "vi", guess: Guess = "rollout", finish_below: float = FINISH_BELOW,
+                  options: dict[str, Any] | None = None, verbose: bool = False, hessian: str = "lbfgs") -> Result:
+    """Solve ``problem`` (with ``add_contacts``) with ``transcription`` (as in ``solve``: the VI of
+    order 2s by default, or 'hs-implicit' / 'hs-explicit' collocation with the same contact
+    conditions on its knots and midpoints): the relaxation homotopy over ``epsilons`` (positive,
+    decreasing), and after each relaxed solve with epsilon <= ``finish_below`` the exact solve on
+    the sides of the complementarity pairs it shows, until one succeeds (finish_below = 0: relaxed
+    solves only). ``options`` go to every IPOPT solve (the relaxed ones default to tol =
+    RELAXED_TOL); ``hessian`` as in ``solve``.
 
     s = 1 (default) is the contact model that is inelastic and well posed (see hovi.contact); s >= 2
     lets an impact inside a stage rebound.
@@ -136,7 +138,7 @@ def solve_contact(problem: Problem, epsilons: Sequence[float] = DEFAULT_EPSILONS
         opts = dict(options or {})
         if epsilon > 0:
             opts.setdefault("tol", RELAXED_TOL)
-        r = solve(problem, "vi", s=s, guess=start, options=opts, verbose=verbose, hessian=hessian)
+        r = solve(problem, transcription, s=s, guess=start, options=opts, verbose=verbose, hessian=hessian)
         solves.append((epsilon, r.iterations, r.success))
         wall += r.wall_seconds
         return r

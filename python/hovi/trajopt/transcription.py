@@ -57,6 +57,13 @@ class Transcription:
         raise NotImplementedError
 
     # --- shared helpers ---------------------------------------------------------------------
+    def u_points(self):
+        """(P,) offsets of the controls at the configuration points of q_points (per-point controls:
+        the VI's control points, Hermite-Simpson's knots and midpoints)."""
+        if self.problem.controls != "per_point":
+            raise ValueError("controls at the configuration points need controls='per_point'")
+        return self.u_off + np.arange(self.n_points) * self.m
+
     def q_samples(self, between: int):
         """``between`` (>= 1) evenly spaced configurations between each two consecutive
         configuration points, on the stage's polynomial (``stage_nodes``), as weighted sums of the

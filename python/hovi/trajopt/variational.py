@@ -65,12 +65,6 @@ class VariationalTranscription(Transcription):
     def stage_nodes(self):
         return self.nodes  # Lobatto points: q(t) interpolates a stage's s + 1 control points (Sec. 2, eq. (2))
 
-    def u_points(self):
-        """(P,) offsets of the controls at the configuration points of q_points (per-point controls)."""
-        if self.problem.controls != "per_point":
-            raise ValueError("controls at the configuration points need controls='per_point'")
-        return self.u_off + np.arange(self.n_points) * self.m
-
     def _momentum(self, q, qdot):
         return self.model.mass_matrix(q) @ qdot
 
