@@ -150,21 +150,28 @@ def cmd_example(args) -> int:
     prob = example.problem
     print(f"{args.name}: {example.description}; {prob.model.n} DoF, {prob.model.n_controls} inputs, N = {prob.N} "
           f"stages over T = {prob.T} s{' (quick)' if args.quick else ''}")
-    s = report.run(example, args.output, animation=not args.no_animate, fps=args.fps, verbose=not args.quiet)
+    s = report.run(example, args.output, animation=not args.no_animate, fps=args.fps, verbose=not args.quiet,
+                   method=args.transcription, s=args.order // 2)
     print(f"{s['status']}: {s['iterations']} IPOPT iterations, {s['solve_seconds']:.1f} s; constraint violation "
           f"{s['constraint_violation']:.2e}")
     for key in example.bounds:
         print(f"  {key}: {s[key]:.3g}")
+    if "replay_stage_residual" in s:
+        print_replay(s)
+    print("wrote " + ", ".join(s["files"]))
+    if not s["feasible"]:
+        print("NOT feasible: " + "; ".join(s["failures"]), file=sys.stderr)
+    return 0 if s["feasible"] else 1
+
+
+def print_replay(s) -> None:
+    """The replay figures of a VI solution (report.replay_figures)."""
     print(f"checked with the integrator: the stages' DEL residual {s['replay_stage_residual']:.2e}; a step from each "
           f"optimised state lands {s['replay_one_step_drift']:.2e} from the next ({s['replay_steps_elsewhere']} more than 1e-6 "
           f"away: with a small residual, another root of the DEL equations; {s['replay_failed_steps']} failed); the whole horizon open loop drifts "
           f"{s['replay_open_loop_drift']:.2e}")
     print(f"energy along the motion: {s['energy_start']:.6g} -> {s['energy_end']:.6g} J (range {s['energy_min']:.6g} "
           f".. {s['energy_max']:.6g})")
-    print("wrote " + ", ".join(s["files"]))
-    if not s["feasible"]:
-        print("NOT feasible: " + "; ".join(s["failures"]), file=sys.stderr)
-    return 0 if s["feasible"] else 1
 
 
 def add_model_args(p):
@@ -224,11 +231,16 @@ def main(argv=None) -> int:
     from .robot_examples import NAMES as ROBOT_EXAMPLES
     ex = sub.add_parser("example", help="the paper's robot examples (Sec. 6): " + ", ".join(ROBOT_EXAMPLES),
                         description="Solve one of the paper's robot trajectory optimisations with the variational "
-                                    "integrator; print IPOPT's progress, the solve time, the feasibility figures and "
+                                    "integrator (or Hermite-Simpson collocation); print IPOPT's progress, the solve time, the feasibility figures and "
                                     "the drift when the optimised controls are replayed; write the trajectory (npz), "
                                     "a JSON summary, a plot and an animation (HTML and MP4).")
     ex.add_argument("name", choices=ROBOT_EXAMPLES, help="the example")
     ex.add_argument("--quick", action="store_true", help="a short horizon (what the tests run)")
+    ex.add_argument("--transcription", default="vi", choices=["vi", "hs-implicit", "hs-explicit"],
+                    help="the dynamics: the Galerkin VI (default) or Hermite-Simpson collocation with the same "
+                         "contact conditions")
+    ex.add_argument("--order", type=int, default=2, choices=[2, 4, 6, 8],
+                    help="VI order 2s (default 2: the trapezoidal VI, inelastic impacts; 4: the paper's Simpson VI)")
     ex.add_argument("--output", default="results", help="directory for the files (default: results)")
     ex.add_argument("--no-animate", action="store_true", help="skip the animation (needs hovi[viewer])")
     ex.add_argument("--fps", type=float, default=25.0, help="frames per second of the animation (default: 25)")

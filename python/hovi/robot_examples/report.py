@@ -119,12 +119,14 @@ def solve(example: Example, method: str = "vi", s: int = 1, verbose: bool = Fals
 
 
 def run(example: Example, output: str, *, animation: bool = True, plots: bool = True, fps: float = 25.0,
-        verbose: bool = False, s: int = 1) -> Dict[str, Any]:
-    """Solve ``example`` (the VI of order 2s), check it, replay it and write its files into ``output``; returns the summary
-    (also written as <name>.json) with 'feasible' and, if not, 'failures'."""
+        verbose: bool = False, method: str = "vi", s: int = 1) -> Dict[str, Any]:
+    """Solve ``example`` (``method`` as in ``solve``: the VI of order 2s by default), check it, replay it
+    (VI only: the replay figures put the solution into the integrator's equations) and write its files
+    into ``output``; returns the summary (also written as <name>.json) with 'feasible' and, if not,
+    'failures'."""
     os.makedirs(output, exist_ok=True)
     t0 = time.perf_counter()
-    result = solve(example, "vi", s, verbose)
+    result = solve(example, method, s, verbose)
     wall = time.perf_counter() - t0
     figures = example.checks(result)
     failures = ([] if result.success else [f"IPOPT: {result.status}"]) + example.failures(figures)
@@ -135,7 +137,8 @@ def run(example: Example, output: str, *, animation: bool = True, plots: bool = 
         "status": result.status, "success": bool(result.success), "iterations": iterations,
         "solve_seconds": wall, "ipopt_seconds": ipopt_seconds, "cost": float(result.cost),
         "constraint_violation": float(result.constraint_violation), **result.sizes, **figures,
-        "contact_solves": result.contact.get("solves", []), **replay_figures(example, result),
+        "contact_solves": result.contact.get("solves", []),
+        **(replay_figures(example, result) if method == "vi" else {}),
         "feasible": not failures, "failures": failures}
     base = os.path.join(output, example.name)
     tr = result.trajectory
