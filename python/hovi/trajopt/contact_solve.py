@@ -26,6 +26,11 @@ pushing a block to a target with an effort cost and a final state; guess 'rollou
   pairing of hovi.contact all 18 problems end with the exact solve: 1120 IPOPT iterations, 7.5 s
   in all (the three closed-form tests: 0.2-0.4 s each); with s = 2, 2288 iterations and 29 s,
   all exact (but see hovi.contact for the rebound of s = 2).
+- Hermite-Simpson with the same rows on its knots and midpoints (``transcription='hs-implicit'``),
+  the drop from 0.3 m (N = 25) and the slide of the tests, against the VI s = 1 / s = 2: 402 and
+  119 IPOPT iterations against 49 / 98 and 57 / 59 (explicit Hermite-Simpson 293 and 184), all
+  exact; the drop rebounds 18.8 mm (VI s = 2: 3.3 mm, s = 1: none) and the slide stops at the
+  same 0.1019 m.
 - Stopping the relaxed solves at eps = 1e-6 instead leaves lambda ~ eps / phi in flight (a
   free-fall error of 8e-8); the exact solve gives complementarity 1e-9 .. 1e-18.
 - Sides read at eps = 1e-3: all 18 exact solves succeed at once; at 1e-2: 4 fail (then 1e-3
