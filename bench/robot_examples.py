@@ -4,7 +4,7 @@ collocation of the same problem and contact model, all by IPOPT with the Lagrang
 (trajopt.hessian): iterations, solve time, the feasibility figures and, for the VIs, the replay
 figures (report.replay_figures).
 
-    python bench/robot_examples.py [--quick] [--only NAME ...] [--methods vi1 vi2 hs]
+    python bench/robot_examples.py [--quick] [--only NAME ...] [--methods vi1 vi2 hs] [--time-limit S]
 
 Writes bench/results/robot_examples.json (robot_examples_quick.json; with --only or --methods, the
 rows run replace theirs and the others are kept) and the table in bench/README.md.
@@ -26,16 +26,17 @@ def label(method: str, s: int) -> str:
     return f"vi s={s}" if method == "vi" else method
 
 
-def run_one(name: str, quick: bool, method: str, s: int) -> dict:
+def run_one(name: str, quick: bool, method: str, s: int, time_limit: float | None = None) -> dict:
     example = build(name, quick=quick)
     t0 = time.perf_counter()
-    result = report.solve(example, method, s)
+    result = report.solve(example, method, s, time_limit=time_limit)
     wall = time.perf_counter() - t0
     figures = example.checks(result)
     row = {"example": name, "method": label(method, s), "N": example.problem.N,
            "T": example.problem.T, "success": bool(result.success), "status": result.status,
            "iterations": report.ipopt_totals(result)[0], "solve_seconds": wall, **result.sizes, **figures,
-           "contact_solves": result.contact.get("solves", []),
+           "contact_solves": result.contact.get("solves", []), "time_limit": time_limit,
+           "out_of_time": bool(result.contact.get("out_of_time", False)),
            "failures": ([] if result.success else [result.status]) + example.failures(figures)}
     row["feasible"] = not row["failures"]
     if method == "vi":
@@ -51,6 +52,8 @@ def main() -> None:
     ap.add_argument("--only", nargs="+", choices=NAMES, default=list(NAMES), help="the examples to run")
     ap.add_argument("--methods", nargs="+", choices=list(METHODS), default=list(METHODS),
                     help="the transcriptions (--quick: the trapezoidal VI only)")
+    ap.add_argument("--time-limit", type=float, default=None,
+                    help="seconds for each example and transcription (IPOPT's max_cpu_time; default: none)")
     args = ap.parse_args()
     name = "robot_examples_quick.json" if args.quick else "robot_examples.json"
     methods = [METHODS["vi1"]] if args.quick else [METHODS[m] for m in args.methods]
@@ -60,7 +63,7 @@ def main() -> None:
         redone = {(example, label(method, s)) for example, method, s in runs}
         with open(os.path.join(RESULTS, name)) as f:
             kept = [r for r in json.load(f)["rows"] if (r["example"], r["method"]) not in redone]
-    rows = kept + [run_one(example, args.quick, method, s) for example, method, s in runs]
+    rows = kept + [run_one(example, args.quick, method, s, args.time_limit) for example, method, s in runs]
     order = [label(*m) for m in METHODS.values()]
     rows.sort(key=lambda r: (NAMES.index(r["example"]), order.index(r["method"])))
     path = write_json(name, {"rows": rows})

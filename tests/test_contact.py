@@ -133,7 +133,8 @@ def test_bad_contact_input_is_refused_with_a_reason():
         trajopt.solve(prob, verbose=False)
     for kwargs, match in (({"epsilons": ()}, "epsilons"), ({"epsilons": (1e-2, 1e-1)}, "decreasing"),
                           ({"epsilons": (0.1, 0.0)}, "positive"), ({"s": 0}, "s must be"),
-                          ({"finish_below": -1.0}, "finish_below")):
+                          ({"finish_below": -1.0}, "finish_below"), ({"time_limit": 0.0}, "time_limit"),
+                          ({"time_limit": np.nan}, "time_limit")):
         with pytest.raises(ValueError, match=match):
             trajopt.solve_contact(prob, **kwargs)
     prob.initial_state([0.0, -0.01])
@@ -142,6 +143,15 @@ def test_bad_contact_input_is_refused_with_a_reason():
     plain = trajopt.Problem(model, N=4, T=0.2).initial_state([0.0, 0.1]).add_cost(trajopt.ControlEffort())
     with pytest.raises(ValueError, match="no contacts"):
         trajopt.solve_contact(plain)
+
+
+def test_time_limit_stops_the_homotopy_between_solves():
+    """A budget spent after the first relaxed solve: no further solve starts, and the result says so."""
+    contacts, prob = contact_problem(planar_point_mass(), [0.0, 0.3], [0.0, 0.0], 0.5, 25, mu=0.5)
+    result = trajopt.solve_contact(prob, time_limit=1e-3)
+    assert len(result.contact["solves"]) == 1 and result.contact["solves"][0][0] == 0.1
+    assert result.contact["out_of_time"] and not result.contact["finished"] and result.contact["epsilon"] == 0.1
+    assert not trajopt.solve_contact(prob, time_limit=600.0).contact["out_of_time"]
 
 
 def hermite_simpson_defects(result, contacts, mass=1.0):

@@ -50,6 +50,7 @@ pushing a block to a target with an effort cost and a final state; guess 'rollou
 from __future__ import annotations
 
 import dataclasses
+import time
 from typing import Any, Sequence
 
 import numpy as np
@@ -109,14 +110,17 @@ def branches_of(rows: ContactRows, x: np.ndarray) -> Branches:
 
 def solve_contact(problem: Problem, epsilons: Sequence[float] = DEFAULT_EPSILONS, *, s: int = 1,
                   transcription: str = "vi", guess: Guess = "rollout", finish_below: float = FINISH_BELOW,
-                  options: dict[str, Any] | None = None, verbose: bool = False, hessian: str = "lbfgs") -> Result:
+                  options: dict[str, Any] | None = None, verbose: bool = False, hessian: str = "lbfgs",
+                  time_limit: float | None = None) -> Result:
     """Solve ``problem`` (with ``add_contacts``) with ``transcription`` (as in ``solve``: the VI of
     order 2s by default, or 'hs-implicit' / 'hs-explicit' collocation with the same contact
     conditions on its knots and midpoints): the relaxation homotopy over ``epsilons`` (positive,
     decreasing), and after each relaxed solve with epsilon <= ``finish_below`` the exact solve on
     the sides of the complementarity pairs it shows, until one succeeds (finish_below = 0: relaxed
     solves only). ``options`` go to every IPOPT solve (the relaxed ones default to tol =
-    RELAXED_TOL); ``hessian`` as in ``solve``.
+    RELAXED_TOL); ``hessian`` as in ``solve``. ``time_limit`` (seconds, default none): a budget for
+    all the solves together; each IPOPT solve gets what is left as its max_cpu_time, and no solve
+    starts once it is spent (``result.contact['out_of_time']``).
 
     s = 1 (default) is the contact model that is inelastic and well posed (see hovi.contact); s >= 2
     lets an impact inside a stage rebound.
@@ -124,7 +128,7 @@ def solve_contact(problem: Problem, epsilons: Sequence[float] = DEFAULT_EPSILONS
     Returns the exact Result (or the last relaxed one) with ``result.contact`` = {'penetration',
     'cone', 'complementarity' (largest product), 'epsilon' (0 after the exact solve), 'finished',
     'solves' ([(epsilon, iterations, success), ...], epsilon 0 for an exact attempt),
-    'iterations' (total), 'wall_seconds' (in IPOPT, total)}."""
+    'iterations' (total), 'wall_seconds' (in IPOPT, total), 'out_of_time'}."""
     if problem.contacts is None:
         raise ValueError("the problem has no contacts: call problem.add_contacts(contacts)")
     eps = [float(e) for e in epsilons]
@@ -134,8 +138,14 @@ def solve_contact(problem: Problem, epsilons: Sequence[float] = DEFAULT_EPSILONS
         raise ValueError(f"s must be a positive integer, got {s}")
     if not (np.isfinite(finish_below) and finish_below >= 0):
         raise ValueError(f"finish_below must be finite and >= 0, got {finish_below}")
+    if time_limit is not None and not (np.isfinite(time_limit) and time_limit > 0):
+        raise ValueError(f"time_limit must be a positive number of seconds, got {time_limit}")
+    deadline = None if time_limit is None else time.perf_counter() + time_limit
     saved = problem.complementarity_epsilon, problem.complementarity_branches
     solves, wall = [], 0.0
+
+    def out_of_time() -> bool:
+        return deadline is not None and time.perf_counter() >= deadline
 
     def run(start, epsilon, branches=None):
         nonlocal wall
@@ -143,16 +153,20 @@ def solve_contact(problem: Problem, epsilons: Sequence[float] = DEFAULT_EPSILONS
         opts = dict(options or {})
         if epsilon > 0:
             opts.setdefault("tol", RELAXED_TOL)
+        if deadline is not None:
+            opts["max_cpu_time"] = max(1.0, deadline - time.perf_counter())
         r = solve(problem, transcription, s=s, guess=start, options=opts, verbose=verbose, hessian=hessian)
         solves.append((epsilon, r.iterations, r.success))
         wall += r.wall_seconds
         return r
 
     try:
-        relaxed, exact, epsilon = guess, None, eps[0]
+        relaxed, exact, last = guess, None, eps[0]
         for epsilon in eps:
-            relaxed = run(relaxed, epsilon)
-            if relaxed.success and epsilon <= finish_below:
+            if out_of_time():
+                break
+            relaxed, last = run(relaxed, epsilon), epsilon
+            if relaxed.success and epsilon <= finish_below and not out_of_time():
                 rows = ContactRows(problem.contacts, relaxed.transcription, epsilon)
                 start = dataclasses.replace(relaxed, x=canonical(rows, relaxed.x))
                 attempt = run(start, 0.0, branches_of(rows, start.x))
@@ -163,6 +177,7 @@ def solve_contact(problem: Problem, epsilons: Sequence[float] = DEFAULT_EPSILONS
         problem.complementarity_epsilon, problem.complementarity_branches = saved
     result = exact or relaxed
     rows = ContactRows(problem.contacts, result.transcription, 0.0)
-    result.contact = {**rows.violations(result.x), "epsilon": 0.0 if exact else epsilon, "finished": exact is not None,
-                      "solves": solves, "iterations": sum(it for _, it, _ in solves), "wall_seconds": wall}
+    result.contact = {**rows.violations(result.x), "epsilon": 0.0 if exact else last, "finished": exact is not None,
+                      "solves": solves, "iterations": sum(it for _, it, _ in solves), "wall_seconds": wall,
+                      "out_of_time": exact is None and out_of_time()}
     return result
