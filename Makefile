@@ -10,6 +10,10 @@ SHELL := /bin/bash
 VENV := .venv
 PY := $(VENV)/bin/python
 JOBS ?= $(shell nproc)
+# -march of the C++ core (CMake's HOVI_ARCH): x86-64-v3 (AVX2, FMA) where this CPU has every feature
+# of it, else the compiler's portable default. `make HOVI_ARCH= build` for a portable build.
+X86_64_V3 := avx avx2 bmi1 bmi2 f16c fma movbe xsave
+HOVI_ARCH ?= $(shell for f in $(X86_64_V3); do grep -qw $$f /proc/cpuinfo 2>/dev/null || exit 0; done; echo x86-64-v3)
 SOURCES := $(shell find cpp python -type f \( -name '*.cpp' -o -name '*.hpp' -o -name '*.py' \)) $(wildcard models/*.urdf) \
            CMakeLists.txt pyproject.toml \
            cmake/stubs.cmake scripts/stubgen.py
@@ -24,13 +28,13 @@ setup-test:
 
 # The Python package, rebuilt (incrementally, in build/) when a source changed.
 $(VENV)/.hovi.stamp: $(SOURCES) | setup
-	CMAKE_BUILD_PARALLEL_LEVEL=$(JOBS) $(PY) -m pip install -q --no-build-isolation --no-deps .
+	CMAKE_BUILD_PARALLEL_LEVEL=$(JOBS) $(PY) -m pip install -q --no-build-isolation --no-deps -C cmake.define.HOVI_ARCH=$(HOVI_ARCH) .
 	@touch $@
 
 build: setup $(VENV)/.hovi.stamp
 
 build/cpp/CMakeCache.txt: CMakeLists.txt | setup
-	cmake -S . -B build/cpp -DCMAKE_BUILD_TYPE=Release -DHOVI_BUILD_TESTS=ON -DHOVI_BUILD_PYTHON=OFF
+	cmake -S . -B build/cpp -DCMAKE_BUILD_TYPE=Release -DHOVI_BUILD_TESTS=ON -DHOVI_BUILD_PYTHON=OFF -DHOVI_ARCH=$(HOVI_ARCH)
 
 ctest: setup build/cpp/CMakeCache.txt
 	cmake --build build/cpp -j $(JOBS)

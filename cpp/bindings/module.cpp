@@ -6,6 +6,7 @@ namespace py = pybind11;
 
 PYBIND11_MODULE(_core, m) {
   m.doc() = "hovi C++ core: higher-order variational integrators for robots";
+  m.attr("march") = HOVI_ARCH;  // -march of the build (CMake's HOVI_ARCH; "" = the compiler's default)
   static py::exception<hovi::ModelError> model_error(m, "ModelError", PyExc_ValueError);
   static py::exception<hovi::UrdfError> urdf_error(m, "URDFError", model_error.ptr());
   model_error.attr("__doc__") =

@@ -8,7 +8,7 @@ import os
 import typing
 from . import baselines
 from . import trajopt
-__all__: list[str] = ['Integrator', 'Linearizer', 'Model', 'ModelError', 'URDFError', 'baselines', 'pendulum', 'trajopt']
+__all__: list[str] = ['Integrator', 'Linearizer', 'Model', 'ModelError', 'URDFError', 'baselines', 'march', 'pendulum', 'trajopt']
 class ModelError(ValueError):
     """
     An invalid model or model input (a ValueError): a bad body, joint, force or constraint, an unknown joint or body name, or a call on an Integrator or Linearizer whose model changed after it was made.
@@ -495,3 +495,4 @@ def pendulum(n: typing.SupportsInt | typing.SupportsIndex, length: typing.Suppor
     """
     The paper's n-link 3D pendulum (see hovi.models.pendulum).
     """
+march: str = 'x86-64-v3'
