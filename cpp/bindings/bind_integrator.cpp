@@ -56,8 +56,12 @@ held over the step or (s+1, m) per control point; multipliers (s, n_constraints)
 )doc")
       .def(py::init([](std::shared_ptr<PyModel> model, int s, double dt, double tol, double step_tol, int max_iterations,
                        int max_backtracks, bool line_search, const std::string& direction, bool reuse_jacobian,
-                       double reuse_contraction) {
+                       double reuse_contraction, const std::string& predictor) {
              SolverOptions opt;
+             if (predictor == "history") opt.predictor = Predictor::History;
+             else if (predictor == "flow") opt.predictor = Predictor::Flow;
+             else if (predictor == "auto") opt.predictor = Predictor::Auto;
+             else throw InputError("predictor must be 'auto', 'history' or 'flow', got '" + predictor + "'");
              opt.reuse = reuse_jacobian ? Reuse::WithinStep : Reuse::Never;
              opt.reuse_contraction = reuse_contraction;
              if (direction == "dense") opt.direction = Direction::Dense;
@@ -73,7 +77,7 @@ held over the step or (s+1, m) per control point; multipliers (s, n_constraints)
            }),
            py::arg("model"), py::arg("s"), py::arg("dt"), py::arg("tol"), py::arg("step_tol"), py::arg("max_iterations"),
            py::arg("max_backtracks"), py::arg("line_search"), py::arg("direction"), py::arg("reuse_jacobian"),
-           py::arg("reuse_contraction"),
+           py::arg("reuse_contraction"), py::arg("predictor"),
            "A Galerkin integrator of order 2s with step dt on a copy of `model` (options as hovi.Integrator's).")
       .def_property_readonly("s", &PyIntegrator::s, "Number of Lobatto intervals; s+1 control points.")
       .def_property_readonly("direction_path", [](const PyIntegrator& p) {

@@ -115,8 +115,14 @@ class Integrator:
     ``reuse_jacobian`` (default True, simplified Newton) factors the Jacobian once per step at the
     predicted control points and keeps it while the iteration contracts by at least
     ``reuse_contraction`` per iteration, refactoring otherwise; False refactors every iteration
-    (the paper's Newton). The predictor of rollouts extrapolates the last two steps' control
-    points, so that most steps converge in two iterations at accuracy-relevant dt.
+    (the paper's Newton). The first guess of a rollout step (``predictor``): ``"history"``
+    extrapolates the last two steps' control points (cheap; most steps converge in two iterations
+    at accuracy-relevant dt); ``"flow"`` integrates the continuous dynamics over the step from
+    q^k and M^{-1} p^k (4 s forward-dynamics passes, O(s n); at steps that resolve fast modes
+    only barely it saves most iterations and refactorisations: bench/README.md); ``"auto"``
+    (default) takes the flow for s >= 3 once a step from the history needed more than three
+    iterations, trying the history again after 16 steps (32, 64, ... after failed tries).
+    The converged step does not depend on the guess (to round-off, on the same solution branch).
 
     A step has converged when the next Newton correction, the estimated error of the iterate,
     is below ``step_tol`` (1 + ||q||_inf): by default 1e-15, round-off, so that neither the
@@ -141,7 +147,7 @@ class Integrator:
     def __init__(self, model: _core.Model, s: Optional[int] = None, *, order: Optional[int] = None, dt: float = 0.01,
                  tol: float = 0.0, step_tol: float = 1e-15, max_iterations: int = 30, max_backtracks: int = 12,
                  line_search: bool = True, direction: str = "auto", reuse_jacobian: bool = True,
-                 reuse_contraction: float = 0.1) -> None:
+                 reuse_contraction: float = 0.1, predictor: str = "auto") -> None:
         if s is None and order is None:
             s = 2
         elif s is not None and order is not None and order != 2 * s:
@@ -156,7 +162,7 @@ class Integrator:
         self._options: Dict[str, Any] = dict(
             s=int(s), dt=float(dt), tol=float(tol), step_tol=float(step_tol), max_iterations=int(max_iterations),
             max_backtracks=int(max_backtracks), line_search=bool(line_search), direction=direction,
-            reuse_jacobian=bool(reuse_jacobian), reuse_contraction=float(reuse_contraction))
+            reuse_jacobian=bool(reuse_jacobian), reuse_contraction=float(reuse_contraction), predictor=predictor)
         self._core = _core.Integrator(model, **self._options)
         self.model = model
 

@@ -25,7 +25,8 @@ Model checked(Model model) {
 IntegratorWorkspace::IntegratorWorkspace(const Model& model, const Quadrature& quad)
     : solver(model, quad),
       constrained(model.n_constraints() ? std::make_unique<ConstrainedSolver>(model, quad) : nullptr),
-      data(model) {}
+      data(model),
+      flow(model) {}
 
 GalerkinIntegrator::GalerkinIntegrator(Model model, int s, double dt, SolverOptions opt)
     : options(opt), model_(checked(std::move(model))), quad_(s), dt_(dt),
@@ -147,12 +148,14 @@ std::pair<VecX, VecX> GalerkinIntegrator::project(const VecX& q0, const VecX& qd
 SolveInfo GalerkinIntegrator::robust_step(IntegratorWorkspace& ws, const Eigen::Ref<const VecX>& p,
                                           const Eigen::Ref<const MatX>& u, const Eigen::Ref<const MatX>& before_previous,
                                           const Eigen::Ref<const MatX>& previous, Eigen::Ref<MatX> qc,
-                                          Eigen::Ref<VecX> p_next, MatX& lambda) const {
+                                          Eigen::Ref<VecX> p_next, MatX& lambda, bool flow) const {
   SolveInfo total;
   for (int attempt = previous.size() ? 0 : 1; attempt < 3; ++attempt) {
-    if (attempt == 0 && before_previous.size()) guess_from_history(before_previous, previous, qc);
-    else if (attempt == 0) guess_from_previous(previous, qc);
-    else if (attempt == 1) guess_from_velocity(velocity_from_momentum(model_, ws.data, qc.col(0), p), qc);
+    if (attempt == 0) {
+      const bool flowed = flow && !ws.constrained && ws.flow.predict(model_, quad_, dt_, ws.data, p, u, qc);
+      if (!flowed && before_previous.size()) guess_from_history(before_previous, previous, qc);
+      else if (!flowed) guess_from_previous(previous, qc);
+    } else if (attempt == 1) guess_from_velocity(velocity_from_momentum(model_, ws.data, qc.col(0), p), qc);
     else qc.rightCols(quad_.s).colwise() = VecX(qc.col(0));
     const SolveInfo info = step(ws, p, u, qc, p_next, lambda);
     total.status = info.status;
@@ -204,6 +207,23 @@ void GalerkinIntegrator::guess_from_previous(const Eigen::Ref<const MatX>& previ
   qc.rightCols(quad_.s).colwise() += qc.col(0);
 }
 
+bool PredictorChoice::flow() {
+  if (mode_ == Predictor::Flow) return true;
+  if (mode_ == Predictor::History) return false;
+  return !flowing_ ? false : ++since_probe_ < probe_every_;  // a probe of the history when due
+}
+
+void PredictorChoice::observe(bool flow, int iterations) {
+  if (mode_ != Predictor::Auto || flow) return;
+  // The history's steps decide: more than kEnough iterations, take the flow, and probe the
+  // history again after twice as many steps as the last time (16, 32, ... 1024: a failed probe
+  // costs as much as the flow saves on many steps); kEnough or fewer, keep the history.
+  const bool probe_failed = flowing_ && iterations > kEnough;
+  probe_every_ = probe_failed ? std::min(2 * probe_every_, kProbeMax) : kProbeFirst;
+  flowing_ = iterations > kEnough;
+  since_probe_ = 0;
+}
+
 Rollout GalerkinIntegrator::rollout(const VecX& q0, const VecX& p0, int N, const MatX& u, const MatX& previous,
                                     const MatX& lambda0) const {
   const int n = model_.n(), s = quad_.s, S1 = s + 1, m = model_.n_controls(), mc = model_.n_constraints();
@@ -231,12 +251,16 @@ Rollout GalerkinIntegrator::rollout(const VecX& q0, const VecX& p0, int N, const
   auto ws = pool_.acquire();
   MatX qc(n, S1), prev = previous, prev2, uk(m, S1);
   VecX p = p0, p_next(n);
+  PredictorChoice predictor(options.predictor, s);
   for (int k = 0; k < N; ++k) {
     qc.col(0) = out.q.row(k).transpose();
     if (m > 0)
       for (int a = 0; a < S1; ++a)
         for (int j = 0; j < m; ++j) uk(j, a) = u(k, a * m + j);
-    const SolveInfo info = robust_step(*ws, p, uk, prev2, prev, qc, p_next, lambda);
+    const bool predicted = prev2.size() > 0;  // the history of two steps (before: robust_step's guesses)
+    const bool flow = predicted && predictor.flow();
+    const SolveInfo info = robust_step(*ws, p, uk, prev2, prev, qc, p_next, lambda, flow);
+    if (predicted) predictor.observe(flow, info.iterations);
     out.status.push_back(info.status);
     out.iterations[k] = info.iterations;
     out.factorizations[k] = info.factorizations;

@@ -340,7 +340,7 @@ class Integrator:
     StepInfo objects). Arrays: q, p (n,); control points (s+1, n), row a = q^{k,a}; controls u (m,)
     held over the step or (s+1, m) per control point; multipliers (s, n_constraints).
     """
-    def __init__(self, model: Model, s: typing.SupportsInt | typing.SupportsIndex, dt: typing.SupportsFloat | typing.SupportsIndex, tol: typing.SupportsFloat | typing.SupportsIndex, step_tol: typing.SupportsFloat | typing.SupportsIndex, max_iterations: typing.SupportsInt | typing.SupportsIndex, max_backtracks: typing.SupportsInt | typing.SupportsIndex, line_search: bool, direction: str, reuse_jacobian: bool, reuse_contraction: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def __init__(self, model: Model, s: typing.SupportsInt | typing.SupportsIndex, dt: typing.SupportsFloat | typing.SupportsIndex, tol: typing.SupportsFloat | typing.SupportsIndex, step_tol: typing.SupportsFloat | typing.SupportsIndex, max_iterations: typing.SupportsInt | typing.SupportsIndex, max_backtracks: typing.SupportsInt | typing.SupportsIndex, line_search: bool, direction: str, reuse_jacobian: bool, reuse_contraction: typing.SupportsFloat | typing.SupportsIndex, predictor: str) -> None:
         """
         A Galerkin integrator of order 2s with step dt on a copy of `model` (options as hovi.Integrator's).
         """

@@ -9,6 +9,7 @@
 #include <memory>
 
 #include "hovi/integrators/constrained_solver.hpp"
+#include "hovi/integrators/flow_predictor.hpp"
 #include "hovi/integrators/newton_solver.hpp"
 #include "hovi/integrators/step_continuation.hpp"
 #include "hovi/model/data.hpp"
@@ -35,6 +36,7 @@ struct IntegratorWorkspace {
   std::unique_ptr<ConstrainedSolver> constrained;  // when the model has constraints
   std::unique_ptr<ContinuationWorkspace> continuation;  // made at the first step_continuation
   Data data;
+  FlowPredictor flow;
 };
 
 // Thread safety: the model, quadrature, dt and options are fixed at construction (do not change
@@ -118,9 +120,10 @@ class GalerkinIntegrator {
  private:
   SolveInfo step(IntegratorWorkspace& ws, const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u,
                  Eigen::Ref<MatX> qc, Eigen::Ref<VecX> p_next, MatX& lambda) const;
+  // flow: the first guess from the flow predictor instead of the history (rollouts, options.predictor)
   SolveInfo robust_step(IntegratorWorkspace& ws, const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u,
                         const Eigen::Ref<const MatX>& before_previous, const Eigen::Ref<const MatX>& previous,
-                        Eigen::Ref<MatX> qc, Eigen::Ref<VecX> p_next, MatX& lambda) const;
+                        Eigen::Ref<MatX> qc, Eigen::Ref<VecX> p_next, MatX& lambda, bool flow = false) const;
   MatX lambda_guess(const MatX* lambda) const;
 
   Model model_;

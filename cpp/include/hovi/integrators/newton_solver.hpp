@@ -17,6 +17,10 @@ namespace hovi {
 // cheaper of the two for this model and s (dense_direction.hpp's measured crossover).
 enum class Direction { Auto, Recursive, Dense };
 enum class Reuse { Never, WithinStep };
+// The first guess of a rollout step (galerkin_integrator.hpp): History extrapolates the last two
+// steps' control points; Flow integrates the continuous dynamics over the step (flow_predictor.hpp,
+// 4 s forward-dynamics passes); Auto chooses per step (flow_predictor.hpp's PredictorChoice).
+enum class Predictor { Auto, History, Flow };
 
 struct SolverOptions {
   // Converged when the estimated error of the iterate, the size of the next Newton correction
@@ -47,6 +51,7 @@ struct SolverOptions {
   // which Jacobian was used, to round-off.
   Reuse reuse = Reuse::WithinStep;
   double reuse_contraction = 0.1;  // 0.25 failed on the 64-link pendulum at dt = 0.005 (s = 1); 0.1 as fast elsewhere
+  Predictor predictor = Predictor::Auto;
 };
 
 // The stopping rule shared by the Galerkin solvers, on the next correction dq (||.||_inf) of an

@@ -1,0 +1,58 @@
+// The flow predictor of a rollout step (SolverOptions::predictor): the control points
+// q^{k,a} ≈ q(t_k + c^a dt) of the continuous dynamics M(q) q̈ = Q - C q̇ - g from q^k and
+// q̇^k = M(q^k)^{-1} p^k, by one classical Runge-Kutta step per interval between consecutive
+// Lobatto points (4 s forward-dynamics passes, O(s n) by the articulated-body algorithm). The
+// joint forces (springs, dampers, actuators; the controls interpolated linearly between the
+// control points) enter; force elements on bodies (BodyWrench) and constraints do not: it is a
+// starting point for Newton, whose converged step does not depend on it.
+//
+// Why: at steps that resolve a chain's fast modes only barely, the polynomial extrapolated from
+// the last two steps lands far from the solution and Newton needs many damped iterations and
+// refactorisations; measured on the 64-link pendulum (bench/README.md), s = 3 at dt = 0.015:
+// 20.6 iterations and 13.8 factorisations per step from the extrapolation, 5.1 and 2.3 from the
+// flow (its median distance to the converged control points 1.5e-4).
+#pragma once
+#include "hovi/integrators/newton_solver.hpp"
+#include "hovi/model/data.hpp"
+#include "hovi/quadrature/lobatto.hpp"
+
+namespace hovi {
+
+class FlowPredictor {
+ public:
+  explicit FlowPredictor(const Model& model);
+  // Columns 1..s of qc from column 0 (q^k), p^k and the controls u (m x (s+1)). Returns false,
+  // leaving qc's columns 1..s unspecified, if the dynamics is singular or not finite there.
+  bool predict(const Model& model, const Quadrature& quad, double dt, Data& data, const Eigen::Ref<const VecX>& p,
+               const Eigen::Ref<const MatX>& u, Eigen::Ref<MatX> qc);
+
+ private:
+  // q̈ at (q, q̇) with the joint forces at controls u_t into dv.
+  void acceleration(const Model& model, Data& data, const VecX& q, const VecX& v, const VecX& u_t, VecX& dv);
+  VecX q_, v_, qs_, vs_, tau_, u0_, um_, u1_;
+  VecX kq_[4], kv_[4];
+};
+
+// The predictor of each step of a rollout (from its third step on: the history needs two) under
+// SolverOptions::predictor. Auto (for s >= 3; the history for s = 1, 2) starts with the history
+// and takes the flow once a step from the history needed more than kEnough Newton iterations,
+// trying the history again after kProbeFirst steps (twice as many after each probe that needed
+// more, up to kProbeMax) and keeping it when that step needs kEnough or fewer (at accuracy-
+// relevant steps the history needs two, now and then three). (Measured on the n-link pendulum, bench/README.md:
+// the flow cut s = 3 and 4 at n = 64, dt = 0.015 from 20-25 iterations and 13-18 factorisations per
+// step to 4-5 and 2, while for s = 1 it took three times as many and for s = 2 more or about as
+// many: their control points lie too far from the continuous flow at such steps; at steps where
+// the history needs two iterations or fewer the flow's forward dynamics only add cost.)
+class PredictorChoice {
+ public:
+  static constexpr int kEnough = 3, kProbeFirst = 16, kProbeMax = 1024;
+  PredictorChoice(Predictor mode, int s) : mode_(mode == Predictor::Auto && s < 3 ? Predictor::History : mode) {}
+  bool flow();                              // the next step's predictor: true for the flow
+  void observe(bool flow, int iterations);  // what that step needed
+ private:
+  Predictor mode_;
+  bool flowing_ = false;
+  int since_probe_ = 0, probe_every_ = kProbeFirst;
+};
+
+}  // namespace hovi
