@@ -87,7 +87,9 @@ TEST(FlowPredictor, SpringSliderConvergesAtFifthOrderPerStep) {
         err = std::max(err, std::abs(qc(0, a) - (q0 * std::cos(w * t) + v0 / w * std::sin(w * t))));
       }
       EXPECT_LT(err, 1e-5) << "s = " << s << ", dt = " << dt;
-      if (previous > 0) EXPECT_GT(previous / err, 24.0) << "s = " << s << ", dt = " << dt;  // 2^5 = 32
+      if (previous > 0) {
+        EXPECT_GT(previous / err, 24.0) << "s = " << s << ", dt = " << dt;  // 2^5 = 32
+      }
       previous = err;
     }
   }
