@@ -1,5 +1,7 @@
 #include "hovi/integrators/flow_predictor.hpp"
 
+#include <algorithm>
+
 #include "hovi/algorithms/dynamics.hpp"
 #include "hovi/errors.hpp"
 
@@ -55,6 +57,23 @@ bool FlowPredictor::predict(const Model& model, const Quadrature& quad, double d
   } catch (const ModelError&) {  // a joint that moves no mass: the other predictors take over
     return false;
   }
+}
+
+bool PredictorChoice::flow() {
+  if (mode_ == Predictor::Flow) return true;
+  if (mode_ == Predictor::History) return false;
+  return flowing_ && ++since_probe_ < probe_every_;  // false: a probe of the history is due
+}
+
+void PredictorChoice::observe(bool flow, int iterations) {
+  if (mode_ != Predictor::Auto || flow) return;
+  // The history's steps decide: more than kEnough iterations, take the flow, and probe the
+  // history again after twice as many steps as the last time (16, 32, ... 1024: a failed probe
+  // costs as much as the flow saves on many steps); kEnough or fewer, keep the history.
+  const bool probe_failed = flowing_ && iterations > kEnough;
+  probe_every_ = probe_failed ? std::min(2 * probe_every_, kProbeMax) : kProbeFirst;
+  flowing_ = iterations > kEnough;
+  since_probe_ = 0;
 }
 
 }  // namespace hovi

@@ -207,23 +207,6 @@ void GalerkinIntegrator::guess_from_previous(const Eigen::Ref<const MatX>& previ
   qc.rightCols(quad_.s).colwise() += qc.col(0);
 }
 
-bool PredictorChoice::flow() {
-  if (mode_ == Predictor::Flow) return true;
-  if (mode_ == Predictor::History) return false;
-  return !flowing_ ? false : ++since_probe_ < probe_every_;  // a probe of the history when due
-}
-
-void PredictorChoice::observe(bool flow, int iterations) {
-  if (mode_ != Predictor::Auto || flow) return;
-  // The history's steps decide: more than kEnough iterations, take the flow, and probe the
-  // history again after twice as many steps as the last time (16, 32, ... 1024: a failed probe
-  // costs as much as the flow saves on many steps); kEnough or fewer, keep the history.
-  const bool probe_failed = flowing_ && iterations > kEnough;
-  probe_every_ = probe_failed ? std::min(2 * probe_every_, kProbeMax) : kProbeFirst;
-  flowing_ = iterations > kEnough;
-  since_probe_ = 0;
-}
-
 Rollout GalerkinIntegrator::rollout(const VecX& q0, const VecX& p0, int N, const MatX& u, const MatX& previous,
                                     const MatX& lambda0) const {
   const int n = model_.n(), s = quad_.s, S1 = s + 1, m = model_.n_controls(), mc = model_.n_constraints();
