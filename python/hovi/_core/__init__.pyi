@@ -495,4 +495,4 @@ def pendulum(n: typing.SupportsInt | typing.SupportsIndex, length: typing.Suppor
     """
     The paper's n-link 3D pendulum (see hovi.models.pendulum).
     """
-march: str = 'x86-64-v3'
+march: str = ''
