@@ -18,7 +18,7 @@ import numpy as np
 import hovi
 from common import update_readme_section, write_json
 
-NS = [2, 4, 8, 12, 16, 24, 32, 48, 64, 96]
+NS = [2, 4, 8, 12, 16, 24, 32, 48]
 
 
 def per_step_seconds(model, s, direction, q0, steps, repeats):

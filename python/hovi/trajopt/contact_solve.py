@@ -119,8 +119,8 @@ def solve_contact(problem: Problem, epsilons: Sequence[float] = DEFAULT_EPSILONS
     the sides of the complementarity pairs it shows, until one succeeds (finish_below = 0: relaxed
     solves only). ``options`` go to every IPOPT solve (the relaxed ones default to tol =
     RELAXED_TOL); ``hessian`` as in ``solve``. ``time_limit`` (seconds, default none): a budget for
-    all the solves together; each IPOPT solve gets what is left as its max_cpu_time, and no solve
-    starts once it is spent (``result.contact['out_of_time']``).
+    all the solves together; each IPOPT solve gets what is left (at least 1 s) as its max_cpu_time,
+    and no solve starts once it is spent (``result.contact['out_of_time']``).
 
     s = 1 (default) is the contact model that is inelastic and well posed (see hovi.contact); s >= 2
     lets an impact inside a stage rebound.
