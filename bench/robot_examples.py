@@ -4,10 +4,11 @@ collocation of the same problem and contact model, all by IPOPT with the Lagrang
 (trajopt.hessian): iterations, solve time, the feasibility figures and, for the VIs, the replay
 figures (report.replay_figures).
 
-    python bench/robot_examples.py [--quick] [--only NAME ...] [--methods vi1 vi2 hs] [--time-limit S]
+    python bench/robot_examples.py [--quick] [--only NAME ...] [--methods vi1 vi2 hs] [--time-limit S] [--verbose]
 
-Writes bench/results/robot_examples.json (robot_examples_quick.json; with --only or --methods, the
-rows run replace theirs and the others are kept) and the table in bench/README.md.
+Writes bench/results/robot_examples.json (robot_examples_quick.json) after each run, the row run
+replacing its (example, method) and the others kept as the file has them then (two runs with
+different --only or --methods can share the file), and the table in bench/README.md.
 """
 from __future__ import annotations
 
@@ -26,10 +27,11 @@ def label(method: str, s: int) -> str:
     return f"vi s={s}" if method == "vi" else method
 
 
-def run_one(name: str, quick: bool, method: str, s: int, time_limit: float | None = None) -> dict:
+def run_one(name: str, quick: bool, method: str, s: int, time_limit: float | None = None,
+            verbose: bool = False) -> dict:
     example = build(name, quick=quick)
     t0 = time.perf_counter()
-    result = report.solve(example, method, s, time_limit=time_limit)
+    result = report.solve(example, method, s, verbose=verbose, time_limit=time_limit)
     wall = time.perf_counter() - t0
     figures = example.checks(result)
     row = {"example": name, "method": label(method, s), "N": example.problem.N,
@@ -54,22 +56,30 @@ def main() -> None:
                     help="the transcriptions (--quick: the trapezoidal VI only)")
     ap.add_argument("--time-limit", type=float, default=None,
                     help="seconds for each example and transcription (IPOPT's max_cpu_time; default: none)")
+    ap.add_argument("--verbose", action="store_true", help="IPOPT's progress, one line per iteration")
     args = ap.parse_args()
     name = "robot_examples_quick.json" if args.quick else "robot_examples.json"
     methods = [METHODS["vi1"]] if args.quick else [METHODS[m] for m in args.methods]
     runs = [(example, method, s) for example in args.only for method, s in methods]
-    kept = []
-    if os.path.exists(os.path.join(RESULTS, name)):
-        redone = {(example, label(method, s)) for example, method, s in runs}
-        with open(os.path.join(RESULTS, name)) as f:
-            kept = [r for r in json.load(f)["rows"] if (r["example"], r["method"]) not in redone]
-    rows = kept + [run_one(example, args.quick, method, s, args.time_limit) for example, method, s in runs]
-    order = [label(*m) for m in METHODS.values()]
-    rows.sort(key=lambda r: (NAMES.index(r["example"]), order.index(r["method"])))
-    path = write_json(name, {"rows": rows})
-    print(f"wrote {path}")
+    for example, method, s in runs:
+        rows = merge(name, run_one(example, args.quick, method, s, args.time_limit, args.verbose))
     if not args.quick:
         write_table(rows)
+
+
+def merge(name: str, row: dict) -> list:
+    """Writes ``row`` into results/<name> in place of the row of its (example, method), keeping the
+    others as they are in the file now (another run may have written since this one started: each
+    finished run is saved at once); returns the rows in table order."""
+    rows = []
+    if os.path.exists(os.path.join(RESULTS, name)):
+        with open(os.path.join(RESULTS, name)) as f:
+            rows = [r for r in json.load(f)["rows"] if (r["example"], r["method"]) != (row["example"], row["method"])]
+    rows.append(row)
+    order = [label(*m) for m in METHODS.values()]
+    rows.sort(key=lambda r: (NAMES.index(r["example"]), order.index(r["method"])))
+    print(f"wrote {write_json(name, {'rows': rows})}", flush=True)
+    return rows
 
 
 def write_table(rows: list) -> None:

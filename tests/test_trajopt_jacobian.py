@@ -21,6 +21,8 @@ def every_path_constraint(prob):
     prob.add_constraint(trajopt.BodyPoint(0, [0, 0, -0.5], axes="z", lower=-0.6, window=(0, prob.T)))
     prob.add_constraint(trajopt.Clearance(1, [0, 0, -0.25], center=[0.3, 0.0, -0.6], radius=0.1, window=(0.2, 0.6),
                                           between=2))
+    prob.add_constraint(trajopt.Clearance(n - 1, [0, 0, -0.25], center=[0.3, 0.1, -0.8], radius=0.1, window=(0.2, 0.6),
+                                          between=2))  # the same configurations: one kinematics call for both
     c = np.arange(1, n + 1.0)
     prob.add_constraint(trajopt.CallbackPathConstraint(
         lambda t, Q: np.sin(Q) @ c[:, None] * t[:, None], lambda t, Q: (np.cos(Q) * c)[:, None, :] * t[:, None, None],

@@ -87,14 +87,14 @@ def test_path_constraints_hold_at_the_solution():
     prob = examples.pendulum_swingup(N=20)
     free = trajopt.solve(prob, "vi", s=2, verbose=False).cost
     tip = [0, 0, -0.5]
-    target, _ = hovi._core.trajopt.body_point_kinematics(prob.model, [[-1.0]], [0], [tip])
-    prob.add_constraint(trajopt.BodyPoint(0, tip, target=target[0], at=1.0))
+    target = hovi._core.trajopt.body_point_kinematics(prob.model, [[-1.0]], [0], [tip])[0][0, 0]
+    prob.add_constraint(trajopt.BodyPoint(0, tip, target=target, at=1.0))
     prob.add_constraint(trajopt.BodyPoint(0, tip, axes="z", lower=-0.45, window=(1.5, 2.0)))
     r = trajopt.solve(prob, "vi", s=2, verbose=False)
     assert r.success, r.status
     t, Q = r.trajectory["t"], r.trajectory["q"]
-    X, _ = hovi._core.trajopt.body_point_kinematics(prob.model, Q, [0] * len(Q), np.tile(tip, (len(Q), 1)))
-    np.testing.assert_allclose(X[np.argmin(np.abs(t - 1.0))], target[0], atol=1e-9)
+    X = hovi._core.trajopt.body_point_kinematics(prob.model, Q, [0], [tip])[0][:, 0]
+    np.testing.assert_allclose(X[np.argmin(np.abs(t - 1.0))], target, atol=1e-9)
     assert X[t >= 1.5, 2].min() >= -0.45 - 1e-9
     assert r.cost > free * (1 + 1e-3)  # the constraints cost effort
 
@@ -128,8 +128,7 @@ def test_path_constraint_between_points_holds_along_the_trajectory():
 
     def tip_z(r, t):
         Q = r.transcription.interpolants(r.x)[0](t)
-        return hovi._core.trajopt.body_point_kinematics(r.transcription.model, Q, [0] * len(Q),
-                                                        np.tile(tip, (len(Q), 1)))[0][:, 2]
+        return hovi._core.trajopt.body_point_kinematics(r.transcription.model, Q, [0], [tip])[0][:, 0, 2]
 
     sampled, points_only = solve(3), solve(0)
     t, _, _ = sampled.transcription.q_samples(3)

@@ -116,25 +116,29 @@ variables q, v (and a) at the 2N + 1 knots and midpoints, controls, multipliers 
   t.def("body_point_kinematics", [](PyModel& pm, const ArrayLike& Q, const std::vector<int>& bodies,
                                     const ArrayLike& points) {
         const MatX q = as_matrix(Q, "q", -1, pm.model.n()).transpose();
-        MatX r = as_matrix(points, "points", q.cols(), 3).transpose();
-        if (static_cast<long>(bodies.size()) != r.cols()) throw InputError("one body per point is needed");
-        for (int k = 0; k < r.cols(); ++k) {  // joint frame -> COM frame
-          if (bodies[k] < 0 || bodies[k] >= pm.model.n())
-            throw ModelError("body index " + std::to_string(bodies[k]) + " out of range");
-          r.col(k) -= pm.model.spec[bodies[k]].com;
+        MatX r = as_matrix(points, "points", static_cast<long>(bodies.size()), 3).transpose();
+        for (int i = 0; i < r.cols(); ++i) {  // joint frame -> COM frame
+          if (bodies[i] < 0 || bodies[i] >= pm.model.n())
+            throw ModelError("body index " + std::to_string(bodies[i]) + " out of range");
+          r.col(i) -= pm.model.spec[bodies[i]].com;
         }
-        MatX X, J;
+        MatX X, J;  // the GIL stays held: pm.ws() is the model's one shared workspace
         body_point_kinematics(pm.model, pm.ws(), q, bodies, r, X, J);
-        const int n = pm.model.n(), K = static_cast<int>(q.cols());
-        py::array_t<double> Js(std::vector<py::ssize_t>{K, 3, n});
-        auto j = Js.mutable_unchecked<3>();
-        for (int k = 0; k < K; ++k)
-          for (int a = 0; a < 3; ++a)
-            for (int i = 0; i < n; ++i) j(k, a, i) = J(a, k * n + i);
-        return py::make_tuple(MatX(X.transpose()), Js);
+        const int n = pm.model.n(), P = static_cast<int>(q.cols()), m = static_cast<int>(r.cols());
+        py::array_t<double> Xs(std::vector<py::ssize_t>{P, m, 3}), Js(std::vector<py::ssize_t>{P, m, 3, n});
+        auto x = Xs.mutable_unchecked<3>();
+        auto j = Js.mutable_unchecked<4>();
+        for (int p = 0; p < P; ++p)
+          for (int i = 0; i < m; ++i)
+            for (int a = 0; a < 3; ++a) {
+              x(p, i, a) = X(a, p * m + i);
+              for (int k = 0; k < n; ++k) j(p, i, a, k) = J(a, (p * m + i) * n + k);
+            }
+        return py::make_tuple(Xs, Js);
       }, py::arg("model"), py::arg("q"), py::arg("bodies"), py::arg("points"), R"doc(
-World positions (K, 3) and Jacobians (K, 3, n) of body points: sample k is point points[k] (in the
-body's joint frame, as for add_point_constraint) of body bodies[k] at configuration q[k].
+World positions (P, m, 3) and Jacobians (P, m, 3, n) of m body points at P configurations q (P, n):
+point i is points[i] (in the body's joint frame, as for add_point_constraint) of body bodies[i].
+One forward kinematics per configuration serves all the points.
 )doc");
 }
 

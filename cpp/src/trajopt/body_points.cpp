@@ -8,18 +8,24 @@ namespace hovi {
 
 void body_point_kinematics(const Model& model, Data& data, const Eigen::Ref<const MatX>& Q,
                            const std::vector<int>& bodies, const Eigen::Ref<const MatX>& points, MatX& X, MatX& J) {
-  const int n = model.n(), K = static_cast<int>(Q.cols());
-  if (Q.rows() != n || static_cast<int>(bodies.size()) != K || points.rows() != 3 || points.cols() != K)
-    throw InputError("body_point_kinematics: Q (n x K), bodies (K) and points (3 x K) do not match");
-  X.resize(3, K);
-  J.resize(3, n * K);
-  for (int k = 0; k < K; ++k) {
-    const PointConstraint point(bodies[k], points.col(k), Vec3::Zero());  // h = world position
-    point.check(model);
-    forward_kinematics(model, data, Q.col(k));
+  const int n = model.n(), P = static_cast<int>(Q.cols()), m = static_cast<int>(bodies.size());
+  if (Q.rows() != n || points.rows() != 3 || points.cols() != m)
+    throw InputError("body_point_kinematics: Q (n x P), bodies (m) and points (3 x m) do not match");
+  std::vector<PointConstraint> point;  // h = world position of point i
+  point.reserve(m);
+  for (int i = 0; i < m; ++i) {
+    point.emplace_back(bodies[i], points.col(i), Vec3::Zero());
+    point.back().check(model);
+  }
+  X.resize(3, m * P);
+  J.resize(3, n * m * P);
+  for (int p = 0; p < P; ++p) {
+    forward_kinematics(model, data, Q.col(p));
     const KinematicsView kin{model, data.g.data(), data.Sbar.data(), 1};
-    point.value(kin, Q.col(k), X.col(k));
-    point.jacobian(kin, J.middleCols(k * n, n));
+    for (int i = 0; i < m; ++i) {
+      point[i].value(kin, Q.col(p), X.col(p * m + i));
+      point[i].jacobian(kin, J.middleCols((p * m + i) * n, n));
+    }
   }
 }
 

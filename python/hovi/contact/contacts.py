@@ -113,9 +113,9 @@ class Contacts:
         q = np.asarray(q, dtype=float)
         if q.shape != (self.model.n,):
             raise ValueError(f"q must have shape ({self.model.n},), got {q.shape}")
-        X, _ = trajopt.body_point_kinematics(self.model, np.tile(q, (self.n_contacts, 1)),
-                                             [c.body for c in self.points], np.array([c.point for c in self.points]))
-        return self.terrain.gap(X)
+        X, _ = trajopt.body_point_kinematics(self.model, q[None], [c.body for c in self.points],
+                                             np.array([c.point for c in self.points]))
+        return self.terrain.gap(X[0])
 
     @property
     def n_contacts(self) -> int:

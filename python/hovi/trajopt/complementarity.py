@@ -142,11 +142,9 @@ class ContactRows:
     def kinematics(self, x: np.ndarray):
         """Contact positions X (P, C, 3) and their Jacobians J (P, C, 3, n) at all points."""
         Q = x[self.q_off[:, None] + np.arange(self.n)]
-        Qc = np.repeat(Q, self.C, axis=0)
-        bodies = [c.body for c in self.contacts.points] * self.P
-        points = np.tile(np.array([c.point for c in self.contacts.points]), (self.P, 1))
-        X, J = _core.trajopt.body_point_kinematics(self.contacts.model, Qc, bodies, points)
-        return X.reshape(self.P, self.C, 3), J.reshape(self.P, self.C, 3, self.n)
+        points = self.contacts.points
+        return _core.trajopt.body_point_kinematics(self.contacts.model, Q, [c.body for c in points],
+                                                   np.array([c.point for c in points]))
 
     def quantities(self, x: np.ndarray) -> dict:
         """The pair quantities at x: phi, psi (E, C), zeta (E, C, d), lambda, gamma (E, C), beta (E, C, d)."""

@@ -1,7 +1,7 @@
 """The nonlinear program of a transcribed Problem: objective and gradient from the cost terms
 through the transcription's sample map, constraints and their sparse Jacobian from the C++
-transcription (one call each), path constraints (one vectorised call each) and linear boundary
-rows, and the contact complementarity rows (complementarity.py). Knows nothing of the solver.
+transcription (one call each), path constraints (one vectorised call each; those on body points
+share one kinematics call per set of configurations) and linear boundary rows, and the contact complementarity rows (complementarity.py). Knows nothing of the solver.
 Times its C++ evaluations for the solver's report."""
 from __future__ import annotations
 
@@ -10,6 +10,8 @@ import time
 import numpy as np
 import scipy.sparse as sp
 
+from .. import _core
+from .path_constraints import OnBodyPoints
 from .transcription import Transcription
 
 
@@ -45,6 +47,7 @@ class NLP:
                 cl.append(np.tile(c.lower, P))
                 cu.append(np.tile(c.upper, P))
                 row0 += P * r
+        self._group_body_points()
         self.contact_rows = None
         if self.problem.contacts is not None:
             from .complementarity import ContactRows
@@ -78,6 +81,27 @@ class NLP:
         if len(bad):
             raise ValueError(f"inconsistent bounds on {len(bad)} variables (e.g. a boundary state outside the "
                              f"joint or control bounds)")
+
+    def _group_body_points(self):
+        """Gathers the path constraints on body points (OnBodyPoints) by the configurations they are
+        evaluated at: ``_point_groups`` {key: (points, weights, bodies, local)} and, per entry of
+        ``paths``, its slot (key, slice of the group's points) or None (evaluated on its own)."""
+        self._point_groups, self._point_slots = {}, []
+        for c, _, points, weights in self.paths:
+            if not isinstance(c, OnBodyPoints):
+                self._point_slots.append(None)
+                continue
+            key = (points.shape, points.tobytes(), weights.tobytes())
+            _, _, bodies, local = self._point_groups.setdefault(key, (points, weights, [], []))
+            self._point_slots.append((key, slice(len(bodies), len(bodies) + len(c.bodies))))
+            bodies.extend(c.bodies)
+            local.extend(c.local)
+        self._point_groups = {key: (points, weights, bodies, np.array(local))
+                              for key, (points, weights, bodies, local) in self._point_groups.items()}
+
+    def _configurations(self, x, points, weights):
+        """The configurations (P, n) at x: sum_k weights[p, k] q(points[p, k])."""
+        return np.einsum("pk,pkj->pj", weights, x[self.offsets[points][:, :, None] + np.arange(self.tr.n)])
 
     def _input_rows(self, tr: Transcription):
         """The input constraints at every control value u_j (offsets u_off + j m): (A (R, n_variables)
@@ -120,11 +144,16 @@ class NLP:
         return g
 
     def _path(self, x, with_jacobian):
-        n = self.tr.n
+        model = self.problem.model
+        kinematics = {key: _core.trajopt.body_point_kinematics(model, self._configurations(x, points, weights), bodies, local)
+                      for key, (points, weights, bodies, local) in self._point_groups.items()}
         out = []
-        for c, t, points, weights in self.paths:
-            Q = np.einsum("pk,pkj->pj", weights, x[self.offsets[points][:, :, None] + np.arange(n)])
-            values, jac = c.evaluate(self.problem.model, t, Q)
+        for (c, t, points, weights), slot in zip(self.paths, self._point_slots):
+            if slot is None:
+                values, jac = c.evaluate(model, t, self._configurations(x, points, weights))
+            else:
+                X, J = kinematics[slot[0]]
+                values, jac = c.of_points(X[:, slot[1]], J[:, slot[1]])
             out.append(np.einsum("pk,prj->prkj", weights, jac).ravel() if with_jacobian else values.ravel())
         return out
 

@@ -72,7 +72,26 @@ class PathConstraint:
     upper: np.ndarray
 
 
-class BodyPoint(PathConstraint):
+class OnBodyPoints(PathConstraint):
+    """Base of the constraints on the world positions of body points: ``bind`` sets ``bodies`` (m,)
+    and ``local`` (m, 3) (points in the bodies' joint frames), and ``of_points`` turns their
+    kinematics, positions X (P, m, 3) and Jacobians J (P, m, 3, n), into the constraint's values.
+    The NLP computes the kinematics of all such constraints on the same configurations in one call
+    (one forward kinematics per configuration for all their points)."""
+
+    bodies: list[int]
+    local: np.ndarray
+
+    def of_points(self, X: np.ndarray, J: np.ndarray) -> PathValue:
+        """(values (P, r), jacobians (P, r, n)) from the points' positions X (P, m, 3) and Jacobians J (P, m, 3, n)."""
+        raise NotImplementedError
+
+    def evaluate(self, model: _core.Model, t: np.ndarray, Q: np.ndarray) -> PathValue:
+        """At configurations Q (P, n): (values (P, r), jacobians (P, r, n)); the times t do not enter."""
+        return self.of_points(*_core.trajopt.body_point_kinematics(model, Q, self.bodies, self.local))
+
+
+class BodyPoint(OnBodyPoints):
     """A point (3,) of a body (in its joint frame) with world coordinates ``axes`` (e.g. 'z', 'xz':
     r rows) equal to ``target`` (r,) (a hand at a target) or within [lower, upper] (r,) (a foot above
     an obstacle: axes='z', lower=height)."""
@@ -98,13 +117,12 @@ class BodyPoint(PathConstraint):
     def bind(self, model: _core.Model) -> BodyPoint:
         """Resolve the body (index or name) against the model; returns self."""
         self.index = body_index(model, self.body)
+        self.bodies, self.local = [self.index], self.point[None]
         return self
 
-    def evaluate(self, model: _core.Model, t: np.ndarray, Q: np.ndarray) -> PathValue:
-        """The point's world coordinates `axes` (P, r) and their Jacobians (P, r, n) at configurations Q (P, n)."""
-        P = len(Q)
-        X, J = _core.trajopt.body_point_kinematics(model, Q, [self.index] * P, np.tile(self.point, (P, 1)))
-        return X[:, self.rows], J[:, self.rows, :]
+    def of_points(self, X: np.ndarray, J: np.ndarray) -> PathValue:
+        """The point's world coordinates `axes` (P, r) and their Jacobians (P, r, n)."""
+        return X[:, 0, self.rows], J[:, 0, self.rows, :]
 
 
 class Clearance(BodyPoint):
@@ -120,14 +138,14 @@ class Clearance(BodyPoint):
             raise ValueError("radius must be positive")
         self.lower, self.upper = np.array([radius ** 2]), np.array([np.inf])
 
-    def evaluate(self, model: _core.Model, t: np.ndarray, Q: np.ndarray) -> PathValue:
-        """|P (x - center)|^2 (P, 1) and its Jacobian (P, 1, n) at configurations Q (P, n)."""
-        X, J = super().evaluate(model, t, Q)
+    def of_points(self, X: np.ndarray, J: np.ndarray) -> PathValue:
+        """|P (x - center)|^2 (P, 1) and its Jacobian (P, 1, n)."""
+        X, J = super().of_points(X, J)
         d = X - self.center[self.rows]
         return np.sum(d * d, axis=1, keepdims=True), 2 * np.einsum("pr,prn->pn", d, J)[:, None, :]
 
 
-class PoseHeld(PathConstraint):
+class PoseHeld(OnBodyPoints):
     """A body held at its pose at configuration q0 (n,) over ``window`` (default: every point; a
     stance foot): its point ``point`` (3 rows), the point size[0] ahead of it along the body's x axis
     across and up (2 rows, along the body's y and z axes at q0) and the point size[1] to its side up
@@ -147,6 +165,7 @@ class PoseHeld(PathConstraint):
     def bind(self, model: _core.Model) -> PoseHeld:
         """Resolve the body and record the three points' world positions at q0; returns self."""
         self.index = body_index(model, self.body)
+        self.bodies = [self.index] * 3
         if self.q0.shape != (model.n,) or not np.all(np.isfinite(self.q0)):
             raise ValueError(f"q0 must be {model.n} finite numbers, got shape {self.q0.shape}")
         pose = model.joint_placements(self.q0)[self.index]
@@ -157,12 +176,8 @@ class PoseHeld(PathConstraint):
         self.lower = self.upper = np.einsum("rkx,kx->r", self.P, pose[:3, 3] + self.local @ R0.T)
         return self
 
-    def evaluate(self, model: _core.Model, t: np.ndarray, Q: np.ndarray) -> PathValue:
-        """The six rows (P, 6) and their Jacobians (P, 6, n) at configurations Q (P, n)."""
-        P = len(Q)
-        X, J = _core.trajopt.body_point_kinematics(model, np.repeat(Q, 3, axis=0), [self.index] * (3 * P),
-                                                   np.tile(self.local, (P, 1)))
-        X, J = X.reshape(P, 3, 3), J.reshape(P, 3, 3, -1)
+    def of_points(self, X: np.ndarray, J: np.ndarray) -> PathValue:
+        """The six rows (P, 6) and their Jacobians (P, 6, n) from the three points' kinematics."""
         return np.einsum("rkx,pkx->pr", self.P, X), np.einsum("rkx,pkxn->prn", self.P, J)
 
 

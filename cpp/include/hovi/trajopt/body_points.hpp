@@ -1,5 +1,5 @@
 // World positions of body points and their Jacobians at many configurations at once, for path
-// constraints and costs on bodies (a foot above an obstacle, a hand at a target).
+// constraints, contact rows and costs on bodies (a foot above an obstacle, a hand at a target).
 #pragma once
 #include <vector>
 
@@ -7,8 +7,9 @@
 
 namespace hovi {
 
-// Q: n x K configurations; bodies[k] and points.col(k) (in the body's COM frame) give the point
-// of sample k. X: 3 x K world positions; J: 3 x (n K), block k = dX_k/dq at Q.col(k).
+// Q: n x P configurations; bodies[i] and points.col(i) (in the body's COM frame) give point i of
+// m. One forward kinematics per configuration serves all m points. X: 3 x (m P), column p m + i
+// the world position of point i at Q.col(p); J: 3 x (n m P), block p m + i its dX/dq.
 void body_point_kinematics(const Model& model, Data& data, const Eigen::Ref<const MatX>& Q,
                            const std::vector<int>& bodies, const Eigen::Ref<const MatX>& points, MatX& X, MatX& J);
 

@@ -1,0 +1,68 @@
+"""Body-point kinematics (trajopt/body_points.cpp), which the path constraints, the contact rows and
+the examples use: positions against the joint placements, Jacobians against finite differences;
+and the NLP's shared kinematics call for path constraints on the same configurations against each
+constraint evaluated on its own."""
+import numpy as np
+import pytest
+
+import hovi
+from hovi import trajopt
+
+
+def branched_model():
+    model = hovi.models.pendulum(3)
+    model.add_body("side", 0, "revolute", axis=(1, 0, 0), mass=0.5, inertia=np.diag([0.01, 0.02, 0.03]))
+    return model
+
+
+def test_body_point_kinematics_against_placements_and_finite_differences():
+    model = branched_model()
+    rng = np.random.default_rng(3)
+    Q = rng.uniform(-np.pi, np.pi, size=(4, model.n))
+    bodies = [3, 1, 3, 0]
+    points = rng.normal(size=(4, 3))
+    X, J = hovi._core.trajopt.body_point_kinematics(model, Q, bodies, points)
+    assert X.shape == (4, 4, 3) and J.shape == (4, 4, 3, model.n)
+    h = 1e-6
+    for p, q in enumerate(Q):
+        poses = model.joint_placements(q)
+        for i, (b, r) in enumerate(zip(bodies, points)):
+            np.testing.assert_allclose(X[p, i], poses[b][:3, :3] @ r + poses[b][:3, 3], rtol=0, atol=1e-14)
+        for j in range(model.n):
+            e = h * np.eye(model.n)[j]
+            Xp = hovi._core.trajopt.body_point_kinematics(model, [q + e], bodies, points)[0][0]
+            Xm = hovi._core.trajopt.body_point_kinematics(model, [q - e], bodies, points)[0][0]
+            np.testing.assert_allclose(J[p, :, :, j], (Xp - Xm) / (2 * h), rtol=0, atol=1e-9)
+
+
+def test_body_point_kinematics_refuses_bad_input():
+    model = branched_model()
+    with pytest.raises(hovi.ModelError, match="out of range"):
+        hovi._core.trajopt.body_point_kinematics(model, np.zeros((1, model.n)), [7], np.zeros((1, 3)))
+    with pytest.raises(ValueError):
+        hovi._core.trajopt.body_point_kinematics(model, np.zeros((1, model.n)), [0, 1], np.zeros((1, 3)))
+    with pytest.raises(ValueError):
+        hovi._core.trajopt.body_point_kinematics(model, np.zeros((1, model.n + 1)), [0], np.zeros((1, 3)))
+
+
+def test_shared_kinematics_equal_each_constraint_alone():
+    """Constraints on body points over the same window share one kinematics call in the NLP; its
+    rows and Jacobian values equal those of each constraint's own evaluate at the same configurations."""
+    model = branched_model()
+    prob = trajopt.Problem(model, N=4, T=0.8)
+    prob.initial_state(np.zeros(model.n)).add_cost(trajopt.ControlEffort())
+    window = (0.1, 0.7)
+    constraints = [trajopt.Clearance(3, [0, 0.1, 0], center=[0.2, 0, -0.5], radius=0.1, window=window, between=2),
+                   trajopt.BodyPoint(2, [0, 0, -0.5], axes="xz", lower=-1.0, window=window, between=2),
+                   trajopt.PoseHeld(1, np.zeros(model.n), window=window, between=2),
+                   trajopt.Clearance(0, [0, 0, -0.2], center=[0, 0.3, 0], radius=0.2, window=(0.3, 0.8))]
+    for c in constraints:
+        prob.add_constraint(c)
+    nlp = trajopt.NLP(trajopt.transcribe(prob, "vi", 2))
+    assert len(nlp._point_groups) < len(nlp.paths)  # some entries share a call
+    x = np.random.default_rng(0).normal(scale=0.3, size=nlp.n_variables)
+    shared_values, shared_jacobians = nlp._path(x, False), nlp._path(x, True)
+    for k, (c, t, points, weights) in enumerate(nlp.paths):
+        values, jac = c.evaluate(model, t, nlp._configurations(x, points, weights))
+        np.testing.assert_array_equal(shared_values[k], values.ravel())
+        np.testing.assert_array_equal(shared_jacobians[k], np.einsum("pk,prj->prkj", weights, jac).ravel())
