@@ -114,8 +114,9 @@ class HermiteSimpsonTranscription:
         """
         (rows (nnz,), cols (nnz,)) of the Jacobian's nonzeros, in the order `jacobian` returns values.
         """
-def body_point_kinematics(model: hovi._core.Model, q: numpy.typing.ArrayLike, bodies: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], points: numpy.typing.ArrayLike) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], numpy.typing.NDArray[numpy.float64]]:
+def body_point_kinematics(model: hovi._core.Model, q: numpy.typing.ArrayLike, bodies: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], points: numpy.typing.ArrayLike) -> tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64]]:
     """
-    World positions (K, 3) and Jacobians (K, 3, n) of body points: sample k is point points[k] (in the
-    body's joint frame, as for add_point_constraint) of body bodies[k] at configuration q[k].
+    World positions (P, m, 3) and Jacobians (P, m, 3, n) of m body points at P configurations q (P, n):
+    point i is points[i] (in the body's joint frame, as for add_point_constraint) of body bodies[i].
+    One forward kinematics per configuration serves all the points.
     """
