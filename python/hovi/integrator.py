@@ -120,7 +120,7 @@ class Integrator:
     at accuracy-relevant dt); ``"flow"`` integrates the continuous dynamics over the step from
     q^k and M^{-1} p^k (4 s forward-dynamics passes, O(s n); at steps that resolve fast modes
     only barely it saves most iterations and refactorisations: bench/README.md); ``"auto"``
-    (default) takes the flow for s >= 3 once a step from the history needed more than three
+    (default) takes the flow for s >= 3 once a step from the history needed more than four
     iterations, trying the history again after 16 steps (32, 64, ... after failed tries).
     The converged step does not depend on the guess (to round-off, on the same solution branch).
 
