@@ -121,7 +121,8 @@ class Integrator:
     q^k and M^{-1} p^k (4 s forward-dynamics passes, O(s n); at steps that resolve fast modes
     only barely it saves most iterations and refactorisations: bench/README.md); ``"auto"``
     (default) takes the flow for s >= 3 once a step from the history needed more than four
-    iterations, trying the history again after 16 steps (32, 64, ... after failed tries).
+    iterations (six where the direction is dense, whose iterations are cheap), trying the
+    history again after 16 steps (32, 64, ... after failed tries).
     The converged step does not depend on the guess (to round-off, on the same solution branch).
 
     A step has converged when the next Newton correction, the estimated error of the iterate,

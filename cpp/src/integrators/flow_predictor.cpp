@@ -70,9 +70,9 @@ void PredictorChoice::observe(bool flow, int iterations) {
   // The history's steps decide: more than kEnough iterations, take the flow, and probe the
   // history again after twice as many steps as the last time (16, 32, ... 1024: a failed probe
   // costs as much as the flow saves on many steps); kEnough or fewer, keep the history.
-  const bool probe_failed = flowing_ && iterations > kEnough;
+  const bool probe_failed = flowing_ && iterations > enough_;
   probe_every_ = probe_failed ? std::min(2 * probe_every_, kProbeMax) : kProbeFirst;
-  flowing_ = iterations > kEnough;
+  flowing_ = iterations > enough_;
   since_probe_ = 0;
 }
 

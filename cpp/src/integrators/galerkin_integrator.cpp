@@ -10,6 +10,7 @@
 #include "hovi/algorithms/kinematics.hpp"
 #include "hovi/algorithms/mass_matrix.hpp"
 #include "hovi/constraints/constraint.hpp"
+#include "hovi/integrators/dense_direction.hpp"
 #include "hovi/constraints/tangent_velocity.hpp"
 #include "hovi/errors.hpp"
 
@@ -234,7 +235,7 @@ Rollout GalerkinIntegrator::rollout(const VecX& q0, const VecX& p0, int N, const
   auto ws = pool_.acquire();
   MatX qc(n, S1), prev = previous, prev2, uk(m, S1);
   VecX p = p0, p_next(n);
-  PredictorChoice predictor(options.predictor, s);
+  PredictorChoice predictor(options.predictor, s, uses_dense_direction(options.direction, model_, s));
   for (int k = 0; k < N; ++k) {
     qc.col(0) = out.q.row(k).transpose();
     if (m > 0)

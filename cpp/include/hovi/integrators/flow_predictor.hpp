@@ -48,12 +48,16 @@ class FlowPredictor {
 // the history needs two iterations or fewer the flow's forward dynamics only add cost.)
 class PredictorChoice {
  public:
-  static constexpr int kEnough = 4, kProbeFirst = 16, kProbeMax = 1024;
-  PredictorChoice(Predictor mode, int s) : mode_(mode == Predictor::Auto && s < 3 ? Predictor::History : mode) {}
+  static constexpr int kEnough = 4, kEnoughDense = 6, kProbeFirst = 16, kProbeMax = 1024;
+  // dense: the solver factors by the dense path (small n), where an iteration is cheap against
+  // the flow's forward dynamics, so the history may take kEnoughDense iterations.
+  PredictorChoice(Predictor mode, int s, bool dense)
+      : mode_(mode == Predictor::Auto && s < 3 ? Predictor::History : mode), enough_(dense ? kEnoughDense : kEnough) {}
   bool flow();                              // the next step's predictor: true for the flow
   void observe(bool flow, int iterations);  // what that step needed
  private:
   Predictor mode_;
+  int enough_;
   bool flowing_ = false;
   int since_probe_ = 0, probe_every_ = kProbeFirst;
 };
