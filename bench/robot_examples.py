@@ -82,6 +82,12 @@ def merge(name: str, row: dict) -> list:
     return rows
 
 
+def feasibility(row: dict) -> str:
+    """The table's cell for an infeasible row: out of its time limit or not, and what failed."""
+    out = " (out of time)" if row.get("out_of_time") else ""
+    return f"no{out}: " + "; ".join(row.get("failures", [row["status"]]))
+
+
 def write_table(rows: list) -> None:
     """The README table of the full rows (one per example and method)."""
     lines = ["| example | transcription | N | variables | IPOPT iterations | solve [s] | feasible | constraint violation "
@@ -92,7 +98,7 @@ def write_table(rows: list) -> None:
         if r.get("replay_steps_elsewhere"):
             drift += f" ({r['replay_steps_elsewhere']} elsewhere)"
         lines.append(f"| {r['example']} | {r['method']} | {r['N']} | {r['variables']} | {r['iterations']} | "
-                     f"{r['solve_seconds']:.1f} | {'yes' if r['feasible'] else 'no: ' + '; '.join(r.get('failures', [r['status']]))} | "
+                     f"{r['solve_seconds']:.1f} | {'yes' if r['feasible'] else feasibility(r)} | "
                      f"{r['constraint_violation']:.1e} | {residual} | {drift} |")
     update_readme_section("robot_examples", "\n".join(lines))
 
