@@ -10,9 +10,9 @@
 #include "hovi/algorithms/kinematics.hpp"
 #include "hovi/algorithms/mass_matrix.hpp"
 #include "hovi/constraints/constraint.hpp"
-#include "hovi/integrators/dense_direction.hpp"
 #include "hovi/constraints/tangent_velocity.hpp"
 #include "hovi/errors.hpp"
+#include "hovi/integrators/dense_direction.hpp"
 
 namespace hovi {
 

@@ -1,7 +1,8 @@
 """The nonlinear program of a transcribed Problem: objective and gradient from the cost terms
 through the transcription's sample map, constraints and their sparse Jacobian from the C++
 transcription (one call each), path constraints (one vectorised call each; those on body points
-share one kinematics call per set of configurations) and linear boundary rows, and the contact complementarity rows (complementarity.py). Knows nothing of the solver.
+share one kinematics call per set of configurations) and linear boundary rows, and the contact
+complementarity rows (complementarity.py). Knows nothing of the solver.
 Times its C++ evaluations for the solver's report."""
 from __future__ import annotations
 

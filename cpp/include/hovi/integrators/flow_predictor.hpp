@@ -35,17 +35,17 @@ class FlowPredictor {
 
 // The predictor of each step of a rollout (from its third step on: the history needs two) under
 // SolverOptions::predictor. Auto (for s >= 3; the history for s = 1, 2) starts with the history
-// and takes the flow once a step from the history needed more than kEnough Newton iterations,
-// trying the history again after kProbeFirst steps (twice as many after each probe that needed
-// more, up to kProbeMax) and keeping it when that step needs kEnough or fewer (at accuracy-
-// relevant steps the history needs two to four iterations; the flow two, for 4 s forward
-// dynamics that cost about as much as one or two iterations: 12-link pendulum, s = 3, dt = 0.03:
-// history 3.2 iterations, 53 µs per step, flow 2.0, 74 µs. A second factorisation is no signal:
-// near round-off the simplified Newton refactors on steps of three iterations). (Measured on the n-link pendulum, bench/README.md:
-// the flow cut s = 3 and 4 at n = 64, dt = 0.015 from 20-25 iterations and 13-18 factorisations per
-// step to 4-5 and 2, while for s = 1 it took three times as many and for s = 2 more or about as
-// many: their control points lie too far from the continuous flow at such steps; at steps where
-// the history needs two iterations or fewer the flow's forward dynamics only add cost.)
+// and takes the flow once a step from the history needed more than kEnough Newton iterations
+// (kEnoughDense on the dense path), trying the history again after kProbeFirst steps (twice as
+// many after each probe that needed more, up to kProbeMax) and keeping it when that step needs no
+// more. At accuracy-relevant steps the history needs two to four iterations, the flow two, for
+// 4 s forward dynamics that cost about as much as one or two iterations (12-link pendulum, s = 3,
+// dt = 0.03: history 3.2 iterations, 53 µs per step; flow 2.0, 74 µs). A second factorisation
+// is no signal: near round-off the simplified Newton refactors on steps of three iterations.
+// (Measured on the n-link pendulum, bench/README.md: the flow cut s = 3 and 4 at n = 64,
+// dt = 0.015 from 20-25 iterations and 13-18 factorisations per step to 4-5 and 2, while for
+// s = 1 it took three times as many and for s = 2 more or about as many: their control points lie
+// too far from the continuous flow at such steps.)
 class PredictorChoice {
  public:
   static constexpr int kEnough = 4, kEnoughDense = 6, kProbeFirst = 16, kProbeMax = 1024;
