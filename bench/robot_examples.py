@@ -4,11 +4,14 @@ collocation of the same problem and contact model, all by IPOPT with the Lagrang
 (trajopt.hessian): iterations, solve time, the feasibility figures and, for the VIs, the replay
 figures (report.replay_figures).
 
-    python bench/robot_examples.py [--quick] [--only NAME ...] [--methods vi1 vi2 hs] [--time-limit S] [--verbose]
+    python bench/robot_examples.py [--quick] [--only NAME ...] [--methods vi1 vi2 hs] [--time-limit S] [--checkpoints DIR] [--verbose]
 
 Writes bench/results/robot_examples.json (robot_examples_quick.json) after each run, the row run
 replacing its (example, method) and the others kept as the file has them then (two runs with
-different --only or --methods can share the file), and the table in bench/README.md.
+different --only or --methods can share the file), and the table in bench/README.md. With
+--checkpoints, each contact-implicit solve keeps its homotopy's state in DIR/<example>_<method>.npz
+and a run started again resumes from it (a solve of hours can span several processes; the row's
+iterations and time are then those of all of them, the time in IPOPT).
 """
 from __future__ import annotations
 
@@ -28,11 +31,17 @@ def label(method: str, s: int) -> str:
 
 
 def run_one(name: str, quick: bool, method: str, s: int, time_limit: float | None = None,
-            verbose: bool = False) -> dict:
+            verbose: bool = False, checkpoints: str | None = None) -> dict:
     example = build(name, quick=quick)
+    checkpoint = None
+    if checkpoints is not None:
+        os.makedirs(checkpoints, exist_ok=True)
+        checkpoint = os.path.join(checkpoints, f"{name}_{label(method, s).replace(' ', '').replace('=', '')}.npz")
     t0 = time.perf_counter()
-    result = report.solve(example, method, s, verbose=verbose, time_limit=time_limit)
+    result = report.solve(example, method, s, verbose=verbose, time_limit=time_limit, checkpoint=checkpoint)
     wall = time.perf_counter() - t0
+    if checkpoint is not None and os.path.exists(checkpoint):  # resumed: the time of all its processes
+        wall = max(wall, report.ipopt_totals(result)[1])
     figures = example.checks(result)
     row = {"example": name, "method": label(method, s), "N": example.problem.N,
            "T": example.problem.T, "success": bool(result.success), "status": result.status,
@@ -56,13 +65,16 @@ def main() -> None:
                     help="the transcriptions (--quick: the trapezoidal VI only)")
     ap.add_argument("--time-limit", type=float, default=None,
                     help="seconds for each example and transcription (IPOPT's max_cpu_time; default: none)")
+    ap.add_argument("--checkpoints", default=None, metavar="DIR",
+                    help="keep each contact-implicit solve's homotopy state in DIR and resume from it")
     ap.add_argument("--verbose", action="store_true", help="IPOPT's progress, one line per iteration")
     args = ap.parse_args()
     name = "robot_examples_quick.json" if args.quick else "robot_examples.json"
     methods = [METHODS["vi1"]] if args.quick else [METHODS[m] for m in args.methods]
     runs = [(example, method, s) for example in args.only for method, s in methods]
     for example, method, s in runs:
-        rows = merge(name, run_one(example, args.quick, method, s, args.time_limit, args.verbose))
+        rows = merge(name, run_one(example, args.quick, method, s, args.time_limit, args.verbose,
+                                    args.checkpoints))
     if not args.quick:
         write_table(rows)
 

@@ -154,6 +154,22 @@ def test_time_limit_stops_the_homotopy_between_solves():
     assert not trajopt.solve_contact(prob, time_limit=600.0).contact["out_of_time"]
 
 
+def test_checkpoint_resumes_the_homotopy_where_it_stopped(tmp_path):
+    """A solve stopped after its first relaxed solve, resumed from its checkpoint: the same solves and
+    the same solution as one uninterrupted solve; a checkpoint of another solve is refused."""
+    contacts, prob = contact_problem(planar_point_mass(), [0.0, 0.3], [0.0, 0.0], 0.5, 25, mu=0.5)
+    path = tmp_path / "drop.npz"
+    stopped = trajopt.solve_contact(prob, time_limit=1e-3, checkpoint=path)
+    assert stopped.contact["out_of_time"] and path.exists()
+    resumed = trajopt.solve_contact(prob, checkpoint=path)
+    whole = trajopt.solve_contact(prob)
+    assert resumed.contact["solves"] == whole.contact["solves"] and resumed.contact["finished"]
+    np.testing.assert_allclose(resumed.x, whole.x, rtol=0, atol=1e-12)
+    for kwargs, match in (({"epsilons": (1e-1, 1e-3)}, "epsilons"), ({"s": 2}, "another solve")):
+        with pytest.raises(ValueError, match=match):
+            trajopt.solve_contact(prob, checkpoint=path, **kwargs)
+
+
 def hermite_simpson_defects(result, contacts, mass=1.0):
     """The Hermite-Simpson equations of the planar point mass with its accelerations computed here from
     the optimised contact forces (a = F / m - g z, the slider massless), at every interval: the

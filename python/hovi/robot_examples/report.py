@@ -107,16 +107,18 @@ def animate(example: Example, result: Result, output: str, fps: float) -> list[s
 
 
 def solve(example: Example, method: str = "vi", s: int = 1, verbose: bool = False,
-          time_limit: float | None = None) -> Result:
+          time_limit: float | None = None, checkpoint: str | None = None) -> Result:
     """Solve the example's problem with ``method`` ('vi' of order 2s, 'hs-implicit', 'hs-explicit') by
     IPOPT with the Lagrangian's Hessian (L-BFGS does not converge on these robots: see
     trajopt.hessian), from the example's guess; ``time_limit`` (seconds) bounds the whole solve
-    (IPOPT's max_cpu_time; a contact-implicit solve starts no further solve once it is spent)."""
+    (IPOPT's max_cpu_time; a contact-implicit solve starts no further solve once it is spent);
+    ``checkpoint`` (a path) lets a contact-implicit solve resume its homotopy (trajopt.solve_contact)."""
     options = dict(example.options)
     if example.problem.contacts is not None:
         epsilons = {} if example.epsilons is None else {"epsilons": example.epsilons}
         return trajopt.solve_contact(example.problem, s=s, transcription=method, guess=example.guess,
-                                     options=options, verbose=verbose, hessian="fd", time_limit=time_limit, **epsilons)
+                                     options=options, verbose=verbose, hessian="fd", time_limit=time_limit,
+                                     checkpoint=checkpoint, **epsilons)
     if time_limit is not None:
         options["max_cpu_time"] = float(time_limit)
     return trajopt.solve(example.problem, method, s=s, guess=example.guess, options=options, verbose=verbose,

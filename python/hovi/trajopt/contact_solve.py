@@ -50,13 +50,14 @@ pushing a block to a target with an effort cost and a final state; guess 'rollou
 from __future__ import annotations
 
 import dataclasses
+import os
 import time
 from typing import Any, Sequence
 
 import numpy as np
 
 from .complementarity import Branches, ContactRows
-from .ipopt import Guess, solve
+from .ipopt import Guess, solve, transcribe
 from .problem import Problem
 from .result import Result
 
@@ -111,7 +112,7 @@ def branches_of(rows: ContactRows, x: np.ndarray) -> Branches:
 def solve_contact(problem: Problem, epsilons: Sequence[float] = DEFAULT_EPSILONS, *, s: int = 1,
                   transcription: str = "vi", guess: Guess = "rollout", finish_below: float = FINISH_BELOW,
                   options: dict[str, Any] | None = None, verbose: bool = False, hessian: str = "lbfgs",
-                  time_limit: float | None = None) -> Result:
+                  time_limit: float | None = None, checkpoint: str | os.PathLike | None = None) -> Result:
     """Solve ``problem`` (with ``add_contacts``) with ``transcription`` (as in ``solve``: the VI of
     order 2s by default, or 'hs-implicit' / 'hs-explicit' collocation with the same contact
     conditions on its knots and midpoints): the relaxation homotopy over ``epsilons`` (positive,
@@ -121,6 +122,12 @@ def solve_contact(problem: Problem, epsilons: Sequence[float] = DEFAULT_EPSILONS
     RELAXED_TOL); ``hessian`` as in ``solve``. ``time_limit`` (seconds, default none): a budget for
     all the solves together; each IPOPT solve gets what is left (at least 1 s) as its max_cpu_time,
     and no solve starts once it is spent (``result.contact['out_of_time']``).
+
+    ``checkpoint`` (a path, default none): after each relaxed solve the homotopy's state (its
+    solution, the epsilon reached, the solves so far) is written there (``save_checkpoint``); if the
+    file exists when the solve starts, the homotopy resumes from it instead of from ``guess``, so a
+    solve of hours survives a stopped process. The file must come from the same problem size,
+    transcription, s and epsilons (ValueError otherwise).
 
     s = 1 (default) is the contact model that is inelastic and well posed (see hovi.contact); s >= 2
     lets an impact inside a stage rebound.
@@ -142,7 +149,9 @@ def solve_contact(problem: Problem, epsilons: Sequence[float] = DEFAULT_EPSILONS
         raise ValueError(f"time_limit must be a positive number of seconds, got {time_limit}")
     deadline = None if time_limit is None else time.perf_counter() + time_limit
     saved = problem.complementarity_epsilon, problem.complementarity_branches
-    solves, wall = [], 0.0
+    solves, wall, resumed = [], 0.0, None
+    if checkpoint is not None and os.path.exists(checkpoint):
+        resumed, solves, wall = load_checkpoint(checkpoint, problem, transcription, s, eps)
 
     def out_of_time() -> bool:
         return deadline is not None and time.perf_counter() >= deadline
@@ -162,10 +171,16 @@ def solve_contact(problem: Problem, epsilons: Sequence[float] = DEFAULT_EPSILONS
 
     try:
         relaxed, exact, last = guess, None, eps[0]
-        for epsilon in eps:
-            if out_of_time():
-                break
-            relaxed, last = run(relaxed, epsilon), epsilon
+        first = 0 if resumed is None else eps.index(resumed[0])
+        for epsilon in eps[first:]:
+            if resumed is not None and epsilon == resumed[0]:
+                relaxed, last = resumed[1], epsilon
+            else:
+                if out_of_time():
+                    break
+                relaxed, last = run(relaxed, epsilon), epsilon
+                if checkpoint is not None:
+                    save_checkpoint(checkpoint, relaxed, transcription, s, eps, epsilon, solves, wall)
             if relaxed.success and epsilon <= finish_below and not out_of_time():
                 rows = ContactRows(problem.contacts, relaxed.transcription, epsilon)
                 start = dataclasses.replace(relaxed, x=canonical(rows, relaxed.x))
@@ -181,3 +196,34 @@ def solve_contact(problem: Problem, epsilons: Sequence[float] = DEFAULT_EPSILONS
                       "solves": solves, "iterations": sum(it for _, it, _ in solves), "wall_seconds": wall,
                       "out_of_time": exact is None and out_of_time()}
     return result
+
+
+def save_checkpoint(path, relaxed: Result, transcription: str, s: int, epsilons: Sequence[float], epsilon: float,
+                    solves: list, wall: float) -> None:
+    """Write the homotopy's state after the relaxed solve at ``epsilon`` to ``path`` (npz, replaced
+    atomically): that solve's x and success, the solves so far and their time in IPOPT, and what
+    identifies the problem (variables, transcription, s, epsilons)."""
+    tmp = f"{os.fspath(path)}.tmp.npz"
+    np.savez(tmp, x=relaxed.x, success=relaxed.success, status=relaxed.status, epsilon=epsilon,
+             epsilons=np.asarray(epsilons, float), transcription=transcription, s=s,
+             solves=np.asarray(solves, float).reshape(-1, 3), wall=wall)
+    os.replace(tmp, path)
+
+
+def load_checkpoint(path, problem: Problem, transcription: str, s: int, epsilons: Sequence[float]):
+    """((epsilon, relaxed Result), solves, wall) from a ``save_checkpoint`` file, after checking that
+    it belongs to this problem, transcription, s and epsilons."""
+    with np.load(path) as f:
+        data = {k: f[k] for k in f.files}
+    tr = transcribe(problem, transcription, s)
+    found = (str(data["transcription"]), int(data["s"]), len(data["x"]), tuple(data["epsilons"]))
+    wanted = (transcription, s, tr.core.n_variables, tuple(float(e) for e in epsilons))
+    if found != wanted:
+        raise ValueError(f"checkpoint {os.fspath(path)} belongs to another solve: (transcription, s, variables, "
+                         f"epsilons) = {found}, this solve has {wanted}")
+    x = np.array(data["x"], float)
+    relaxed = Result(status=f"{data['status']} (from checkpoint)", success=bool(data["success"]), cost=float("nan"),
+                     constraint_violation=float("nan"), iterations=0, wall_seconds=0.0,
+                     trajectory=tr.trajectory(x), x=x, transcription=tr)
+    solves = [(float(e), int(it), bool(ok)) for e, it, ok in data["solves"]]
+    return (float(data["epsilon"]), relaxed), solves, float(data["wall"])
