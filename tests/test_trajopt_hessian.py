@@ -5,7 +5,9 @@ import pytest
 
 from hovi import trajopt
 from hovi.trajopt.examples import cartpole_swingup, pendulum_swingup, slider_crank_to_target
-from hovi.trajopt.hessian import LagrangianHessian, distance2_colouring
+import scipy.sparse as sp
+
+from hovi.trajopt.hessian import LagrangianHessian, distance2_colouring, star_colouring
 
 
 def test_coloured_hessian_equals_dense_central_differences_of_the_lagrangian_gradient():
@@ -39,10 +41,36 @@ def test_colours_do_not_grow_with_the_horizon():
 
 
 def test_distance2_colouring_separates_variables_with_a_common_neighbour():
-    import scipy.sparse as sp
     P = sp.csr_matrix(np.array([[1, 1, 0, 0], [1, 1, 1, 0], [0, 1, 1, 1], [0, 0, 1, 1]], float))  # a path 0-1-2-3
     c = distance2_colouring(P)
     assert len({c[0], c[1], c[2]}) == 3 and len({c[1], c[2], c[3]}) == 3 and c[0] == c[3]
+
+
+def readable_from_one_side(P, colour):
+    """Every coupled pair (i, j) of the pattern P has a side whose row meets the other's colour once."""
+    P = sp.coo_matrix(P)
+    count = np.zeros((P.shape[0], colour.max() + 1), int)
+    np.add.at(count, (P.row, colour[P.col]), 1)
+    return bool(np.all((count[P.row, colour[P.col]] == 1) | (count[P.col, colour[P.row]] == 1)))
+
+
+def test_star_colouring_reads_every_entry_from_one_side_with_fewer_colours():
+    hub = np.zeros((9, 9))
+    hub[0, :] = hub[:, 0] = 1
+    hub = sp.csr_matrix(hub + np.eye(9))                  # one variable coupled to all: two colours suffice
+    assert star_colouring(hub).max() + 1 == 2 and distance2_colouring(hub).max() + 1 == 9
+    rng = np.random.default_rng(3)
+    for density in (0.02, 0.1, 0.3):                      # random symmetric patterns, checked entry by entry
+        A = sp.random(60, 60, density, random_state=rng, format="csr")
+        P = ((A + A.T + sp.eye(60)) != 0).astype(float).tocsr()
+        star, d2 = star_colouring(P), distance2_colouring(P)
+        r, c = P.nonzero()
+        assert np.all(star[r[r != c]] != star[c[r != c]])
+        assert readable_from_one_side(P, star) and star.max() <= d2.max()
+    nlp = trajopt.NLP(trajopt.transcribe(cartpole_swingup(N=8), "vi", s=2))
+    H = LagrangianHessian(nlp, probe=np.zeros(nlp.n_variables))
+    P = sp.coo_matrix((np.ones(len(H.rows)), (H.rows, H.cols)), (nlp.n_variables,) * 2)
+    assert readable_from_one_side(P + P.T, H.colour)
 
 
 @pytest.mark.parametrize("make", [pendulum_swingup, slider_crank_to_target])
