@@ -151,7 +151,7 @@ def cmd_example(args) -> int:
     print(f"{args.name}: {example.description}; {prob.model.n} DoF, {prob.model.n_controls} inputs, N = {prob.N} "
           f"stages over T = {prob.T} s{' (quick)' if args.quick else ''}")
     s = report.run(example, args.output, animation=not args.no_animate, fps=args.fps, verbose=not args.quiet,
-                   method=args.transcription, s=args.order // 2)
+                   method=args.transcription, s=args.order // 2, checkpoint=args.checkpoint)
     print(f"{s['status']}: {s['iterations']} IPOPT iterations, {s['solve_seconds']:.1f} s; constraint violation "
           f"{s['constraint_violation']:.2e}")
     for key in example.bounds:
@@ -245,6 +245,9 @@ def main(argv=None) -> int:
     ex.add_argument("--no-animate", action="store_true", help="skip the animation (needs hovi[viewer])")
     ex.add_argument("--fps", type=float, default=25.0, help="frames per second of the animation (default: 25)")
     ex.add_argument("--quiet", action="store_true", help="no IPOPT progress lines")
+    ex.add_argument("--checkpoint", default=None, metavar="FILE",
+                    help="keep the contact homotopy's state in FILE (npz) after each relaxed solve and resume from it "
+                         "if it exists: a solve of hours survives an interruption")
     ex.set_defaults(func=cmd_example)
     info = sub.add_parser("info", help="describe a model and print its energy at a random state")
     add_model_args(info)
