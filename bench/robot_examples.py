@@ -11,7 +11,7 @@ replacing its (example, method) and the others kept as the file has them then (t
 different --only or --methods can share the file), and the table in bench/README.md. With
 --checkpoints, each contact-implicit solve keeps its homotopy's state in DIR/<example>_<method>.npz
 and a run started again resumes from it (a solve of hours can span several processes; the row's
-iterations and time are then those of all of them, the time in IPOPT).
+iterations and time are then those of all of them, the time in IPOPT); a finished solve removes it.
 """
 from __future__ import annotations
 
@@ -37,10 +37,11 @@ def run_one(name: str, quick: bool, method: str, s: int, time_limit: float | Non
     if checkpoints is not None:
         os.makedirs(checkpoints, exist_ok=True)
         checkpoint = os.path.join(checkpoints, f"{name}_{label(method, s).replace(' ', '').replace('=', '')}.npz")
+    resumed = checkpoint is not None and os.path.exists(checkpoint)
     t0 = time.perf_counter()
     result = report.solve(example, method, s, verbose=verbose, time_limit=time_limit, checkpoint=checkpoint)
     wall = time.perf_counter() - t0
-    if checkpoint is not None and os.path.exists(checkpoint):  # resumed: the time of all its processes
+    if resumed:  # the time of all its processes
         wall = max(wall, report.ipopt_totals(result)[1])
     figures = example.checks(result)
     row = {"example": name, "method": label(method, s), "N": example.problem.N,

@@ -165,9 +165,52 @@ def test_checkpoint_resumes_the_homotopy_where_it_stopped(tmp_path):
     whole = trajopt.solve_contact(prob)
     assert resumed.contact["solves"] == whole.contact["solves"] and resumed.contact["finished"]
     np.testing.assert_allclose(resumed.x, whole.x, rtol=0, atol=1e-12)
+    assert not path.exists()                                     # finished: removed
+    trajopt.solve_contact(prob, time_limit=1e-3, checkpoint=path)
     for kwargs, match in (({"epsilons": (1e-1, 1e-3)}, "epsilons"), ({"s": 2}, "another solve")):
         with pytest.raises(ValueError, match=match):
             trajopt.solve_contact(prob, checkpoint=path, **kwargs)
+
+
+def test_sides_from_a_trapezoidal_solution_lead_the_higher_order_solves():
+    """The sliding block solved with s = 1, then with s = 2 and 3 from it: the exact solve on the
+    sides its solution shows (it fails where the two place the stop differently, and the
+    relaxation at FINISH_BELOW mends it): the same motion as the whole homotopy gives, with no
+    relaxation above FINISH_BELOW."""
+    from hovi.trajopt.contact_solve import FINISH_BELOW
+    mu, v0 = 0.5, 1.0
+    contacts, prob = contact_problem(planar_point_mass(), [0.0, 0.0], [v0, 0.0], 0.4, 40, mu)
+    coarse = trajopt.solve_contact(prob)
+    for s in (2, 3):
+        refined = trajopt.solve_contact(prob, s=s, sides_from=coarse)
+        homotopy = trajopt.solve_contact(prob, s=s)
+        assert refined.contact["finished"] and refined.contact["sides_from"] == coarse.transcription.name
+        assert refined.contact["solves"][0][0] == 0.0 and max(e for e, _, _ in refined.contact["solves"]) <= FINISH_BELOW
+        assert refined.contact["complementarity"] <= 1e-9 and refined.constraint_violation < 1e-8
+        np.testing.assert_allclose(refined.trajectory["q"], homotopy.trajectory["q"], atol=1e-6)
+        check_contact_result(refined)
+
+
+def test_least_slack_lowers_only_the_free_sliding_slacks():
+    """gamma raised where the mass flies (no force: psi = 0, gamma free above its bound) comes back to
+    the least value its rows allow; the other variables and every row's feasibility are untouched."""
+    from hovi.trajopt.complementarity import ContactRows
+    from hovi.trajopt.contact_solve import least_slack
+    contacts, prob = contact_problem(planar_point_mass(), [0.0, 0.3], [0.5, 0.0], 0.5, 25, mu=0.5)
+    result = trajopt.solve_contact(prob)
+    rows = ContactRows(contacts, result.transcription, 0.0)
+    slack = rows._input("slack")
+    raised = result.x.copy()
+    raised[slack] += 100.0
+    last, before = rows._hold_inputs()
+    raised[last] = raised[before]
+    lowered = least_slack(rows, raised)
+    k = rows.quantities(lowered)
+    changed = np.nonzero(lowered != raised)[0]
+    assert set(changed) <= set(slack.ravel()) | set(last)
+    np.testing.assert_allclose(k["gamma"], np.maximum(0, (-k["v"] @ contacts.D.T).max(-1)), atol=1e-12)
+    assert k["zeta"].min() >= -1e-12 and rows.violations(lowered)["complementarity"] <= 1e-8
+    np.testing.assert_array_less(lowered[slack], raised[slack] + 1e-15)
 
 
 def hermite_simpson_defects(result, contacts, mass=1.0):

@@ -112,17 +112,39 @@ def solve(example: Example, method: str = "vi", s: int = 1, verbose: bool = Fals
     IPOPT with the Lagrangian's Hessian (L-BFGS does not converge on these robots: see
     trajopt.hessian), from the example's guess; ``time_limit`` (seconds) bounds the whole solve
     (IPOPT's max_cpu_time; a contact-implicit solve starts no further solve once it is spent);
-    ``checkpoint`` (a path) lets a contact-implicit solve resume its homotopy (trajopt.solve_contact)."""
+    ``checkpoint`` (a path) lets a contact-implicit solve resume its homotopy (trajopt.solve_contact).
+
+    With contacts and the VI of order 2s > 2, the trapezoidal VI is solved first (its contact model
+    is well posed and its solves cheap) and the order-2s solve starts on the sides of the
+    complementarity pairs it found (``solve_contact(sides_from=...)``); the result's
+    ``contact['solves']``, 'iterations' and 'wall_seconds' count both, and ``contact['coarse']``
+    holds the trapezoidal solve's (iterations, seconds in IPOPT). Measured on the quick LittleDog
+    problem: 211 + 284 iterations, 42 + 120 s; the homotopy alone had not finished its first relaxed
+    solve after 400 iterations."""
     options = dict(example.options)
-    if example.problem.contacts is not None:
-        epsilons = {} if example.epsilons is None else {"epsilons": example.epsilons}
-        return trajopt.solve_contact(example.problem, s=s, transcription=method, guess=example.guess,
-                                     options=options, verbose=verbose, hessian="fd", time_limit=time_limit,
-                                     checkpoint=checkpoint, **epsilons)
-    if time_limit is not None:
-        options["max_cpu_time"] = float(time_limit)
-    return trajopt.solve(example.problem, method, s=s, guess=example.guess, options=options, verbose=verbose,
-                         hessian="fd")
+    if example.problem.contacts is None:
+        if time_limit is not None:
+            options["max_cpu_time"] = float(time_limit)
+        return trajopt.solve(example.problem, method, s=s, guess=example.guess, options=options, verbose=verbose,
+                             hessian="fd")
+    epsilons = {} if example.epsilons is None else {"epsilons": example.epsilons}
+    coarse = None
+    if method == "vi" and s > 1:
+        t0 = time.perf_counter()
+        coarse = solve(example, "vi", 1, verbose, time_limit,
+                       None if checkpoint is None else f"{os.path.splitext(checkpoint)[0]}_s1.npz")
+        if time_limit is not None:
+            time_limit = max(1.0, time_limit - (time.perf_counter() - t0))
+    result = trajopt.solve_contact(example.problem, s=s, transcription=method, guess=example.guess,
+                                   options=options, verbose=verbose, hessian="fd", time_limit=time_limit,
+                                   checkpoint=checkpoint, sides_from=coarse, **epsilons)
+    if coarse is not None:
+        c, r = coarse.contact, result.contact
+        r["coarse"] = (c["iterations"], c["wall_seconds"])
+        r["solves"] = c["solves"] + r["solves"]
+        r["iterations"] += c["iterations"]
+        r["wall_seconds"] += c["wall_seconds"]
+    return result
 
 
 def run(example: Example, output: str, *, animation: bool = True, plots: bool = True, fps: float = 25.0,
