@@ -35,7 +35,9 @@ class Example:
     ``checks(result)`` the example's feasibility figures (each a float, with the bound it must meet
     in ``bounds``);
     ``contact_forces(u (P, m))`` the contact forces (P, k) named by ``force_labels``; ``epsilons`` the
-    relaxation homotopy of a contact-implicit problem (``trajopt.solve_contact``; None: its default)."""
+    relaxation homotopy of a contact-implicit problem (``trajopt.solve_contact``; None: its default);
+    ``sides_from_trapezoidal``: VI orders above 2 start on the contact sides of the trapezoidal VI's
+    solution (``report.solve``), else the homotopy runs from ``guess``."""
     name: str
     description: str
     robot: Robot
@@ -48,6 +50,7 @@ class Example:
     force_labels: List[str]
     scenery: Scenery = field(default_factory=Scenery)
     epsilons: Optional[Tuple[float, ...]] = None
+    sides_from_trapezoidal: bool = False
 
     def failures(self, figures: Dict[str, float]) -> List[str]:
         """The figures that miss their bounds, as readable sentences (empty: feasible)."""

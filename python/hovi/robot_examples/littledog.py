@@ -238,7 +238,7 @@ def gap_clearances(robot: Robot, terrain: Terrain, T: float, dt: float) -> List[
     r = robot.contact_radius
     return [trajopt.Clearance(body, point, center=((g.x0 + g.x1) / 2, 0.0, terrain.ground - r),
                               radius=(g.x1 - g.x0) / 2 + r, axes="xz", window=(0.0, T),
-                              between=samples_between(dt, SAMPLE_SPACING))
+                              between=samples_between(dt, SAMPLE_SPACING), down=True)
             for g in terrain.gaps for body, point in robot.contact_points]
 
 
@@ -328,4 +328,5 @@ def build(quick: bool = False) -> Example:
                    f"at {SPEED} m/s", robot, prob, guess, options,
                    lambda result: figures(robot, contacts, course, result), BOUNDS,
                    lambda u: contacts.forces(u)[:, :, 2], labels,
-                   scenery(robot, ground, (-0.2, course.distance + 0.25)), QUICK_EPSILONS if quick else None)
+                   scenery(robot, ground, (-0.2, course.distance + 0.25)), QUICK_EPSILONS if quick else None,
+                   sides_from_trapezoidal=True)

@@ -114,13 +114,15 @@ def solve(example: Example, method: str = "vi", s: int = 1, verbose: bool = Fals
     (IPOPT's max_cpu_time; a contact-implicit solve starts no further solve once it is spent);
     ``checkpoint`` (a path) lets a contact-implicit solve resume its homotopy (trajopt.solve_contact).
 
-    With contacts and the VI of order 2s > 2, the trapezoidal VI is solved first (its contact model
-    is well posed and its solves cheap) and the order-2s solve starts on the sides of the
-    complementarity pairs it found (``solve_contact(sides_from=...)``); the result's
-    ``contact['solves']``, 'iterations' and 'wall_seconds' count both, and ``contact['coarse']``
-    holds the trapezoidal solve's (iterations, seconds in IPOPT). Measured on the quick LittleDog
-    problem: 211 + 284 iterations, 42 + 120 s; the homotopy alone had not finished its first relaxed
-    solve after 400 iterations."""
+    With ``example.sides_from_trapezoidal`` and the VI of order 2s > 2, the trapezoidal VI is solved
+    first (its contact model is well posed and its solves cheap) and the order-2s solve starts on
+    the sides of the complementarity pairs it found (``solve_contact(sides_from=...)``); the
+    result's ``contact['solves']``, 'iterations' and 'wall_seconds' count both, and
+    ``contact['coarse']`` holds the trapezoidal solve's (iterations, seconds in IPOPT). Measured on
+    the quick problems, s = 2, with another solve on the machine: LittleDog 281 + 124 iterations,
+    110 s in all, where the homotopy alone had not finished its first relaxed solve after 400
+    iterations; Spring Flamingo 1856 iterations, 413 s (the exact solve on the s = 1 sides failed
+    after 783: the jump's impacts fall differently at s = 2), against the homotopy's 659, 173 s."""
     options = dict(example.options)
     if example.problem.contacts is None:
         if time_limit is not None:
@@ -129,7 +131,7 @@ def solve(example: Example, method: str = "vi", s: int = 1, verbose: bool = Fals
                              hessian="fd")
     epsilons = {} if example.epsilons is None else {"epsilons": example.epsilons}
     coarse = None
-    if method == "vi" and s > 1:
+    if method == "vi" and s > 1 and example.sides_from_trapezoidal:
         t0 = time.perf_counter()
         coarse = solve(example, "vi", 1, verbose, time_limit,
                        None if checkpoint is None else f"{os.path.splitext(checkpoint)[0]}_s1.npz")
