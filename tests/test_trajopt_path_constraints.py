@@ -66,29 +66,3 @@ def test_shared_kinematics_equal_each_constraint_alone():
         values, jac = c.evaluate(model, t, nlp._configurations(x, points, weights))
         np.testing.assert_array_equal(shared_values[k], values.ravel())
         np.testing.assert_array_equal(shared_jacobians[k], np.einsum("pk,prj->prkj", weights, jac).ravel())
-
-
-def test_clearance_down_keeps_points_out_of_the_column_under_the_circle():
-    """Clearance(down=True): the circle above its centre's height, the column of its width below it;
-    values from the world positions, Jacobians against finite differences on both sides."""
-    model = branched_model()
-    rng = np.random.default_rng(7)
-    Q = rng.uniform(-1.5, 1.5, size=(40, model.n))
-    X = np.array([hovi._core.trajopt.body_point_kinematics(model, [q], [3], [[0, 0.1, -0.2]])[0][0, 0] for q in Q])
-    center = np.array([0.1, 0.0, np.median(X[:, 2])])                   # half the points below its height
-    c = trajopt.Clearance(3, [0, 0.1, -0.2], center=center, radius=0.3, axes="xz", down=True, window=(0, 1)).bind(model)
-    plain = trajopt.Clearance(3, [0, 0.1, -0.2], center=center, radius=0.3, axes="xz", window=(0, 1)).bind(model)
-    above = X[:, 2] > center[2]
-    assert above.any() and (~above).any()
-    expected = (X[:, 0] - center[0]) ** 2 + np.where(above, X[:, 2] - center[2], 0.0) ** 2
-    values, jac = c.evaluate(model, np.zeros(len(Q)), Q)
-    np.testing.assert_allclose(values[:, 0], expected, rtol=0, atol=1e-14)
-    plain_values, plain_jac = plain.evaluate(model, np.zeros(len(Q)), Q)
-    np.testing.assert_array_equal(values[above], plain_values[above])            # above: the circle itself
-    h = 1e-6
-    for p, q in enumerate(Q):
-        fd = [(c.evaluate(model, [0.0], [q + h * e])[0] - c.evaluate(model, [0.0], [q - h * e])[0])[0, 0] / (2 * h)
-              for e in np.eye(model.n)]
-        np.testing.assert_allclose(jac[p, 0], fd, rtol=0, atol=1e-8)
-    with pytest.raises(ValueError, match="z axis"):
-        trajopt.Clearance(3, center=center, radius=0.3, axes="xy", down=True, window=(0, 1))

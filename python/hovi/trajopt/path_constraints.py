@@ -127,29 +127,21 @@ class BodyPoint(OnBodyPoints):
 
 class Clearance(BodyPoint):
     """A point (3,) of a body stays at least ``radius`` from a world point ``center`` (3,) (a spherical
-    obstacle; with axes='xz', a circle in that plane): |P (x - center)|^2 >= radius^2. With
-    ``down=True`` the obstacle also fills everything straight below it (a gap's mouth and the
-    column under it): below the centre's height only the horizontal distance counts,
-    |P (x - center)|^2 with the z component replaced by max(z - center_z, 0) (continuously
-    differentiable); axes must then include 'z'."""
+    obstacle; with axes='xz', a circle in that plane): |P (x - center)|^2 >= radius^2."""
 
     def __init__(self, body: int | str, point: npt.ArrayLike = (0.0, 0.0, 0.0), *, center: npt.ArrayLike,
                  radius: float, axes: str = "xyz", at: float | None = None, window: tuple[float, float] | None = None,
-                 between: int = 0, down: bool = False):
+                 between: int = 0):
         super().__init__(body, point, axes=axes, at=at, window=window, between=between)
         self.center = np.asarray(center, float)
         if radius <= 0:
             raise ValueError("radius must be positive")
-        if down and 2 not in self.rows:
-            raise ValueError(f"down=True needs the z axis among the axes, got axes='{axes}'")
-        self.down = [list(self.rows).index(2)] if down else []      # the row whose negative part is dropped
         self.lower, self.upper = np.array([radius ** 2]), np.array([np.inf])
 
     def of_points(self, X: np.ndarray, J: np.ndarray) -> PathValue:
         """|P (x - center)|^2 (P, 1) and its Jacobian (P, 1, n)."""
         X, J = super().of_points(X, J)
         d = X - self.center[self.rows]
-        d[:, self.down] = np.maximum(d[:, self.down], 0.0)
         return np.sum(d * d, axis=1, keepdims=True), 2 * np.einsum("pr,prn->pn", d, J)[:, None, :]
 
 
