@@ -137,6 +137,8 @@ def test_bad_contact_input_is_refused_with_a_reason():
                           ({"time_limit": np.nan}, "time_limit")):
         with pytest.raises(ValueError, match=match):
             trajopt.solve_contact(prob, **kwargs)
+    with pytest.raises(TypeError, match="sides_from must be a Result"):
+        trajopt.solve_contact(prob, sides_from=np.zeros(3))
     prob.initial_state([0.0, -0.01])
     with pytest.raises(ValueError, match="initial configuration puts contact point 0 0.01 below the terrain"):
         trajopt.solve_contact(prob)
