@@ -4,7 +4,8 @@ collocation of the same problem and contact model, all by IPOPT with the Lagrang
 (trajopt.hessian): iterations, solve time, the feasibility figures and, for the VIs, the replay
 figures (report.replay_figures).
 
-    python bench/robot_examples.py [--quick] [--only NAME ...] [--methods vi1 vi2 hs] [--time-limit S] [--checkpoints DIR] [--verbose]
+    python bench/robot_examples.py [--quick] [--only NAME ...] [--methods vi1 vi2 hs] [--time-limit S]
+                                   [--checkpoints DIR] [--verbose]
 
 Writes bench/results/robot_examples.json (robot_examples_quick.json) after each run, the row run
 replacing its (example, method) and the others kept as the file has them then (two runs with

@@ -152,9 +152,9 @@ def solve(example: Example, method: str = "vi", s: int = 1, verbose: bool = Fals
 
 def run(example: Example, output: str, *, animation: bool = True, plots: bool = True, fps: float = 25.0,
         verbose: bool = False, method: str = "vi", s: int = 1, checkpoint: str | None = None) -> Dict[str, Any]:
-    """Solve ``example`` (``method``, ``checkpoint`` as in ``solve``: the VI of order 2s by default), check it, replay it
-    (VI only: the replay figures put the solution into the integrator's equations) and write its files
-    into ``output``; returns the summary (also written as <name>.json) with 'feasible' and, if not,
+    """Solve ``example`` (``method``, ``checkpoint`` as in ``solve``: the VI of order 2s by default),
+    check it, replay it (VI only: the replay figures put the solution into the integrator's
+    equations) and write its files into ``output``; returns the summary (also written as <name>.json) with 'feasible' and, if not,
     'failures'."""
     os.makedirs(output, exist_ok=True)
     t0 = time.perf_counter()

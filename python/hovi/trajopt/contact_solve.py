@@ -179,7 +179,8 @@ def solve_contact(problem: Problem, epsilons: Sequence[float] = DEFAULT_EPSILONS
         raise ValueError(f"finish_below must be finite and >= 0, got {finish_below}")
     if time_limit is not None and not (np.isfinite(time_limit) and time_limit > 0):
         raise ValueError(f"time_limit must be a positive number of seconds, got {time_limit}")
-    if sides_from is not None and not (isinstance(sides_from, Result) and hasattr(sides_from.transcription, "interpolants")):
+    if sides_from is not None and not (isinstance(sides_from, Result)
+                                       and hasattr(sides_from.transcription, "interpolants")):
         raise TypeError(f"sides_from must be a Result of solve_contact, got {type(sides_from).__name__}")
     deadline = None if time_limit is None else time.perf_counter() + time_limit
     saved = problem.complementarity_epsilon, problem.complementarity_branches
