@@ -158,7 +158,8 @@ def test_time_limit_stops_the_homotopy_between_solves():
 
 def test_checkpoint_resumes_the_homotopy_where_it_stopped(tmp_path):
     """A solve stopped after its first relaxed solve, resumed from its checkpoint: the same solves and
-    the same solution as one uninterrupted solve; a checkpoint of another solve is refused."""
+    the same solution as one uninterrupted solve; a checkpoint of another solve, a file that is no
+    checkpoint and a folder that does not exist are refused."""
     contacts, prob = contact_problem(planar_point_mass(), [0.0, 0.3], [0.0, 0.0], 0.5, 25, mu=0.5)
     path = tmp_path / "drop.npz"
     stopped = trajopt.solve_contact(prob, time_limit=1e-3, checkpoint=path)
@@ -172,6 +173,14 @@ def test_checkpoint_resumes_the_homotopy_where_it_stopped(tmp_path):
     for kwargs, match in (({"epsilons": (1e-1, 1e-3)}, "epsilons"), ({"s": 2}, "another solve")):
         with pytest.raises(ValueError, match=match):
             trajopt.solve_contact(prob, checkpoint=path, **kwargs)
+    (tmp_path / "notes.npz").write_text("not a checkpoint")
+    np.savez(tmp_path / "other.npz", x=np.zeros(3))
+    np.save(tmp_path / "array.npy", np.zeros(3))
+    for name, match in (("notes.npz", "not a solve_contact checkpoint"), ("other.npz", "lacks"),
+                        ("array.npy", "not a solve_contact checkpoint"),
+                        ("missing/drop.npz", "folder does not exist")):
+        with pytest.raises(ValueError, match=match):
+            trajopt.solve_contact(prob, checkpoint=tmp_path / name)
 
 
 def test_sides_from_a_trapezoidal_solution_lead_the_higher_order_solves():

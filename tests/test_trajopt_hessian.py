@@ -2,11 +2,10 @@
 differences of the Lagrangian's gradient, and IPOPT with it against IPOPT with L-BFGS."""
 import numpy as np
 import pytest
+import scipy.sparse as sp
 
 from hovi import trajopt
 from hovi.trajopt.examples import cartpole_swingup, pendulum_swingup, slider_crank_to_target
-import scipy.sparse as sp
-
 from hovi.trajopt.hessian import LagrangianHessian, distance2_colouring, star_colouring
 
 

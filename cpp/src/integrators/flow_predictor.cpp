@@ -67,9 +67,10 @@ bool PredictorChoice::flow() {
 
 void PredictorChoice::observe(bool flow, int iterations) {
   if (mode_ != Predictor::Auto || flow) return;
-  // The history's steps decide: more than kEnough iterations, take the flow, and probe the
-  // history again after twice as many steps as the last time (16, 32, ... 1024: a failed probe
-  // costs as much as the flow saves on many steps); kEnough or fewer, keep the history.
+  // The history's steps decide: more than enough_ iterations (kEnough, or kEnoughDense on the
+  // dense path), take the flow, and probe the history again after twice as many steps as the last
+  // time (16, 32, ... 1024: a failed probe costs as much as the flow saves on many steps); enough_
+  // or fewer, keep the history.
   const bool probe_failed = flowing_ && iterations > enough_;
   probe_every_ = probe_failed ? std::min(2 * probe_every_, kProbeMax) : kProbeFirst;
   flowing_ = iterations > enough_;

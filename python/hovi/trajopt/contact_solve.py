@@ -52,6 +52,7 @@ from __future__ import annotations
 import dataclasses
 import os
 import time
+import zipfile
 from typing import Any, Sequence
 
 import numpy as np
@@ -185,6 +186,8 @@ def solve_contact(problem: Problem, epsilons: Sequence[float] = DEFAULT_EPSILONS
     deadline = None if time_limit is None else time.perf_counter() + time_limit
     saved = problem.complementarity_epsilon, problem.complementarity_branches
     solves, wall, resumed = [], 0.0, None
+    if checkpoint is not None and not os.path.isdir(os.path.dirname(os.path.abspath(checkpoint))):
+        raise ValueError(f"the checkpoint's folder does not exist: {os.fspath(checkpoint)}")
     if checkpoint is not None and os.path.exists(checkpoint):
         resumed, solves, wall = load_checkpoint(checkpoint, problem, transcription, s, eps)
 
@@ -263,8 +266,15 @@ def save_checkpoint(path, relaxed: Result, transcription: str, s: int, epsilons:
 def load_checkpoint(path, problem: Problem, transcription: str, s: int, epsilons: Sequence[float]):
     """((epsilon, relaxed Result), solves, wall) from a ``save_checkpoint`` file, after checking that
     it belongs to this problem, transcription, s and epsilons."""
-    with np.load(path) as f:
-        data = {k: f[k] for k in f.files}
+    keys = {"x", "success", "status", "epsilon", "epsilons", "transcription", "s", "solves", "wall"}
+    try:
+        with np.load(path) as f:
+            data = {k: f[k] for k in f.files}
+    except (OSError, ValueError, TypeError, zipfile.BadZipFile) as e:
+        raise ValueError(f"{os.fspath(path)} is not a solve_contact checkpoint (npz): {e}") from e
+    if not keys <= set(data):
+        raise ValueError(f"{os.fspath(path)} is not a solve_contact checkpoint: it lacks "
+                         f"{sorted(keys - set(data))}")
     tr = transcribe(problem, transcription, s)
     found = (str(data["transcription"]), int(data["s"]), len(data["x"]), tuple(data["epsilons"]))
     wanted = (transcription, s, tr.core.n_variables, tuple(float(e) for e in epsilons))
