@@ -62,6 +62,8 @@ METHODS = list(SWEEPS[12])
 PROBLEMS = {12: 10.0, 32: 2.0, 64: 1.0}  # n -> T
 QUICK_PROBLEMS = {4: 0.5, 6: 0.5}
 LEVELS = [10.0 ** -k for k in range(3, 11)]
+# The footnote of runs recorded before --conditions existed (they all ran beside one other job).
+LOADED = "Measured with one other single-threaded job on the machine's second core."
 
 
 def integrator_defaults():
@@ -156,7 +158,7 @@ def fmt(hit):
     return "not reached" if hit is None else ("≤ " if hit[1] else "") + f"{hit[0] * 1e3:.3g} ms"
 
 
-def table(runs, ns):
+def table(runs, ns, conditions):
     """Per n and error level: the run time of hovi's VI envelope (the fastest s) and of MuJoCo RK4."""
     lines = ["| n | error | hovi VI (best s, solver stop) | MuJoCo RK4 | VI / RK4 run time | Hermite-Simpson (hovi) |",
              "|---|---|---|---|---|---|"]
@@ -174,8 +176,7 @@ def table(runs, ns):
                          f"{f'{ratio:.3g}' if ratio else '–'} | {fmt(hs)} |")
     lines += ["", "Median over the initial states of the run time to reach each error level (the cheapest point of "
               "each method's dt sweep at or below it, or log-log interpolation across it; ≤: the sweep's largest dt, "
-              "already below). Ratio > 1: MuJoCo RK4 is faster. Measured with one other single-threaded job on the "
-              "machine's second core."]
+              "already below). Ratio > 1: MuJoCo RK4 is faster. " + conditions]
     return "\n".join(lines), rows
 
 
@@ -225,7 +226,7 @@ def replot():
     with open(f"{RESULTS}/pareto.json") as f:
         data = json.load(f)
     problems = {int(n): T for n, T in data["problems"].items()}
-    text, rows = table(data["runs"], list(problems))
+    text, rows = table(data["runs"], list(problems), data.get("conditions", LOADED))
     text += "\n\n" + mjm.describe({int(n): a for n, a in data["mujoco_check_max_relative_difference"].items()})
     write_json("pareto.json", {**data, "equal_error_table": rows})
     plot(data["runs"], problems, f"{RESULTS}/pareto.png")
@@ -242,6 +243,8 @@ def main():
     ap.add_argument("--T", type=float, help="horizon of a partial run (default: the full run's for each n)")
     ap.add_argument("--points", type=int, help="a partial run: this many dts per method (the largest ones)")
     ap.add_argument("--methods", nargs="+", choices=METHODS, help="a partial run: these methods only")
+    ap.add_argument("--conditions", default="Nothing else ran on the machine.",
+                    help="what else ran on the machine during the run (the table's footnote and the JSON say so)")
     ap.add_argument("--replot", action="store_true", help="no runs: the table, plot and README section again "
                     "from bench/results/pareto.json")
     args = ap.parse_args()
@@ -256,14 +259,14 @@ def main():
     for n, T in problems.items():
         agreement[n], r = sweep(n, T, n_states, 2 if args.quick else args.points, args.methods)
         runs += r
-    text, rows = table(runs, list(problems))
+    text, rows = table(runs, list(problems), args.conditions)
     text += "\n\n" + mjm.describe(agreement)
     name = "pareto_quick" if args.quick else ("pareto_partial" if partial else "pareto")
     write_json(f"{name}.json", {"problems": {str(n): T for n, T in problems.items()}, "states": n_states,
                                 "options": OPTIONS, "integrator_defaults": integrator_defaults(),
                                 "sweeps": {str(n): sw for n, sw in SWEEPS.items()}, "mujoco_version": mjm.mujoco.__version__,
                                 "mujoco_check_max_relative_difference": {str(n): a for n, a in agreement.items()},
-                                "equal_error_table": rows, "runs": runs})
+                                "equal_error_table": rows, "conditions": args.conditions, "runs": runs})
     plot(runs, problems, f"{RESULTS}/{name}.png")
     print(text)
     if name == "pareto":
