@@ -229,7 +229,7 @@ def test_flow_predictor_gives_the_same_trajectory_with_fewer_factorisations():
     flow and the automatic choice (each step converged to round-off; the chain amplifies the
     difference of the last digits over 60 steps to about 1e-11, the bound of the simplified-Newton
     test above), and the flow and the automatic choice need under a third of the history's
-    factorisations (measured: 185 and 195 against 757 over the 60 steps)."""
+    factorisations (measured: 172 and 195 against 787 over the 60 steps)."""
     model = hovi.models.pendulum(64)
     q0 = np.random.default_rng(0).uniform(-np.pi / 12, np.pi / 12, 64)
     runs = {p: hovi.Integrator(model, s=3, dt=0.015, predictor=p).rollout(q0, 60) for p in ("history", "flow", "auto")}

@@ -76,7 +76,7 @@ TEST(FlowPredictor, SpringSliderConvergesAtFifthOrderPerStep) {
   Model model = slider(Vec3::UnitX(), 1.0);
   model.add_spring(0, 25.0, 0.0);  // ω = 5
   const double q0 = 0.2, v0 = -0.3, w = 5.0;
-  for (int s = 1; s <= 3; ++s) {
+  for (int s = 1; s <= 5; ++s) {  // s >= 3: fewer steps than intervals, read off the quintic interpolant
     const Quadrature quad(s);
     double previous = 0;
     for (double dt : {0.08, 0.04, 0.02}) {
@@ -95,21 +95,28 @@ TEST(FlowPredictor, SpringSliderConvergesAtFifthOrderPerStep) {
   }
 }
 
+TEST(FlowPredictor, FewerStepsThanIntervalsFromThreeOn) {
+  const int expected[] = {0, 1, 2, 2, 3, 4, 4};  // s = 1..6: round(1 / longest interval), at most s
+  for (int s = 1; s <= 6; ++s) EXPECT_EQ(FlowPredictor::substeps(Quadrature(s)), expected[s]) << "s = " << s;
+}
+
 TEST(FlowPredictor, RolloutsWithEveryPredictorAgree) {
   Model model = slider(Vec3(1, 0, 1), 1.0);
   model.add_spring(0, 40.0, 0.1);
   model.add_damper(0, 0.3);
   const int steps = 50;
-  MatX last[3];
-  const Predictor predictors[3] = {Predictor::History, Predictor::Flow, Predictor::Auto};
-  for (int k = 0; k < 3; ++k) {
-    SolverOptions opt;
-    opt.predictor = predictors[k];
-    GalerkinIntegrator integ(model, 2, 0.02, opt);
-    const Rollout r = integ.rollout((VecX(1) << 0.4).finished(), (VecX(1) << 0.0).finished(), steps, MatX());
-    ASSERT_EQ(r.steps, steps);
-    last[k] = r.q;
+  for (int s = 2; s <= 4; ++s) {  // s = 2: one step per interval; 3, 4: the interpolated flow
+    MatX last[3];
+    const Predictor predictors[3] = {Predictor::History, Predictor::Flow, Predictor::Auto};
+    for (int k = 0; k < 3; ++k) {
+      SolverOptions opt;
+      opt.predictor = predictors[k];
+      GalerkinIntegrator integ(model, s, 0.02, opt);
+      const Rollout r = integ.rollout((VecX(1) << 0.4).finished(), (VecX(1) << 0.0).finished(), steps, MatX());
+      ASSERT_EQ(r.steps, steps);
+      last[k] = r.q;
+    }
+    EXPECT_LT((last[1] - last[0]).cwiseAbs().maxCoeff(), 1e-13) << "s = " << s;
+    EXPECT_LT((last[2] - last[0]).cwiseAbs().maxCoeff(), 1e-13) << "s = " << s;
   }
-  EXPECT_LT((last[1] - last[0]).cwiseAbs().maxCoeff(), 1e-13);
-  EXPECT_LT((last[2] - last[0]).cwiseAbs().maxCoeff(), 1e-13);
 }

@@ -1,6 +1,7 @@
 #include "hovi/integrators/flow_predictor.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "hovi/algorithms/dynamics.hpp"
 #include "hovi/errors.hpp"
@@ -8,8 +9,8 @@
 namespace hovi {
 
 FlowPredictor::FlowPredictor(const Model& model)
-    : q_(model.n()), v_(model.n()), qs_(model.n()), vs_(model.n()), tau_(model.n()), u0_(model.n_controls()),
-      um_(model.n_controls()), u1_(model.n_controls()) {
+    : q_(model.n()), v_(model.n()), qs_(model.n()), vs_(model.n()), q0_(model.n()), v0_(model.n()), a0_(model.n()),
+      a1_(model.n()), tau_(model.n()), u0_(model.n_controls()), um_(model.n_controls()), u1_(model.n_controls()) {
   const int n = model.n();
   for (int j = 0; j < 4; ++j) {
     kq_[j].resize(n);
@@ -27,31 +28,78 @@ void FlowPredictor::acceleration(const Model& model, Data& data, const VecX& q, 
   dv = forward_dynamics(model, data, q, v, tau_);
 }
 
+int FlowPredictor::substeps(const Quadrature& quad) {
+  double longest = 0;
+  for (int a = 1; a <= quad.s; ++a) longest = std::max(longest, quad.c[a] - quad.c[a - 1]);
+  return std::max(1, std::min(quad.s, static_cast<int>(std::lround(1 / longest))));
+}
+
+void FlowPredictor::control_at(const Quadrature& quad, const Eigen::Ref<const MatX>& u, double x, VecX& u_t) const {
+  if (u.rows() == 0) return;
+  int a = 1;
+  while (a < quad.s && quad.c[a] < x) ++a;  // x in [c^{a-1}, c^a]
+  const double w = (x - quad.c[a - 1]) / (quad.c[a] - quad.c[a - 1]);
+  u_t = (1 - w) * u.col(a - 1) + w * u.col(a);
+}
+
+void FlowPredictor::rk4(const Model& model, Data& data, double h, const VecX& a0, const VecX& u_mid,
+                        const VecX& u_end) {
+  kq_[0] = v_;
+  kv_[0] = a0;
+  for (int j = 1; j < 4; ++j) {
+    const double f = j < 3 ? 0.5 * h : h;  // classical RK4: stages at h/2, h/2, h
+    qs_ = q_ + f * kq_[j - 1];
+    vs_ = v_ + f * kv_[j - 1];
+    kq_[j] = vs_;
+    acceleration(model, data, qs_, vs_, j < 3 ? u_mid : u_end, kv_[j]);
+  }
+  q_ += (h / 6) * (kq_[0] + 2 * kq_[1] + 2 * kq_[2] + kq_[3]);
+  v_ += (h / 6) * (kv_[0] + 2 * kv_[1] + 2 * kv_[2] + kv_[3]);
+}
+
 bool FlowPredictor::predict(const Model& model, const Quadrature& quad, double dt, Data& data,
                             const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u, Eigen::Ref<MatX> qc) {
   try {
+    const int s = quad.s, m = substeps(quad);
     q_ = qc.col(0);
     v_ = mass_matrix_solve(model, data, q_, p);  // q̇^k = M(q^k)^{-1} p^k
-    for (int a = 1; a <= quad.s; ++a) {
-      const double h = (quad.c[a] - quad.c[a - 1]) * dt;
-      if (u.rows() > 0) {  // the controls at the interval's start, middle and end (linear in between)
-        u0_ = u.col(a - 1);
-        u1_ = u.col(a);
-        um_ = 0.5 * (u0_ + u1_);
+    if (m == s) {  // one step per interval between consecutive Lobatto points
+      for (int a = 1; a <= s; ++a) {
+        if (u.rows() > 0) {  // the controls at the interval's start, middle and end (linear in between)
+          u0_ = u.col(a - 1);
+          u1_ = u.col(a);
+          um_ = 0.5 * (u0_ + u1_);
+        }
+        acceleration(model, data, q_, v_, u0_, a0_);
+        rk4(model, data, (quad.c[a] - quad.c[a - 1]) * dt, a0_, um_, u1_);
+        if (!q_.allFinite() || !v_.allFinite()) return false;
+        qc.col(a) = q_;
       }
-      kq_[0] = v_;
-      acceleration(model, data, q_, v_, u0_, kv_[0]);
-      for (int j = 1; j < 4; ++j) {
-        const double f = j < 3 ? 0.5 * h : h;  // classical RK4: stages at h/2, h/2, h
-        qs_ = q_ + f * kq_[j - 1];
-        vs_ = v_ + f * kv_[j - 1];
-        kq_[j] = vs_;
-        acceleration(model, data, qs_, vs_, j < 3 ? um_ : u1_, kv_[j]);
+      return true;
+    }
+    // m < s equal steps, the control points read off the quintic Hermite interpolant of
+    // (q, q̇, q̈) at the ends of each: 4 m + 1 passes.
+    const double h = dt / m;
+    control_at(quad, u, 0, u0_);
+    acceleration(model, data, q_, v_, u0_, a0_);
+    int a = 1;
+    for (int j = 0; j < m; ++j) {
+      q0_ = q_;
+      v0_ = v_;
+      control_at(quad, u, (j + 0.5) / m, um_);
+      control_at(quad, u, (j + 1.0) / m, u1_);
+      rk4(model, data, h, a0_, um_, u1_);
+      acceleration(model, data, q_, v_, u1_, a1_);
+      if (!q_.allFinite() || !v_.allFinite() || !a1_.allFinite()) return false;
+      for (; a <= s && (quad.c[a] * m <= j + 1 || j == m - 1); ++a) {
+        const double x = quad.c[a] * m - j;  // in [0, 1] on this step
+        const double x3 = x * x * x, x4 = x3 * x, x5 = x4 * x;
+        qc.col(a) = (1 - 10 * x3 + 15 * x4 - 6 * x5) * q0_ + (10 * x3 - 15 * x4 + 6 * x5) * q_ +
+                    (h * (x - 6 * x3 + 8 * x4 - 3 * x5)) * v0_ + (h * (-4 * x3 + 7 * x4 - 3 * x5)) * v_ +
+                    (h * h * (0.5 * x * x - 1.5 * x3 + 1.5 * x4 - 0.5 * x5)) * a0_ +
+                    (h * h * (0.5 * x3 - x4 + 0.5 * x5)) * a1_;
       }
-      q_ += (h / 6) * (kq_[0] + 2 * kq_[1] + 2 * kq_[2] + kq_[3]);
-      v_ += (h / 6) * (kv_[0] + 2 * kv_[1] + 2 * kv_[2] + kv_[3]);
-      if (!q_.allFinite() || !v_.allFinite()) return false;
-      qc.col(a) = q_;
+      a0_.swap(a1_);
     }
     return true;
   } catch (const ModelError&) {  // a joint that moves no mass: the other predictors take over
