@@ -118,7 +118,8 @@ class Integrator:
     (the paper's Newton). The first guess of a rollout step (``predictor``): ``"history"``
     extrapolates the last two steps' control points (cheap; most steps converge in two iterations
     at accuracy-relevant dt); ``"flow"`` integrates the continuous dynamics over the step from
-    q^k and M^{-1} p^k (4 s forward-dynamics passes, O(s n); at steps that resolve fast modes
+    q^k and M^{-1} p^k (classical Runge-Kutta: 4 s forward-dynamics passes for s <= 2, 9 for s = 3,
+    13 for s = 4; O(s n); at steps that resolve fast modes
     only barely it saves most iterations and refactorisations: bench/README.md); ``"auto"``
     (default) takes the flow for s >= 3 once a step from the history needed more than four
     iterations (six where the direction is dense, whose iterations are cheap), trying the

@@ -50,8 +50,9 @@ class FlowPredictor {
 // (kEnoughDense on the dense path), trying the history again after kProbeFirst steps (twice as
 // many after each probe that needed more, up to kProbeMax) and keeping it when that step needs no
 // more. At accuracy-relevant steps the history needs two to four iterations, the flow two, for
-// 4 s forward dynamics that cost about as much as one or two iterations (12-link pendulum, s = 3,
-// dt = 0.03: history 3.2 iterations, 53 µs per step; flow 2.0, 74 µs). A second factorisation
+// forward dynamics that cost about as much as one or two iterations (12-link pendulum, s = 3,
+// dt = 0.03, with one Runge-Kutta step per interval: history 3.2 iterations, 53 µs per step;
+// flow 2.0, 74 µs). A second factorisation
 // is no signal: near round-off the simplified Newton refactors on steps of three iterations.
 // (Measured on the n-link pendulum, bench/README.md: the flow cut s = 3 and 4 at n = 64,
 // dt = 0.015 from 20-25 iterations and 13-18 factorisations per step to 4-5 and 2, while for

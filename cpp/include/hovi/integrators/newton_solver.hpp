@@ -19,7 +19,7 @@ enum class Direction { Auto, Recursive, Dense };
 enum class Reuse { Never, WithinStep };
 // The first guess of a rollout step (galerkin_integrator.hpp): History extrapolates the last two
 // steps' control points; Flow integrates the continuous dynamics over the step (flow_predictor.hpp,
-// 4 s forward-dynamics passes); Auto chooses per step (flow_predictor.hpp's PredictorChoice).
+// O(s) forward-dynamics passes); Auto chooses per step (flow_predictor.hpp's PredictorChoice).
 enum class Predictor { Auto, History, Flow };
 
 struct SolverOptions {
