@@ -61,36 +61,30 @@ bool FlowPredictor::predict(const Model& model, const Quadrature& quad, double d
                             const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u, Eigen::Ref<MatX> qc) {
   try {
     const int s = quad.s, m = substeps(quad);
+    const bool at_nodes = m == s;  // one step per Lobatto interval: its ends are the control points
     q_ = qc.col(0);
     v_ = mass_matrix_solve(model, data, q_, p);  // q̇^k = M(q^k)^{-1} p^k
-    if (m == s) {  // one step per interval between consecutive Lobatto points
-      for (int a = 1; a <= s; ++a) {
-        if (u.rows() > 0) {  // the controls at the interval's start, middle and end (linear in between)
-          u0_ = u.col(a - 1);
-          u1_ = u.col(a);
-          um_ = 0.5 * (u0_ + u1_);
-        }
-        acceleration(model, data, q_, v_, u0_, a0_);
-        rk4(model, data, (quad.c[a] - quad.c[a - 1]) * dt, a0_, um_, u1_);
-        if (!q_.allFinite() || !v_.allFinite()) return false;
-        qc.col(a) = q_;
-      }
-      return true;
-    }
-    // m < s equal steps, the control points read off the quintic Hermite interpolant of
-    // (q, q̇, q̈) at the ends of each: 4 m + 1 passes.
-    const double h = dt / m;
     control_at(quad, u, 0, u0_);
     acceleration(model, data, q_, v_, u0_, a0_);
+    // Otherwise m < s equal steps, the control points read off the quintic Hermite interpolant of
+    // (q, q̇, q̈) at the ends of each: 4 m + 1 forward-dynamics passes (4 s at the nodes).
     int a = 1;
     for (int j = 0; j < m; ++j) {
+      const double x0 = at_nodes ? quad.c[j] : double(j) / m, x1 = at_nodes ? quad.c[j + 1] : double(j + 1) / m;
+      const double h = (x1 - x0) * dt;
       q0_ = q_;
       v0_ = v_;
-      control_at(quad, u, (j + 0.5) / m, um_);
-      control_at(quad, u, (j + 1.0) / m, u1_);
+      control_at(quad, u, 0.5 * (x0 + x1), um_);  // the controls linear between the control points
+      control_at(quad, u, x1, u1_);
       rk4(model, data, h, a0_, um_, u1_);
+      if (!q_.allFinite() || !v_.allFinite()) return false;
+      if (at_nodes) {
+        qc.col(j + 1) = q_;
+        if (j + 1 < m) acceleration(model, data, q_, v_, u1_, a0_);
+        continue;
+      }
       acceleration(model, data, q_, v_, u1_, a1_);
-      if (!q_.allFinite() || !v_.allFinite() || !a1_.allFinite()) return false;
+      if (!a1_.allFinite()) return false;
       for (; a <= s && (quad.c[a] * m <= j + 1 || j == m - 1); ++a) {
         const double x = quad.c[a] * m - j;  // in [0, 1] on this step
         const double x3 = x * x * x, x4 = x3 * x, x5 = x4 * x;
