@@ -30,7 +30,7 @@ def states(rng, count, n, spread=1.0):
 
 def assert_same_trajectory(a, b):
     for f in dataclasses.fields(a):
-        if f.name not in ("solve_seconds", "integrator"):
+        if f.name not in ("solve_seconds", "discretization"):
             x, y = getattr(a, f.name), getattr(b, f.name)
             assert (x is None and y is None) or np.array_equal(x, y), f.name
 

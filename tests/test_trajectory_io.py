@@ -33,7 +33,7 @@ def test_constrained_multipliers_round_trip(tmp_path):
     back = hovi.load_trajectory(tmp_path / "fourbar.npz")
     assert traj.multipliers is not None and traj.multipliers.size > 0
     np.testing.assert_array_equal(back.multipliers, traj.multipliers)
-    assert back.integrator is None
+    assert back.discretization is None
 
 
 def test_files_that_do_not_fit_are_rejected(tmp_path):
@@ -53,3 +53,29 @@ def test_files_that_do_not_fit_are_rejected(tmp_path):
     with pytest.raises(ValueError, match="no integrator"):
         hovi.Trajectory(t=traj.t, q=traj.q, p=traj.p, control_points=traj.control_points,
                         iterations=traj.iterations, residuals=traj.residuals).save(tmp_path / "x.npz")
+
+
+def test_a_trajectory_carries_its_discretization_not_the_integrator():
+    integ, traj = rollout(hovi.models.pendulum(3), s=3)
+    d = traj.discretization
+    assert d is integ.discretization and (d.s, d.dt, d.model) == (3, 0.01, integ.model)
+    np.testing.assert_array_equal(traj.energy, integ.energies(traj.q, traj.p))
+    np.testing.assert_array_equal(traj.qdot[5], integ.velocity(traj.q[5], traj.p[5]))
+    with pytest.warns(DeprecationWarning, match="Trajectory.integrator is deprecated"):
+        assert traj.integrator is d
+    # every configuration sample in time order: q^{k,0..s-1} of each step, then q^K
+    Q = traj.configuration_points
+    assert Q.shape == (50 * 3 + 1, 3)
+    np.testing.assert_array_equal(Q[3 * 7:3 * 8], traj.control_points[7, :3])
+    np.testing.assert_array_equal(Q[3 * 8], traj.q[8])
+    np.testing.assert_array_equal(Q[-1], traj.q[-1])
+
+
+def test_the_old_module_still_loads(tmp_path):
+    integ, traj = rollout(hovi.models.pendulum(2))
+    traj.save(tmp_path / "t.npz")
+    import importlib, sys
+    sys.modules.pop("hovi.trajectory_io", None)
+    with pytest.warns(DeprecationWarning, match="hovi.trajectory_io is deprecated"):
+        old = importlib.import_module("hovi.trajectory_io")
+    np.testing.assert_array_equal(old.load_trajectory(tmp_path / "t.npz", integ).q, traj.q)

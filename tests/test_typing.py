@@ -58,7 +58,7 @@ def test_mypy_strict_on_the_core_modules(tmp_path):
     """The modules of `import hovi` (not the optional trajopt, plotting, cli) and hovi.distributed are
     themselves strict-clean."""
     pytest.importorskip("mypy")
-    modules = ["hovi", "hovi.integrator", "hovi.linearizer", "hovi.batch", "hovi.trajectory_io", "hovi.models",
+    modules = ["hovi", "hovi.integrator", "hovi.linearizer", "hovi.batch", "hovi.trajectory", "hovi.models",
                "hovi.robots", "hovi._typing", "hovi.distributed"]
     proc = subprocess.run([sys.executable, "-m", "mypy", "--strict", "--no-incremental", "--cache-dir",
                            str(tmp_path / "cache"), *[a for m in modules for a in ("-m", m)]],

@@ -7,11 +7,11 @@ Optimization" (WAFR 2018).
 from ._core import Model, ModelError, URDFError
 from . import models, robots
 from .batch import JacobianBatch, StepBatch, TrajectoryBatch
-from .integrator import ConvergenceError, Integrator, StepInfo, Trajectory
+from .integrator import ConvergenceError, Integrator
 from .linearizer import DelJacobian, Linearizer, StepLinearization
-from .trajectory_io import load_trajectory
+from .trajectory import Discretization, StepInfo, Trajectory, load_trajectory
 
 __all__ = ["Model", "ModelError", "URDFError", "models", "robots", "Integrator", "ConvergenceError", "StepInfo",
            "Trajectory", "TrajectoryBatch", "StepBatch", "Linearizer", "DelJacobian", "StepLinearization",
-           "JacobianBatch", "load_trajectory"]
+           "JacobianBatch", "load_trajectory", "Discretization"]
 __version__ = "0.1.0"  # the one place the version is kept: pyproject.toml reads it from here

@@ -5,15 +5,14 @@ a leading axis of length B, with a status per item (one failed item does not fai
 from __future__ import annotations
 
 import dataclasses
+import warnings
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, List, Optional, Sequence, Type, TypeVar
+from typing import Any, List, Optional, Sequence, Type, TypeVar
 
 import numpy as np
 
 from ._typing import BoolArray, FloatArray, IntArray
-
-if TYPE_CHECKING:
-    from .integrator import Integrator, StepInfo, Trajectory
+from .trajectory import Discretization, StepInfo, Trajectory
 
 _Batch = TypeVar("_Batch", "TrajectoryBatch", "StepBatch", "JacobianBatch")
 
@@ -42,7 +41,8 @@ class TrajectoryBatch:
     constrained model, and per step iterations, factorizations (-1 where no step was attempted)
     and residuals (NaN there), (B, K). An item whose solve failed at step k stops there: its rows
     after q[b, k] are NaN, ``steps[b]`` = k and ``status[b]`` says why. ``trajectory(b)`` is item b
-    as a Trajectory, identical to what ``Integrator.rollout`` returns for it."""
+    as a Trajectory, identical to what ``Integrator.rollout`` returns for it (with the same
+    ``discretization``)."""
     t: FloatArray                # (K+1,)
     q: FloatArray                # (B, K+1, n)
     p: FloatArray                # (B, K+1, n)
@@ -55,7 +55,7 @@ class TrajectoryBatch:
     errors: List[Optional[str]] = field(default_factory=list)  # (B,) the message of an exception an item raised, or None
     multipliers: Optional[FloatArray] = None  # (B, K, s, n_constraints), constrained models
     solve_seconds: Optional[FloatArray] = None  # (B,) time of each item's rollout in C++
-    integrator: Optional[Integrator] = field(default=None, repr=False)
+    discretization: Optional[Discretization] = field(default=None, repr=False)  # the integrator's model, s and dt
 
     def __len__(self) -> int:
         return len(self.status)
@@ -65,10 +65,16 @@ class TrajectoryBatch:
         """(B,) whether every step of each item converged."""
         return np.array([s == "converged" for s in self.status], dtype=bool)
 
+    @property
+    def integrator(self) -> Optional[Discretization]:
+        """Deprecated: ``discretization``."""
+        warnings.warn("TrajectoryBatch.integrator is deprecated: use TrajectoryBatch.discretization",
+                      DeprecationWarning, stacklevel=2)
+        return self.discretization
+
     def trajectory(self, b: int) -> Trajectory:
         """Item b as a Trajectory (what ``Integrator.rollout(..., raise_on_failure=False)`` returns
         for its initial state, bit for bit); ValueError for an item that raised an exception."""
-        from .integrator import Trajectory
         if self.errors[b] is not None:
             raise ValueError(f"item {b} of the batch raised an exception: {self.errors[b]}")
         k = int(self.steps[b])
@@ -80,12 +86,12 @@ class TrajectoryBatch:
                           status=["converged"] * k + ([self.status[b]] if attempted > k else []),
                           multipliers=None if self.multipliers is None else self.multipliers[b, :k].copy(),
                           solve_seconds=float(self.solve_seconds[b]) if self.solve_seconds is not None else 0.0,
-                          integrator=self.integrator)
+                          discretization=self.discretization)
 
     @classmethod
     def concatenate(cls, parts: Sequence[TrajectoryBatch]) -> TrajectoryBatch:
         """One batch from consecutive pieces (of the same integrator and number of steps)."""
-        return _concatenate(cls, parts, shared=("t", "integrator"))
+        return _concatenate(cls, parts, shared=("t", "discretization"))
 
 
 @dataclass
@@ -114,7 +120,6 @@ class StepBatch:
     def info(self, b: int) -> StepInfo:
         """Item b's StepInfo (what ``Integrator.step(..., raise_on_failure=False)`` returns);
         ValueError for an item that raised an exception."""
-        from .integrator import StepInfo
         if self.errors[b] is not None:
             raise ValueError(f"item {b} of the batch raised an exception: {self.errors[b]}")
         return StepInfo(status=self.status[b], converged=bool(self.converged[b]), iterations=int(self.iterations[b]),

@@ -126,8 +126,7 @@ def cmd_optimize(args) -> int:
     if args.transcription == "vi":
         replay = result.replay()
         if replay.steps == prob.N:
-            Q = np.vstack([replay.control_points[:, :s, :].reshape(-1, prob.model.n), replay.q[-1:]])
-            summary["replay_max_error"] = float(np.abs(Q - result.trajectory["q"]).max())
+            summary["replay_max_error"] = float(np.abs(replay.configuration_points - result.trajectory["q"]).max())
             print(f"replayed with the integrator: largest difference from the optimised states "
                   f"{summary['replay_max_error']:.2e}")
     print(f"{result.status}\ncost {result.cost:.8g}, constraint violation {result.constraint_violation:.2e}, "

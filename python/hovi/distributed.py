@@ -95,7 +95,7 @@ def _part(x: Optional[npt.ArrayLike], sl: slice) -> Optional[np.ndarray]:
 def _rollout_task(integrator: Integrator, q0s: np.ndarray, p0s: Optional[np.ndarray], qdot0s: Optional[np.ndarray],
                   steps: int, u: Optional[np.ndarray], threads: int) -> TrajectoryBatch:
     batch = integrator.rollout_batch(q0s, steps, p0s=p0s, qdot0s=qdot0s, u=u, threads=threads)
-    return dataclasses.replace(batch, integrator=None)  # the client has the integrator
+    return dataclasses.replace(batch, discretization=None)  # the client has it
 
 
 def rollout_batch(integrator: Integrator, q0s: npt.ArrayLike, steps: int, *, p0s: Optional[npt.ArrayLike] = None,
@@ -112,7 +112,7 @@ def rollout_batch(integrator: Integrator, q0s: npt.ArrayLike, steps: int, *, p0s
         parts = _map(c, _rollout_task, integrator,
                      [(Q[sl], _part(p0s, sl), _part(qdot0s, sl), steps, _part(u, sl), threads_per_task)
                       for sl in _chunks(len(Q), max(steps, 1), c, chunk_size)])
-    return dataclasses.replace(TrajectoryBatch.concatenate(parts), integrator=integrator)
+    return dataclasses.replace(TrajectoryBatch.concatenate(parts), discretization=integrator.discretization)
 
 
 def _step_task(integrator: Integrator, qs: np.ndarray, ps: Optional[np.ndarray], qdots: Optional[np.ndarray],

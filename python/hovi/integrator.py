@@ -2,15 +2,17 @@
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass, field
 from typing import Any, Dict, List, Optional, Tuple
 
 import numpy as np
 import numpy.typing as npt
 
 from . import _core
-from ._typing import FloatArray, IntArray
+from ._typing import FloatArray
 from .batch import StepBatch, TrajectoryBatch
+from .trajectory import Discretization, StepInfo, Trajectory
+
+__all__ = ["ConvergenceError", "Integrator", "StepInfo", "Trajectory"]
 
 
 def _check_trajectory_memory(steps: int, s: int, n: int, count: int = 1) -> None:
@@ -34,73 +36,6 @@ class ConvergenceError(RuntimeError):
         super().__init__(message)
         self.info = info
         self.trajectory = trajectory
-
-
-@dataclass
-class StepInfo:
-    """How the Newton solve of one step went (``Integrator.step``); ``control_points`` (s+1, n) holds
-    q^{k,0..s} of the step and, for a constrained model, ``multipliers`` (s, n_constraints)
-    λ^{k,0..s-1}."""
-    status: str            # 'converged', 'max_iterations', 'line_search_failed', 'singular_jacobian', 'non_finite',
-                           # 'continuation_stalled' (no step on the solution branch from q^k: it turns back before dt)
-    converged: bool
-    iterations: int        # Newton directions computed
-    factorizations: int    # of them, those with a fresh Jacobian factorisation (the rest reused one)
-    residual_evaluations: int
-    residual: float        # ||r||_inf at exit
-    control_points: Optional[FloatArray] = field(default=None, repr=False)  # (s+1, n), set by Integrator.step
-    multipliers: Optional[FloatArray] = field(default=None, repr=False)     # (s, n_constraints), constrained models
-
-
-@dataclass
-class Trajectory:
-    """A rollout of K steps. Arrays are indexed by step k; t[k] = k dt: t (K+1,), q and p (K+1, n),
-    control_points (K, s+1, n), per attempted step iterations, residuals, factorizations and
-    status, multipliers (K, s, n_constraints) of a constrained model."""
-    t: FloatArray               # (K+1,)
-    q: FloatArray               # (K+1, n) configurations q^k
-    p: FloatArray               # (K+1, n) discrete momenta p^k
-    control_points: FloatArray  # (K, s+1, n): q^{k,0..s}
-    iterations: IntArray        # (attempted,) Newton iterations per step
-    residuals: FloatArray       # (attempted,) final ||r||_inf per step
-    factorizations: Optional[IntArray] = None  # (attempted,) Jacobian factorisations per step
-    status: List[str] = field(default_factory=list)
-    multipliers: Optional[FloatArray] = None  # (K, s, n_constraints): λ^{k,0..s-1} of constrained steps
-    solve_seconds: float = 0.0  # time spent in the C++ loop
-    integrator: Optional[Integrator] = field(default=None, repr=False)
-
-    @property
-    def steps(self) -> int:
-        """Number of steps K taken (len(t) - 1)."""
-        return len(self.t) - 1
-
-    @property
-    def converged(self) -> bool:
-        """Whether every attempted step converged."""
-        return all(s == "converged" for s in self.status)
-
-    def _integrator(self) -> Integrator:
-        if self.integrator is None:
-            raise ValueError("this trajectory has no integrator (load it with hovi.load_trajectory(path, integrator))")
-        return self.integrator
-
-    @property
-    def qdot(self) -> FloatArray:
-        """(K+1, n) velocities q̇^k read back from (q^k, p^k) by ``Integrator.velocity`` (M^{-1} p,
-        projected onto Dh(q) q̇ = 0 for a constrained model)."""
-        integ = self._integrator()
-        return np.array([integ.velocity(q, p) for q, p in zip(self.q, self.p)])
-
-    @property
-    def energy(self) -> FloatArray:
-        """(K+1,) total energy K + V at every step, with q̇ as in ``qdot``."""
-        return self._integrator().energies(self.q, self.p)
-
-    def save(self, path: str | os.PathLike[str]) -> None:
-        """Write to ``path`` (.npz): the arrays, solver statistics, joint names, s and dt
-        (``hovi.load_trajectory`` reads it back)."""
-        from .trajectory_io import save_trajectory
-        save_trajectory(self, path)
 
 
 class Integrator:
@@ -167,6 +102,8 @@ class Integrator:
             reuse_jacobian=bool(reuse_jacobian), reuse_contraction=float(reuse_contraction), predictor=predictor)
         self._core = _core.Integrator(model, **self._options)
         self.model = model
+        self.discretization = Discretization(model, self._options, self._core)
+        """What this integrator's trajectories carry: the model, s and dt, velocity and energies."""
 
     # Pickling (to other processes, cluster workers): the model (which pickles in full) and the
     # options; the copy is made anew from them and computes exactly what this one does.
@@ -473,7 +410,7 @@ class Integrator:
             t=np.arange(steps + 1, dtype=np.float64) * self.dt, q=raw["q"], p=raw["p"],
             control_points=raw["control_points"].reshape(B, steps, S1, self.n), iterations=raw["iterations"],
             residuals=raw["residual"], factorizations=raw["factorizations"], steps=raw["steps"], status=raw["status"],
-            errors=raw["errors"], solve_seconds=raw["seconds"], integrator=self,
+            errors=raw["errors"], solve_seconds=raw["seconds"], discretization=self.discretization,
             multipliers=raw["multipliers"].reshape(B, steps, self.s, self.n_constraints) if self.n_constraints else None)
 
     def step_batch(self, qs: npt.ArrayLike, ps: Optional[npt.ArrayLike] = None, u: Optional[npt.ArrayLike] = None, *,
@@ -509,4 +446,4 @@ class Integrator:
                           residuals=np.concatenate([r["residual"] for r in parts]),
                           factorizations=np.concatenate([r["factorizations"] for r in parts]),
                           status=sum((r["status"] for r in parts), []), multipliers=mult,
-                          solve_seconds=sum(r["seconds"] for r in parts), integrator=self)
+                          solve_seconds=sum(r["seconds"] for r in parts), discretization=self.discretization)

@@ -11,7 +11,8 @@ import numpy.typing as npt
 from . import _core
 from ._typing import FloatArray
 from .batch import JacobianBatch, TrajectoryBatch
-from .integrator import ConvergenceError, Integrator, Trajectory
+from .integrator import ConvergenceError, Integrator
+from .trajectory import Trajectory
 
 
 @dataclass

@@ -109,10 +109,9 @@ class VariationalTranscription(Transcription):
     def guess_from_rollout(self, traj, U):
         """x from a rollout of this transcription's integrator (same s and dt) with controls U
         (N, s+1, m): exact, multipliers included."""
-        n, s = self.n, self.s
-        Q = np.vstack([traj.control_points[:, :s, :].reshape(-1, n), traj.q[-1:]])
+        s = self.s
         x = np.zeros(self.core.n_variables)
-        x[self.q_off:self.p_off] = Q.ravel()
+        x[self.q_off:self.p_off] = traj.configuration_points.ravel()
         x[self.p_off:self.u_off] = traj.p.ravel()
         if self.m:
             u = U[:, :s, :].reshape(-1, self.m) if self.problem.controls == "per_point" else U[:, 0, :]
