@@ -3,6 +3,7 @@ Linearizer.rollout_jacobians_batch, baselines.one_step_batch's threads): B = 100
 threads give, bit for bit, the single calls made one after another; a failed item does not fail
 the batch; bad input raises ValueError."""
 import dataclasses
+import re
 
 import numpy as np
 import pytest
@@ -178,6 +179,31 @@ def test_bad_input_raises(call, match):
     integ = hovi.Integrator(forced_pendulum(), s=2, dt=0.01)
     with pytest.raises(ValueError, match=match):
         call(integ, np.random.default_rng(1).uniform(-1, 1, (10, 5)))
+
+
+@pytest.mark.parametrize("check,call", [
+    (lambda i, Q: i.check_rollout_batch(Q[:0], 3), lambda i, Q: i.rollout_batch(Q[:0], 3)),
+    (lambda i, Q: i.check_rollout_batch(Q, 3, qdot0s=Q[:3]), lambda i, Q: i.rollout_batch(Q, 3, qdot0s=Q[:3])),
+    (lambda i, Q: i.check_rollout_batch(Q, 3, u=np.zeros((3, 2))), lambda i, Q: i.rollout_batch(Q, 3, u=np.zeros((3, 2)))),
+    (lambda i, Q: i.check_step_batch(Q, u=np.zeros((10, 4, 2))), lambda i, Q: i.step_batch(Q, u=np.zeros((10, 4, 2)))),
+    (lambda i, Q: i.controls_per_point(np.zeros(3), 4), lambda i, Q: i.rollout(Q[0], 4, u=np.zeros(3))),
+])
+def test_inputs_are_checked_without_computing(check, call):
+    integ = hovi.Integrator(forced_pendulum(), s=2, dt=0.01)
+    Q = np.random.default_rng(1).uniform(-1, 1, (10, 5))
+    with pytest.raises(ValueError) as expected:
+        call(integ, Q)
+    with pytest.raises(ValueError, match=re.escape(str(expected.value))):
+        check(integ, Q)
+
+
+def test_controls_per_point():
+    integ = hovi.Integrator(forced_pendulum(), s=2, dt=0.01)
+    u = np.arange(8.0).reshape(4, 2)
+    U = integ.controls_per_point(u, 4)
+    assert U.shape == (4, 3, 2) and (U == u[:, None, :]).all() and integ.controls_per_point(None, 4) is None
+    assert integ.controls_per_point(np.ones((3, 2)), 4, batch=3).shape == (3, 4, 3, 2)
+    assert integ.check_rollout_batch(np.zeros((2, 5)), 4, u=np.zeros((2, 4, 2))) is None
 
 
 def test_numpy_integer_thread_count(pendulum_batch):

@@ -106,8 +106,8 @@ def rollout_batch(integrator: Integrator, q0s: npt.ArrayLike, steps: int, *, p0s
     p0s or qdot0s (B, n), u per state as rollout_batch takes it; the same TrajectoryBatch, bit for
     bit. The input is checked here, before anything is sent."""
     steps = int(steps)
-    Q, _, _ = integrator._batch_states(q0s, p0s, qdot0s, ("q0s", "p0s", "qdot0s"))
-    integrator._rollout_controls(u, steps, (len(Q),))
+    integrator.check_rollout_batch(q0s, steps, p0s=p0s, qdot0s=qdot0s, u=u)
+    Q = np.asarray(q0s, dtype=float)
     with _connect(client) as c:
         parts = _map(c, _rollout_task, integrator,
                      [(Q[sl], _part(p0s, sl), _part(qdot0s, sl), steps, _part(u, sl), threads_per_task)
@@ -125,8 +125,8 @@ def step_batch(integrator: Integrator, qs: npt.ArrayLike, ps: Optional[npt.Array
                chunk_size: Optional[int] = None, threads_per_task: int = 1) -> StepBatch:
     """``integrator.step_batch(qs, ps, u, qdots=...)`` on a Dask cluster: qs (B, n), ps or qdots (B, n),
     u (B, m) or (B, s+1, m); the same StepBatch, bit for bit."""
-    Q, _, _ = integrator._batch_states(qs, ps, qdots, ("qs", "ps", "qdots"))
-    integrator._step_controls(u, len(Q))
+    integrator.check_step_batch(qs, ps, u, qdots=qdots)
+    Q = np.asarray(qs, dtype=float)
     with _connect(client) as c:
         parts = _map(c, _step_task, integrator,
                      [(Q[sl], _part(ps, sl), _part(qdots, sl), _part(u, sl), threads_per_task)

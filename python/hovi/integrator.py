@@ -447,3 +447,27 @@ class Integrator:
                           factorizations=np.concatenate([r["factorizations"] for r in parts]),
                           status=sum((r["status"] for r in parts), []), multipliers=mult,
                           solve_seconds=sum(r["seconds"] for r in parts), discretization=self.discretization)
+
+    # --- inputs checked without computing (Linearizer, hovi.distributed) -----------------------
+    def controls_per_point(self, u: Optional[npt.ArrayLike], steps: int, *,
+                           batch: Optional[int] = None) -> Optional[FloatArray]:
+        """Controls ``u`` as ``rollout`` (or, with ``batch`` = B, ``rollout_batch``) takes them, given
+        per control point: (steps, s+1, m) (or (B, steps, s+1, m)); None for None. ValueError for a
+        shape rollout does not take, NaN or infinity."""
+        lead = () if batch is None else (int(batch),)
+        U = self._rollout_controls(u, int(steps), lead)
+        return None if U is None else U.reshape(lead + (int(steps), self.s + 1, self._core.n_controls))
+
+    def check_rollout_batch(self, q0s: npt.ArrayLike, steps: int, *, p0s: Optional[npt.ArrayLike] = None,
+                            qdot0s: Optional[npt.ArrayLike] = None, u: Optional[npt.ArrayLike] = None) -> None:
+        """ValueError as ``rollout_batch`` raises it for the shapes of the states and controls and for
+        states that violate the constraints, without computing anything."""
+        Q, _, _ = self._batch_states(q0s, p0s, qdot0s, ("q0s", "p0s", "qdot0s"))
+        self._rollout_controls(u, int(steps), (len(Q),))
+
+    def check_step_batch(self, qs: npt.ArrayLike, ps: Optional[npt.ArrayLike] = None,
+                         u: Optional[npt.ArrayLike] = None, *, qdots: Optional[npt.ArrayLike] = None) -> None:
+        """ValueError as ``step_batch`` raises it for the shapes of the states and controls and for
+        states that violate the constraints, without computing anything."""
+        Q, _, _ = self._batch_states(qs, ps, qdots, ("qs", "ps", "qdots"))
+        self._step_controls(u, len(Q))

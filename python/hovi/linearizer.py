@@ -129,7 +129,9 @@ class Linearizer:
         if not trajectory.converged:
             raise ConvergenceError("the trajectory has unconverged steps; linearise the converged part only")
         K = trajectory.control_points.shape[0]
-        U = integ._rollout_controls(u, K)
+        U = integ.controls_per_point(u, K)
+        if U is not None:
+            U = np.ascontiguousarray(U.reshape(K, -1))
         cps = np.ascontiguousarray(trajectory.control_points.reshape(K, -1))
         mult = None
         if trajectory.multipliers is not None:
@@ -150,7 +152,7 @@ class Linearizer:
         integ = self.integrator
         count, K = len(batch), batch.control_points.shape[1]
         n, S1, m = integ.n, integ.s + 1, integ.model.n_controls
-        U = integ._rollout_controls(u, K, (count,))
+        U = integ.controls_per_point(u, K, batch=count)
         errors: list[Optional[str]] = [None] * count
         for b in range(count):
             if batch.status[b] != "converged":

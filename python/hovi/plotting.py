@@ -4,7 +4,8 @@ from __future__ import annotations
 import numpy as np
 
 
-def _plt():
+def pyplot():
+    """matplotlib.pyplot on the Agg backend (files, no window)."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -13,7 +14,7 @@ def _plt():
 
 def plot_energy_error(t, energy, path, title=""):
     """Relative energy error |E - E0| / |E0| over time, log scale."""
-    plt = _plt()
+    plt = pyplot()
     err = np.abs(energy - energy[0]) / max(abs(energy[0]), 1e-300)
     fig, ax = plt.subplots(figsize=(7, 3.5))
     ax.semilogy(t[1:], np.maximum(err[1:], 1e-17), lw=0.8)
@@ -28,7 +29,7 @@ def plot_energy_error(t, energy, path, title=""):
 
 def plot_configuration(model, q, path, title=""):
     """The kinematic tree at q: joint origins joined parent to child, centres of mass as dots."""
-    plt = _plt()
+    plt = pyplot()
     X = model.joint_placements(q)[:, :3, 3]
     C = model.body_poses(q)[:, :3, 3]
     fig = plt.figure(figsize=(6, 6))
@@ -59,7 +60,7 @@ def plot_configuration(model, q, path, title=""):
 
 def plot_optimized(result, problem, path, title=""):
     """An optimised trajectory: joint positions at the configuration points and the controls."""
-    plt = _plt()
+    plt = pyplot()
     tr = result.trajectory
     fig, axes = plt.subplots(1, 2, figsize=(11, 3.8))
     for j, name in enumerate(problem.model.joint_names):

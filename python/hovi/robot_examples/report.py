@@ -63,8 +63,8 @@ def replay_figures(example: Example, result: Result) -> Dict[str, Any]:
 
 def plot(example: Example, result: Result, path: str) -> None:
     """Joint angles, actuator torques and contact forces against time, in one figure."""
-    from ..plotting import _plt
-    plt = _plt()
+    from ..plotting import pyplot
+    plt = pyplot()
     tr, robot = result.trajectory, example.robot
     model = robot.model
     fig, axes = plt.subplots(1, 3, figsize=(16, 4.2))
