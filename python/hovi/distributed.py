@@ -13,9 +13,9 @@ a ``LocalCluster`` of worker processes on this machine (one per core, one thread
 the call and closed at its end; pass a Client to reuse one cluster for many calls.
 
 Chunks: by default a task carries about ``SOLVES_PER_TASK`` solves (Newton solves of one step:
-a rollout of K steps counts K), so that the scheduler's overhead per task (about a millisecond,
-bench/scaling.py) is a few per cent of the task's work, and no more items than give every worker
-thread a chunk. ``chunk_size`` (items per task) overrides it. Inside a task the C++ batch runs on
+a rollout of K steps counts K), so that the scheduler's overhead per task is a few per cent of the
+task's work (bench/README.md, "Many rollouts"), and no more items than give every worker thread a
+chunk. ``chunk_size`` (items per task) overrides it. Inside a task the C++ batch runs on
 ``threads_per_task`` threads (default 1: the cluster's workers are the parallelism).
 """
 from __future__ import annotations
@@ -40,8 +40,8 @@ if TYPE_CHECKING:
 
 __all__ = ["rollout_batch", "step_batch", "one_step_batch", "solve_trajopt", "SOLVES_PER_TASK"]
 
-# Solves a task carries by default: with the ~1 ms the scheduler and the transfers cost per task
-# (bench/scaling.py) and solves of 10-100 µs, the overhead stays at a few per cent.
+# Solves a task carries by default: enough that the cost of a task beyond its solves stays at a few
+# per cent (bench/README.md, "Many rollouts" and "Design measurements", distributed.py).
 SOLVES_PER_TASK = 4000
 
 ClientLike = Union["Client", str, None]

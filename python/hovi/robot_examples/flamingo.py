@@ -5,13 +5,11 @@ from walking at 0.26 m/s to its hip over a goal 0.74 m ahead after 1.1 s.
 
 The obstacle is a path constraint, not terrain: ``hovi.contact.Terrain`` boxes are steps in the
 ground height, so the gap row of a contact point jumps by the box's height where the point crosses
-its edge, and IPOPT's line search cannot cross that step (bench/README.md, "The paper's robots":
-a first version of this problem did not finish its first relaxed solve in 20 minutes). The
-feet instead stay outside circles that cover the box in the sagittal plane (``obstacle_circles``,
-smooth ``trajopt.Clearance`` rows, also every SAMPLE_SPACING between the configuration points:
-at the points alone, and with 2 or 5 samples per stage, a toe flicked through the box's corner
-within a stage at 5-8 m/s, 18-28 mm deep, in the quick problem), and the contacts see flat
-ground. The check ``obstacle_clearance`` measures the real box against points all along both
+its edge, and IPOPT's line search cannot cross that step (bench/README.md, "The paper's robots"
+and "Design measurements", flamingo.py). The feet instead stay outside circles that cover the box
+in the sagittal plane (``obstacle_circles``, smooth ``trajopt.Clearance`` rows, also every
+SAMPLE_SPACING between the configuration points, where fewer samples let a toe cut the box's
+corner), and the contacts see flat ground. The check ``obstacle_clearance`` measures the real box against points all along both
 soles and shins, at the configuration points and 200 times between each two.
 
 The guess is a kinematic two-footed jump (``JumpPlan``: hip and ankle paths, legs by inverse

@@ -63,9 +63,8 @@ class Course:
 FULL = Course(T=3.2, N=64, gaps=(0.22, 0.50))
 QUICK = Course(T=1.2, N=16, gaps=(0.12,))
 # The quick problem's relaxation homotopy: one relaxed solve, then the exact one (the full problem
-# keeps solve_contact's default). Measured at N = 24 with the probed Hessian (trajopt.hessian):
-# epsilon 0.1, 0.01, 0.001 then exact took 548 IPOPT iterations (194 s); 0.01, 0.001: 243 (91 s);
-# 0.001 alone: 185 (66 s), all exact and feasible; 0.1, 0.001 did not finish in 19 minutes.
+# keeps solve_contact's default); the fastest of the schedules compared in bench/README.md
+# ("Design measurements", littledog.py).
 QUICK_EPSILONS = (1e-3,)
 
 
@@ -222,12 +221,10 @@ def feet_above_ground(robot: Robot, terrain: Terrain, T: float, dt: float) -> Li
     """Every foot-sphere centre no lower than half a radius below its resting height on the ground
     (``terrain.ground``), gaps included, at every configuration point and every SAMPLE_SPACING
     between each two: the sphere never reaches below the ground's surface. The contact rows act at
-    the configuration points only; between them a swing foot follows the trajectory's polynomial.
-    Measured without this: the full s = 1 solution (dt = 0.05 s) swung a front foot 27 cm within
-    one stage, through the ground and under a gap's keep-out circle, its sphere cutting the gap's
-    far wall by 9.5 mm between two samples 0.01 s apart; the quick s = 2 solution (sides from
-    s = 1) by 10.1 mm. At the resting height itself the bound would duplicate the contact rows'
-    gap at every stance point, and IPOPT stalled (dual infeasibility ~770 after 800 iterations)."""
+    the configuration points only; between them a swing foot follows the trajectory's polynomial,
+    which without this bound swung through the ground and a gap's wall. Half a radius below the
+    resting height, not at it, so as not to duplicate the contact rows (bench/README.md, "Design
+    measurements", littledog.py)."""
     return [trajopt.BodyPoint(body, point, axes="z", lower=[terrain.ground - robot.contact_radius / 2],
                               window=(0.0, T), between=samples_between(dt, SAMPLE_SPACING))
             for body, point in robot.contact_points]
@@ -241,15 +238,9 @@ def gap_clearances(robot: Robot, terrain: Terrain, T: float, dt: float) -> List[
     sphere's centre 2 cm above its resting height over the gap's centre, 1.25 cm over its edges).
     A centre outside the circle keeps a radius from both edges' corners, above and below the
     surface. The gap itself, a step in the terrain's height, gives the solver no gradient that
-    moves a foot out of it; the circles do. Measured on the quick problem (then N = 24): without
-    them a foot landed inside the gap (on its bottom when 0.1 m deep; hovering in it, loaded, when
-    0.5 m deep, since the relaxed complementarity lets a loaded foot hover) and the first relaxed
-    solve failed after 150-300 iterations; with them every solve converged. At the configuration
-    points alone, a foot on the ground at the points either side of a gap crossed its mouth at
-    ground level within one stage, clipping its edges; with circles centred a radius higher (at
-    the resting centres' height: they reach only 2 cm below the surface) a landing foot dipped
-    under them into the gap's far wall between two points, 10 mm deep (bench/README.md, "What the
-    checks see between the points"); ``feet_above_ground`` keeps them out from under the circles."""
+    moves a foot out of it; the circles do, held between the points too, with ``feet_above_ground``
+    keeping the feet out from under them (what happened without them: bench/README.md, "Design
+    measurements", littledog.py, and "What the checks see between the points")."""
     r = robot.contact_radius
     return [trajopt.Clearance(body, point, center=((g.x0 + g.x1) / 2, 0.0, terrain.ground - r),
                               radius=(g.x1 - g.x0) / 2 + r, axes="xz", window=(0.0, T),

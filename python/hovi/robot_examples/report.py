@@ -118,12 +118,8 @@ def solve(example: Example, method: str = "vi", s: int = 1, verbose: bool = Fals
     first (its contact model is well posed and its solves cheap) and the order-2s solve starts on
     the sides of the complementarity pairs it found (``solve_contact(sides_from=...)``); the
     result's ``contact['solves']``, 'iterations' and 'wall_seconds' count both, and
-    ``contact['coarse']`` holds the trapezoidal solve's (iterations, seconds in IPOPT). Measured on
-    the quick problems, s = 2, with other solves on the machine: LittleDog 392 + 477 iterations,
-    351 s in all (see trajopt.solve_contact), where the homotopy alone had not finished its first
-    relaxed solve after 400 iterations; Spring Flamingo 1856 iterations, 413 s (the exact solve on
-    the s = 1 sides failed after 783: the jump's impacts fall differently at s = 2), against the
-    homotopy's 659, 173 s."""
+    ``contact['coarse']`` holds the trapezoidal solve's (iterations, seconds in IPOPT). Iterations and
+    times of both ways on the quick problems: bench/README.md ("Design measurements", report.py)."""
     options = dict(example.options)
     if example.problem.contacts is None:
         if time_limit is not None:
