@@ -460,14 +460,14 @@ class Integrator:
 
     def check_rollout_batch(self, q0s: npt.ArrayLike, steps: int, *, p0s: Optional[npt.ArrayLike] = None,
                             qdot0s: Optional[npt.ArrayLike] = None, u: Optional[npt.ArrayLike] = None) -> None:
-        """ValueError as ``rollout_batch`` raises it for the shapes of the states and controls and for
-        states that violate the constraints, without computing anything."""
+        """ValueError as ``rollout_batch`` raises it for the shapes of the states (q0s, p0s or qdot0s
+        (B, n)) and controls and for states that violate the constraints, without computing anything."""
         Q, _, _ = self._batch_states(q0s, p0s, qdot0s, ("q0s", "p0s", "qdot0s"))
         self._rollout_controls(u, int(steps), (len(Q),))
 
     def check_step_batch(self, qs: npt.ArrayLike, ps: Optional[npt.ArrayLike] = None,
                          u: Optional[npt.ArrayLike] = None, *, qdots: Optional[npt.ArrayLike] = None) -> None:
-        """ValueError as ``step_batch`` raises it for the shapes of the states and controls and for
-        states that violate the constraints, without computing anything."""
+        """ValueError as ``step_batch`` raises it for the shapes of the states (qs, ps or qdots (B, n))
+        and controls and for states that violate the constraints, without computing anything."""
         Q, _, _ = self._batch_states(qs, ps, qdots, ("qs", "ps", "qdots"))
         self._step_controls(u, len(Q))
