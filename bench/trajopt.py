@@ -25,6 +25,7 @@ import hovi
 from hovi import trajopt
 from hovi.trajopt import examples
 from hovi.trajopt.transcription import piecewise_polynomial
+from hovi.trajopt.transcriptions import from_name
 from common import RESULTS, loglog_slope, update_readme_section, write_json
 
 METHODS = [("vi", 1), ("vi", 2), ("vi", 3), ("hs-implicit", 2), ("hs-explicit", 2)]
@@ -52,7 +53,7 @@ def reference_error(result, prob, refine=64):
 
 def solve_row(example, N, name, s, guess=None):
     prob = examples.EXAMPLES[example](N=N)
-    r = trajopt.solve(prob, name, s=s, verbose=False, guess=guess if guess is not None else
+    r = trajopt.solve(prob, from_name(name, s), verbose=False, guess=guess if guess is not None else
                       ("linear" if example == "acrobot" else None))
     row = {"example": example, "method": label(name, s), "N": N, "success": r.success, "status": r.status,
            "cost": r.cost, "violation": r.constraint_violation, "iterations": r.iterations, "seconds": r.wall_seconds,
@@ -77,7 +78,7 @@ def table1(N=10, n=4, m=2):
     rows = []
     for name, controls in (("vi", "per_point"), ("vi", "held"), ("hs-explicit", "per_point"), ("hs-implicit", "per_point")):
         prob = trajopt.Problem(model, N, 1.0, controls=controls).initial_state(q0).add_cost(trajopt.ControlEffort())
-        core = trajopt.transcribe(prob, name, 2).core
+        core = from_name(name, 2).transcribe(prob).core
         rows.append({"transcription": name, "controls": controls, "N": N, "n": n, "m": m, "variables": core.n_variables,
                      "constraints": core.n_constraints, "nonzeros": core.nnz, "paper_variables": paper[name][0],
                      "paper_constraints": paper[name][1]})
@@ -96,7 +97,7 @@ def scaling(ns, N=20, T=2.0):
         for name, s in (("vi", 2), ("hs-implicit", 2), ("hs-explicit", 2)):
             prob = trajopt.Problem(model, N, T).initial_state(np.zeros(n)).final_state(qT, qdot=np.zeros(n))
             prob.add_cost(trajopt.ControlEffort())
-            r = trajopt.solve(prob, name, s=s, verbose=False, options={"max_iter": 300})
+            r = trajopt.solve(prob, from_name(name, s), verbose=False, options={"max_iter": 300})
             rows.append({"n": n, "method": label(name, s), "iterations": r.iterations, "seconds": r.wall_seconds,
                          "per_iteration": r.timing["per_iteration"], "evaluation_share": r.timing["evaluations"] / r.wall_seconds,
                          "callback_share": r.timing["callbacks"] / r.wall_seconds, **r.sizes, "success": r.success})

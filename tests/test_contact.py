@@ -6,10 +6,12 @@ import pytest
 
 import hovi
 from hovi import trajopt
-from hovi.contact import Box, Contacts, Gap, Terrain
+from hovi.contact import Box, ContactRows, Contacts, Gap, Terrain, least_slack
+from hovi.trajopt.solvers.contact_homotopy import FINISH_BELOW
 
 pytest.importorskip("cyipopt")
 G = 9.81
+VI1 = trajopt.VI(s=1)  # the contact model that is inelastic and well posed (hovi.contact.contacts)
 
 
 def planar_point_mass(mass=1.0, actuated=False):
@@ -48,7 +50,7 @@ def test_dropped_point_mass_falls_freely_then_rests_on_the_ground():
     model = planar_point_mass()
     z0, T, N = 0.3, 0.5, 25
     contacts, prob = contact_problem(model, [0.0, z0], [0.0, 0.0], T, N, mu=0.5)
-    result = trajopt.solve_contact(prob)
+    result = trajopt.solve_contact(prob, VI1)
     check_contact_result(result)
     t, q = result.trajectory["t"], result.trajectory["q"]
     u = result.trajectory["u"]
@@ -65,7 +67,7 @@ def test_pushed_mass_stays_at_rest_in_static_friction():
     model = planar_point_mass(actuated=True)
     mu, push = 0.6, 0.5 * 0.6 * G  # half of what friction can hold
     contacts, prob = contact_problem(model, [0.0, 0.0], [0.0, 0.0], 0.3, 15, mu, fixed_u=[push])
-    result = trajopt.solve_contact(prob)
+    result = trajopt.solve_contact(prob, VI1)
     check_contact_result(result)
     forces = contacts.forces(result.trajectory["u"])[:, 0]
     np.testing.assert_allclose(result.trajectory["q"], 0, atol=1e-6)
@@ -77,7 +79,7 @@ def test_sliding_block_stops_where_coulomb_friction_says():
     model = planar_point_mass()
     mu, v0 = 0.5, 1.0
     contacts, prob = contact_problem(model, [0.0, 0.0], [v0, 0.0], 0.4, 40, mu)
-    result = trajopt.solve_contact(prob)
+    result = trajopt.solve_contact(prob, VI1)
     check_contact_result(result)
     t, q = result.trajectory["t"], result.trajectory["q"]
     forces = contacts.forces(result.trajectory["u"])[:, 0]
@@ -132,28 +134,30 @@ def test_bad_contact_input_is_refused_with_a_reason():
     with pytest.raises(ValueError, match="solve_contact"):  # the exact conditions straight to IPOPT
         trajopt.solve(prob, verbose=False)
     for kwargs, match in (({"epsilons": ()}, "epsilons"), ({"epsilons": (1e-2, 1e-1)}, "decreasing"),
-                          ({"epsilons": (0.1, 0.0)}, "positive"), ({"s": 0}, "s must be"),
+                          ({"epsilons": (0.1, 0.0)}, "positive"),
                           ({"finish_below": -1.0}, "finish_below"), ({"time_limit": 0.0}, "time_limit"),
                           ({"time_limit": np.nan}, "time_limit")):
         with pytest.raises(ValueError, match=match):
-            trajopt.solve_contact(prob, **kwargs)
+            trajopt.solve_contact(prob, VI1, **kwargs)
+    with pytest.raises(ValueError, match="s must be"):
+        trajopt.solve_contact(prob, trajopt.VI(s=0))
     with pytest.raises(TypeError, match="sides_from must be a Result"):
-        trajopt.solve_contact(prob, sides_from=np.zeros(3))
+        trajopt.solve_contact(prob, VI1, sides_from=np.zeros(3))
     prob.initial_state([0.0, -0.01])
     with pytest.raises(ValueError, match="initial configuration puts contact point 0 0.01 below the terrain"):
-        trajopt.solve_contact(prob)
+        trajopt.solve_contact(prob, VI1)
     plain = trajopt.Problem(model, N=4, T=0.2).initial_state([0.0, 0.1]).add_cost(trajopt.ControlEffort())
     with pytest.raises(ValueError, match="no contacts"):
-        trajopt.solve_contact(plain)
+        trajopt.solve_contact(plain, VI1)
 
 
 def test_time_limit_stops_the_homotopy_between_solves():
     """A budget spent after the first relaxed solve: no further solve starts, and the result says so."""
     contacts, prob = contact_problem(planar_point_mass(), [0.0, 0.3], [0.0, 0.0], 0.5, 25, mu=0.5)
-    result = trajopt.solve_contact(prob, time_limit=1e-3)
+    result = trajopt.solve_contact(prob, VI1, time_limit=1e-3)
     assert len(result.contact["solves"]) == 1 and result.contact["solves"][0][0] == 0.1
     assert result.contact["out_of_time"] and not result.contact["finished"] and result.contact["epsilon"] == 0.1
-    assert not trajopt.solve_contact(prob, time_limit=600.0).contact["out_of_time"]
+    assert not trajopt.solve_contact(prob, VI1, time_limit=600.0).contact["out_of_time"]
 
 
 def test_checkpoint_resumes_the_homotopy_where_it_stopped(tmp_path):
@@ -162,17 +166,17 @@ def test_checkpoint_resumes_the_homotopy_where_it_stopped(tmp_path):
     checkpoint and a folder that does not exist are refused."""
     contacts, prob = contact_problem(planar_point_mass(), [0.0, 0.3], [0.0, 0.0], 0.5, 25, mu=0.5)
     path = tmp_path / "drop.npz"
-    stopped = trajopt.solve_contact(prob, time_limit=1e-3, checkpoint=path)
+    stopped = trajopt.solve_contact(prob, VI1, time_limit=1e-3, checkpoint=path)
     assert stopped.contact["out_of_time"] and path.exists()
-    resumed = trajopt.solve_contact(prob, checkpoint=path)
-    whole = trajopt.solve_contact(prob)
+    resumed = trajopt.solve_contact(prob, VI1, checkpoint=path)
+    whole = trajopt.solve_contact(prob, VI1)
     assert resumed.contact["solves"] == whole.contact["solves"] and resumed.contact["finished"]
     np.testing.assert_allclose(resumed.x, whole.x, rtol=0, atol=1e-12)
     assert not path.exists()                                     # finished: removed
-    trajopt.solve_contact(prob, time_limit=1e-3, checkpoint=path)
-    for kwargs, match in (({"epsilons": (1e-1, 1e-3)}, "epsilons"), ({"s": 2}, "another solve")):
+    trajopt.solve_contact(prob, VI1, time_limit=1e-3, checkpoint=path)
+    for kwargs, match in (({"epsilons": (1e-1, 1e-3)}, "epsilons"), ({"transcription": trajopt.VI(s=2)}, "another solve")):
         with pytest.raises(ValueError, match=match):
-            trajopt.solve_contact(prob, checkpoint=path, **kwargs)
+            trajopt.solve_contact(prob, **{"transcription": VI1, **kwargs}, checkpoint=path)
     (tmp_path / "notes.npz").write_text("not a checkpoint")
     np.savez(tmp_path / "other.npz", x=np.zeros(3))
     np.save(tmp_path / "array.npy", np.zeros(3))
@@ -180,7 +184,7 @@ def test_checkpoint_resumes_the_homotopy_where_it_stopped(tmp_path):
                         ("array.npy", "not a solve_contact checkpoint"),
                         ("missing/drop.npz", "folder does not exist")):
         with pytest.raises(ValueError, match=match):
-            trajopt.solve_contact(prob, checkpoint=tmp_path / name)
+            trajopt.solve_contact(prob, VI1, checkpoint=tmp_path / name)
 
 
 def test_sides_from_a_trapezoidal_solution_lead_the_higher_order_solves():
@@ -188,13 +192,12 @@ def test_sides_from_a_trapezoidal_solution_lead_the_higher_order_solves():
     sides its solution shows (it fails where the two place the stop differently, and the
     relaxation at FINISH_BELOW mends it): the same motion as the whole homotopy gives, with no
     relaxation above FINISH_BELOW."""
-    from hovi.trajopt.contact_solve import FINISH_BELOW
     mu, v0 = 0.5, 1.0
     contacts, prob = contact_problem(planar_point_mass(), [0.0, 0.0], [v0, 0.0], 0.4, 40, mu)
-    coarse = trajopt.solve_contact(prob)
+    coarse = trajopt.solve_contact(prob, VI1)
     for s in (2, 3):
-        refined = trajopt.solve_contact(prob, s=s, sides_from=coarse)
-        homotopy = trajopt.solve_contact(prob, s=s)
+        refined = trajopt.solve_contact(prob, trajopt.VI(s), sides_from=coarse)
+        homotopy = trajopt.solve_contact(prob, trajopt.VI(s))
         assert refined.contact["finished"] and refined.contact["sides_from"] == coarse.transcription.name
         epsilons = [e for e, _, _ in refined.contact["solves"]]
         assert epsilons[0] == 0.0 and max(epsilons) <= FINISH_BELOW
@@ -206,15 +209,13 @@ def test_sides_from_a_trapezoidal_solution_lead_the_higher_order_solves():
 def test_least_slack_lowers_only_the_free_sliding_slacks():
     """gamma raised where the mass flies (no force: psi = 0, gamma free above its bound) comes back to
     the least value its rows allow; the other variables and every row's feasibility are untouched."""
-    from hovi.trajopt.complementarity import ContactRows
-    from hovi.trajopt.contact_solve import least_slack
     contacts, prob = contact_problem(planar_point_mass(), [0.0, 0.3], [0.5, 0.0], 0.5, 25, mu=0.5)
-    result = trajopt.solve_contact(prob)
+    result = trajopt.solve_contact(prob, VI1)
     rows = ContactRows(contacts, result.transcription, 0.0)
-    slack = rows._input("slack")
+    slack = rows.input_offsets("slack")
     raised = result.x.copy()
     raised[slack] += 100.0
-    last, before = rows._hold_inputs()
+    last, before = rows.hold_inputs()
     raised[last] = raised[before]
     lowered = least_slack(rows, raised)
     k = rows.quantities(lowered)
@@ -238,10 +239,10 @@ def hermite_simpson_defects(result, contacts, mass=1.0):
         v[m] - (v[k] + v[k1]) / 2 - h / 8 * (a[k] - a[k1]), q[m] - (q[k] + q[k1]) / 2 - h / 8 * (v[k] - v[k1])]).ravel()
 
 
-@pytest.mark.parametrize("name", ["hs-implicit", "hs-explicit"])
-def test_hermite_simpson_drop_with_the_same_contact_conditions(name):
+@pytest.mark.parametrize("form", ["implicit", "explicit"])
+def test_hermite_simpson_drop_with_the_same_contact_conditions(form):
     """Hermite-Simpson collocation with the VI's contact conditions on its knots and midpoints
-    (the input at a point complementary to the gap at the next: hovi.trajopt.complementarity): the
+    (the input at a point complementary to the gap at the next: hovi.contact.complementarity): the
     dropped mass falls freely (collocation is exact for a constant acceleration), lands without
     penetrating, and rests on the ground with the Simpson average of the normal force over each
     interval equal to its weight (the knot and midpoint forces themselves are not unique at rest:
@@ -250,7 +251,7 @@ def test_hermite_simpson_drop_with_the_same_contact_conditions(name):
     model = planar_point_mass()
     z0, T, N = 0.3, 0.5, 25
     contacts, prob = contact_problem(model, [0.0, z0], [0.0, 0.0], T, N, mu=0.5)
-    result = trajopt.solve_contact(prob, transcription=name)
+    result = trajopt.solve_contact(prob, trajopt.HermiteSimpson(form))
     assert result.success and result.contact["finished"], result.status
     assert result.contact["penetration"] <= 1e-6 and result.contact["complementarity"] <= 1e-6
     np.testing.assert_allclose(hermite_simpson_defects(result, contacts), 0, atol=1e-8)
@@ -277,7 +278,7 @@ def test_hermite_simpson_sliding_block_stops_where_coulomb_friction_says():
     model = planar_point_mass()
     mu, v0 = 0.5, 1.0
     contacts, prob = contact_problem(model, [0.0, 0.0], [v0, 0.0], 0.4, 40, mu)
-    result = trajopt.solve_contact(prob, transcription="hs-implicit")
+    result = trajopt.solve_contact(prob, trajopt.HermiteSimpson("implicit"))
     assert result.success and result.contact["finished"], result.status
     assert result.contact["penetration"] <= 1e-6 and result.contact["complementarity"] <= 1e-6
     assert result.constraint_violation <= 1e-6
@@ -299,7 +300,7 @@ def test_order_four_finds_the_unique_discrete_solution_which_rebounds():
     the same) and rests from t = 0.32 on."""
     model = planar_point_mass()
     contacts, prob = contact_problem(model, [0.0, 0.3], [0.0, 0.0], 0.5, 25, mu=0.5)
-    result = trajopt.solve_contact(prob, s=2)
+    result = trajopt.solve_contact(prob, trajopt.VI(s=2))
     check_contact_result(result)
     assert result.contact["finished"] and result.contact["epsilon"] == 0.0
     t, z = result.trajectory["t"], result.trajectory["q"][:, 1]
@@ -334,7 +335,7 @@ def test_dropped_planar_hopper_lands_on_its_foot_and_settles_on_its_spring():
     prob.initial_state([0.0, 0.5 + h, 0.0, 0.0], np.zeros(4))
     prob.add_cost(trajopt.ControlEffort(weight=contacts.effort_weights(0.0)))
     prob.add_contacts(contacts)
-    result = trajopt.solve_contact(prob)
+    result = trajopt.solve_contact(prob, VI1)
     check_contact_result(result)
     t, q = result.trajectory["t"], result.trajectory["q"]
     normal = result.trajectory["u"][:, contacts.input_index(0, "normal")]
@@ -348,3 +349,28 @@ def test_dropped_planar_hopper_lands_on_its_foot_and_settles_on_its_spring():
     np.testing.assert_allclose(q[end, 3], m_body * G / k, rtol=1e-3)                        # k q_leg = m_body g
     np.testing.assert_allclose(q[end, 1] + q[end, 3] - 0.5, 0, atol=1e-6)                   # foot on the ground
     np.testing.assert_allclose(normal[end], (m_body + m_leg) * G, rtol=1e-3)                # ground carries all
+
+
+def test_solve_contact_leaves_the_problem_unchanged_and_old_spellings_warn():
+    """The homotopy gives each NLP its relaxation (hovi.contact.ComplementarityRelaxation) and never
+    writes to the Problem; solve_contact(problem, s=1) and transcription='vi' (the old spellings,
+    whose order defaulted to s = 1) warn and give the same solve as VI(s=1); the exact conditions
+    straight to an NLP are refused."""
+    contacts, prob = contact_problem(planar_point_mass(), [0.0, 0.3], [0.0, 0.0], 0.5, 25, mu=0.5)
+    before = {k: (v.copy() if isinstance(v, np.ndarray) else v) for k, v in vars(prob).items()}
+    new = trajopt.solve_contact(prob, VI1)
+    after = vars(prob)
+    assert set(after) == set(before) and not hasattr(prob, "complementarity_epsilon")
+    for key, value in before.items():
+        if isinstance(value, np.ndarray):
+            np.testing.assert_array_equal(after[key], value)
+        else:
+            assert after[key] is value or after[key] == value, key
+    for kwargs in ({"s": 1}, {"transcription": "vi"}):
+        with pytest.warns(DeprecationWarning, match="solve_contact"):
+            old = trajopt.solve_contact(prob, **kwargs)
+        assert old.transcription.method == VI1 and old.contact["solves"] == new.contact["solves"]
+        np.testing.assert_array_equal(old.x, new.x)
+    with pytest.raises(ValueError, match="solve_contact"):
+        trajopt.NLP(prob, VI1, relaxation=hovi.contact.ComplementarityRelaxation(0.0))
+    assert trajopt.NLP(prob, VI1, relaxation=hovi.contact.ComplementarityRelaxation(1e-2)).contact_rows.epsilon == 1e-2

@@ -82,9 +82,9 @@ def test_trajectory_optimisations(client):
     from hovi.trajopt import examples
     problems = [examples.EXAMPLES["pendulum"](N=12) for _ in range(2)]
     problems[1].final_state([2.5], qdot=[0.0])
-    results = distributed.solve_trajopt(problems, "vi", s=1, client=client)
+    results = distributed.solve_trajopt(problems, trajopt.VI(s=1), client=client)
     for problem, result in zip(problems, results):
-        local = trajopt.solve(problem, "vi", s=1, verbose=False)
+        local = trajopt.solve(problem, trajopt.VI(s=1), verbose=False)
         assert result.success and result.status == local.status and result.iterations == local.iterations
         assert np.array_equal(result.x, local.x)
         assert np.array_equal(result.replay().q, local.replay().q)

@@ -77,7 +77,7 @@ def standing_block(push):
     return foot, prob, q0
 
 
-@pytest.mark.parametrize("method", ["vi", "hs-implicit"])
+@pytest.mark.parametrize("method", [trajopt.VI(s=2), trajopt.HermiteSimpson("implicit")], ids=repr)
 def test_pushed_block_stands_with_its_centre_of_pressure_where_statics_puts_it(method):
     pytest.importorskip("cyipopt")
     push, m = 4.0, 2.0
@@ -87,7 +87,7 @@ def test_pushed_block_stands_with_its_centre_of_pressure_where_statics_puts_it(m
     assert result.constraint_violation < 1e-10
     tr = result.trajectory
     np.testing.assert_allclose(tr["q"], np.tile(q0, (len(tr["q"]), 1)), atol=1e-9)   # the foot holds
-    if method == "vi":  # the wrench at the last point acts only on the final momentum, which is free here
+    if method == trajopt.VI(s=2):  # the wrench at the last point acts only on the final momentum, which is free here
         u, tol = tr["u"][:-1], 1e-6
     else:  # collocation fixes each stage's Simpson average (1, 4, 1) / 6 of the forces, up to the velocities
         # at the held points, which only their own collocation rows tie (IPOPT leaves ~3e-8 m/s: 1e-6 N)
@@ -119,6 +119,9 @@ def test_bad_flat_foot_input_is_refused_with_a_reason():
         with pytest.raises(ValueError, match=match):
             FlatFoot(block_model(), **args)
     foot, prob, _ = standing_block(0.0)
+    # stance() and cone() are plain data (hovi.contact imports nothing of trajopt); the Problem makes the constraints
+    assert isinstance(prob.path_constraints[0], trajopt.PoseHeld)
+    assert isinstance(prob.input_constraints[0], trajopt.InputConstraint)
     assert foot.cone(n_controls=foot.model.n_controls + 3).A.shape == (17, 10)  # inputs appended after the foot's
     with pytest.raises(ValueError, match="7 columns"):
         prob.add_constraint(trajopt.InputConstraint(np.ones((2, 3)), 0.0, 1.0))

@@ -10,9 +10,9 @@ from hovi.trajopt.hessian import LagrangianHessian, distance2_colouring, star_co
 
 
 def test_coloured_hessian_equals_dense_central_differences_of_the_lagrangian_gradient():
-    for prob, method in ((cartpole_swingup(N=6, T=1.5), "vi"), (slider_crank_to_target(N=5), "vi"),
-                         (cartpole_swingup(N=4, T=1.5), "hs-implicit")):
-        nlp = trajopt.NLP(trajopt.transcribe(prob, method, s=2))
+    for prob, method in ((cartpole_swingup(N=6, T=1.5), trajopt.VI(s=2)), (slider_crank_to_target(N=5), trajopt.VI(s=2)),
+                         (cartpole_swingup(N=4, T=1.5), trajopt.HermiteSimpson("implicit"))):
+        nlp = trajopt.NLP(prob, method)
         H = LagrangianHessian(nlp)
         rng = np.random.default_rng(5)
         x = np.clip(rng.uniform(-1, 1, nlp.n_variables), nlp.lower, nlp.upper)
@@ -34,7 +34,7 @@ def test_coloured_hessian_equals_dense_central_differences_of_the_lagrangian_gra
 
 
 def test_colours_do_not_grow_with_the_horizon():
-    colours = [LagrangianHessian(trajopt.NLP(trajopt.transcribe(cartpole_swingup(N=N), "vi", s=2))).n_colours
+    colours = [LagrangianHessian(trajopt.NLP(cartpole_swingup(N=N), trajopt.VI(s=2))).n_colours
                for N in (8, 32)]
     assert colours[0] == colours[1]
 
@@ -66,7 +66,7 @@ def test_star_colouring_reads_every_entry_from_one_side_with_fewer_colours():
         r, c = P.nonzero()
         assert np.all(star[r[r != c]] != star[c[r != c]])
         assert readable_from_one_side(P, star) and star.max() <= d2.max()
-    nlp = trajopt.NLP(trajopt.transcribe(cartpole_swingup(N=8), "vi", s=2))
+    nlp = trajopt.NLP(cartpole_swingup(N=8), trajopt.VI(s=2))
     H = LagrangianHessian(nlp, probe=np.zeros(nlp.n_variables))
     P = sp.coo_matrix((np.ones(len(H.rows)), (H.rows, H.cols)), (nlp.n_variables,) * 2)
     assert readable_from_one_side(P + P.T, H.colour)
@@ -75,8 +75,8 @@ def test_star_colouring_reads_every_entry_from_one_side_with_fewer_colours():
 @pytest.mark.parametrize("make", [pendulum_swingup, slider_crank_to_target])
 def test_newton_steps_with_the_coloured_hessian_reach_the_lbfgs_optimum_in_fewer_iterations(make):
     pytest.importorskip("cyipopt")
-    lbfgs = trajopt.solve(make(), "vi", s=2, verbose=False)
-    exact = trajopt.solve(make(), "vi", s=2, verbose=False, hessian="fd")
+    lbfgs = trajopt.solve(make(), trajopt.VI(s=2), verbose=False)
+    exact = trajopt.solve(make(), trajopt.VI(s=2), verbose=False, hessian="fd")
     assert lbfgs.success and exact.success
     assert exact.cost == pytest.approx(lbfgs.cost, rel=1e-6)
     np.testing.assert_allclose(exact.trajectory["q"], lbfgs.trajectory["q"], atol=1e-5)

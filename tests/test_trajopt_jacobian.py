@@ -8,8 +8,7 @@ import scipy.sparse as sp
 
 import hovi
 from hovi import trajopt
-from hovi.contact import Box, Contacts, Terrain
-from hovi.trajopt.complementarity import Branches
+from hovi.contact import Box, Branches, ComplementarityRelaxation, Contacts, Terrain
 from hovi.trajopt.examples import close_mechanism
 
 pytest.importorskip("cyipopt")
@@ -62,7 +61,8 @@ def dense_jacobian(nlp, x):
     return sp.coo_matrix((nlp.jacobian(x), (nlp.jac_rows, nlp.jac_cols)), shape=(nlp.n_constraints, nlp.n_variables)).toarray()
 
 
-METHODS = [("vi", 1), ("vi", 2), ("vi", 3), ("hs-implicit", 2), ("hs-explicit", 2)]
+METHODS = [trajopt.VI(1), trajopt.VI(2), trajopt.VI(3), trajopt.HermiteSimpson("implicit"),
+           trajopt.HermiteSimpson("explicit")]
 
 
 def check_against_finite_differences(nlp, x):
@@ -77,12 +77,12 @@ def check_against_finite_differences(nlp, x):
     assert len(set(zip(nlp.jac_rows.tolist(), nlp.jac_cols.tolist()))) == nlp.nnz  # no duplicates
 
 
-@pytest.mark.parametrize("name,s", METHODS, ids=[f"{m}-{s}" for m, s in METHODS])
+@pytest.mark.parametrize("method", METHODS, ids=repr)
 @pytest.mark.parametrize("k", range(3), ids=["chain-per_point", "chain-held", "fourbar"])
-def test_jacobian_matches_finite_differences(name, s, k):
+def test_jacobian_matches_finite_differences(method, k):
     _, prob = problems()[k]
-    nlp = trajopt.NLP(trajopt.transcribe(prob, name, s))
-    rng = np.random.default_rng(s + 10 * k)
+    nlp = trajopt.NLP(prob, method)
+    rng = np.random.default_rng(getattr(method, "s", 2) + 10 * k)
     check_against_finite_differences(nlp, rng.normal(scale=0.3, size=nlp.n_variables))
 
 
@@ -102,21 +102,22 @@ def tumbling_block():
     return contacts, prob.add_contacts(contacts)
 
 
-CONTACT_METHODS = [("vi", 1), ("vi", 2), ("vi", 3), ("hs-implicit", 2), ("hs-explicit", 2)]
+CONTACT_METHODS = METHODS
 
 
-@pytest.mark.parametrize("name,s", CONTACT_METHODS, ids=[f"{m}-{s}" for m, s in CONTACT_METHODS])
+@pytest.mark.parametrize("method", CONTACT_METHODS, ids=repr)
 @pytest.mark.parametrize("exact", [False, True], ids=["relaxed", "exact-sides"])
-def test_contact_jacobian_matches_finite_differences(name, s, exact):
+def test_contact_jacobian_matches_finite_differences(method, exact):
     contacts, prob = tumbling_block()
-    prob.complementarity_epsilon = 1e-2
+    s = getattr(method, "s", 2)
+    relaxation = ComplementarityRelaxation(1e-2)
     E = prob.N * s  # pairs: the VI's control points, Hermite-Simpson's knots and midpoints, less the last
     if exact:  # one side of every pair fixed: the same rows, other bounds
         rng = np.random.default_rng(5)
         C = contacts.n_contacts
-        prob.complementarity_branches = Branches(rng.random((E, C)) < 0.5, rng.random((E, C)) < 0.5,
-                                                 rng.random((E, C, contacts.d)) < 0.5)
-    nlp = trajopt.NLP(trajopt.transcribe(prob, name, s))
+        relaxation = ComplementarityRelaxation(1e-2, Branches(rng.random((E, C)) < 0.5, rng.random((E, C)) < 0.5,
+                                                              rng.random((E, C, contacts.d)) < 0.5))
+    nlp = trajopt.NLP(prob, method, relaxation=relaxation)
     assert nlp.contact_rows.count == E * 2 * (4 + 2 * 4) + 2 * 6
     check_against_finite_differences(nlp, np.random.default_rng(s).normal(scale=0.3, size=nlp.n_variables))
 
@@ -128,9 +129,9 @@ def test_exact_sides_fix_inputs_and_rows():
     E, C, d = prob.N, contacts.n_contacts, contacts.d
     normal = np.zeros((E, C), bool)
     normal[1, 0] = True  # phi(q_2) = 0 for contact 0, lambda = 0 elsewhere
-    prob.complementarity_branches = Branches(normal, np.ones((E, C), bool), np.zeros((E, C, d), bool))
-    nlp = trajopt.NLP(trajopt.transcribe(prob, "vi", 1))
-    cr, u_off = nlp.contact_rows, nlp.tr.u_points()
+    branches = Branches(normal, np.ones((E, C), bool), np.zeros((E, C, d), bool))
+    nlp = trajopt.NLP(prob, trajopt.VI(s=1), relaxation=ComplementarityRelaxation(0.0, branches))
+    cr, u_off = nlp.contact_rows, nlp.transcription.u_points()
     lam = u_off[:E, None] + np.array([contacts.input_index(c, "normal") for c in range(C)])
     fixed = ~normal
     assert np.all(nlp.lower[lam[fixed]] == 0) and np.all(nlp.upper[lam[fixed]] == 0)
@@ -154,8 +155,8 @@ def test_objective_gradient_matches_finite_differences():
     prob.add_cost(trajopt.StateTracking(lambda t: np.outer(np.sin(t), [1.0, 0.5, 0.2]), weight=[1.0, 2.0, 3.0],
                                         velocity_weight=0.1))
     prob.add_cost(trajopt.TerminalCost([0.3, 0.2, 0.1], weight=4.0, velocity_weight=0.5))
-    for name in ("vi", "hs-implicit", "hs-explicit"):
-        nlp = trajopt.NLP(trajopt.transcribe(prob, name, 2))
+    for method in (trajopt.VI(s=2), trajopt.HermiteSimpson("implicit"), trajopt.HermiteSimpson("explicit")):
+        nlp = trajopt.NLP(prob, method)
         x = np.random.default_rng(3).normal(scale=0.3, size=nlp.n_variables)
         g = nlp.gradient(x)
         h = 1e-6

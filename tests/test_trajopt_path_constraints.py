@@ -58,7 +58,7 @@ def test_shared_kinematics_equal_each_constraint_alone():
                    trajopt.Clearance(0, [0, 0, -0.2], center=[0, 0.3, 0], radius=0.2, window=(0.3, 0.8))]
     for c in constraints:
         prob.add_constraint(c)
-    nlp = trajopt.NLP(trajopt.transcribe(prob, "vi", 2))
+    nlp = trajopt.NLP(prob, trajopt.VI(s=2))
     assert len(nlp._point_groups) < len(nlp.paths)  # some entries share a call
     x = np.random.default_rng(0).normal(scale=0.3, size=nlp.n_variables)
     shared_values, shared_jacobians = nlp._path(x, False), nlp._path(x, True)

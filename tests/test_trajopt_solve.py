@@ -22,7 +22,7 @@ def replayed_points(result, s):
 @pytest.mark.parametrize("name,N", [("pendulum", 20), ("cartpole", 30)])
 def test_swingups_converge_and_replay(name, N, s):
     prob = examples.EXAMPLES[name](N=N)
-    r = trajopt.solve(prob, "vi", s=s, verbose=False)
+    r = trajopt.solve(prob, trajopt.VI(s), verbose=False)
     assert r.success, r.status
     assert r.constraint_violation < 1e-9
     q = r.trajectory["q"]
@@ -31,11 +31,12 @@ def test_swingups_converge_and_replay(name, N, s):
     np.testing.assert_allclose(replayed_points(r, s), q, rtol=0, atol=1e-8)
 
 
-@pytest.mark.parametrize("method,s", [("vi", 1), ("vi", 3), ("hs-implicit", 2), ("hs-explicit", 2)])
-def test_acrobot_swingup_converges(method, s):
+@pytest.mark.parametrize("method", [trajopt.VI(1), trajopt.VI(3), trajopt.HermiteSimpson("implicit"),
+                                    trajopt.HermiteSimpson("explicit")], ids=repr)
+def test_acrobot_swingup_converges(method):
     prob = trajopt.Problem(hovi.models.acrobot(), 100, 5.0, u_bounds=(-10, 10))
     prob.initial_state([0.0, 0.0]).final_state([np.pi, 0.0], qdot=[0.0, 0.0]).add_cost(trajopt.ControlEffort())
-    r = trajopt.solve(prob, method, s=s, guess="linear", verbose=False)
+    r = trajopt.solve(prob, method, guess="linear", verbose=False)
     assert r.success and r.constraint_violation < 1e-9, r.status
     np.testing.assert_allclose(r.trajectory["q"][-1], [np.pi, 0.0], atol=1e-9)
 
@@ -46,7 +47,7 @@ def test_acrobot_swingup_each_step_replays():
     optimised state reproduces the next to round-off."""
     prob = trajopt.Problem(hovi.models.acrobot(), 100, 5.0, u_bounds=(-10, 10))
     prob.initial_state([0.0, 0.0]).final_state([np.pi, 0.0], qdot=[0.0, 0.0]).add_cost(trajopt.ControlEffort())
-    r = trajopt.solve(prob, "vi", s=2, guess="linear", verbose=False)
+    r = trajopt.solve(prob, trajopt.VI(s=2), guess="linear", verbose=False)
     assert r.success, r.status
     tr, integ = r.transcription, r.transcription.integrator
     q, p, U = r.trajectory["q"], r.trajectory["p"], tr.stage_controls(r.x)
@@ -59,7 +60,7 @@ def test_acrobot_swingup_each_step_replays():
 @pytest.mark.parametrize("s", [1, 2, 3])
 def test_constrained_slider_crank_holds_its_constraint(s):
     prob = examples.slider_crank_to_target(N=15)
-    r = trajopt.solve(prob, "vi", s=s, verbose=False)
+    r = trajopt.solve(prob, trajopt.VI(s), verbose=False)
     assert r.success, r.status
     h = np.array([prob.model.constraint_values(q) for q in r.trajectory["q"]])
     assert np.abs(h).max() < 1e-9
@@ -71,26 +72,26 @@ def test_constrained_slider_crank_holds_its_constraint(s):
 def test_transcriptions_agree_at_fine_N(name, N):
     """Every transcription converges, from its own default guess and warm-started from the VI's
     solution (the same local optimum); the optimal costs agree to 1e-3."""
-    base = trajopt.solve(examples.EXAMPLES[name](N=N), "vi", s=2, verbose=False)
+    base = trajopt.solve(examples.EXAMPLES[name](N=N), trajopt.VI(s=2), verbose=False)
     assert base.success, base.status
-    for method, s in (("vi", 1), ("vi", 3), ("hs-implicit", 2), ("hs-explicit", 2)):
-        cold = trajopt.solve(examples.EXAMPLES[name](N=N), method, s=s, verbose=False)
-        assert cold.success and cold.constraint_violation < 1e-9, (method, s, cold.status)
-        warm = trajopt.solve(examples.EXAMPLES[name](N=N), method, s=s, guess=base.as_guess(), verbose=False)
-        assert warm.success, (method, s, warm.status)
-        tol = 2e-2 if s == 1 else 1e-3  # the trapezoidal VI is second order: 1% off at these N
-        assert abs(warm.cost - base.cost) <= tol * base.cost, (method, s, warm.cost, base.cost)
+    for method in (trajopt.VI(1), trajopt.VI(3), trajopt.HermiteSimpson("implicit"), trajopt.HermiteSimpson("explicit")):
+        cold = trajopt.solve(examples.EXAMPLES[name](N=N), method, verbose=False)
+        assert cold.success and cold.constraint_violation < 1e-9, (method, cold.status)
+        warm = trajopt.solve(examples.EXAMPLES[name](N=N), method, guess=base.as_guess(), verbose=False)
+        assert warm.success, (method, warm.status)
+        tol = 2e-2 if method == trajopt.VI(1) else 1e-3  # the trapezoidal VI is second order: 1% off at these N
+        assert abs(warm.cost - base.cost) <= tol * base.cost, (method, warm.cost, base.cost)
 
 
 def test_path_constraints_hold_at_the_solution():
     """The tip at a target at t = 1 (an equality) and above z = -0.45 after t = 1.5 (a bound)."""
     prob = examples.pendulum_swingup(N=20)
-    free = trajopt.solve(prob, "vi", s=2, verbose=False).cost
+    free = trajopt.solve(prob, trajopt.VI(s=2), verbose=False).cost
     tip = [0, 0, -0.5]
     target = hovi._core.trajopt.body_point_kinematics(prob.model, [[-1.0]], [0], [tip])[0][0, 0]
     prob.add_constraint(trajopt.BodyPoint(0, tip, target=target, at=1.0))
     prob.add_constraint(trajopt.BodyPoint(0, tip, axes="z", lower=-0.45, window=(1.5, 2.0)))
-    r = trajopt.solve(prob, "vi", s=2, verbose=False)
+    r = trajopt.solve(prob, trajopt.VI(s=2), verbose=False)
     assert r.success, r.status
     t, Q = r.trajectory["t"], r.trajectory["q"]
     X = hovi._core.trajopt.body_point_kinematics(prob.model, Q, [0], [tip])[0][:, 0]
@@ -99,12 +100,13 @@ def test_path_constraints_hold_at_the_solution():
     assert r.cost > free * (1 + 1e-3)  # the constraints cost effort
 
 
-@pytest.mark.parametrize("name,s", [("vi", 1), ("vi", 2), ("vi", 3), ("hs-implicit", 2)])
-def test_samples_between_points_lie_on_the_trajectory_polynomial(name, s):
+@pytest.mark.parametrize("method", [trajopt.VI(1), trajopt.VI(2), trajopt.VI(3), trajopt.HermiteSimpson("implicit")],
+                         ids=repr)
+def test_samples_between_points_lie_on_the_trajectory_polynomial(method):
     """Transcription.q_samples: b configurations between each two consecutive points, at evenly
     spaced times, equal the transcription's own interpolant q(t) there."""
-    tr = trajopt.transcribe(examples.cartpole_swingup(N=4), name, s)
-    x = np.random.default_rng(s).normal(size=tr.core.n_variables)
+    tr = method.transcribe(examples.cartpole_swingup(N=4))
+    x = np.random.default_rng(getattr(method, "s", 2)).normal(size=tr.core.n_variables)
     tq, offsets = tr.q_points()
     t, points, weights = tr.q_samples(3)
     expected = tq[:-1, None] + np.diff(tq)[:, None] * np.array([0.25, 0.5, 0.75])
@@ -122,7 +124,7 @@ def test_path_constraint_between_points_holds_along_the_trajectory():
     def solve(between):
         prob = examples.pendulum_swingup(N=20)
         prob.add_constraint(trajopt.BodyPoint(0, tip, axes="z", lower=lower, window=(1.5, 2.0), between=between))
-        r = trajopt.solve(prob, "vi", s=1, verbose=False)
+        r = trajopt.solve(prob, trajopt.VI(s=1), verbose=False)
         assert r.success, r.status
         return r
 
@@ -222,3 +224,44 @@ def test_a_callback_failing_mid_solve_stops_ipopt_and_raises_its_error(fail_in):
     with pytest.raises(RuntimeError, match="failed on purpose"):
         trajopt.solve(prob, verbose=False)
     assert len(calls) >= 5
+
+
+def test_transcriptions_are_small_immutable_specs():
+    """VI and HermiteSimpson compare by value, print as they are written, pickle (hovi.distributed
+    ships them) and refuse bad orders and forms; the default is one constant used by every entry."""
+    import pickle
+    assert trajopt.VI(s=2) == trajopt.VI(2) == trajopt.DEFAULT_TRANSCRIPTION and trajopt.VI(1) != trajopt.VI(2)
+    assert repr(trajopt.VI(3)) == "VI(s=3)" and repr(trajopt.HermiteSimpson()) == "HermiteSimpson(form='implicit')"
+    for method in (trajopt.VI(3), trajopt.HermiteSimpson("explicit")):
+        assert pickle.loads(pickle.dumps(method)) == method
+    with pytest.raises(AttributeError):
+        trajopt.VI(2).s = 3
+    for bad in (0, 1.5, -1, True):
+        with pytest.raises(ValueError, match="s must be a positive integer"):
+            trajopt.VI(bad)
+    with pytest.raises(ValueError, match="form must be"):
+        trajopt.HermiteSimpson("semi")
+    with pytest.raises(TypeError, match="transcription must be"):
+        trajopt.solve(examples.pendulum_swingup(N=5), 3, verbose=False)
+    tr = trajopt.HermiteSimpson("explicit").transcribe(examples.pendulum_swingup(N=5))
+    assert tr.method == trajopt.HermiteSimpson("explicit") and tr.name == tr.method.name == "hs-explicit"
+
+
+def test_deprecated_string_spellings_warn_and_give_the_same_result():
+    """solve(problem, 'vi', s=...), solve(problem, 'hs-implicit'), solve(problem, s=...) and
+    transcribe(problem, 'vi', s) keep working for one release, with a DeprecationWarning, and give
+    what the new spelling gives."""
+    for old, new in (((("vi",), {"s": 1}), trajopt.VI(1)), ((("hs-implicit",), {}), trajopt.HermiteSimpson()),
+                     (((), {"s": 3}), trajopt.VI(3))):
+        args, kwargs = old
+        with pytest.warns(DeprecationWarning, match="deprecated"):
+            r_old = trajopt.solve(examples.pendulum_swingup(N=8), *args, verbose=False, **kwargs)
+        r_new = trajopt.solve(examples.pendulum_swingup(N=8), new, verbose=False)
+        assert r_old.transcription.method == new and r_old.iterations == r_new.iterations
+        np.testing.assert_array_equal(r_old.x, r_new.x)
+    with pytest.warns(DeprecationWarning, match="transcribe"):
+        tr = trajopt.transcribe(examples.pendulum_swingup(N=8), "vi", 2)
+    assert tr.method == trajopt.VI(2)
+    with pytest.warns(DeprecationWarning, match="hovi.trajopt.solve"):
+        from hovi.trajopt import ipopt
+        assert ipopt.solve is trajopt.solve

@@ -105,6 +105,7 @@ def cmd_info(args) -> int:
 def cmd_optimize(args) -> int:
     from . import trajopt
     from .trajopt import examples
+    from .trajopt.transcriptions import from_name
     make = examples.EXAMPLES[args.example]
     kwargs = {"controls": args.controls}
     if args.N:
@@ -117,7 +118,7 @@ def cmd_optimize(args) -> int:
     print(f"{args.example}: {prob.model.n} DoF, {prob.model.n_controls} controls, {prob.model.n_constraints} "
           f"constraint equations; N = {prob.N} stages over T = {prob.T} s; {label}")
     guess = "linear" if args.example == "acrobot" else None
-    result = trajopt.solve(prob, args.transcription, s=s, guess=guess, verbose=not args.quiet,
+    result = trajopt.solve(prob, from_name(args.transcription, s), guess=guess, verbose=not args.quiet,
                            options={"max_iter": args.max_iter})
     summary = {"example": args.example, "transcription": args.transcription, "order": args.order, "N": prob.N,
                "T": prob.T, "status": result.status, "success": result.success, "cost": result.cost,

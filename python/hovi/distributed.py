@@ -36,7 +36,7 @@ from .integrator import Integrator
 if TYPE_CHECKING:
     from distributed import Client
 
-    from .trajopt import Problem, Result
+    from .trajopt import Problem, Result, TranscriptionMethod
 
 __all__ = ["rollout_batch", "step_batch", "one_step_batch", "solve_trajopt", "SOLVES_PER_TASK"]
 
@@ -157,24 +157,29 @@ def one_step_batch(model: _core.Model, dt: float, q0: npt.ArrayLike, qdot0: npt.
             else np.concatenate([p[key] for p in parts]) for key in parts[0]}
 
 
-def _solve_task(problem: Problem, transcription: str, s: int, guess: Any, options: Optional[dict[str, Any]]) -> Result:
+def _solve_task(problem: Problem, transcription: TranscriptionMethod, guess: Any,
+                options: Optional[dict[str, Any]]) -> Result:
     from .trajopt import solve
-    result = solve(problem, transcription, s=s, guess=guess, options=options, verbose=False)
+    result = solve(problem, transcription, guess=guess, options=options, verbose=False)
     result.transcription = None  # C++ state that does not travel: the client makes it again
     return result
 
 
-def solve_trajopt(problems: Sequence[Problem], transcription: str = "vi", *, s: int = 2, guess: Any = None,
-                  options: Optional[dict[str, Any]] = None, client: ClientLike = None) -> list[Result]:
-    """``hovi.trajopt.solve(problem, transcription, s=s, guess=guess, options=options)`` for every problem,
+def solve_trajopt(problems: Sequence[Problem], transcription: Optional[TranscriptionMethod] = None, *,
+                  s: Optional[int] = None, guess: Any = None, options: Optional[dict[str, Any]] = None,
+                  client: ClientLike = None) -> list[Result]:
+    """``hovi.trajopt.solve(problem, transcription, guess=guess, options=options)`` for every problem
+    (``transcription`` a ``hovi.trajopt.VI`` or ``HermiteSimpson``, default
+    ``hovi.trajopt.DEFAULT_TRANSCRIPTION``; the old spelling, a string and ``s=``, warns),
     one task each (a trajectory optimisation is thousands of solves), on a Dask cluster; the
     Results in the order of the problems, as the local solves give them (their transcription made
     again here, so that ``replay`` and ``as_guess`` work)."""
-    from .trajopt import transcribe
+    from .trajopt.transcriptions import resolve
+    method = resolve(transcription, s, old_default_s=2, caller="solve_trajopt")
     problems = list(problems)
     with _connect(client) as c:
-        futures = [c.submit(_solve_task, p, transcription, s, guess, options, pure=False) for p in problems]
+        futures = [c.submit(_solve_task, p, method, guess, options, pure=False) for p in problems]
         results: list[Result] = list(c.gather(futures))
     for problem, result in zip(problems, results):
-        result.transcription = transcribe(problem, transcription, s)
+        result.transcription = method.transcribe(problem)
     return results

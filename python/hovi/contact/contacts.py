@@ -8,7 +8,7 @@ sliding velocity at the optimum, Stewart-Trinkle / Manchester-Kuindersma). The f
 DEL equations as point forces at the control points (``Model.add_point_wrench`` with a control),
 like the constraint forces, so their Jacobians come from the existing linearisation.
 
-The complementarity conditions (``ContactRows`` in ``hovi.trajopt.complementarity`` builds them
+The complementarity conditions (``ContactRows`` in ``hovi.contact.complementarity`` builds them
 for a transcription) pair the inputs at configuration point i with the motion that follows it:
 
     phi_c(q_{i+1}) >= 0,  lambda_i >= 0,  lambda_i phi_c(q_{i+1}) = 0        (no penetration, no pull)
@@ -20,18 +20,16 @@ inputs at the last point equal to those of the point before. This is Stewart and
 stepping (Manchester and Kuindersma's variational form): the force that decides whether q_{i+1}
 penetrates is one that acts on it. A force at a point cannot move that point itself: in the
 Galerkin VI the force at a knot only enters the following stage, so pairing lambda_i with
-phi(q_i) leaves the knots without a force that can stop a falling body: time stepping that
-system (s = 2) finds no solution at the first impact for half of the drop heights 0.2..0.3 m and
-a rebound for the others (the relaxation homotopy then stalls as epsilon -> 0).
+phi(q_i) leaves the knots without a force that can stop a falling body (time stepping that
+system finds no solution at some impacts and a rebound at others: bench/README.md, "Design
+measurements").
 
-With s = 1 (linear stages, the default of ``solve_contact``) every stage's conditions form an LCP
-with a P-matrix (one unique solution) and impacts are inelastic: a dropped mass lands and stays,
-lambda = m g from the step after the impact. With s = 2 the stage's LCP is unique too, but a
-parabola through the points where it lands turns upwards at the stage's end: an impact inside a
-stage rebounds, with up to 0.12-0.14 of the impact speed whatever dt (measured by time stepping
-these conditions over drop heights 0.2..0.3 m with N = 25, 50, 100 over 0.5 s; a 0.3 m drop with
-dt = 0.02 bounces 3.3 mm high). The other pairing for s = 2 (the knot force with the next
-knot) has two solutions per resting stage.
+With s = 1 (linear stages: ``hovi.trajopt.VI(s=1)``, the order to use for contact) every stage's
+conditions form an LCP with a P-matrix (one unique solution) and impacts are inelastic: a dropped
+mass lands and stays, lambda = m g from the step after the impact. With s = 2 the stage's LCP is
+unique too, but a parabola through the points where it lands turns upwards at the stage's end: an
+impact inside a stage rebounds (a fraction of the impact speed whatever dt; bench/README.md). The
+other pairing for s = 2 (the knot force with the next knot) has two solutions per resting stage.
 
 Each condition holds exactly at the solution of ``solve_contact`` (see there: a relaxation
 homotopy, then an exact solve on the sides of the pairs it found).
@@ -43,6 +41,7 @@ from typing import List, Sequence, Tuple, Union
 
 import numpy as np
 
+from .. import _core
 from .._bodies import body_index
 from .._core import Model
 from .terrain import Terrain
@@ -109,12 +108,11 @@ class Contacts:
 
     def gaps(self, q: np.ndarray) -> np.ndarray:
         """The signed gaps (C,) of the contact points to the terrain at configuration q (n,)."""
-        from .._core import trajopt
         q = np.asarray(q, dtype=float)
         if q.shape != (self.model.n,):
             raise ValueError(f"q must have shape ({self.model.n},), got {q.shape}")
-        X, _ = trajopt.body_point_kinematics(self.model, q[None], [c.body for c in self.points],
-                                             np.array([c.point for c in self.points]))
+        X, _ = _core.trajopt.body_point_kinematics(self.model, q[None], [c.body for c in self.points],
+                                                   np.array([c.point for c in self.points]))
         return self.terrain.gap(X[0])
 
     @property

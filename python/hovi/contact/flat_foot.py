@@ -20,7 +20,8 @@ each in the friction pyramid |f_x|, |f_y| <= mu f_z. That set is the cone G w >=
 from __future__ import annotations
 
 import itertools
-from typing import Sequence, Union
+from dataclasses import dataclass
+from typing import Sequence, Tuple, Union
 
 import numpy as np
 
@@ -43,6 +44,27 @@ def wrench_cone(X: float, Y: float, mu: float) -> np.ndarray:
     return np.array(rows, dtype=float)
 
 
+@dataclass(frozen=True, eq=False)
+class Stance:
+    """A body held at its pose at configuration q0 (n,) at every configuration point: its point
+    ``point`` (3,) and the sole's half-sizes ``size`` (X, Y) (``Problem.add_constraint`` turns it
+    into a ``hovi.trajopt.PoseHeld``)."""
+    body: int
+    q0: np.ndarray
+    point: np.ndarray
+    size: Tuple[float, float]
+
+
+@dataclass(frozen=True, eq=False)
+class WrenchCone:
+    """The linear rows ``lower <= A u <= upper`` on the controls u (m,) at every control value that
+    keep a foot's wrench in its cone (``Problem.add_constraint`` turns them into a
+    ``hovi.trajopt.InputConstraint``)."""
+    A: np.ndarray
+    lower: np.ndarray
+    upper: np.ndarray
+
+
 class FlatFoot:
     """A stance foot: ``body`` (name or index) with a rectangular sole of half-length X (along the
     body's x axis) and half-width Y (its y axis) centred at ``centre`` (3,) (in the body's joint
@@ -52,8 +74,8 @@ class FlatFoot:
     ``self.model`` is a copy of ``model`` with six inputs appended (``first_input`` ..
     ``first_input + 5``): the force and torque at the sole centre along the sole frame's axes, in
     units of ``scale`` N and N m (default: the robot's weight, so that the inputs are of order
-    one; ``wrench(u)`` converts). Add ``stance()`` (a path constraint) and ``cone()`` (an input
-    constraint) to the Problem.
+    one; ``wrench(u)`` converts). Add ``stance()`` (the foot held at its pose) and ``cone()`` (the
+    wrench in its cone) to the Problem (``Problem.add_constraint``).
     """
 
     def __init__(self, model: Model, body: Union[str, int], centre: Sequence[float], X: float, Y: float,
@@ -91,19 +113,19 @@ class FlatFoot:
             self.model.add_point_wrench(self.body, torque=self.scale * axis, point=self.centre,
                                         control=self.model.add_control())
 
-    def stance(self):
-        """The path constraint that holds the foot at its pose at q0 at every configuration point."""
-        from ..trajopt.path_constraints import PoseHeld
-        return PoseHeld(self.body, self.q0, point=self.centre, size=(self.X, self.Y))
+    def stance(self) -> Stance:
+        """The foot held at its pose at q0 at every configuration point (a path constraint once added
+        to a Problem)."""
+        return Stance(self.body, self.q0, self.centre, (self.X, self.Y))
 
-    def cone(self, n_controls: int | None = None):
-        """The input constraint G w >= 0 (``wrench_cone``) on the foot's wrench inputs at every point,
-        for a model with ``n_controls`` controls (default: ``self.model``'s; more if inputs were
-        appended after the foot's, e.g. by ``Contacts(foot.model, ...)``)."""
-        from ..trajopt.input_constraints import InputConstraint
+    def cone(self, n_controls: int | None = None) -> WrenchCone:
+        """The rows G w >= 0 (``wrench_cone``) on the foot's wrench inputs at every point (an input
+        constraint once added to a Problem), for a model with ``n_controls`` controls (default:
+        ``self.model``'s; more if inputs were appended after the foot's, e.g. by
+        ``Contacts(foot.model, ...)``)."""
         A = np.zeros((17, self.model.n_controls if n_controls is None else int(n_controls)))
         A[:, self.first_input:self.first_input + 6] = wrench_cone(self.X, self.Y, self.mu)
-        return InputConstraint(A, lower=np.zeros(17), upper=np.full(17, np.inf))
+        return WrenchCone(A, lower=np.zeros(17), upper=np.full(17, np.inf))
 
     def wrench(self, u: np.ndarray) -> np.ndarray:
         """The wrenches (P, 6) (f, tau in the sole frame at its centre; N, N m) in the controls u (P, m)."""

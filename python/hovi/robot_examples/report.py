@@ -13,6 +13,7 @@ import numpy as np
 
 from .. import trajopt
 from ..trajopt import Result
+from ..trajopt.transcriptions import from_name
 from .example import Example
 
 
@@ -124,7 +125,7 @@ def solve(example: Example, method: str = "vi", s: int = 1, verbose: bool = Fals
     if example.problem.contacts is None:
         if time_limit is not None:
             options["max_cpu_time"] = float(time_limit)
-        return trajopt.solve(example.problem, method, s=s, guess=example.guess, options=options, verbose=verbose,
+        return trajopt.solve(example.problem, from_name(method, s), guess=example.guess, options=options, verbose=verbose,
                              hessian="fd")
     epsilons = {} if example.epsilons is None else {"epsilons": example.epsilons}
     coarse = None
@@ -134,7 +135,7 @@ def solve(example: Example, method: str = "vi", s: int = 1, verbose: bool = Fals
                        None if checkpoint is None else f"{os.path.splitext(checkpoint)[0]}_s1.npz")
         if time_limit is not None:
             time_limit = max(1.0, time_limit - (time.perf_counter() - t0))
-    result = trajopt.solve_contact(example.problem, s=s, transcription=method, guess=example.guess,
+    result = trajopt.solve_contact(example.problem, from_name(method, s), guess=example.guess,
                                    options=options, verbose=verbose, hessian="fd", time_limit=time_limit,
                                    checkpoint=checkpoint, sides_from=coarse, **epsilons)
     if coarse is not None:

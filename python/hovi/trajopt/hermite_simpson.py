@@ -4,16 +4,43 @@ plus its layout. Points i = 0..2N: even i the knots, odd i the midpoints; variab
 the implicit form, a) at every point."""
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 import scipy.sparse as sp
 
 from .. import _core
+from ..integrator import Integrator
 from .problem import Problem
 from .samples import SampleMap
-from .transcription import Transcription, piecewise_polynomial
+from .transcription import Transcription, TranscriptionMethod, piecewise_polynomial
+
+# the VI whose rollout starts a Hermite-Simpson solve ('rollout' guess)
+ROLLOUT_ORDER = 2
+
+
+@dataclass(frozen=True)
+class HermiteSimpson(TranscriptionMethod):
+    """Hermite-Simpson direct collocation, ``form`` 'implicit' (accelerations as variables) or
+    'explicit' (forward dynamics in the constraints)."""
+    form: str = "implicit"
+
+    def __post_init__(self):
+        if self.form not in ("implicit", "explicit"):
+            raise ValueError(f"form must be 'implicit' or 'explicit', got {self.form!r}")
+
+    @property
+    def name(self) -> str:
+        return f"hs-{self.form}"
+
+    def transcribe(self, problem: Problem) -> HermiteSimpsonTranscription:
+        """The HermiteSimpsonTranscription of ``problem`` in this form."""
+        return HermiteSimpsonTranscription(problem, implicit=self.form == "implicit")
 
 
 class HermiteSimpsonTranscription(Transcription):
+    """A Problem transcribed by Hermite-Simpson collocation (``HermiteSimpson(form).transcribe(problem)``)."""
+
     def __init__(self, problem: Problem, implicit: bool = True):
         core = _core.trajopt.HermiteSimpsonTranscription(problem.model, problem.N, problem.dt, problem.controls,
                                                          bool(implicit))
@@ -67,6 +94,24 @@ class HermiteSimpsonTranscription(Transcription):
         for off, value in fixes:
             lb[off:off + n] = ub[off:off + n] = value
         return lb, ub
+
+    @property
+    def method(self) -> HermiteSimpson:
+        return HermiteSimpson("implicit" if self.implicit else "explicit")
+
+    def rollout_guess(self):
+        """x from a rollout of the VI of order 2 ROLLOUT_ORDER from the initial state with zero
+        controls (q and v its polynomials), or None if the rollout fails."""
+        pr, s = self.problem, ROLLOUT_ORDER
+        integ = Integrator(pr.model, s=s, dt=pr.dt)
+        U = np.zeros((pr.N, s + 1, self.m))
+        traj = integ.rollout(pr.q0, pr.N, qdot0=pr.qdot0, u=U if self.m else None, raise_on_failure=False)
+        if traj.steps != pr.N:
+            return None
+        cp = traj.control_points
+        return self.guess(lambda t: piecewise_polynomial(pr.dt, integ.nodes, cp, t),
+                          lambda t: piecewise_polynomial(pr.dt, integ.nodes, cp, t, derivative=True),
+                          self.linear_interpolants()[2])
 
     def guess(self, q_of_t, v_of_t, u_of_t):
         x = np.zeros(self.core.n_variables)

@@ -1,9 +1,9 @@
-"""The nonlinear program of a transcribed Problem: objective and gradient from the cost terms
-through the transcription's sample map, constraints and their sparse Jacobian from the C++
+"""The nonlinear program of a Problem under a transcription: objective and gradient from the cost
+terms through the transcription's sample map, constraints and their sparse Jacobian from the C++
 transcription (one call each), path constraints (one vectorised call each; those on body points
 share one kinematics call per set of configurations) and linear boundary rows, and the contact
-complementarity rows (complementarity.py). Knows nothing of the solver.
-Times its C++ evaluations for the solver's report."""
+complementarity rows (hovi.contact.complementarity) under the relaxation it is given. Knows
+nothing of the solver. Times its C++ evaluations for the solver's report."""
 from __future__ import annotations
 
 import time
@@ -12,17 +12,43 @@ import numpy as np
 import scipy.sparse as sp
 
 from .. import _core
+from ..contact.complementarity import ComplementarityRelaxation, ContactRows
 from .path_constraints import OnBodyPoints
-from .transcription import Transcription
+from .problem import Problem
+from .transcription import Transcription, TranscriptionMethod
+from .transcriptions import DEFAULT_TRANSCRIPTION
 
 
 class NLP:
-    """The NLP of a transcription: variables x (n_variables,) within [lower, upper], constraints
-    cl <= g(x) <= cu (n_constraints,) with a sparse Jacobian (jac_rows, jac_cols) (nnz,), and the
-    objective; what IPOPT's callbacks evaluate."""
+    """The NLP of ``problem`` transcribed by ``transcription`` (a TranscriptionMethod such as
+    ``VI(s=2)``, or a Transcription of that problem already made; ``NLP(tr)`` alone takes the
+    problem from the Transcription ``tr``): variables x (n_variables,) within [lower, upper],
+    constraints cl <= g(x) <= cu (n_constraints,) with a sparse Jacobian (jac_rows, jac_cols)
+    (nnz,), and the objective; what a solver's callbacks evaluate.
 
-    def __init__(self, tr: Transcription):
+    ``relaxation`` (a ``hovi.contact.ComplementarityRelaxation``) states the complementarity rows
+    of a problem with contacts: their products bounded by epsilon, or one side of every pair
+    fixed. A problem with contacts needs one that is not the exact conditions
+    (``hovi.trajopt.solve_contact`` chooses them)."""
+
+    def __init__(self, problem: Problem | Transcription, transcription: TranscriptionMethod | Transcription | None = None,
+                 *, relaxation: ComplementarityRelaxation | None = None):
+        if isinstance(problem, Transcription):
+            if transcription is not None:
+                raise TypeError("give NLP(problem, transcription) or NLP(transcribed problem), not both")
+            tr = problem
+        elif isinstance(transcription, Transcription):
+            if transcription.problem is not problem:
+                raise ValueError("the Transcription given to NLP belongs to another problem")
+            tr = transcription
+        else:
+            method = DEFAULT_TRANSCRIPTION if transcription is None else transcription
+            if not isinstance(method, TranscriptionMethod):
+                raise TypeError(f"transcription must be a hovi.trajopt.VI or HermiteSimpson, got {type(method).__name__}")
+            tr = method.transcribe(problem)
         self.tr, self.problem, self.core = tr, tr.problem, tr.core
+        self.transcription = tr
+        self.relaxation = relaxation
         self.samples = tr.sample_map()
         self.lower, self.upper = tr.bounds()
         tq, offsets = tr.q_points()
@@ -51,13 +77,11 @@ class NLP:
         self._group_body_points()
         self.contact_rows = None
         if self.problem.contacts is not None:
-            from .complementarity import ContactRows
-            if self.problem.complementarity_epsilon == 0 and self.problem.complementarity_branches is None:
-                raise ValueError("a problem with contacts needs hovi.trajopt.solve_contact (or a relaxation "
-                                 "problem.complementarity_epsilon > 0): IPOPT cannot solve the exact "
-                                 "complementarity conditions directly")
-            cr = self.contact_rows = ContactRows(self.problem.contacts, tr, self.problem.complementarity_epsilon,
-                                                 self.problem.complementarity_branches)
+            if relaxation is None or relaxation.exact:
+                raise ValueError("a problem with contacts needs hovi.trajopt.solve_contact (or an NLP with a "
+                                 "relaxation, ComplementarityRelaxation(epsilon > 0) or branches): IPOPT cannot "
+                                 "solve the exact complementarity conditions directly")
+            cr = self.contact_rows = ContactRows(self.problem.contacts, tr, relaxation.epsilon, relaxation.branches)
             fixed = cr.fixed_inputs()
             self.lower[fixed] = self.upper[fixed] = 0.0
             rows, cols = np.concatenate([rows, row0 + cr.rows]), np.concatenate([cols, cr.cols])

@@ -1,5 +1,6 @@
 """A trajectory-optimisation problem, independent of how it is transcribed and solved: the model,
-the horizon, boundary conditions, bounds, costs and path constraints."""
+the horizon, boundary conditions, bounds, costs, path and input constraints and contacts. No
+solver changes it."""
 from __future__ import annotations
 
 import numpy as np
@@ -7,9 +8,10 @@ import numpy.typing as npt
 
 from .. import _core
 from ..contact.contacts import Contacts
+from ..contact.flat_foot import Stance, WrenchCone
 from .costs import Cost
 from .input_constraints import InputConstraint
-from .path_constraints import PathConstraint
+from .path_constraints import PathConstraint, PoseHeld
 
 
 class Problem:
@@ -41,8 +43,6 @@ class Problem:
         self.path_constraints: list[PathConstraint] = []
         self.input_constraints: list[InputConstraint] = []
         self.contacts: Contacts | None = None  # see add_contacts
-        self.complementarity_epsilon = 0.0     # contact products <= epsilon (solve_contact lowers it)
-        self.complementarity_branches = None   # or one side of every pair (complementarity.Branches)
         self.q0 = self.qdot0 = self.qT = self.qdotT = None
         self.q_lower, self.q_upper = self._bounds(q_bounds, model.lower_limits, model.upper_limits, model.n, "q")
         self.u_lower, self.u_upper = self._bounds(u_bounds, *self._effort_bounds(), model.n_controls, "u")
@@ -113,9 +113,14 @@ class Problem:
         self.costs.append(cost)
         return self
 
-    def add_constraint(self, constraint: PathConstraint | InputConstraint) -> Problem:
+    def add_constraint(self, constraint: PathConstraint | InputConstraint | Stance | WrenchCone) -> Problem:
         """Add a path constraint (BodyPoint, Clearance, PoseHeld, CallbackPathConstraint), resolved
-        against the model now, or an InputConstraint on the controls; returns self."""
+        against the model now, or an InputConstraint on the controls; a flat foot's ``stance()``
+        becomes a PoseHeld and its ``cone()`` an InputConstraint. Returns self."""
+        if isinstance(constraint, Stance):
+            constraint = PoseHeld(constraint.body, constraint.q0, point=constraint.point, size=constraint.size)
+        elif isinstance(constraint, WrenchCone):
+            constraint = InputConstraint(constraint.A, constraint.lower, constraint.upper)
         if isinstance(constraint, InputConstraint):
             constraint.check(self.model.n_controls)
             self.input_constraints.append(constraint)

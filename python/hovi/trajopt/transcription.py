@@ -1,17 +1,40 @@
 """What every transcription offers the NLP (nlp.py), on top of its C++ constraint function and
 sparse Jacobian: the samples where costs are evaluated, the configuration points where path
 constraints apply, the bounds and boundary conditions of a Problem in its variables, an initial
-guess, and the trajectory read back from a solution."""
+guess, and the trajectory read back from a solution.
+
+Two kinds of object: a ``TranscriptionMethod`` is the choice (``VI(s=2)``, ``HermiteSimpson(form=
+"implicit")``: small, immutable, comparable, picklable), and ``method.transcribe(problem)`` gives the
+``Transcription`` of that problem (its variable layout, C++ core, guesses and trajectories)."""
 from __future__ import annotations
+
+from typing import Callable, Tuple, Union
 
 import numpy as np
 import scipy.sparse as sp
 
 from .problem import Problem
+from .result import Result
 from .samples import SampleMap
+
+# An initial guess: None or 'rollout', 'linear', a Result, or (q(t), v(t), u(t)) functions
+Guess = Union[None, str, Result, Tuple[Callable[[np.ndarray], np.ndarray], ...]]
+
+
+class TranscriptionMethod:
+    """A way of transcribing a Problem into an NLP (``VI``, ``HermiteSimpson``): ``transcribe(problem)``
+    builds its ``Transcription``. Subclasses are frozen dataclasses (repr, equality, pickling)."""
+
+    name = "?"
+
+    def transcribe(self, problem: Problem) -> Transcription:
+        """The transcription of ``problem`` by this method."""
+        raise NotImplementedError
 
 
 class Transcription:
+    """A Problem transcribed: the C++ core (constraints, Jacobian, variable offsets) and the layout of
+    the variables x; ``method`` is the TranscriptionMethod that made it."""
     name = "?"
 
     def __init__(self, problem: Problem, core):
@@ -41,9 +64,53 @@ class Transcription:
         """(A (r, n_variables) sparse, b (r,)): boundary conditions that are linear equalities A x = b."""
         return sp.csr_matrix((0, self.core.n_variables)), np.zeros(0)
 
+    @property
+    def method(self) -> TranscriptionMethod:
+        """The TranscriptionMethod that gives this transcription."""
+        raise NotImplementedError
+
     def guess(self, q_of_t, v_of_t, u_of_t) -> np.ndarray:
         """x from functions of time (vectorised: t (K,) -> (K, n) / (K, m))."""
         raise NotImplementedError
+
+    def rollout_guess(self) -> np.ndarray | None:
+        """x from a simulation from the initial state with zero controls, or None if it fails."""
+        raise NotImplementedError
+
+    def linear_interpolants(self):
+        """(q(t), v(t), u(t)): q from q0 to qT (q0 without a final state) in a straight line, zero controls."""
+        problem = self.problem
+        q0 = problem.q0
+        qT = q0 if problem.qT is None else problem.qT
+        T, m = problem.T, problem.model.n_controls
+        return (lambda t: q0 + np.outer(np.atleast_1d(t) / T, qT - q0),
+                lambda t: np.tile((qT - q0) / T, (len(np.atleast_1d(t)), 1)),
+                lambda t: np.zeros((len(np.atleast_1d(t)), m)))
+
+    def initial_guess(self, guess: Guess = None) -> np.ndarray:
+        """x0 (n_variables,) from: None or 'rollout' (simulate from the initial state with zero
+        controls, ``rollout_guess``; if that fails, 'linear'), 'linear' (q from q0 to qT in a
+        straight line, zero controls), a Result (warm start from another solve of the same
+        transcription), or a tuple of functions (q(t), v(t), u(t))."""
+        if isinstance(guess, Result):
+            if len(guess.x) != self.core.n_variables:
+                raise ValueError("the guess Result comes from a problem of a different size")
+            return guess.x.copy()
+        if isinstance(guess, tuple):
+            return self.guess(*guess)
+        if guess is None or (isinstance(guess, str) and guess == "rollout"):
+            x = self.rollout_guess()
+            if x is not None:
+                return x
+            guess = "linear"
+        if isinstance(guess, str) and guess == "linear":
+            return self.guess(*self.linear_interpolants())
+        raise ValueError(f"guess must be None, 'rollout', 'linear', a Result or (q(t), v(t), u(t)), got {guess!r}")
+
+    def at(self, x: np.ndarray, status: str, success: bool) -> Result:
+        """A Result holding the point x of this transcription (a start for a solver; no solve behind it)."""
+        return Result(status=status, success=success, cost=float("nan"), constraint_violation=float("nan"),
+                      iterations=0, wall_seconds=0.0, trajectory=self.trajectory(x), x=x, transcription=self)
 
     def trajectory(self, x) -> dict:
         raise NotImplementedError

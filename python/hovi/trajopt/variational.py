@@ -3,6 +3,8 @@ VariationalTranscription (variational_transcription.hpp) plus its layout for cos
 guesses and results. Momenta are variables (see the C++ header for why)."""
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 import scipy.linalg
 import scipy.sparse as sp
@@ -11,13 +13,35 @@ from .. import _core
 from ..integrator import Integrator
 from .problem import Problem
 from .samples import SampleMap
-from .transcription import Transcription, piecewise_polynomial
+from .transcription import Transcription, TranscriptionMethod, piecewise_polynomial
+
+
+@dataclass(frozen=True)
+class VI(TranscriptionMethod):
+    """The Galerkin variational integrator of order 2s as the transcription (the paper's Sec. 6):
+    the DEL equations of every stage are the dynamics constraints, momenta are variables."""
+    s: int = 2
+
+    def __post_init__(self):
+        if isinstance(self.s, bool) or int(self.s) != self.s or self.s < 1:
+            raise ValueError(f"s must be a positive integer, got {self.s}")
+        object.__setattr__(self, "s", int(self.s))
+
+    @property
+    def name(self) -> str:
+        return f"vi (s={self.s})"
+
+    def transcribe(self, problem: Problem) -> VariationalTranscription:
+        """The VariationalTranscription of ``problem`` with this order."""
+        return VariationalTranscription(problem, self.s)
 
 
 class VariationalTranscription(Transcription):
+    """A Problem transcribed by the Galerkin VI of order 2s (``VI(s).transcribe(problem)``)."""
     name = "vi"
 
     def __init__(self, problem: Problem, s: int = 2):
+        VI(s)  # checks s
         core = _core.trajopt.VariationalTranscription(problem.model, int(s), problem.N, problem.dt, problem.controls)
         super().__init__(problem, core)
         self.s, self.N, self.dt = int(s), problem.N, problem.dt
@@ -105,6 +129,18 @@ class VariationalTranscription(Transcription):
             tu = tq if self.problem.controls == "per_point" else (np.arange(self.N) + 0.5) * self.dt
             x[self.u_off:self.l_off] = u_of_t(tu).ravel()
         return x
+
+    @property
+    def method(self) -> VI:
+        return VI(self.s)
+
+    def rollout_guess(self):
+        """x from a rollout of this transcription's integrator from the initial state with zero
+        controls (exact, multipliers included), or None if the rollout fails."""
+        pr = self.problem
+        U = np.zeros((pr.N, self.s + 1, self.m))
+        traj = self.integrator.rollout(pr.q0, pr.N, qdot0=pr.qdot0, u=U if self.m else None, raise_on_failure=False)
+        return self.guess_from_rollout(traj, U) if traj.steps == pr.N else None
 
     def guess_from_rollout(self, traj, U):
         """x from a rollout of this transcription's integrator (same s and dt) with controls U
