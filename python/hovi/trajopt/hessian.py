@@ -8,11 +8,11 @@ Jacobian?", SIAM Review 2005): every entry H_ij is read from the difference of j
 or, by symmetry, from that of i's colour in row j, whichever has no other variable of its colour
 coupled to the row. Curtis, Powell and Reid's distance-2 colouring (no symmetry) needs at least
 as many colours as the densest row has entries; a star colouring lets a dense row (a variable
-coupled to a whole stage) be read from its own column. Measured on LittleDog (s = 2, N = 64, 8136
-variables, probed pattern): 130 colours -> 57.
+coupled to a whole stage) be read from its own column, and needs far fewer colours.
 
-Why: with IPOPT's limited-memory approximation the Atlas example (36 DoF, N = 10) did not
-converge in 3000 iterations; with this Hessian it converges in about 45.
+Why: with IPOPT's limited-memory approximation the large robot examples (Atlas) do not converge;
+with this Hessian they do. The colour counts and iterations are in bench/README.md ("Design
+measurements", trajopt/hessian.py).
 
 Assumes the costs couple variables only within one sample (ControlEffort, StateTracking,
 TerminalCost); a CallbackCost may couple anything, so it is refused.
@@ -84,12 +84,8 @@ class LagrangianHessian:
     have a second derivative in them (the inputs enter the dynamics and the contact rows linearly,
     and the momenta the dynamics). Given ``probe``, a point (n_variables,) where the NLP's functions
     can be evaluated, the pattern is narrowed to the entries found there (``probed_pattern``) and
-    coloured again. Measured on the quick robot examples (hovi.robot_examples, s = 1), distance-2
-    colours of the coupling pattern -> of the probed pattern -> star colours of the probed pattern:
-    114 -> 51 -> 27 (Spring Flamingo), 216 -> 94 -> 35 (LittleDog), 324 -> 114 -> 48 (Atlas); the
-    probed lower triangle has 5 to 10 times fewer nonzeros; on LittleDog (N = 24) every entry of a
-    dense difference Hessian at another point lies inside the probed pattern. ``solve(hessian='fd')``
-    probes near its starting point."""
+    coloured again: fewer colours and nonzeros (bench/README.md, "Design measurements").
+    ``solve(hessian='fd')`` probes near its starting point."""
 
     def __init__(self, nlp: NLP, probe: np.ndarray | None = None, seed: int = 0):
         if any(isinstance(c, CallbackCost) for c in nlp.problem.costs):
