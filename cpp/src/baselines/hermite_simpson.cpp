@@ -29,10 +29,7 @@ const Model& checked(const Model& model) {
 
 HermiteSimpson::HermiteSimpson(const Model& model, double dt, HermiteSimpsonOptions opt)
     : options(opt), model_(checked(model)), dt_(dt), data_(model_), d1_(model_), dm_(model_) {
-  if (!(dt > 0) || !std::isfinite(dt)) throw InputError("dt must be positive and finite, got " + std::to_string(dt));
-  if (!(opt.tol > 0)) throw InputError("tol must be positive");
-  if (opt.max_iterations < 1) throw InputError("max_iterations must be at least 1");
-  if (opt.max_backtracks < 0) throw InputError("max_backtracks must be non-negative");
+  check_newton_options(dt, opt.tol, true, opt.max_iterations, opt.max_backtracks);
   const int n = model_.n();
   J_.resize(2 * n, 2 * n);
   u3_.setZero(model_.n_controls(), 3);
@@ -125,91 +122,68 @@ void HermiteSimpson::jacobian(const VecX& z, VecX* r) {
   J_.bottomRightCorner(n, n) = wm * (dm_.M + (h / 3) * dm_.dv + (h * h / 12) * dm_.dq);
 }
 
-SolveInfo HermiteSimpson::newton(VecX& z) {
-  SolveInfo info;
-  // Analytic: the first residual comes with the Jacobian (the RNEA derivative pass gives tau).
-  bool have_jacobian = options.jacobian == HermiteSimpsonJacobian::Analytic;
-  if (have_jacobian) jacobian(z, &r_);
-  else residual(z, r_);
-  info.residual_evaluations = 1;
-  info.residual = r_.cwiseAbs().maxCoeff();
-  double norm2 = r_.norm();
-  Eigen::PartialPivLU<MatX> lu(2 * model_.n());
-  bool factored = false;              // is lu a factorisation of a Jacobian of this solve?
-  double previous = INFINITY;         // ||δz||_inf of the previous iteration
-  for (;;) {
-    if (!std::isfinite(norm2) || !z.allFinite()) {
-      info.status = SolveStatus::NonFinite;
-      break;
-    }
-    if (info.residual <= target_) {
-      info.status = SolveStatus::Converged;
-      break;
-    }
-    if (info.iterations >= options.max_iterations) {
-      info.status = SolveStatus::MaxIterations;
-      break;
-    }
-    const bool fresh = !(options.reuse_jacobian && factored);
-    if (fresh) {
-      if (!have_jacobian) jacobian(z);
-      if (!J_.allFinite()) {
-        info.status = SolveStatus::NonFinite;
-        break;
-      }
-      lu.compute(J_);
-      const VecX pivots = lu.matrixLU().diagonal().cwiseAbs();  // |U_ii|
-      if (!(pivots.minCoeff() > 1e-14 * pivots.maxCoeff())) {
-        info.status = SolveStatus::SingularJacobian;
-        break;
-      }
-      factored = true;
-    }
+// The reduced collocation residual as a Problem of newton_iterate (newton_driver.hpp): the
+// iterate is z = (a_{k+1}, a_m), the direction a dense LU of J = ∂r/∂z (kept while it contracts,
+// as the VI's solver), a damped step accepted on Armijo's test on ||r||_2.
+struct HermiteSimpson::Step {
+  HermiteSimpson& hs;
+  VecX& z;
+  Eigen::PartialPivLU<MatX>& lu;
+  bool have_jacobian;  // J_ is that of z (the analytic Jacobian came with the first residual)
+  bool factored = false;
+  double norm2 = 0;
+
+  double residual_norm() const { return hs.r_.cwiseAbs().maxCoeff(); }
+  double stationarity() const { return residual_norm(); }
+  bool finite() const { return std::isfinite(norm2) && z.allFinite(); }
+  bool feasible() const { return true; }
+  double iterate_norm() const { return z.cwiseAbs().maxCoeff(); }
+  bool has_factor() const { return factored; }
+  Factor factor() {
+    factored = false;
+    if (!have_jacobian) hs.jacobian(z);
     have_jacobian = false;
-    dz_ = lu.solve(-r_);  // δz = -J^{-1} r (J of this or an earlier iterate)
-    ++info.iterations;
-    const double dz_max = dz_.cwiseAbs().maxCoeff();
-    if (!fresh && !(dz_max <= 0.1 * previous)) {  // not contracting fast: refactor here
-      factored = false;
-      continue;
-    }
-    if (!dz_.allFinite()) {
-      info.status = SolveStatus::NonFinite;
-      break;
-    }
-    // A Newton step below round-off: the residual is at its floor for this dt.
-    if (dz_max <= 1e-14 * (1 + z.cwiseAbs().maxCoeff())) {
-      info.status = SolveStatus::Converged;
-      break;
-    }
-    double lambda = 1;
-    bool accepted = false;
-    for (int bt = 0; bt <= (options.line_search ? options.max_backtracks : 0); ++bt, lambda *= 0.5) {
-      z_trial_ = z + lambda * dz_;
-      residual(z_trial_, r_trial_);
-      ++info.residual_evaluations;
-      const double trial2 = r_trial_.norm();
-      // Armijo condition on ||r||: the Newton direction decreases it at rate 1.
-      if (!options.line_search || (std::isfinite(trial2) && trial2 <= (1 - 1e-4 * lambda) * norm2)) {
-        accepted = true;
-        break;
-      }
-    }
-    if (!accepted) {
-      if (!fresh) {  // a kept Jacobian may mislead the search: retry with a fresh one
-        factored = false;
-        continue;
-      }
-      info.status = SolveStatus::LineSearchFailed;
-      break;
-    }
-    if (lambda < 1) factored = false;  // after a damped step the Jacobian is recomputed
-    previous = lambda == 1 ? dz_max : INFINITY;
-    z = z_trial_;
-    r_.swap(r_trial_);
-    norm2 = r_.norm();
-    info.residual = r_.cwiseAbs().maxCoeff();
+    if (!hs.J_.allFinite()) return Factor::NonFinite;
+    lu.compute(hs.J_);
+    const VecX pivots = lu.matrixLU().diagonal().cwiseAbs();  // |U_ii|
+    if (!(pivots.minCoeff() > 1e-14 * pivots.maxCoeff())) return Factor::Singular;
+    factored = true;
+    return Factor::Ok;
   }
+  void direction() { hs.dz_ = lu.solve(-hs.r_); }  // δz = -J^{-1} r (J of this or an earlier iterate)
+  bool direction_finite() const { return hs.dz_.allFinite(); }
+  double correction_norm() const { return hs.dz_.cwiseAbs().maxCoeff(); }
+  bool accept_direction(double, double) const { return true; }
+  void trial(double lambda) {
+    hs.z_trial_ = z + lambda * hs.dz_;
+    hs.residual(hs.z_trial_, hs.r_trial_);
+  }
+  bool sufficient_decrease(double lambda) const {  // Armijo on ||r||: the Newton direction decreases it at rate 1
+    const double trial2 = hs.r_trial_.norm();
+    return std::isfinite(trial2) && trial2 <= (1 - 1e-4 * lambda) * norm2;
+  }
+  void commit() {
+    z = hs.z_trial_;
+    hs.r_.swap(hs.r_trial_);
+    norm2 = hs.r_.norm();
+  }
+  int restore() const { return 0; }
+};
+
+SolveInfo HermiteSimpson::newton(VecX& z) {
+  // Analytic: the first residual comes with the Jacobian (the RNEA derivative pass gives tau).
+  const bool analytic = options.jacobian == HermiteSimpsonJacobian::Analytic;
+  if (analytic) jacobian(z, &r_);
+  else residual(z, r_);
+  Eigen::PartialPivLU<MatX> lu(2 * model_.n());
+  Step step{*this, z, lu, analytic};
+  step.norm2 = r_.norm();
+  NewtonLoop loop;
+  loop.max_iterations = options.max_iterations;
+  loop.max_backtracks = options.max_backtracks;
+  loop.line_search = options.line_search;
+  loop.reuse = options.reuse_jacobian;
+  SolveInfo info = newton_iterate(step, StoppingRule(options.tol, kStepTol, residual_scale_), loop);
   if (!std::isfinite(info.residual) && info.status == SolveStatus::Converged) info.status = SolveStatus::NonFinite;
   states_from_accelerations(z);  // the node values of the returned iterate
   return info;
@@ -227,7 +201,7 @@ SolveInfo HermiteSimpson::step(const VecX& q, const VecX& v, const MatX& u, VecX
   v0_ = v;
   a0_ = forward_dynamics(model_, data_, q, v, joint_force(0, q, v));             // a_k = FD(q_k, v_k, tau_k)
   const VecX p = mass_matrix(model_, data_, q) * v;                              // p_k = M(q_k) v_k
-  target_ = options.tol * (1 + p.cwiseAbs().maxCoeff());
+  residual_scale_ = 1 + p.cwiseAbs().maxCoeff();
   VecX z(2 * n);
   if (guess.size()) {
     z.head(n) = guess.col(0);

@@ -75,6 +75,40 @@ void QuasiNewtonSolver::direction(const Eigen::Ref<const VecX>& r, Eigen::Ref<Ve
   // Lee et al. add the velocity change to the configuration directly: q^{k+1} += δq̇ (Alg. 3).
 }
 
+// The trapezoidal DEL equations as a Problem of newton_iterate (newton_driver.hpp) with the
+// fixed matrix J̃ = -(1/dt) M(q^k), factored once, and full steps: Lee et al.'s RIQN takes every
+// step as is (Alg. 3, and Skeleton::dm_integrate_RIQN_* in their code).
+struct QuasiNewtonSolver::Step {
+  QuasiNewtonSolver& sv;
+  const Eigen::Ref<const VecX>& p;
+  const Eigen::Ref<const MatX>& u;
+  Eigen::Ref<MatX>& qc;
+  Eigen::Ref<VecX>& p_next;
+  bool factored = false;
+
+  double residual_norm() const { return sv.r_.cwiseAbs().maxCoeff(); }
+  double stationarity() const { return residual_norm(); }
+  bool finite() const { return std::isfinite(residual_norm()) && p_next.allFinite(); }
+  bool feasible() const { return true; }
+  double iterate_norm() const { return qc.cwiseAbs().maxCoeff(); }
+  bool has_factor() const { return factored; }
+  Factor factor() {
+    factored = sv.factor_articulated();
+    return factored ? Factor::Ok : Factor::Singular;
+  }
+  void direction() { sv.direction(sv.r_.col(0), sv.dq_); }
+  bool direction_finite() const { return sv.dq_.allFinite(); }
+  double correction_norm() const { return sv.dq_.cwiseAbs().maxCoeff(); }
+  bool accept_direction(double, double) const { return true; }
+  void trial(double) {
+    qc.col(1) += sv.dq_;
+    del_residual(sv.model_, sv.quad_, sv.del_, qc, p, u, sv.dt_, sv.r_, p_next);
+  }
+  bool sufficient_decrease(double) const { return true; }
+  void commit() const {}
+  int restore() const { return 0; }
+};
+
 SolveInfo QuasiNewtonSolver::solve(const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u,
                                    Eigen::Ref<MatX> qc, Eigen::Ref<VecX> p_next) {
   const int n = model_.n(), m = model_.n_controls();
@@ -83,58 +117,18 @@ SolveInfo QuasiNewtonSolver::solve(const Eigen::Ref<const VecX>& p, const Eigen:
                      std::to_string(qc.cols()));
   if (p.size() != n || p_next.size() != n) throw InputError("p and p_next must have n entries");
   if (u.rows() != m || u.cols() != 2) throw InputError("u must be m x 2");
-  const double target = options.tol * (1 + p.cwiseAbs().maxCoeff());  // NewtonSolver's rule
-
-  SolveInfo info;
   del_residual(model_, quad_, del_, qc, p, u, dt_, r_, p_next);  // Algorithm 1 (Lee: DRNEA, Alg. 2)
-  info.residual_evaluations = 1;
   // The approximate Jacobian is fixed at q^k = column 0, whose kinematics Algorithm 1 just computed.
   for (int i = 0; i < n; ++i) {
     Sbar_[i] = del_.Sbar[del_.at(i, 0)];
     Mbar_[i] = del_.Mbar[del_.at(i, 0)];
   }
-  bool factored = false;
-  for (;;) {
-    info.residual = r_.cwiseAbs().maxCoeff();
-    if (!std::isfinite(info.residual) || !p_next.allFinite()) {
-      info.status = SolveStatus::NonFinite;
-      return info;
-    }
-    if (info.residual <= target) {
-      info.status = SolveStatus::Converged;
-      return info;
-    }
-    if (info.iterations >= options.max_iterations) {
-      info.status = SolveStatus::MaxIterations;
-      return info;
-    }
-    if (!factored) {
-      if (!factor_articulated()) {
-        info.status = SolveStatus::SingularJacobian;
-        return info;
-      }
-      factored = true;
-    }
-    direction(r_.col(0), dq_);
-    ++info.iterations;
-    if (!dq_.allFinite()) {
-      info.status = SolveStatus::NonFinite;
-      return info;
-    }
-    // NewtonSolver's second rule, kept identical: a step below round-off of q means the residual
-    // is at its floor (tol set below what double precision reaches at this dt). The quasi-Newton
-    // step is -J̃^{-1} r with J̃ = -(1/dt) M(q^k) fixed and nonsingular, so it is this small only
-    // when r itself is (in the norm of J̃^{-1}), whatever the rate of convergence.
-    if (dq_.cwiseAbs().maxCoeff() <= 1e-14 * (1 + qc.cwiseAbs().maxCoeff())) {
-      info.status = SolveStatus::Converged;
-      return info;
-    }
-    // Full step, no line search: Lee et al.'s RIQN takes every step as is (Alg. 3, and
-    // Skeleton::dm_integrate_RIQN_* in their code).
-    qc.col(1) += dq_;
-    del_residual(model_, quad_, del_, qc, p, u, dt_, r_, p_next);
-    ++info.residual_evaluations;
-  }
+  Step step{*this, p, u, qc, p_next};
+  NewtonLoop loop;
+  loop.max_iterations = options.max_iterations;
+  loop.line_search = false;
+  loop.fixed_jacobian = true;
+  return newton_iterate(step, StoppingRule(options.tol, kStepTol, 1 + p.cwiseAbs().maxCoeff()), loop);
 }
 
 }  // namespace hovi

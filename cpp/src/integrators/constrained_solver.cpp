@@ -67,73 +67,70 @@ bool ConstrainedSolver::direction(double dt, const MatX& r, const MatX& H, MatX&
   return dz.allFinite() && dlambda.allFinite();
 }
 
+// The constrained DEL equations of one step as a Problem of newton_iterate (newton_driver.hpp):
+// the iterate is (q^{k,1..s}, λ), every iteration refactors, a damped step is accepted on
+// Armijo's test on the merit ||(r, h)||_2, and the convergence tests apply on the manifold only.
+struct ConstrainedSolver::Step {
+  ConstrainedSolver& sv;
+  const SolverOptions& opt;
+  const Eigen::Ref<const VecX>& p;
+  const Eigen::Ref<const MatX>& u;
+  double dt;
+  Eigen::Ref<MatX>& qc;
+  Eigen::Ref<MatX>& lambda;
+  Eigen::Ref<VecX>& p_next;
+  double phi = 0;  // the merit at the iterate
+
+  static double merit(const MatX& r, const MatX& H) { return std::sqrt(r.squaredNorm() + H.squaredNorm()); }
+  double constraint_norm() const { return sv.H_.size() ? sv.H_.cwiseAbs().maxCoeff() : 0.0; }
+  double residual_norm() const { return std::max(stationarity(), constraint_norm()); }
+  double stationarity() const { return sv.r_.cwiseAbs().maxCoeff(); }
+  bool finite() const { return std::isfinite(phi) && p_next.allFinite(); }
+  bool feasible() const { return constraint_norm() <= opt.constraint_tol; }
+  double iterate_norm() const { return qc.cwiseAbs().maxCoeff(); }
+  bool has_factor() const { return false; }
+  Factor factor() {
+    if (sv.direction(dt, sv.r_, sv.H_, sv.dz_, sv.dlambda_)) return Factor::Ok;
+    return sv.dz_.allFinite() ? Factor::Singular : Factor::NonFinite;
+  }
+  void direction() const {}  // factor() solved the KKT system
+  bool direction_finite() const { return true; }
+  double correction_norm() const { return sv.dz_.cwiseAbs().maxCoeff(); }
+  bool accept_direction(double, double) const { return true; }
+  void trial(double step) {
+    sv.q_trial_ = qc;
+    sv.q_trial_.rightCols(sv.s_) += step * sv.dz_;
+    sv.lambda_trial_ = lambda + step * sv.dlambda_;
+    sv.evaluate(p, u, sv.lambda_trial_, dt, sv.q_trial_, sv.r_trial_, sv.H_trial_, sv.p_trial_);
+  }
+  bool sufficient_decrease(double step) const {
+    const double trial = merit(sv.r_trial_, sv.H_trial_);
+    return std::isfinite(trial) && trial <= (1 - 1e-4 * step) * phi;
+  }
+  void commit() {
+    qc = sv.q_trial_;
+    lambda = sv.lambda_trial_;
+    sv.r_.swap(sv.r_trial_);
+    sv.H_.swap(sv.H_trial_);
+    p_next = sv.p_trial_;
+    phi = merit(sv.r_, sv.H_);
+  }
+  int restore() {  // the outputs back at the iterate
+    sv.evaluate(p, u, lambda, dt, qc, sv.r_, sv.H_, p_next);
+    return 1;
+  }
+};
+
 SolveInfo ConstrainedSolver::solve(const SolverOptions& opt, const Eigen::Ref<const VecX>& p,
                                    const Eigen::Ref<const MatX>& u, double dt, Eigen::Ref<MatX> qc,
                                    Eigen::Ref<MatX> lambda, Eigen::Ref<VecX> p_next) {
-  const int s = s_, sm = s * mc_;
-  const double target = opt.tol * (1 + (p.size() ? p.cwiseAbs().maxCoeff() : 0.0));
-  SolveInfo info;
   evaluate(p, u, lambda, dt, qc, r_, H_, p_next);
-  info.residual_evaluations = 1;
-  auto merit = [](const MatX& r, const MatX& H) { return std::sqrt(r.squaredNorm() + H.squaredNorm()); };
-  double phi = merit(r_, H_);
-  double smallest_dz = INFINITY;  // the smallest correction so far (every one is fresh)
-  for (;;) {
-    info.residual = std::max(r_.cwiseAbs().maxCoeff(), sm ? H_.cwiseAbs().maxCoeff() : 0.0);
-    if (!std::isfinite(phi) || !p_next.allFinite()) {
-      info.status = SolveStatus::NonFinite;
-      return info;
-    }
-    const bool on_manifold = sm == 0 || H_.cwiseAbs().maxCoeff() <= opt.constraint_tol;
-    if (opt.tol > 0 && r_.cwiseAbs().maxCoeff() <= target && on_manifold) {
-      info.status = SolveStatus::Converged;
-      return info;
-    }
-    if (info.iterations >= opt.max_iterations) {
-      info.status = SolveStatus::MaxIterations;
-      return info;
-    }
-    if (!direction(dt, r_, H_, dz_, dlambda_)) {
-      info.status = dz_.allFinite() ? SolveStatus::SingularJacobian : SolveStatus::NonFinite;
-      return info;
-    }
-    ++info.iterations;
-    ++info.factorizations;  // every constrained iteration refactors
-    // NewtonSolver's stopping rule on the next correction (every iteration here is fresh).
-    const double dz_max = dz_.cwiseAbs().maxCoeff();
-    if (on_manifold && correction_converged(opt, dz_max, smallest_dz, qc.cwiseAbs().maxCoeff(), true)) {
-      info.status = SolveStatus::Converged;
-      return info;
-    }
-    smallest_dz = std::min(smallest_dz, dz_max);
-    // Backtracking on the merit ||(r, h)||.
-    double step = 1;
-    bool accepted = false;
-    for (int bt = 0; bt <= (opt.line_search ? opt.max_backtracks : 0); ++bt, step *= 0.5) {
-      q_trial_ = qc;
-      q_trial_.rightCols(s) += step * dz_;
-      lambda_trial_ = lambda + step * dlambda_;
-      evaluate(p, u, lambda_trial_, dt, q_trial_, r_trial_, H_trial_, p_trial_);
-      ++info.residual_evaluations;
-      const double trial = merit(r_trial_, H_trial_);
-      if (!opt.line_search || (std::isfinite(trial) && trial <= (1 - 1e-4 * step) * phi)) {
-        accepted = true;
-        break;
-      }
-    }
-    if (!accepted) {
-      evaluate(p, u, lambda, dt, qc, r_, H_, p_next);
-      ++info.residual_evaluations;
-      info.status = SolveStatus::LineSearchFailed;
-      return info;
-    }
-    qc = q_trial_;
-    lambda = lambda_trial_;
-    r_.swap(r_trial_);
-    H_.swap(H_trial_);
-    p_next = p_trial_;
-    phi = merit(r_, H_);
-  }
+  Step step{*this, opt, p, u, dt, qc, lambda, p_next};
+  step.phi = Step::merit(r_, H_);
+  NewtonLoop loop = newton_loop(opt);
+  loop.reuse = false;                      // every constrained iteration refactors
+  loop.estimate_from_contraction = false;
+  return newton_iterate(step, stopping_rule(opt, p), loop);
 }
 
 }  // namespace hovi

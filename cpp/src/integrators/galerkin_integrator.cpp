@@ -32,13 +32,10 @@ IntegratorWorkspace::IntegratorWorkspace(const Model& model, const Quadrature& q
 GalerkinIntegrator::GalerkinIntegrator(Model model, int s, double dt, SolverOptions opt)
     : options(opt), model_(checked(std::move(model))), quad_(s), dt_(dt),
       pool_([this] { return std::make_unique<IntegratorWorkspace>(model_, quad_); }) {
-  if (!(dt > 0) || !std::isfinite(dt)) throw InputError("dt must be positive and finite, got " + std::to_string(dt));
-  if (!(opt.tol >= 0) || !std::isfinite(opt.tol)) throw InputError("tol must be zero (off) or positive");
+  check_newton_options(dt, opt.tol, false, opt.max_iterations, opt.max_backtracks);
   if (!(opt.step_tol > 0) || !std::isfinite(opt.step_tol)) throw InputError("step_tol must be positive");
   if (!(opt.reuse_contraction > 0 && opt.reuse_contraction < 1))
     throw InputError("reuse_contraction must lie in (0, 1)");
-  if (opt.max_iterations < 1) throw InputError("max_iterations must be at least 1");
-  if (opt.max_backtracks < 0) throw InputError("max_backtracks must be non-negative");
   // E(b, a) = l_b(1 + c^a): the previous step's polynomial evaluated at this step's points.
   extrapolate_.resize(s + 1, s + 1);
   for (int a = 0; a <= s; ++a) extrapolate_.col(a) = quad_.basis(1 + quad_.c[a]);

@@ -7,16 +7,18 @@
 
 namespace hovi {
 
-const char* to_string(SolveStatus status) {
-  switch (status) {
-    case SolveStatus::Converged: return "converged";
-    case SolveStatus::MaxIterations: return "max_iterations";
-    case SolveStatus::LineSearchFailed: return "line_search_failed";
-    case SolveStatus::SingularJacobian: return "singular_jacobian";
-    case SolveStatus::NonFinite: return "non_finite";
-    case SolveStatus::ContinuationStalled: return "continuation_stalled";
-  }
-  return "unknown";
+StoppingRule stopping_rule(const SolverOptions& opt, const Eigen::Ref<const VecX>& p) {
+  return StoppingRule(opt.tol, opt.step_tol, 1 + (p.size() ? p.cwiseAbs().maxCoeff() : 0.0));
+}
+
+NewtonLoop newton_loop(const SolverOptions& opt) {
+  NewtonLoop loop;
+  loop.max_iterations = opt.max_iterations;
+  loop.max_backtracks = opt.max_backtracks;
+  loop.line_search = opt.line_search;
+  loop.reuse = opt.reuse != Reuse::Never;
+  loop.reuse_contraction = opt.reuse_contraction;
+  return loop;
 }
 
 NewtonSolver::NewtonSolver(const Model& model, const Quadrature& quad)
@@ -59,122 +61,62 @@ bool NewtonSolver::direction(const Model& model, const Quadrature& quad, const S
   return ok && dq.allFinite();
 }
 
+// The DEL equations of one step as a Problem of newton_iterate (newton_driver.hpp): the
+// iterate is q^{k,1..s}, the direction the exact one of factor() (or a kept factorisation), and a
+// damped step is accepted on Armijo's test on ||r||_2 or Deuflhard's natural monotonicity test.
+struct NewtonSolver::Step {
+  NewtonSolver& sv;
+  const Model& model;
+  const Quadrature& quad;
+  const SolverOptions& opt;
+  const Eigen::Ref<const VecX>& p;
+  const Eigen::Ref<const MatX>& u;
+  double dt;
+  Eigen::Ref<MatX>& qc;
+  Eigen::Ref<VecX>& p_next;
+  double norm2 = 0, dq_norm = 0;  // ||r||_2 at the iterate, ||dq||_2
+
+  double residual_norm() const { return sv.r_.cwiseAbs().maxCoeff(); }
+  double stationarity() const { return residual_norm(); }
+  bool finite() const { return std::isfinite(norm2) && p_next.allFinite(); }
+  bool feasible() const { return true; }
+  double iterate_norm() const { return qc.cwiseAbs().maxCoeff(); }
+  bool has_factor() const { return sv.factor_valid_; }
+  Factor factor() { return sv.factor(model, quad, opt, qc, u, dt) ? Factor::Ok : Factor::Singular; }
+  void direction() { sv.solve_direction(model, quad, sv.r_, sv.dq_); }
+  bool direction_finite() const { return sv.dq_.allFinite(); }
+  double correction_norm() { dq_norm = sv.dq_.norm(); return sv.dq_.cwiseAbs().maxCoeff(); }
+  bool accept_direction(double, double) const { return true; }
+  void trial(double lambda) {
+    sv.q_trial_.col(0) = qc.col(0);
+    sv.q_trial_.rightCols(quad.s) = qc.rightCols(quad.s) + lambda * sv.dq_;
+    del_residual(model, quad, sv.del_trial_, sv.q_trial_, p, u, dt, sv.r_trial_, sv.p_trial_);
+  }
+  bool sufficient_decrease(double lambda) {
+    const double trial2 = sv.r_trial_.norm();
+    if (!std::isfinite(trial2) || !sv.p_trial_.allFinite()) return false;
+    if (trial2 <= (1 - 1e-4 * lambda) * norm2) return true;              // Armijo on ||r||
+    sv.solve_direction(model, quad, sv.r_trial_, sv.dbar_);              // simplified correction
+    return sv.dbar_.norm() <= (1 - 0.25 * lambda) * dq_norm;             // natural monotonicity
+  }
+  void commit() {
+    std::swap(sv.del, sv.del_trial_);
+    qc = sv.q_trial_;
+    sv.r_.swap(sv.r_trial_);
+    p_next = sv.p_trial_;
+    norm2 = sv.r_.norm();
+  }
+  int restore() const { return 0; }
+};
+
 SolveInfo NewtonSolver::solve(const Model& model, const Quadrature& quad, const SolverOptions& opt,
                               const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u, double dt,
                               Eigen::Ref<MatX> qc, Eigen::Ref<VecX> p_next) {
-  const int s = quad.s;
-  const double target = opt.tol * (1 + (p.size() ? p.cwiseAbs().maxCoeff() : 0.0));
-  SolveInfo info;
   del_residual(model, quad, del, qc, p, u, dt, r_, p_next);
-  info.residual_evaluations = 1;
-  info.residual = r_.size() ? r_.cwiseAbs().maxCoeff() : 0.0;
-  double norm2 = r_.norm();
   factor_valid_ = false;  // every solve starts from a fresh factorisation at its guess
-  bool reuse = opt.reuse != Reuse::Never;  // may the kept factorisation serve this iteration?
-  double previous_dq = INFINITY;       // ||dq||_inf of the previous iteration of this solve
-  double smallest = INFINITY;          // the smallest trusted correction so far
-  for (;;) {
-    if (!std::isfinite(norm2) || !p_next.allFinite()) {
-      info.status = SolveStatus::NonFinite;
-      return info;
-    }
-    if (opt.tol > 0 && info.residual <= target) {
-      info.status = SolveStatus::Converged;
-      return info;
-    }
-    if (info.iterations >= opt.max_iterations) {
-      info.status = SolveStatus::MaxIterations;
-      return info;
-    }
-    // A fresh factorisation at the current iterate unless the kept one still serves (a
-    // simplified Newton step).
-    const bool fresh = !(reuse && factor_valid_);
-    if (fresh) {
-      if (!factor(model, quad, opt, qc, u, dt)) {
-        info.status = SolveStatus::SingularJacobian;
-        return info;
-      }
-      ++info.factorizations;
-    }
-    solve_direction(model, quad, r_, dq_);
-    ++info.iterations;
-    if (!dq_.allFinite()) {
-      if (!fresh) {  // the kept Jacobian no longer fits: refactor here
-        reuse = false;
-        continue;
-      }
-      info.status = SolveStatus::NonFinite;
-      return info;
-    }
-    // The next correction estimates the error of the iterate: stop when it is at round-off
-    // (without applying it, so that q^{k,1..s} and p^{k+1} stay consistent).
-    const double dq_max = dq_.cwiseAbs().maxCoeff();
-    // A kept factorisation from another iterate may give a small correction to a large
-    // residual: it is trusted only after it has been seen contracting in this solve.
-    const bool trusted = fresh || dq_max <= opt.reuse_contraction * previous_dq;
-    // (The floor test compares with the smallest trusted correction so far: at the floor, noise
-    // can pass a damped step, after which the previous correction says nothing.)
-    if (trusted && correction_converged(opt, dq_max, smallest, qc.cwiseAbs().maxCoeff(), fresh)) {
-      info.status = SolveStatus::Converged;
-      return info;
-    }
-    if (trusted) smallest = std::min(smallest, dq_max);
-    if (!trusted) {  // a kept Jacobian contracting slowly: refactor here
-      reuse = false;
-      continue;
-    }
-    const double dq_norm = dq_.norm();
-    double lambda = 1;
-    bool accepted = false;
-    for (int bt = 0; bt <= (opt.line_search ? opt.max_backtracks : 0); ++bt, lambda *= 0.5) {
-      q_trial_.col(0) = qc.col(0);
-      q_trial_.rightCols(s) = qc.rightCols(s) + lambda * dq_;
-      del_residual(model, quad, del_trial_, q_trial_, p, u, dt, r_trial_, p_trial_);
-      ++info.residual_evaluations;
-      const double trial2 = r_trial_.norm();
-      if (!opt.line_search) {
-        accepted = true;
-        break;
-      }
-      if (!std::isfinite(trial2) || !p_trial_.allFinite()) continue;
-      if (trial2 <= (1 - 1e-4 * lambda) * norm2) {  // Armijo on ||r||
-        accepted = true;
-        break;
-      }
-      solve_direction(model, quad, r_trial_, dbar_);                   // simplified correction
-      if (dbar_.norm() <= (1 - 0.25 * lambda) * dq_norm) {              // natural monotonicity
-        accepted = true;
-        break;
-      }
-    }
-    if (!accepted) {
-      if (!fresh) {  // a kept Jacobian may mislead the search: retry with a fresh one
-        reuse = false;
-        continue;
-      }
-      // The exact correction says the iterate is within 1e-10 (1 + ||q||) of the solution, yet
-      // no fraction of it reduces the residual: the residual is at its round-off floor.
-      const bool at_floor = dq_max <= 1e-10 * (1 + qc.cwiseAbs().maxCoeff());
-      info.status = at_floor ? SolveStatus::Converged : SolveStatus::LineSearchFailed;
-      return info;
-    }
-    reuse = opt.reuse != Reuse::Never && lambda == 1;  // after a damped step the Jacobian is refactored
-    const bool have_theta = lambda == 1 && previous_dq < INFINITY;
-    const double theta = have_theta ? dq_max / previous_dq : 1;  // observed contraction
-    previous_dq = lambda == 1 ? dq_max : INFINITY;
-    std::swap(del, del_trial_);
-    qc = q_trial_;
-    r_.swap(r_trial_);
-    p_next = p_trial_;
-    norm2 = r_.norm();
-    info.residual = r_.cwiseAbs().maxCoeff();
-    // The error of the new iterate, estimated from the contraction: θ/(1-θ) ||dq_k||.
-    if (have_theta && theta < 0.5 &&
-        theta / (1 - theta) * dq_max <= opt.step_tol * (1 + qc.cwiseAbs().maxCoeff()) && p_next.allFinite()) {
-      info.status = SolveStatus::Converged;
-      return info;
-    }
-  }
+  Step step{*this, model, quad, opt, p, u, dt, qc, p_next};
+  step.norm2 = r_.norm();
+  return newton_iterate(step, stopping_rule(opt, p), newton_loop(opt));
 }
 
 }  // namespace hovi

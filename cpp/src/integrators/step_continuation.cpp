@@ -29,30 +29,55 @@ enum class Corrector { Converged, Rejected };
 // the neighbourhood of the branch. It is rejected unless every Newton correction contracts by
 // max_contraction (Deuflhard's monitor of the Newton-Kantorovich ball: the iterates then stay
 // within ||δq_0|| / (1 - θ) of the predictor, so they converge to the root nearest to it).
-Corrector correct(NewtonSolver& solver, ContinuationWorkspace& ws, const Model& model, const Quadrature& quad,
-                  const SolverOptions& opt, const ContinuationOptions& copt, const Eigen::Ref<const VecX>& p,
-                  const Eigen::Ref<const MatX>& u, double h, double target, Eigen::Ref<MatX> qc,
-                  Eigen::Ref<VecX> p_next, SolveInfo& info) {
-  const int s = quad.s;
-  double previous = std::numeric_limits<double>::infinity();
-  for (int j = 0;; ++j) {
-    del_residual(model, quad, solver.del, qc, p, u, h, ws.r, p_next);  // Algorithm 1
-    ++info.residual_evaluations;
-    if (!ws.r.allFinite() || !p_next.allFinite()) return Corrector::Rejected;  // h too long: shorten it
-    if (opt.tol > 0 && inf_norm(ws.r) <= target) return Corrector::Converged;
-    if (j >= copt.max_corrector_iterations) return Corrector::Rejected;
-    if (!newton_factor(model, quad, solver.del, solver.newton)) return Corrector::Rejected;  // singular J
-    ++info.factorizations;
-    newton_solve(model, quad, solver.del, solver.newton, ws.r, ws.dq);  // δq = -J^{-1} r
-    ++info.iterations;
-    if (!ws.dq.allFinite()) return Corrector::Rejected;
-    const double dn = inf_norm(ws.dq);
-    // NewtonSolver's stopping rule (every corrector iteration is a fresh Newton step).
-    if (correction_converged(opt, dn, previous, inf_norm(qc), true)) return Corrector::Converged;
-    if (dn > copt.max_contraction * previous) return Corrector::Rejected;
-    previous = dn;
-    qc.rightCols(s) += ws.dq;
+// A Problem of newton_iterate (newton_driver.hpp).
+struct CorrectorStep {
+  NewtonSolver& solver;
+  ContinuationWorkspace& ws;
+  const Model& model;
+  const Quadrature& quad;
+  const ContinuationOptions& copt;
+  const Eigen::Ref<const VecX>& p;
+  const Eigen::Ref<const MatX>& u;
+  double h;
+  Eigen::Ref<MatX>& qc;
+  Eigen::Ref<VecX>& p_next;
+
+  void evaluate() { del_residual(model, quad, solver.del, qc, p, u, h, ws.r, p_next); }  // Algorithm 1
+  double residual_norm() const { return inf_norm(ws.r); }
+  double stationarity() const { return inf_norm(ws.r); }
+  bool finite() const { return ws.r.allFinite() && p_next.allFinite(); }  // else h too long: shorten it
+  bool feasible() const { return true; }
+  double iterate_norm() const { return inf_norm(qc); }
+  bool has_factor() const { return false; }
+  Factor factor() { return newton_factor(model, quad, solver.del, solver.newton) ? Factor::Ok : Factor::Singular; }
+  void direction() { newton_solve(model, quad, solver.del, solver.newton, ws.r, ws.dq); }  // δq = -J^{-1} r
+  bool direction_finite() const { return ws.dq.allFinite(); }
+  double correction_norm() const { return inf_norm(ws.dq); }
+  bool accept_direction(double dq, double previous) const { return !(dq > copt.max_contraction * previous); }
+  void trial(double) {
+    qc.rightCols(quad.s) += ws.dq;
+    evaluate();
   }
+  bool sufficient_decrease(double) const { return true; }
+  void commit() const {}
+  int restore() const { return 0; }
+};
+
+Corrector correct(NewtonSolver& solver, ContinuationWorkspace& ws, const Model& model, const Quadrature& quad,
+                  const StoppingRule& rule, const ContinuationOptions& copt, const Eigen::Ref<const VecX>& p,
+                  const Eigen::Ref<const MatX>& u, double h, Eigen::Ref<MatX> qc, Eigen::Ref<VecX> p_next,
+                  SolveInfo& info) {
+  CorrectorStep step{solver, ws, model, quad, copt, p, u, h, qc, p_next};
+  step.evaluate();
+  NewtonLoop loop;
+  loop.max_iterations = copt.max_corrector_iterations;
+  loop.line_search = false;
+  loop.estimate_from_contraction = false;
+  const SolveInfo c = newton_iterate(step, rule, loop);
+  info.iterations += c.iterations;
+  info.factorizations += c.factorizations;
+  info.residual_evaluations += c.residual_evaluations;
+  return c.converged() ? Corrector::Converged : Corrector::Rejected;
 }
 
 }  // namespace
@@ -107,7 +132,7 @@ SolveInfo step_continuation(NewtonSolver& solver, ContinuationWorkspace& ws, con
     throw InputError("invalid continuation options");
   if (model.n_constraints()) throw InputError("step_continuation solves the DEL equations without constraints");
   const int s = quad.s;
-  const double target = opt.tol * (1 + (p.size() ? p.cwiseAbs().maxCoeff() : 0.0));
+  const StoppingRule rule = stopping_rule(opt, p);
   SolveInfo info;
   ContinuationReport rep;
   auto finish = [&](SolveStatus status) {
@@ -157,7 +182,7 @@ SolveInfo step_continuation(NewtonSolver& solver, ContinuationWorkspace& ws, con
 
     // 2. Corrector at h_new (DEL equations with p^k fixed, eq. DEL_general1-2).
     const int iterations_before = info.iterations;
-    bool accepted = correct(solver, ws, model, quad, opt, copt, p, u, h_new, target, qc, p_next, info) ==
+    bool accepted = correct(solver, ws, model, quad, rule, copt, p, u, h_new, qc, p_next, info) ==
                     Corrector::Converged;
     const int corrector_iterations = info.iterations - iterations_before;
     // 3. The root must be the one the predictor aimed at: the corrector moved it by at most a

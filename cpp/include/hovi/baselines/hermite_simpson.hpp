@@ -22,9 +22,9 @@
 // a_k = FD(q_k, v_k, tau_k) comes from hovi's O(n) articulated-body forward_dynamics.
 //
 // The residual is weighted by the Simpson weights h/6, 4h/6 so that it is an impulse, like
-// the DEL residual of hovi's NewtonSolver, and uses the same test:
-//   converged when ||r||_inf <= tol (1 + ||p_k||_inf), p_k = M(q_k) v_k,
-// or when the Newton step falls below round-off, ||δz||_inf <= 1e-14 (1 + ||z||_inf).
+// the DEL residual of hovi's NewtonSolver, and the iteration is newton_iterate with its stopping
+// rule (newton_driver.hpp): ||r||_inf <= tol (1 + ||p_k||_inf), p_k = M(q_k) v_k, or the
+// correction δz at round-off of z.
 //
 // Jacobian: ANALYTIC by default, O(n^2): the derivatives of recursive Newton-Euler in spatial
 // coordinates (Carpentier & Mansard 2018, re-derived in hovi's world-frame conventions; see
@@ -118,7 +118,8 @@ class HermiteSimpson {
   RneaDerivatives d1_, dm_;
   MatX J_, u3_;                       // Jacobian; controls at the 3 points (m x 3)
   VecX q0_, v0_, a0_, q1_, v1_, a1_, qm_, vm_, am_, r_, r_trial_, z_trial_, dz_;
-  double target_ = 0;
+  double residual_scale_ = 1;        // 1 + ||p_k||_inf, the scale of the residual test
+  struct Step;                       // the Problem of newton_iterate (hermite_simpson.cpp)
 };
 
 }  // namespace hovi

@@ -28,8 +28,8 @@
 namespace hovi {
 
 struct QuasiNewtonOptions {
-  double tol = 1e-10;       // the Fig. 2 batch's rule: converged when ||r||_inf <= tol * (1 + ||p^k||_inf), or
-                            // when the step falls below round-off, 1e-14 (1 + ||q||_inf)
+  double tol = 1e-10;       // the Fig. 2 batch's residual test, ||r||_inf <= tol (1 + ||p^k||_inf), in the
+                            // stopping rule of every Newton solver (newton_driver.hpp, step_tol kStepTol)
   int max_iterations = 100; // quasi-Newton steps (linear convergence needs more than Newton's 30)
 };
 
@@ -59,6 +59,7 @@ class QuasiNewtonSolver {
   QuasiNewtonOptions options;
 
  private:
+  struct Step;                // the Problem of newton_iterate (quasi_newton.cpp)
   bool factor_articulated();  // from Sbar_, Mbar_ at q^k
 
   Model model_;

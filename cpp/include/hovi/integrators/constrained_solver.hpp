@@ -33,6 +33,7 @@ class ConstrainedSolver {
  private:
   KinematicsView view(int a) const { return KinematicsView{aug_, del_.g.data() + a, del_.Sbar.data() + a, quad_.s + 1}; }
 
+  struct Step;  // the Problem of newton_iterate (constrained_solver.cpp)
   Model aug_;
   const Quadrature& quad_;
   int n_, s_, m_, mc_;

@@ -7,6 +7,7 @@
 #pragma once
 #include "hovi/algorithms/del_residual.hpp"
 #include "hovi/algorithms/newton_direction.hpp"
+#include "hovi/integrators/newton_driver.hpp"
 
 #include <memory>
 
@@ -31,7 +32,7 @@ struct SolverOptions {
   // iterate is at the round-off floor of its residual: converged. (Measured on the 12-link
   // pendulum, s = 3, dt = 0.01, 10^4 steps: energy error last/first tenth 2.4 at 1e-13 (a drift
   // of the solver's error), 0.73 at 1e-14, 0.40 at 1e-15 for 1% more time.)
-  double step_tol = 1e-15;
+  double step_tol = kStepTol;
   // Optional residual test (0: off): also converged when ||r||_inf <= tol (1 + ||p^k||_inf).
   // A looser tol trades accuracy for fewer iterations.
   double tol = 0;
@@ -54,29 +55,10 @@ struct SolverOptions {
   Predictor predictor = Predictor::Auto;
 };
 
-// The stopping rule shared by the Galerkin solvers, on the next correction dq (||.||_inf) of an
-// iterate with ||q||_inf = q_norm: at most step_tol (1 + q_norm), or it stopped shrinking
-// (with a fresh Jacobian, more than half the smallest earlier trusted correction `reference`)
-// below 1e-10 (1 + q_norm): the round-off floor. (After a full step dq_k the error of the new iterate is also estimated
-// before its correction is computed: θ/(1-θ) ||dq_k|| with θ = ||dq_k|| / ||dq_{k-1}||.)
-inline bool correction_converged(const SolverOptions& opt, double dq, double reference, double q_norm, bool fresh) {
-  const double scale = 1 + q_norm;
-  return dq <= opt.step_tol * scale || (fresh && dq > 0.5 * reference && dq <= 1e-10 * scale);
-}
-
-// ContinuationStalled: step_continuation (step_continuation.hpp) found no solution at dt on the
-// branch continuously connected to q^k (the branch turns back in the step length before dt).
-enum class SolveStatus { Converged, MaxIterations, LineSearchFailed, SingularJacobian, NonFinite, ContinuationStalled };
-const char* to_string(SolveStatus status);
-
-struct SolveInfo {
-  SolveStatus status = SolveStatus::MaxIterations;
-  int iterations = 0;        // Newton directions computed
-  int factorizations = 0;    // of them, those that refactored the Jacobian (the rest reused one)
-  int residual_evaluations = 0;
-  double residual = 0;       // ||r||_inf at exit
-  bool converged() const { return status == SolveStatus::Converged; }
-};
+// The stopping rule (newton_driver.hpp) and the iteration these options ask for; the residual
+// test is relative to 1 + ||p^k||_inf.
+StoppingRule stopping_rule(const SolverOptions& opt, const Eigen::Ref<const VecX>& p);
+NewtonLoop newton_loop(const SolverOptions& opt);
 
 class DenseDirection;
 
@@ -102,6 +84,7 @@ class NewtonSolver {
   NewtonWorkspace newton;    // for direct callers of newton_direction
 
  private:
+  struct Step;               // the Problem of newton_iterate (newton_solver.cpp)
   DelWorkspace del_trial_;   // Algorithm 1 at the trial point; swapped with del on acceptance
   // Factors the Jacobian at the current iterate (del, qc) on the path chosen by opt.direction.
   bool factor(const Model& model, const Quadrature& quad, const SolverOptions& opt,
