@@ -39,7 +39,7 @@ def main():
     rows = []
     for s in ss:
         for n in ns:
-            model = hovi.models.pendulum(n)
+            model = hovi.examples.models.pendulum(n)
             q0 = np.random.default_rng(n).uniform(-np.pi / 12, np.pi / 12, n)
             t_rec, it, fac = per_step_seconds(model, s, "recursive", q0, steps, repeats)
             t_den, _, _ = per_step_seconds(model, s, "dense", q0, steps, repeats)

@@ -34,7 +34,7 @@ METHODS = {"newton": "hovi exact Newton (Alg. 1 + A.1/A.2)", "quasi_newton": "qu
 
 def run(n_links, n_states, dts, seed=0, workers=1, client=None):
     """The study; the states of each (dt, method) on `workers` local threads, or on the Dask `client`."""
-    model = hovi.models.pendulum(n_links)
+    model = hovi.examples.models.pendulum(n_links)
     rng = np.random.default_rng(seed)
     q0 = rng.uniform(-np.pi / 2, np.pi / 2, (n_states, n_links))
     qd0 = rng.uniform(-np.pi / 2, np.pi / 2, (n_states, n_links))

@@ -72,7 +72,7 @@ def main():
     n_links, T = 12, (1.0 if args.quick else 10.0)
     dts = [0.01, 0.02] if args.quick else DTS
     n_states = 2 if args.quick else args.states
-    model = hovi.models.pendulum(n_links)
+    model = hovi.examples.models.pendulum(n_links)
     rng = np.random.default_rng(0)
     q0s = rng.uniform(-np.pi / 12, np.pi / 12, (n_states, n_links))
     results = {}  # name -> dt -> lists

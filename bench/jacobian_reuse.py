@@ -34,7 +34,7 @@ def newton_window(linearizer, control_points, s, n):
 
 def stale_contraction(n, T, s, dt, samples):
     """rho(I - J_{k-1}^{-1} J_k) at `samples` steps k spread over the horizon, and cond(J_k)."""
-    model = hovi.models.pendulum(n)
+    model = hovi.examples.models.pendulum(n)
     q0 = np.random.default_rng(n).uniform(-np.pi / 12, np.pi / 12, n)
     integ = hovi.Integrator(model, s=s, dt=dt)
     steps = int(round(T / dt))

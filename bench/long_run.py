@@ -36,7 +36,7 @@ def rss_mb() -> float:
 
 
 def long_run(s: int, steps: int, chunk: int) -> dict:
-    model = hovi.models.pendulum(12)
+    model = hovi.examples.models.pendulum(12)
     q = np.random.default_rng(0).uniform(-np.pi / 12, np.pi / 12, 12)
     integ = hovi.Integrator(model, s=s, dt=DT)
     p = integ.momentum(q, np.zeros(12))

@@ -5,7 +5,7 @@ same dynamics, and a rollout timed in MuJoCo's own C loop.
 The joint types, parents, axes, placements, masses, centres of mass and gravity are read from the
 hovi model (``joint_placements`` and ``spatial_twists`` at q = 0, ``body_poses``, ``masses``,
 ``gravity``). hovi's Python API does not expose the bodies' rotational inertias, so they are
-passed in (``pendulum_inertias``: the solid cylinders of ``hovi.models.pendulum``); ``check``
+passed in (``pendulum_inertias``: the solid cylinders of ``hovi.examples.models.pendulum``); ``check``
 compares the mass matrices, accelerations, poses and energies and so catches any mismatch.
 MuJoCo gets no damping, armature, friction loss, joint limits or contacts.
 """
@@ -33,7 +33,7 @@ BAD = [mujoco.mjtWarning.mjWARN_BADQPOS, mujoco.mjtWarning.mjWARN_BADQVEL, mujoc
 
 
 def pendulum_inertias(n: int, length: float = 0.5, mass: float = 1.0, radius: float = 0.02) -> list:
-    """Rotational inertias about the centre of mass (joint-frame axes) of ``hovi.models.pendulum``:
+    """Rotational inertias about the centre of mass (joint-frame axes) of ``hovi.examples.models.pendulum``:
     uniform solid cylinders along z."""
     transverse, axial = mass * (3 * radius ** 2 + length ** 2) / 12, mass * radius ** 2 / 2
     return [np.diag([transverse, transverse, axial])] * n

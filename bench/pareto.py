@@ -104,7 +104,7 @@ def method(name, model, dt, inertias):
 
 
 def sweep(n, T, n_states, points=None, methods=None):
-    model, inertias = hovi.models.pendulum(n), mjm.pendulum_inertias(n)
+    model, inertias = hovi.examples.models.pendulum(n), mjm.pendulum_inertias(n)
     agreement = mjm.check(model, inertias)
     print(f"n = {n}: MuJoCo vs hovi, largest relative difference {agreement}")
     q0s = np.random.default_rng(0).uniform(-np.pi / 12, np.pi / 12, (n_states, n))

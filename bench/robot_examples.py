@@ -1,4 +1,4 @@
-"""The paper's robot examples (hovi.robot_examples, ``hovi example NAME``) in full: each solved with
+"""The paper's robot examples (hovi.examples.paper, ``hovi example NAME``) in full: each solved with
 the trapezoidal VI (s = 1), the Simpson VI (s = 2, the paper's) and implicit Hermite-Simpson
 collocation of the same problem and contact model, all by IPOPT with the Lagrangian's Hessian
 (trajopt.hessian): iterations, solve time, the feasibility figures and, for the VIs, the replay
@@ -22,7 +22,7 @@ import os
 import time
 
 from common import RESULTS, update_readme_section, write_json
-from hovi.robot_examples import NAMES, build, report
+from hovi.examples.paper import NAMES, build, report
 
 METHODS = {"vi1": ("vi", 1), "vi2": ("vi", 2), "hs": ("hs-implicit", 2)}
 

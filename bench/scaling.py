@@ -62,7 +62,7 @@ def timed(run) -> dict:
 def rollout_threads(states, steps, thread_counts, repeats):
     """Steps per second of rollout_batch on each thread count: the best of `repeats` runs, the
     counts taken in turn, so that a moment when other jobs leave the cores free serves each."""
-    integ = hovi.Integrator(hovi.models.pendulum(12), s=2, dt=0.01)
+    integ = hovi.Integrator(hovi.examples.models.pendulum(12), s=2, dt=0.01)
     rng = np.random.default_rng(0)
     q0s = rng.uniform(-0.5, 0.5, (states, 12))
     integ.rollout_batch(q0s[:2], 10, threads=1)  # warm up (workspaces, pages)
@@ -89,7 +89,7 @@ def fig2_states(count):
 
 def dask_fig2(states, worker_counts, tasks):
     from distributed import Client, LocalCluster
-    model = hovi.models.pendulum(32)
+    model = hovi.examples.models.pendulum(32)
     q0, qd0 = fig2_states(states)
     local = best_time(lambda: hovi.baselines.one_step_batch(model, 0.01, q0, qd0, "newton", threads=1))
     rows = [{"run": "local, 1 thread", "workers": 0, "seconds": local, "solves_per_second": states / local}]

@@ -30,7 +30,7 @@ def run(binary, *args):
 
 def python_vs_cpp_rollout(n=32, s=2, steps=1000, repeats=7):
     """Wall time of Integrator.rollout from Python against the C++ loop's own time, same process."""
-    model = hovi.models.pendulum(n)
+    model = hovi.examples.models.pendulum(n)
     integ = hovi.Integrator(model, s=s, dt=0.01)
     q0 = np.random.default_rng(0).uniform(-np.pi / 12, np.pi / 12, n)
     ratios, walls = [], []

@@ -84,7 +84,7 @@ def main():
 
 
 def study(args, client):
-    model = hovi.models.pendulum(12)
+    model = hovi.examples.models.pendulum(12)
     n_states, energy_steps, T = (10, 1000, 0.5) if args.quick else (100, 100_000, 2.0)
     dts = DTS[:4] if args.quick else DTS
     q0s = np.random.default_rng(0).uniform(-np.pi / 12, np.pi / 12, (n_states, 12))
@@ -168,7 +168,7 @@ PITCH_OFFSET = 1e-4  # the floating base's pitch: pi/2 - PITCH_OFFSET, M(q) cond
 
 
 def floating_pendulum(n, length=0.5, mass=1.0, radius=0.02):
-    """hovi.models.pendulum(n) whose joint 1 is replaced by a floating base (x, y, z, then Z-Y-X
+    """hovi.examples.models.pendulum(n) whose joint 1 is replaced by a floating base (x, y, z, then Z-Y-X
     Euler angles, as Model.from_urdf(base='floating')) carrying link 1: n + 5 joints."""
     model = hovi.Model()
     base = [("prismatic", [1, 0, 0]), ("prismatic", [0, 1, 0]), ("prismatic", [0, 0, 1]),
@@ -191,7 +191,7 @@ def stress_case(condition, n, rng):
         model = floating_pendulum(n)
         q = np.concatenate([rng.uniform(-0.1, 0.1, 4), [np.pi / 2 - PITCH_OFFSET], rng.uniform(-0.2, 0.2, n)])
         return model, q, rng.uniform(-0.5, 0.5, model.n)
-    model = hovi.models.pendulum(n)
+    model = hovi.examples.models.pendulum(n)
     q = rng.uniform(-np.pi / 12, np.pi / 12, n)
     if condition.startswith("stiff"):
         for j in range(n):

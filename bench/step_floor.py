@@ -43,7 +43,7 @@ def dt_for_level(runs, n, s, level):
 
 def floor_seconds(n, s, dt, steps, repeats):
     """Per step: the fastest of `repeats` rollouts at dt where each step is one factorisation and two iterations."""
-    model = hovi.models.pendulum(n)
+    model = hovi.examples.models.pendulum(n)
     q0 = np.random.default_rng(0).uniform(-np.pi / 12, np.pi / 12, n)
     integ = hovi.Integrator(model, s=s, dt=dt, step_tol=1e-10)
     best = np.inf

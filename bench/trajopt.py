@@ -23,7 +23,7 @@ import numpy as np
 
 import hovi
 from hovi import trajopt
-from hovi.trajopt import examples
+from hovi.examples import swingups as examples
 from hovi.trajopt.transcription import piecewise_polynomial
 from hovi.trajopt.transcriptions import from_name
 from common import RESULTS, loglog_slope, update_readme_section, write_json
@@ -66,7 +66,7 @@ def table1(N=10, n=4, m=2):
     """Variables and constraints (dynamics and holonomic rows; boundary conditions are bounds) of
     each transcription's NLP for a fully actuated n-link chain with m constraint equations,
     against the paper's Table 1."""
-    model = hovi.models.pendulum(n)
+    model = hovi.examples.models.pendulum(n)
     for j in range(n):
         model.add_actuator(j)
     q0 = np.zeros(n)
@@ -90,7 +90,7 @@ def scaling(ns, N=20, T=2.0):
     rest to a slightly bent configuration at rest (0.1 sin(j) rad), minimum effort."""
     rows = []
     for n in ns:
-        model = hovi.models.pendulum(n)
+        model = hovi.examples.models.pendulum(n)
         for j in range(n):
             model.add_actuator(j)
         qT = 0.1 * np.sin(np.arange(1, n + 1))

@@ -14,7 +14,7 @@ import hovi
 
 def main() -> float:
     """Run everything; returns the largest relative energy error of the rollout."""
-    model: hovi.Model = hovi.models.pendulum(3)
+    model: hovi.Model = hovi.examples.models.pendulum(3)
     n: int = model.n
     q0: npt.NDArray[np.float64] = np.full(n, 0.3)
     qdot0: npt.NDArray[np.float64] = np.zeros(n)

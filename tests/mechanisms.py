@@ -2,7 +2,7 @@
 import numpy as np
 
 import hovi
-from hovi.models import fourbar, slider_crank  # noqa: F401 (the shared mechanisms)
+from hovi.examples.models import fourbar, slider_crank  # noqa: F401 (the shared mechanisms)
 
 
 def rod(L, mass=1.0):
@@ -19,7 +19,7 @@ def translate(x=0.0, y=0.0, z=0.0):
 def pinned_chain(n=5, length=0.5):
     """The n-link 3D pendulum with its tip (end of the last link) pinned where it is at the
     configuration q_pin (a bent chain, so that the constraint is regular)."""
-    model = hovi.models.pendulum(n, length=length)
+    model = hovi.examples.models.pendulum(n, length=length)
     q_pin = np.array([0.4 * (-1) ** i for i in range(n)])
     tip = model.joint_placements(q_pin)[-1] @ np.array([0, 0, -length, 1.0])
     model.add_point_constraint(n - 1, point=[0, 0, -length], target=tip[:3])

@@ -13,7 +13,7 @@ from hypothesis import strategies as st  # noqa: E402
 from hypothesis.extra import numpy as hnp  # noqa: E402
 
 N = 3
-MODEL = hovi.models.pendulum(N)
+MODEL = hovi.examples.models.pendulum(N)
 INTEG = hovi.Integrator(MODEL, order=4, dt=0.01)
 LIN = hovi.Linearizer(INTEG)
 EXPECTED = (ValueError, TypeError, hovi.ConvergenceError)
@@ -115,7 +115,7 @@ def test_integrator_options_are_checked(dt, order):
 @SETTINGS
 @given(st.floats(1.0, 1e8), st.floats(-2, 2))
 def test_stiff_springs_converge_or_fail_explicitly(k, q0):
-    model = hovi.models.pendulum(2)
+    model = hovi.examples.models.pendulum(2)
     model.add_spring(0, k, 0.0)
     integ = hovi.Integrator(model, order=2, dt=0.01)
     traj = integ.rollout(np.array([q0, 0.0]), 20, raise_on_failure=False)

@@ -16,7 +16,7 @@ B = 100
 
 
 def forced_pendulum():
-    model = hovi.models.pendulum(5)
+    model = hovi.examples.models.pendulum(5)
     model.add_spring(0, 3.0, 0.2)
     model.add_damper(1, 0.4)
     model.add_actuator(2)
@@ -134,7 +134,7 @@ def test_linearisations_are_the_single_ones(pendulum_batch):
 
 
 def test_one_step_study_threads():
-    model = hovi.models.pendulum(8)
+    model = hovi.examples.models.pendulum(8)
     rng = np.random.default_rng(3)
     q0, qd0 = rng.uniform(-np.pi / 2, np.pi / 2, (2, B, 8))
     one = hovi.baselines.one_step_batch(model, 0.05, q0, qd0, "newton+continuation", threads=1)

@@ -7,7 +7,7 @@ import hovi
 
 
 def test_array_arguments_accept_lists_tuples_and_arrays():
-    model = hovi.models.pendulum(3)
+    model = hovi.examples.models.pendulum(3)
     M = model.mass_matrix(np.zeros(3))
     assert np.array_equal(model.mass_matrix([0, 0, 0]), M) and np.array_equal(model.mass_matrix((0.0, 0.0, 0.0)), M)
 
@@ -17,12 +17,12 @@ def test_array_arguments_accept_lists_tuples_and_arrays():
                                        ([0.0, np.nan, 0.0], "q contains NaN or infinity")])
 def test_array_arguments_reject_bad_input(q, message):
     with pytest.raises(ValueError, match=message):
-        hovi.models.pendulum(3).mass_matrix(q)
+        hovi.examples.models.pendulum(3).mass_matrix(q)
 
 
 def test_point_constraint_needs_a_target():
     """`target` follows the defaulted `point`, so it has a default (None) too; leaving it out is an error."""
-    model = hovi.models.pendulum(3)
+    model = hovi.examples.models.pendulum(3)
     with pytest.raises(ValueError, match=r"add_point_constraint: target \(a world point, \(3,\)\) is required"):
         model.add_point_constraint(2, point=[0, 0, -0.5])
     assert model.n_constraints == 0
@@ -31,7 +31,7 @@ def test_point_constraint_needs_a_target():
 
 
 def test_joint_and_body_arguments_by_index_or_name():
-    model = hovi.models.acrobot()
+    model = hovi.examples.models.acrobot()
     model.add_spring("shoulder", 1.0)
     model.add_spring(1, 2.0)
     assert np.array_equal(model.stiffness, [1.0, 2.0])

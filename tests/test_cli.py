@@ -75,7 +75,23 @@ def test_optimize_solves_writes_and_replays(tmp_path, capsys):
         main(["optimize", "pendulum", "--order", "3"])
 
 
-def test_optimize_lists_every_example():
-    from hovi.cli import EXAMPLE_NAMES
-    from hovi.trajopt.examples import EXAMPLES
-    assert set(EXAMPLE_NAMES) == set(EXAMPLES)
+def test_the_commands_list_every_example_of_the_registry(capsys):
+    from hovi import examples
+    from hovi.examples.swingups import EXAMPLES
+    assert set(examples.names("optimization")) == set(EXAMPLES)
+    for command, kinds in (("optimize", ["optimization"]), ("example", ["robot_example"]),
+                           ("simulate", ["model", "robot"]), ("info", ["model", "robot"])):
+        with pytest.raises(SystemExit):
+            main([command, "--help"])
+        text = " ".join(capsys.readouterr().out.split())
+        for kind in kinds:
+            for name in examples.names(kind):
+                assert name in text, (command, name)
+
+
+def test_simulate_and_info_take_the_registry_names(capsys, tmp_path):
+    assert main(["info", "acrobot"]) == 0 and "random state" in capsys.readouterr().out
+    assert main(["info", "littledog"]) == 0 and "18" in capsys.readouterr().out
+    assert main(["simulate", "cartpole", "--duration", "0.05", "--no-progress", "--no-plot",
+                 "--output", str(tmp_path)]) == 0
+    assert json.loads((tmp_path / "simulate.json").read_text())["dof"] == 2

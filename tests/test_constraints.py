@@ -13,7 +13,7 @@ from mechanisms import fourbar, pinned_chain, rod, translate
 def with_every_kind():
     """A 9-link pendulum with a planar point constraint on its tip (2 equations), the orientation
     of body 4 held (3) and a joint coupling q6 - q8 = const (1): m = 6, 3 degrees of freedom."""
-    model = hovi.models.pendulum(9)
+    model = hovi.examples.models.pendulum(9)
     q0 = 0.3 * np.sin(np.arange(1, 10))
     X = model.joint_placements(q0)
     model.add_point_constraint(8, point=[0, 0, -0.5], target=(X[8] @ [0, 0, -0.5, 1])[:3], axes="xz")
@@ -26,7 +26,7 @@ def with_every_kind():
 
 def test_constraint_jacobians_match_finite_differences():
     model, q0 = with_every_kind()
-    other = hovi.models.pendulum(9)
+    other = hovi.examples.models.pendulum(9)
     other.add_loop_constraint(2, [0, 0, -0.5], 8, [0, 0, -0.5])
     rng = np.random.default_rng(1)
     for m in (model, other):
@@ -211,7 +211,7 @@ def test_bad_constraints_give_clear_errors():
     with pytest.raises(ValueError, match="no degree of freedom"):
         hovi.Integrator(arm, s=1).project(np.array([0.5, -1.0]), np.zeros(2))
     # malformed constraints
-    m = hovi.models.pendulum(3)
+    m = hovi.examples.models.pendulum(3)
     with pytest.raises(hovi.ModelError, match="out of range"):
         m.add_point_constraint(7, target=[0, 0, 0])
     with pytest.raises(hovi.ModelError, match="subset of 'xyz'"):

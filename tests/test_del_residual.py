@@ -16,7 +16,7 @@ def random_point(integ, rng, spread=0.8):
 
 
 def models():
-    yield "pendulum", hovi.models.pendulum(4)
+    yield "pendulum", hovi.examples.models.pendulum(4)
     yield "panda", hovi.Model.from_urdf(erd_urdf("panda_description/urdf/panda.urdf"))
 
 
@@ -39,7 +39,7 @@ def test_residual_matches_finite_differences(s, name, forces):
 
 
 def test_simpson_and_trapezoid_weights():
-    model = hovi.models.pendulum(2)
+    model = hovi.examples.models.pendulum(2)
     simpson = hovi.Integrator(model, s=2)
     np.testing.assert_allclose(simpson.weights, [1 / 6, 4 / 6, 1 / 6], rtol=1e-14)
     np.testing.assert_allclose(simpson.differentiation_matrix, [[-3, 4, -1], [-1, 0, 1], [1, -4, 3]], atol=1e-13)

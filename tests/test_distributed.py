@@ -27,7 +27,7 @@ def client():
 
 @pytest.fixture(scope="module")
 def setup():
-    model = hovi.models.pendulum(5)
+    model = hovi.examples.models.pendulum(5)
     model.add_spring(0, 3.0, 0.2)
     model.add_damper(1, 0.4)
     model.add_actuator(2)
@@ -66,7 +66,7 @@ def test_steps(client, setup):
 
 
 def test_one_step_study(client):
-    model = hovi.models.pendulum(8)
+    model = hovi.examples.models.pendulum(8)
     q0, qd0 = np.random.default_rng(2).uniform(-np.pi / 2, np.pi / 2, (2, B, 8))
     mine = distributed.one_step_batch(model, 0.05, q0, qd0, "newton+continuation", client=client)
     local = hovi.baselines.one_step_batch(model, 0.05, q0, qd0, "newton+continuation", threads=1)
@@ -79,7 +79,7 @@ def test_one_step_study(client):
 def test_trajectory_optimisations(client):
     pytest.importorskip("cyipopt")
     from hovi import trajopt
-    from hovi.trajopt import examples
+    from hovi.examples import swingups as examples
     problems = [examples.EXAMPLES["pendulum"](N=12) for _ in range(2)]
     problems[1].final_state([2.5], qdot=[0.0])
     results = distributed.solve_trajopt(problems, trajopt.VI(s=1), client=client)

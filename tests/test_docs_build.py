@@ -65,8 +65,8 @@ def test_api_reference_renders_compiled_and_python_members(site):
         "Model.add_spring's parameters are not rendered"
     assert "add_spring(self: hovi._core.Model" not in text
     models = _anchors(site, "reference/models")
-    assert {"hovi.models.pendulum", "hovi.models.acrobot", "hovi.models.cartpole", "hovi.models.fourbar",
-            "hovi.models.slider_crank"} <= models
+    assert {"hovi.examples.models.pendulum", "hovi.examples.models.acrobot", "hovi.examples.models.cartpole", "hovi.examples.models.fourbar",
+            "hovi.examples.models.slider_crank"} <= models
     viewer = _anchors(site, "reference/viewer")
     assert {"hovi.viewer.Viewer", "hovi.viewer.Viewer.play", "hovi.viewer.animation_html", "hovi.video.render_video",
             "hovi.geometry.model_shapes"} <= viewer

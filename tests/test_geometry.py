@@ -12,7 +12,7 @@ def world(model, q, shape):
 
 
 def test_default_capsules_join_the_joints_and_spheres_sit_at_the_centres_of_mass(rng):
-    model = hovi.models.pendulum(4)
+    model = hovi.examples.models.pendulum(4)
     q = rng.uniform(-1, 1, 4)
     shapes = default_shapes(model)
     joints = model.joint_placements(q)[:, :3, 3]
@@ -31,7 +31,7 @@ def test_default_capsules_join_the_joints_and_spheres_sit_at_the_centres_of_mass
 
 
 def test_a_model_with_visuals_keeps_them():
-    model = hovi.models.pendulum(2)
+    model = hovi.examples.models.pendulum(2)
     model.add_visual(0, "box", [0.1, 0.2, 0.3])
     (shape,) = model_shapes(model)
     assert shape.kind == "box" and shape.body == 0
@@ -65,7 +65,7 @@ def test_motion_sampling_interpolates_and_checks_its_input():
         sample_configurations(q, t, fps=0)
     with pytest.raises(ValueError, match="finite"):
         sample_configurations(q * np.nan, t, fps=4)
-    model = hovi.models.pendulum(2)
+    model = hovi.examples.models.pendulum(2)
     traj = hovi.Integrator(model, order=2, dt=0.1).rollout(np.zeros(2), 3)
     t_traj, q_traj = motion_arrays(model, traj)
     np.testing.assert_array_equal(q_traj, traj.q)

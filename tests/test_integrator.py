@@ -26,7 +26,7 @@ def dop853_reference(model, q0, qd0, T):
     (3, [0.1, 0.05, 0.025, 0.0125]),
 ])
 def test_order_of_accuracy_is_2s(s, dts):
-    model = hovi.models.pendulum(5)
+    model = hovi.examples.models.pendulum(5)
     rng = np.random.default_rng(1)
     q0, qd0 = rng.uniform(-0.5, 0.5, 5), rng.uniform(-0.5, 0.5, 5)
     ref = dop853_reference(model, q0, qd0, 1.0)
@@ -37,7 +37,7 @@ def test_order_of_accuracy_is_2s(s, dts):
 @pytest.mark.parametrize("s", [1, 2, 3])
 def test_energy_error_is_bounded_without_drift(s):
     # The paper's Fig. 4 set-up: 12 links, q0 uniform in [-pi/12, pi/12], zero velocity.
-    model = hovi.models.pendulum(12)
+    model = hovi.examples.models.pendulum(12)
     rng = np.random.default_rng(0)
     integ = hovi.Integrator(model, s=s, dt=0.01)
     traj = integ.rollout(rng.uniform(-np.pi / 12, np.pi / 12, 12), 10_000)
@@ -57,7 +57,7 @@ def test_armature_energy_is_conserved_and_zero_armature_changes_nothing(s):
     """Joint armature (1/2 a q̇^2 in K) belongs to the conserved energy: its error stays bounded,
     without drift; the motion differs from the model without it; an all-zero armature takes the
     armature-free path, bit for bit."""
-    model = hovi.models.pendulum(6)
+    model = hovi.examples.models.pendulum(6)
     rng = np.random.default_rng(60 + s)
     q0 = rng.uniform(-np.pi / 6, np.pi / 6, 6)
     plain = hovi.Integrator(model, s=s, dt=0.01).rollout(q0, 3000)
@@ -81,7 +81,7 @@ def test_armature_energy_is_conserved_and_zero_armature_changes_nothing(s):
 
 
 def test_momentum_velocity_round_trip_and_energy():
-    model = hovi.models.pendulum(6)
+    model = hovi.examples.models.pendulum(6)
     integ = hovi.Integrator(model, order=4)
     rng = np.random.default_rng(3)
     q, qd = rng.uniform(-1, 1, 6), rng.uniform(-1, 1, 6)
@@ -92,7 +92,7 @@ def test_momentum_velocity_round_trip_and_energy():
 
 
 def test_step_and_rollout_agree_and_report():
-    model = hovi.models.pendulum(4)
+    model = hovi.examples.models.pendulum(4)
     integ = hovi.Integrator(model, s=2, dt=0.01)
     q0 = np.array([0.3, -0.2, 0.5, 0.1])
     p0 = integ.momentum(q0, np.zeros(4))
@@ -114,7 +114,7 @@ def test_step_and_rollout_agree_and_report():
 
 
 def test_controls_drive_the_system():
-    model = hovi.models.pendulum(2)
+    model = hovi.examples.models.pendulum(2)
     model.gravity = [0, 0, 0]
     k = model.add_actuator(0)
     integ = hovi.Integrator(model, s=2, dt=0.01)
@@ -132,7 +132,7 @@ def test_controls_drive_the_system():
 
 
 def test_stress_large_steps_never_return_nan():
-    model = hovi.models.pendulum(32)
+    model = hovi.examples.models.pendulum(32)
     integ = hovi.Integrator(model, s=2, dt=0.1, max_iterations=20)
     rng = np.random.default_rng(4)
     outcomes = set()
@@ -153,7 +153,7 @@ def test_stress_large_steps_never_return_nan():
 
 
 def test_stress_stiff_springs_and_singular_base():
-    model = hovi.models.pendulum(5)
+    model = hovi.examples.models.pendulum(5)
     for j in range(5):
         model.add_spring(j, 1e7)
     integ = hovi.Integrator(model, s=2, dt=0.05)
@@ -188,11 +188,11 @@ def test_stress_stiff_springs_and_singular_base():
 ])
 def test_bad_integrator_options(kwargs, exc, pattern):
     with pytest.raises(exc, match=pattern):
-        hovi.Integrator(hovi.models.pendulum(2), **kwargs)
+        hovi.Integrator(hovi.examples.models.pendulum(2), **kwargs)
 
 
 def test_bad_step_inputs():
-    integ = hovi.Integrator(hovi.models.pendulum(3), s=2)
+    integ = hovi.Integrator(hovi.examples.models.pendulum(3), s=2)
     with pytest.raises(ValueError, match="q must be a 1-D array of length 3"):
         integ.step(np.zeros(2), np.zeros(3))
     with pytest.raises(ValueError, match="p contains NaN"):
@@ -212,7 +212,7 @@ def test_simplified_newton_gives_the_full_newton_trajectory(direction):
     """Simplified Newton (a kept factorisation) stops on the same round-off test as full Newton,
     so over 10^3 steps from a small-amplitude state the trajectories agree to 1e-10, with fewer
     factorisations."""
-    model = hovi.models.pendulum(8)
+    model = hovi.examples.models.pendulum(8)
     q0 = np.random.default_rng(8).uniform(-np.pi / 24, np.pi / 24, 8)
     exact = hovi.Integrator(model, s=2, dt=0.01, direction=direction, reuse_jacobian=False).rollout(q0, 1000)
     reused = hovi.Integrator(model, s=2, dt=0.01, direction=direction).rollout(q0, 1000)
@@ -230,7 +230,7 @@ def test_flow_predictor_gives_the_same_trajectory_with_fewer_factorisations():
     difference of the last digits over 60 steps to about 1e-11, the bound of the simplified-Newton
     test above), and the flow and the automatic choice need under a third of the history's
     factorisations (measured: 172 and 195 against 787 over the 60 steps)."""
-    model = hovi.models.pendulum(64)
+    model = hovi.examples.models.pendulum(64)
     q0 = np.random.default_rng(0).uniform(-np.pi / 12, np.pi / 12, 64)
     runs = {p: hovi.Integrator(model, s=3, dt=0.015, predictor=p).rollout(q0, 60) for p in ("history", "flow", "auto")}
     for p in ("flow", "auto"):
@@ -244,7 +244,7 @@ def test_automatic_predictor_keeps_the_history_where_it_suffices():
     """At a small step the history's extrapolation converges in two or three iterations: 'auto'
     never pays for the flow's forward dynamics there (its steps equal the history's, iteration
     for iteration), and for s = 1, 2 it always keeps the history."""
-    model = hovi.models.pendulum(12)
+    model = hovi.examples.models.pendulum(12)
     q0 = np.random.default_rng(1).uniform(-np.pi / 12, np.pi / 12, 12)
     for s, dt in ((4, 0.005), (1, 0.02), (2, 0.04)):
         history = hovi.Integrator(model, s=s, dt=dt, predictor="history").rollout(q0, 100)
@@ -257,7 +257,7 @@ def test_automatic_predictor_keeps_the_history_where_it_suffices():
 def test_dense_and_recursive_directions_agree(s):
     """The dense LU of the linearisation's DEL Jacobian and Algorithms A.1/A.2 give the same
     Newton direction (every force type and joint armature present) and the same converged steps."""
-    model = hovi.models.pendulum(5)
+    model = hovi.examples.models.pendulum(5)
     for j in range(5):
         model.add_spring(j, 3.0 + j, 0.1 * j)
         model.add_damper(j, 0.2)
@@ -287,7 +287,7 @@ def test_steps_stop_at_the_round_off_floor_on_a_long_chain(direction):
     must recognise the floor (a fresh correction that no longer shrinks) instead of running to
     max_iterations (it did on the dense path at step 177 before the floor test compared with the
     smallest trusted correction)."""
-    model = hovi.models.pendulum(64)
+    model = hovi.examples.models.pendulum(64)
     q0 = np.random.default_rng(64).uniform(-np.pi / 12, np.pi / 12, 64)
     integ = hovi.Integrator(model, s=1, dt=0.005, direction=direction)
     traj = integ.rollout(q0, 200)
@@ -309,7 +309,7 @@ def test_automatic_direction_follows_the_measured_crossover():
     rows = json.load(open(path))["rows"]
     assert len(rows) >= 16
     for row in rows:
-        auto = hovi.Integrator(hovi.models.pendulum(row["n"]), s=row["s"], dt=0.005).direction_path
+        auto = hovi.Integrator(hovi.examples.models.pendulum(row["n"]), s=row["s"], dt=0.005).direction_path
         ratio = row["dense_us"] / row["recursive_us"]
         if abs(ratio - 1) > 0.1:
             assert auto == ("dense" if ratio < 1 else "recursive"), row

@@ -19,7 +19,7 @@ def fd_hessian(f, x, h=H):
 
 
 def models():
-    return {"pendulum": lambda: hovi.models.pendulum(5),
+    return {"pendulum": lambda: hovi.examples.models.pendulum(5),
             "panda": lambda: hovi.Model.from_urdf(erd_urdf("panda_description/urdf/panda.urdf")),
             "solo12": lambda: hovi.Model.from_urdf(erd_urdf("solo_description/robots/solo12.urdf"))}
 
@@ -102,7 +102,7 @@ def step_map(integ, u):
 @pytest.mark.parametrize("s", [1, 2, 3])
 def test_step_jacobians_match_finite_differences(s):
     rng = np.random.default_rng(30 + s)
-    model = hovi.models.pendulum(4)
+    model = hovi.examples.models.pendulum(4)
     ForcedScene(model, rng)
     integ = hovi.Integrator(model, s=s, dt=0.02, tol=1e-13)
     lin = hovi.Linearizer(integ)
@@ -132,7 +132,7 @@ def test_step_jacobians_match_finite_differences(s):
 
 @pytest.mark.parametrize("s", [1, 2, 3])
 def test_conservative_step_is_symplectic(s):
-    model = hovi.models.pendulum(6)
+    model = hovi.examples.models.pendulum(6)
     integ = hovi.Integrator(model, s=s, dt=0.05, tol=1e-13)
     lin = hovi.Linearizer(integ)
     rng = np.random.default_rng(40 + s)
@@ -141,7 +141,7 @@ def test_conservative_step_is_symplectic(s):
     Jsym = np.block([[np.zeros((6, 6)), np.eye(6)], [-np.eye(6), np.zeros((6, 6))]])
     np.testing.assert_allclose(A.T @ Jsym @ A, Jsym, rtol=0, atol=1e-8)
     # ... and a damped one is not (the check can fail)
-    damped = hovi.models.pendulum(6)
+    damped = hovi.examples.models.pendulum(6)
     for j in range(6):
         damped.add_damper(j, 0.5)
     integ_d = hovi.Integrator(damped, s=s, dt=0.05, tol=1e-13)
@@ -150,7 +150,7 @@ def test_conservative_step_is_symplectic(s):
 
 
 def test_linear_prediction_error_is_second_order():
-    model = hovi.models.pendulum(5)
+    model = hovi.examples.models.pendulum(5)
     integ = hovi.Integrator(model, s=2, dt=0.02, tol=1e-14)
     lin = hovi.Linearizer(integ)
     rng = np.random.default_rng(5)
@@ -168,7 +168,7 @@ def test_linear_prediction_error_is_second_order():
 
 
 def test_rollout_jacobians_match_steps():
-    model = hovi.models.pendulum(3)
+    model = hovi.examples.models.pendulum(3)
     k = model.add_actuator(1)
     integ = hovi.Integrator(model, s=2, dt=0.02)
     lin = hovi.Linearizer(integ)
@@ -188,8 +188,8 @@ def test_rollout_jacobians_match_steps():
 
 def test_linearizer_bad_inputs():
     with pytest.raises(TypeError, match="hovi.Integrator"):
-        hovi.Linearizer(hovi.models.pendulum(2))
-    lin = hovi.Linearizer(hovi.Integrator(hovi.models.pendulum(2), s=2))
+        hovi.Linearizer(hovi.examples.models.pendulum(2))
+    lin = hovi.Linearizer(hovi.Integrator(hovi.examples.models.pendulum(2), s=2))
     with pytest.raises(ValueError, match=r"control_points must be a 2-D array of shape \(3, 2\)"):
         lin.del_jacobian(np.zeros((2, 2)))
     with pytest.raises(ValueError, match="NaN"):

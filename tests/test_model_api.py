@@ -14,7 +14,7 @@ def test_build_in_code_matches_builtin_pendulum():
         T[2, 3] = 0.0 if i == 0 else -L
         model.add_body(f"link{i + 1}", parent=None if i == 0 else i - 1, axis=[1, 0, 0] if i % 2 == 0 else [0, 1, 0],
                        placement=T, mass=m, com=[0, 0, -L / 2], inertia=np.diag([It, It, Ia]))
-    ref = hovi.models.pendulum(n, L, m, r)
+    ref = hovi.examples.models.pendulum(n, L, m, r)
     q = np.array([0.3, -0.5, 1.1])
     np.testing.assert_array_equal(model.mass_matrix(q), ref.mass_matrix(q))
     assert "link2" in model.summary() and model.parents == [-1, 0, 1]
@@ -28,13 +28,13 @@ def test_build_in_code_matches_builtin_pendulum():
     (["a", "b", "c"], "q must be an array of real numbers"),
 ])
 def test_bad_state_raises_value_error(q, pattern):
-    model = hovi.models.pendulum(3)
+    model = hovi.examples.models.pendulum(3)
     with pytest.raises(ValueError, match=pattern):
         model.mass_matrix(q)
 
 
 def test_bad_velocity_and_torque():
-    model = hovi.models.pendulum(3)
+    model = hovi.examples.models.pendulum(3)
     with pytest.raises(ValueError, match="qdot must be a 1-D array of length 3"):
         model.kinetic_energy(np.zeros(3), np.zeros(4))
     with pytest.raises(ValueError, match="tau contains NaN"):
@@ -66,7 +66,7 @@ def test_massless_joint_is_reported_with_the_fixes():
 
 
 def test_armature_api():
-    model = hovi.models.pendulum(3)
+    model = hovi.examples.models.pendulum(3)
     np.testing.assert_array_equal(model.armature, np.zeros(3))
     model.set_armature("joint2", 0.25)
     model.set_armature(0, 0.5)
@@ -91,13 +91,13 @@ def test_armature_api():
 
 def test_pendulum_rejects_bad_parameters():
     with pytest.raises(hovi.ModelError, match="at least 1"):
-        hovi.models.pendulum(0)
+        hovi.examples.models.pendulum(0)
     with pytest.raises(hovi.ModelError, match="positive"):
-        hovi.models.pendulum(3, length=-1)
+        hovi.examples.models.pendulum(3, length=-1)
 
 
 def test_force_elements_reject_bad_input():
-    model = hovi.models.pendulum(3)
+    model = hovi.examples.models.pendulum(3)
     with pytest.raises(hovi.ModelError, match="no joint named 'elbow'"):
         model.add_spring("elbow", 1.0)
     with pytest.raises(hovi.ModelError, match="joint index 7 out of range"):

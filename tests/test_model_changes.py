@@ -30,7 +30,7 @@ def changes():
 
 @pytest.mark.parametrize("name,change", changes(), ids=[c[0] for c in changes()])
 def test_every_call_raises_after_a_change(name, change):
-    model = hovi.models.pendulum(3)
+    model = hovi.examples.models.pendulum(3)
     integ = hovi.Integrator(model, s=2, dt=0.01)
     lin = hovi.Linearizer(integ)
     q = np.zeros(3)
@@ -55,7 +55,7 @@ def test_every_call_raises_after_a_change(name, change):
 
 
 def test_a_new_integrator_sees_the_change_and_a_copy_keeps_the_old_model():
-    model = hovi.models.pendulum(2)
+    model = hovi.examples.models.pendulum(2)
     old = model.copy()
     integ_old = hovi.Integrator(old, s=1)
     model.add_spring(0, 100.0)
@@ -71,7 +71,7 @@ def test_a_new_integrator_sees_the_change_and_a_copy_keeps_the_old_model():
 
 
 def test_baselines_raise_after_a_change():
-    model = hovi.models.pendulum(2)
+    model = hovi.examples.models.pendulum(2)
     hs = hovi._core.baselines.HermiteSimpson(model, 0.01)
     ad = hovi._core.baselines.AutodiffDel(model, 1, 0.01)
     model.add_spring(0, 10.0)

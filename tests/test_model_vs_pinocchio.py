@@ -36,7 +36,7 @@ TALOS = "talos_data/robots/talos_reduced.urdf"
 
 
 def pin_pendulum(n, length=0.5, mass=1.0, radius=0.02):
-    """The pendulum of ``hovi.models.pendulum``, built from its documented description."""
+    """The pendulum of ``hovi.examples.models.pendulum``, built from its documented description."""
     model = pin.Model()
     I_t = mass * (3 * radius**2 + length**2) / 12
     I_a = mass * radius**2 / 2
@@ -180,7 +180,7 @@ SYNTHETIC_URDF = """<?xml version="1.0"?>
 def get_pair(case):
     if case.startswith("pendulum-"):
         n = int(case.split("-")[1])
-        return Pair(case, hovi.models.pendulum(n), pin_pendulum(n))
+        return Pair(case, hovi.examples.models.pendulum(n), pin_pendulum(n))
     if case == "synthetic-urdf":
         return Pair(case, hovi.Model.from_urdf(SYNTHETIC_URDF), pin.buildModelFromXML(SYNTHETIC_URDF))
     path = erd_urdf({"panda": PANDA, "solo12": SOLO12, "talos_reduced": TALOS}[case])
@@ -356,7 +356,7 @@ def test_custom_gravity(case, rng):
         fresh = Pair(case, hovi.Model.from_urdf(path), pin.buildModelFromUrdf(path))
     else:
         n = int(case.split("-")[1])
-        fresh = Pair(case, hovi.models.pendulum(n), pin_pendulum(n))
+        fresh = Pair(case, hovi.examples.models.pendulum(n), pin_pendulum(n))
     g = np.array([1.5, -2.0, -7.0])
     fresh.h.gravity = g
     fresh.pm.gravity = pin.Motion(g, np.zeros(3))

@@ -14,7 +14,7 @@ from test_del_residual import random_point
 @pytest.mark.parametrize("forces", [False, True])
 def test_direction_matches_dense_solve(s, name, forces):
     rng = np.random.default_rng(100 + 10 * s + forces)
-    model = hovi.models.pendulum(5) if name == "pendulum" else hovi.Model.from_urdf(
+    model = hovi.examples.models.pendulum(5) if name == "pendulum" else hovi.Model.from_urdf(
         erd_urdf("panda_description/urdf/panda.urdf"))
     if forces:
         ForcedScene(model, rng)
@@ -43,7 +43,7 @@ def test_branched_tree_with_prismatic_joint():
 
 
 def test_newton_converges_quadratically():
-    model = hovi.models.pendulum(6)
+    model = hovi.examples.models.pendulum(6)
     integ = hovi.Integrator(model, s=2, dt=0.05, direction="recursive")
     rng = np.random.default_rng(5)
     q = rng.uniform(-1, 1, 6)

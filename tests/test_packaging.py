@@ -48,7 +48,7 @@ def _imported(statement: str) -> list[str]:
 
 
 def test_import_hovi_loads_no_optional_dependency():
-    assert _imported("import hovi, hovi.models, hovi.baselines, hovi.robots") == []
+    assert _imported("import hovi, hovi.examples.models, hovi.baselines, hovi.examples.robots") == []
 
 
 def test_import_trajopt_loads_only_its_extra():
@@ -57,7 +57,7 @@ def test_import_trajopt_loads_only_its_extra():
 
 
 def test_models_are_installed_with_the_package():
-    """Every URDF of models/ ships as hovi/urdf/ (hovi.robots loads its robots from there)."""
+    """Every URDF of models/ ships as hovi/urdf/ (hovi.examples.robots loads its robots from there)."""
     installed = Path(hovi.__file__).parent / "urdf"
     shipped = sorted(p.name for p in (ROOT / "models").glob("*.urdf"))
     assert {"spring_flamingo.urdf", "littledog.urdf", "atlas.urdf"} <= set(shipped)

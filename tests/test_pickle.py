@@ -18,7 +18,7 @@ PROPERTIES = ["n", "total_mass", "gravity", "body_names", "joint_names", "joint_
 
 def everything():
     """A 4-link pendulum with every force element, armature, every kind of constraint and visuals."""
-    model = hovi.models.pendulum(4)
+    model = hovi.examples.models.pendulum(4)
     model.gravity = [0.2, 0.0, -9.7]
     model.add_spring(0, 3.0, 0.2)
     model.add_spring(0, 1.0, -0.1)
@@ -38,7 +38,7 @@ def everything():
 
 def constrained_pair():
     """Two pendulums with a loop closure between them and an orientation held."""
-    model = hovi.models.pendulum(2)
+    model = hovi.examples.models.pendulum(2)
     model.add_body("other", None, axis=[1, 0, 0], placement=np.diag([1.0, 1, 1, 1]) + np.eye(4, k=3) * 0.3,
                    mass=1.0, com=[0, 0, -0.25], inertia=np.eye(3) * 0.02)
     model.add_loop_constraint(1, [0, 0, -0.5], 2, [0, 0, -0.5], axes="y")
@@ -130,7 +130,7 @@ def test_integrator_linearizer_and_trajectories(rng):
 
 
 def test_a_stale_integrator_does_not_pickle():
-    model = hovi.models.pendulum(3)
+    model = hovi.examples.models.pendulum(3)
     integ = hovi.Integrator(model)
     model.add_damper(0, 1.0)
     with pytest.raises(hovi.ModelError, match="the model was changed"):

@@ -6,13 +6,13 @@ import numpy as np
 import pytest
 
 from hovi.cli import main
-from hovi.robot_examples import build
-from hovi.robot_examples import littledog as littledog_example
-from hovi.robot_examples.atlas import centre_of_mass, single_support, sole, static_controls
+from hovi.examples.paper import build
+from hovi.examples.paper import littledog as littledog_example
+from hovi.examples.paper.atlas import centre_of_mass, single_support, sole, static_controls
 from hovi.contact.terrain import Box
-from hovi.robot_examples import flamingo
-from hovi.robot_examples.flamingo import JumpPlan, box_distance, leg_points, obstacle_circles
-from hovi.robots import atlas, littledog, spring_flamingo
+from hovi.examples.paper import flamingo
+from hovi.examples.paper.flamingo import JumpPlan, box_distance, leg_points, obstacle_circles
+from hovi.examples.robots import atlas, littledog, spring_flamingo
 
 pytest.importorskip("cyipopt")
 
@@ -87,7 +87,7 @@ def test_obstacle_circles_cover_the_box_and_distance_is_signed():
 
 def test_contact_figures_refuse_a_trajectory_without_controls_at_every_point():
     from types import SimpleNamespace
-    from hovi.robot_examples.contact_figures import contact_figures
+    from hovi.examples.paper.contact_figures import contact_figures
     result = SimpleNamespace(trajectory={"q": np.zeros((5, 9)), "u": np.zeros((3, 20))})
     with pytest.raises(ValueError, match="controls at every configuration point"):
         contact_figures(None, result)
@@ -177,8 +177,8 @@ def test_replay_figures_measure_how_far_the_stages_are_from_integrator_steps(mak
     import dataclasses
     from types import SimpleNamespace
     from hovi import trajopt
-    from hovi.robot_examples.report import replay_figures
-    from hovi.trajopt import examples
+    from hovi.examples.paper.report import replay_figures
+    from hovi.examples import swingups as examples
     prob = examples.EXAMPLES[make](N=10) if make == "pendulum" else examples.slider_crank_to_target(N=10)
     r = trajopt.solve(prob, "vi", s=2, verbose=False)
     example = SimpleNamespace(problem=prob)

@@ -1,4 +1,4 @@
-"""The paper's three robots (hovi.robots, models/*.urdf) against the cross-check figures of their
+"""The paper's three robots (hovi.examples.robots, models/*.urdf) against the cross-check figures of their
 parameter sheets (shared/robots/): DoF, total mass, standing heights, contacts on the ground in the
 nominal stance, the sign conventions stated there, a free fall from the stance, and hovi's mass
 matrix and gravity torques against Pinocchio's for the same URDF."""
@@ -7,7 +7,7 @@ import pinocchio as pin
 import pytest
 
 import hovi
-from hovi import robots
+from hovi.examples import robots
 from hovi.contact import Contacts, Terrain
 
 ROBOTS = {"spring_flamingo": robots.spring_flamingo, "littledog": robots.littledog, "atlas": robots.atlas}

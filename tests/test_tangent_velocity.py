@@ -44,7 +44,7 @@ def test_velocity_is_the_kkt_solution(k, rng):
 
 
 def test_unconstrained_velocity_is_minv_p(rng):
-    model = hovi.models.pendulum(5)
+    model = hovi.examples.models.pendulum(5)
     integ = hovi.Integrator(model, s=2, dt=0.01)
     q, p = rng.normal(size=5), rng.normal(size=5)
     np.testing.assert_allclose(integ.velocity(q, p), np.linalg.solve(model.mass_matrix(q), p), rtol=1e-12)
@@ -78,6 +78,6 @@ def test_slider_crank_energy_without_drift():
 
 
 def test_multipliers_for_an_unconstrained_model_are_refused():
-    integ = hovi.Integrator(hovi.models.pendulum(2), s=2, dt=0.01)
+    integ = hovi.Integrator(hovi.examples.models.pendulum(2), s=2, dt=0.01)
     with pytest.raises(ValueError, match="no constraints"):
         integ.step(np.zeros(2), np.zeros(2), multipliers=np.zeros((2, 1)))

@@ -13,7 +13,7 @@ def rollout(model, s=2):
 
 
 def test_round_trip_keeps_every_array_and_the_statistics(tmp_path):
-    integ, traj = rollout(hovi.models.pendulum(4))
+    integ, traj = rollout(hovi.examples.models.pendulum(4))
     path = tmp_path / "pendulum.npz"
     traj.save(path)
     back = hovi.load_trajectory(path, integ)
@@ -25,7 +25,7 @@ def test_round_trip_keeps_every_array_and_the_statistics(tmp_path):
 
 
 def test_constrained_multipliers_round_trip(tmp_path):
-    model = hovi.models.fourbar()
+    model = hovi.examples.models.fourbar()
     integ = hovi.Integrator(model, s=1, dt=0.01)
     q, qd = integ.project(np.full(model.n, 0.3), np.zeros(model.n))
     traj = integ.rollout(q, 20, qdot0=qd)
@@ -37,13 +37,13 @@ def test_constrained_multipliers_round_trip(tmp_path):
 
 
 def test_files_that_do_not_fit_are_rejected(tmp_path):
-    integ, traj = rollout(hovi.models.pendulum(4))
+    integ, traj = rollout(hovi.examples.models.pendulum(4))
     path = tmp_path / "t.npz"
     traj.save(path)
     with pytest.raises(ValueError, match="joint names"):
-        hovi.load_trajectory(path, hovi.Integrator(hovi.models.pendulum(5), s=2, dt=0.01))
+        hovi.load_trajectory(path, hovi.Integrator(hovi.examples.models.pendulum(5), s=2, dt=0.01))
     with pytest.raises(ValueError, match="s = 2, dt = 0.01 differ"):
-        hovi.load_trajectory(path, hovi.Integrator(hovi.models.pendulum(4), s=3, dt=0.01))
+        hovi.load_trajectory(path, hovi.Integrator(hovi.examples.models.pendulum(4), s=3, dt=0.01))
     np.savez(tmp_path / "other.npz", x=np.zeros(3))
     with pytest.raises(ValueError, match="not a hovi trajectory"):
         hovi.load_trajectory(tmp_path / "other.npz")
@@ -56,7 +56,7 @@ def test_files_that_do_not_fit_are_rejected(tmp_path):
 
 
 def test_a_trajectory_carries_its_discretization_not_the_integrator():
-    integ, traj = rollout(hovi.models.pendulum(3), s=3)
+    integ, traj = rollout(hovi.examples.models.pendulum(3), s=3)
     d = traj.discretization
     assert d is integ.discretization and (d.s, d.dt, d.model) == (3, 0.01, integ.model)
     np.testing.assert_array_equal(traj.energy, integ.energies(traj.q, traj.p))
@@ -72,7 +72,7 @@ def test_a_trajectory_carries_its_discretization_not_the_integrator():
 
 
 def test_the_old_module_still_loads(tmp_path):
-    integ, traj = rollout(hovi.models.pendulum(2))
+    integ, traj = rollout(hovi.examples.models.pendulum(2))
     traj.save(tmp_path / "t.npz")
     import importlib, sys
     sys.modules.pop("hovi.trajectory_io", None)

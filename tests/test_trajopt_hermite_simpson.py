@@ -13,7 +13,7 @@ pytest.importorskip("cyipopt")
 
 @pytest.mark.parametrize("implicit", [True, False])
 def test_simulated_trajectory_satisfies_the_collocation_constraints(implicit):
-    model = hovi.models.pendulum(4)
+    model = hovi.examples.models.pendulum(4)
     model.add_spring(1, 3.0, 0.2)
     model.add_damper(2, 0.4)
     model.armature = [0.1, 0.0, 0.3, 0.05]
@@ -46,7 +46,7 @@ def test_table1_counts():
     constraints impose h, ḣ and ḧ at every point, which over-determines the collocation (4m more
     equations than unknowns per interval): hovi keeps ḧ at every point and h, ḣ at t = 0."""
     N, n, m = 7, 4, 2
-    model = hovi.models.pendulum(n)
+    model = hovi.examples.models.pendulum(n)
     for j in range(n):
         model.add_actuator(j)
     tip = model.joint_placements(np.zeros(n))[-1] @ np.array([0, 0, -0.5, 1.0])

@@ -5,7 +5,7 @@ import pytest
 import scipy.sparse as sp
 
 from hovi import trajopt
-from hovi.trajopt.examples import cartpole_swingup, pendulum_swingup, slider_crank_to_target
+from hovi.examples.swingups import cartpole_swingup, pendulum_swingup, slider_crank_to_target
 from hovi.trajopt.hessian import LagrangianHessian, distance2_colouring, star_colouring
 
 

@@ -9,7 +9,7 @@ import scipy.sparse as sp
 import hovi
 from hovi import trajopt
 from hovi.contact import Box, Branches, ComplementarityRelaxation, Contacts, Terrain
-from hovi.trajopt.examples import close_mechanism
+from hovi.examples.swingups import close_mechanism
 
 pytest.importorskip("cyipopt")
 
@@ -33,7 +33,7 @@ def every_path_constraint(prob):
 
 
 def actuated_chain():
-    model = hovi.models.pendulum(3)
+    model = hovi.examples.models.pendulum(3)
     for j in range(3):
         model.add_actuator(j, 1.0 + j)
     model.add_damper(1, 0.3)
@@ -48,7 +48,7 @@ def problems():
         prob = trajopt.Problem(actuated_chain(), N=3, T=0.9, controls=controls)
         prob.initial_state([0.1, -0.2, 0.3], [0.5, 0.0, -0.5]).final_state([0.2, 0.1, 0.0], qdot=[0.0, 0.3, 0.0])
         out.append((f"chain-{controls}", every_path_constraint(prob.add_cost(trajopt.ControlEffort()))))
-    model = hovi.models.fourbar()
+    model = hovi.examples.models.fourbar()
     model.add_actuator(0)
     prob = trajopt.Problem(model, N=3, T=0.6)
     prob.initial_state(close_mechanism(model, [-1.2, 0.9, -1.8])).final_state(close_mechanism(model, [-1.0, 0.9, -1.8]),

@@ -10,7 +10,7 @@ from hovi import trajopt
 
 
 def branched_model():
-    model = hovi.models.pendulum(3)
+    model = hovi.examples.models.pendulum(3)
     model.add_body("side", 0, "revolute", axis=(1, 0, 0), mass=0.5, inertia=np.diag([0.01, 0.02, 0.03]))
     return model
 

@@ -6,7 +6,7 @@ import pytest
 
 import hovi
 from hovi import trajopt
-from hovi.trajopt import examples
+from hovi.examples import swingups as examples
 
 pytest.importorskip("cyipopt")
 
@@ -34,7 +34,7 @@ def test_swingups_converge_and_replay(name, N, s):
 @pytest.mark.parametrize("method", [trajopt.VI(1), trajopt.VI(3), trajopt.HermiteSimpson("implicit"),
                                     trajopt.HermiteSimpson("explicit")], ids=repr)
 def test_acrobot_swingup_converges(method):
-    prob = trajopt.Problem(hovi.models.acrobot(), 100, 5.0, u_bounds=(-10, 10))
+    prob = trajopt.Problem(hovi.examples.models.acrobot(), 100, 5.0, u_bounds=(-10, 10))
     prob.initial_state([0.0, 0.0]).final_state([np.pi, 0.0], qdot=[0.0, 0.0]).add_cost(trajopt.ControlEffort())
     r = trajopt.solve(prob, method, guess="linear", verbose=False)
     assert r.success and r.constraint_violation < 1e-9, r.status
@@ -45,7 +45,7 @@ def test_acrobot_swingup_each_step_replays():
     """The acrobot's swing-up passes near its unstable upright equilibria, where a whole-horizon
     replay amplifies round-off (its error grows to ~1e-6 over 5 s); each step replayed from the
     optimised state reproduces the next to round-off."""
-    prob = trajopt.Problem(hovi.models.acrobot(), 100, 5.0, u_bounds=(-10, 10))
+    prob = trajopt.Problem(hovi.examples.models.acrobot(), 100, 5.0, u_bounds=(-10, 10))
     prob.initial_state([0.0, 0.0]).final_state([np.pi, 0.0], qdot=[0.0, 0.0]).add_cost(trajopt.ControlEffort())
     r = trajopt.solve(prob, trajopt.VI(s=2), guess="linear", verbose=False)
     assert r.success, r.status
@@ -141,7 +141,7 @@ def test_path_constraint_between_points_holds_along_the_trajectory():
 
 
 def test_bad_problems_raise_clear_errors():
-    model = hovi.models.pendulum(2)
+    model = hovi.examples.models.pendulum(2)
     model.add_actuator(0)
     with pytest.raises(ValueError, match="lower > upper"):
         trajopt.Problem(model, 10, 1.0, u_bounds=(1.0, -1.0))
@@ -159,7 +159,7 @@ def test_bad_problems_raise_clear_errors():
         prob.add_constraint(trajopt.BodyPoint(1, target=[0, 0, 0], at=2.0))
         trajopt.solve(prob, verbose=False)
     with pytest.raises(ValueError, match="violates the model's constraints"):
-        trajopt.Problem(hovi.models.fourbar(), 10, 1.0).initial_state([0.0, 0.0, 0.0])
+        trajopt.Problem(hovi.examples.models.fourbar(), 10, 1.0).initial_state([0.0, 0.0, 0.0])
     with pytest.raises(ValueError, match="transcription must be"):
         trajopt.solve(examples.pendulum_swingup(N=5), "rk4", verbose=False)
 
@@ -182,9 +182,9 @@ def test_bad_costs_and_path_constraints_raise_clear_errors():
     with pytest.raises(ValueError, match="radius must be positive"):
         trajopt.Clearance(0, center=[0, 0, 0], radius=0.0, at=0.5)
     with pytest.raises(hovi.ModelError, match="out of range"):
-        hovi._core.trajopt.body_point_kinematics(hovi.models.pendulum(2), np.zeros((1, 2)), [5], np.zeros((1, 3)))
+        hovi._core.trajopt.body_point_kinematics(hovi.examples.models.pendulum(2), np.zeros((1, 2)), [5], np.zeros((1, 3)))
     with pytest.raises(ValueError, match="controls must be"):
-        hovi._core.trajopt.VariationalTranscription(hovi.models.pendulum(2), 2, 5, 0.1, "sometimes")
+        hovi._core.trajopt.VariationalTranscription(hovi.examples.models.pendulum(2), 2, 5, 0.1, "sometimes")
     prob = examples.pendulum_swingup(N=5)
     prob.add_constraint(trajopt.CallbackPathConstraint(lambda t, Q: Q, lambda t, Q: np.ones((len(Q), 2, 1)),
                                                        lower=0.0, upper=1.0, window=(0, 2)))

@@ -29,7 +29,7 @@ def test_mypy_catches_a_wrong_type(tmp_path):
     """The check has teeth: a misuse of the typed API is an error."""
     pytest.importorskip("mypy")
     bad = tmp_path / "bad.py"
-    bad.write_text("import hovi\n\nmodel: hovi.Model = hovi.models.pendulum(2)\nn: str = model.n\n"
+    bad.write_text("import hovi\n\nmodel: hovi.Model = hovi.examples.models.pendulum(2)\nn: str = model.n\n"
                    "integ = hovi.Integrator(model, order=4)\nx: int = integ.rollout([0.0, 0.0], 3).q\n")
     proc = subprocess.run([sys.executable, "-m", "mypy", "--strict", "--no-incremental",
                            "--cache-dir", str(tmp_path / "cache"), str(bad)],
@@ -58,8 +58,8 @@ def test_mypy_strict_on_the_core_modules(tmp_path):
     """The modules of `import hovi` (not the optional trajopt, plotting, cli) and hovi.distributed are
     themselves strict-clean."""
     pytest.importorskip("mypy")
-    modules = ["hovi", "hovi.integrator", "hovi.linearizer", "hovi.batch", "hovi.trajectory", "hovi.models",
-               "hovi.robots", "hovi._typing", "hovi.distributed"]
+    modules = ["hovi", "hovi.integrator", "hovi.linearizer", "hovi.batch", "hovi.trajectory", "hovi.examples.models",
+               "hovi.examples.robots", "hovi._typing", "hovi.distributed"]
     proc = subprocess.run([sys.executable, "-m", "mypy", "--strict", "--no-incremental", "--cache-dir",
                            str(tmp_path / "cache"), *[a for m in modules for a in ("-m", m)]],
                           cwd=tmp_path, capture_output=True, text=True, timeout=600)

@@ -39,7 +39,7 @@ def test_vertex_clustering_keeps_the_shape_with_fewer_faces():
 def test_video_has_the_expected_frames_and_size(tmp_path, suffix):
     import imageio.v3 as iio
 
-    model = hovi.models.pendulum(3)
+    model = hovi.examples.models.pendulum(3)
     traj = hovi.Integrator(model, order=4, dt=0.01).rollout(np.full(3, 0.5), 50)  # 0.5 s
     out = video.render_video(model, traj, tmp_path / f"swing{suffix}", fps=20, size=(320, 240))
     frames = iio.imread(out, index=None)
@@ -60,7 +60,7 @@ def test_meshes_render(tmp_path):
 
 
 def test_bad_arguments_raise(tmp_path):
-    model = hovi.models.pendulum(2)
+    model = hovi.examples.models.pendulum(2)
     with pytest.raises(ValueError, match=r"\.mp4 or \.gif"):
         video.render_video(model, np.zeros((2, 2)), tmp_path / "a.avi")
     with pytest.raises(ValueError, match="multiples of 16"):

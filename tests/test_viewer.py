@@ -38,7 +38,7 @@ def check_animation(model, traj, tmp_path, name, package_dirs=()):
 
 
 def test_pendulum_animation_is_drawn_and_moves(tmp_path):
-    model = hovi.models.pendulum(5)
+    model = hovi.examples.models.pendulum(5)
     traj = hovi.Integrator(model, order=4, dt=0.01).rollout(np.full(5, 0.6), 100)
     check_animation(model, traj, tmp_path, "pendulum5")
 
@@ -51,7 +51,7 @@ def test_urdf_with_meshes_animation_is_drawn_and_moves(tmp_path):
 
 
 def test_markers_and_arrows_are_drawn(tmp_path):
-    model = hovi.models.pendulum(2)
+    model = hovi.examples.models.pendulum(2)
     plain = viewer.Viewer(model, server=False)
     plain.frame_model()
     marked = viewer.Viewer(model, server=False)
@@ -67,13 +67,13 @@ def test_markers_and_arrows_are_drawn(tmp_path):
 
 
 def test_html_is_standalone():
-    model = hovi.models.pendulum(3)
+    model = hovi.examples.models.pendulum(3)
     html = viewer.Viewer(model, server=False).html()
     assert "MeshCat.Viewer" in html and "<script src=" not in html  # meshcat's JavaScript is inlined
 
 
 def test_live_viewer_starts_a_local_server():
-    model = hovi.models.pendulum(3)
+    model = hovi.examples.models.pendulum(3)
     v = viewer.Viewer(model)
     try:
         assert v.url.startswith("http://127.0.0.1:")
@@ -87,7 +87,7 @@ def test_live_viewer_starts_a_local_server():
 
 
 def test_bad_input_raises_clear_errors(tmp_path):
-    model = hovi.models.pendulum(3)
+    model = hovi.examples.models.pendulum(3)
     v = viewer.Viewer(model, server=False)
     with pytest.raises(ValueError, match="3 finite numbers"):
         v.display([0.0, np.nan, 0.0])

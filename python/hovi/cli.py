@@ -9,17 +9,30 @@ import time
 
 import numpy as np
 
-from . import Model, models
+from . import Model
+from .examples import MODEL, OPTIMIZATION, ROBOT, ROBOT_EXAMPLE, entries, get, names
 from .integrator import ConvergenceError, Integrator
 
-EXAMPLE_NAMES = ("pendulum", "acrobot", "cartpole", "slider_crank")  # hovi.trajopt.examples.EXAMPLES
+
+def model_listing() -> str:
+    """What ``hovi simulate`` and ``hovi info`` take, from the registry of examples."""
+    return (f"'pendulum:N' (the built-in N-link pendulum), a built-in model ({', '.join(names(MODEL)[1:])}), "
+            f"a robot ({', '.join(names(ROBOT))}) or a URDF path")
 
 
 def load_model(spec: str, base: str = "fixed") -> Model:
-    """'pendulum:N' for the built-in N-link pendulum, otherwise a URDF path."""
-    if spec.startswith("pendulum"):
-        _, _, n = spec.partition(":")
-        return models.pendulum(int(n) if n else 32)
+    """'pendulum:N' for the built-in N-link pendulum, the name of a built-in model or robot
+    (``hovi.examples``), otherwise a URDF path (attached to the world by ``base``)."""
+    name, _, n = spec.partition(":")
+    if name == "pendulum":
+        model: Model = get(MODEL, "pendulum").build(int(n) if n else 32)
+        return model
+    if spec in entries(MODEL):
+        model = get(MODEL, spec).build()
+        return model
+    if spec in entries(ROBOT):
+        robot_model: Model = get(ROBOT, spec).build().model
+        return robot_model
     return Model.from_urdf(spec, base=base)
 
 
@@ -104,9 +117,8 @@ def cmd_info(args) -> int:
 
 def cmd_optimize(args) -> int:
     from . import trajopt
-    from .trajopt import examples
     from .trajopt.transcriptions import from_name
-    make = examples.EXAMPLES[args.example]
+    make = get(OPTIMIZATION, args.example).function
     kwargs = {"controls": args.controls}
     if args.N:
         kwargs["N"] = args.N
@@ -145,8 +157,8 @@ def cmd_optimize(args) -> int:
 
 
 def cmd_example(args) -> int:
-    from .robot_examples import build, report
-    example = build(args.name, quick=args.quick)
+    from .examples.paper import report
+    example = get(ROBOT_EXAMPLE, args.name).build(quick=args.quick)
     prob = example.problem
     print(f"{args.name}: {example.description}; {prob.model.n} DoF, {prob.model.n_controls} inputs, N = {prob.N} "
           f"stages over T = {prob.T} s{' (quick)' if args.quick else ''}")
@@ -175,8 +187,7 @@ def print_replay(s) -> None:
 
 
 def add_model_args(p):
-    p.add_argument("model", nargs="?", default="pendulum:32",
-                   help="'pendulum:N' (the built-in N-link pendulum) or a URDF path (default: pendulum:32)")
+    p.add_argument("model", nargs="?", default="pendulum:32", help=model_listing() + " (default: pendulum:32)")
     p.add_argument("--base", default="fixed", choices=["fixed", "floating", "planar"],
                    help="how a URDF's root link is attached to the world (default: fixed)")
     p.add_argument("--seed", type=int, default=0, help="seed of the random initial state (default: 0)")
@@ -215,7 +226,8 @@ def main(argv=None) -> int:
                                      "variational integrator or Hermite-Simpson collocation as the dynamics; print "
                                      "IPOPT's progress and a summary; replay the optimised controls with the "
                                      "integrator; write a plot and a JSON summary.")
-    opt.add_argument("example", choices=sorted(EXAMPLE_NAMES), help="the example")
+    opt.add_argument("example", choices=names(OPTIMIZATION),
+                     help="the example: " + "; ".join(f"{e.name}: {e.description}" for e in entries(OPTIMIZATION).values()))
     opt.add_argument("--transcription", default="vi", choices=["vi", "hs-implicit", "hs-explicit"],
                      help="the dynamics: the Galerkin VI (default) or Hermite-Simpson collocation")
     opt.add_argument("--order", type=int, default=4, help="VI order 2s (default 4: Simpson)")
@@ -228,13 +240,14 @@ def main(argv=None) -> int:
     opt.add_argument("--output", default="results", help="folder for the plot and JSON (default: results)")
     opt.add_argument("--no-plot", action="store_true", help="skip the plot")
     opt.set_defaults(func=cmd_optimize)
-    from .robot_examples import NAMES as ROBOT_EXAMPLES
+    ROBOT_EXAMPLES = names(ROBOT_EXAMPLE)
     ex = sub.add_parser("example", help="the paper's robot examples (Sec. 6): " + ", ".join(ROBOT_EXAMPLES),
                         description="Solve one of the paper's robot trajectory optimisations with the variational "
                                     "integrator (or Hermite-Simpson collocation); print IPOPT's progress, the solve time, the feasibility figures and "
                                     "the drift when the optimised controls are replayed; write the trajectory (npz), "
                                     "a JSON summary, a plot and an animation (HTML and MP4).")
-    ex.add_argument("name", choices=ROBOT_EXAMPLES, help="the example")
+    ex.add_argument("name", choices=ROBOT_EXAMPLES, help="the example: " + "; ".join(
+        f"{e.name}: {e.description}" for e in entries(ROBOT_EXAMPLE).values()))
     ex.add_argument("--quick", action="store_true", help="a short horizon (what the tests run)")
     ex.add_argument("--transcription", default="vi", choices=["vi", "hs-implicit", "hs-explicit"],
                     help="the dynamics: the Galerkin VI (default) or Hermite-Simpson collocation with the same "

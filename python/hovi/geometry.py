@@ -2,7 +2,7 @@
 
 A model's visuals (URDF ``<visual>`` elements, or ``Model.add_visual``) are attached to bodies
 (or to the world) with an origin in the body's joint frame, so a shape's world pose at q is
-``joint_placements(q)[body] @ origin``. A model without visuals (``hovi.models.pendulum(n)``)
+``joint_placements(q)[body] @ origin``. A model without visuals (``hovi.examples.models.pendulum(n)``)
 gets default shapes: a capsule (a cylinder with spherical ends) from each joint to each child
 joint, or to the far end of a leaf body (twice its centre of mass), and a sphere at each centre
 of mass with a radius growing as mass^(1/3).

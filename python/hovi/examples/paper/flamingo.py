@@ -22,11 +22,11 @@ from typing import Dict, List, Tuple
 import numpy as np
 from scipy.interpolate import CubicHermiteSpline
 
-from .. import trajopt
-from ..contact import Contacts, Terrain
-from ..contact.terrain import Box
+from ... import trajopt
+from ...contact import Contacts, Terrain
+from ...contact.terrain import Box
 from ..robots import Robot, spring_flamingo
-from ..trajopt import Problem, Result
+from ...trajopt import Problem, Result
 from .contact_figures import CONTACT_BOUNDS, contact_figures, path_configurations
 from .example import Example, Scenery, samples_between
 

@@ -9,10 +9,10 @@ from typing import Dict, Sequence
 import numpy as np
 from scipy.optimize import least_squares
 
-from .. import trajopt
-from ..contact import FlatFoot, wrench_cone
+from ... import trajopt
+from ...contact import FlatFoot, wrench_cone
 from ..robots import Robot, atlas
-from ..trajopt import Problem, Result
+from ...trajopt import Problem, Result
 from .example import Example, Scenery
 
 MU = 0.8          # friction coefficient of the stance foot

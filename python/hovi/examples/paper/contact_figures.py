@@ -11,8 +11,8 @@ from typing import Dict
 
 import numpy as np
 
-from ..contact import Contacts
-from ..trajopt import Result
+from ...contact import Contacts
+from ...trajopt import Result
 
 
 def contact_figures(contacts: Contacts, result: Result) -> Dict[str, float]:

@@ -11,9 +11,9 @@ from typing import Any, Dict, Tuple
 
 import numpy as np
 
-from .. import trajopt
-from ..trajopt import Result
-from ..trajopt.transcriptions import from_name
+from ... import trajopt
+from ...trajopt import Result
+from ...trajopt.transcriptions import from_name
 from .example import Example
 
 
@@ -64,7 +64,7 @@ def replay_figures(example: Example, result: Result) -> Dict[str, Any]:
 
 def plot(example: Example, result: Result, path: str) -> None:
     """Joint angles, actuator torques and contact forces against time, in one figure."""
-    from ..plotting import pyplot
+    from ...plotting import pyplot
     plt = pyplot()
     tr, robot = result.trajectory, example.robot
     model = robot.model
@@ -92,8 +92,8 @@ def plot(example: Example, result: Result, path: str) -> None:
 
 def animate(example: Example, result: Result, output: str, fps: float) -> list[str]:
     """animation.html (meshcat, standalone) and animation.mp4 of the optimised motion with its scenery."""
-    from ..video import render_video
-    from ..viewer import animation_html
+    from ...video import render_video
+    from ...viewer import animation_html
     model = example.robot.model.copy()
     for shape, size, centre, rgba in example.scenery.shapes:
         origin = np.eye(4)

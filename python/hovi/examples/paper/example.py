@@ -8,7 +8,7 @@ from typing import Any, Callable, Dict, List, Optional, Tuple
 import numpy as np
 
 from ..robots import Robot
-from ..trajopt import Guess, Problem, Result
+from ...trajopt import Guess, Problem, Result
 
 
 def samples_between(dt: float, spacing: float) -> int:
