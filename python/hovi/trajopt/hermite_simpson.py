@@ -31,6 +31,7 @@ class HermiteSimpson(TranscriptionMethod):
 
     @property
     def name(self) -> str:
+        """A short label of the transcription (reports, plots)."""
         return f"hs-{self.form}"
 
     def transcribe(self, problem: Problem) -> HermiteSimpsonTranscription:
@@ -97,6 +98,7 @@ class HermiteSimpsonTranscription(Transcription):
 
     @property
     def method(self) -> HermiteSimpson:
+        """The TranscriptionMethod that gives this transcription."""
         return HermiteSimpson("implicit" if self.implicit else "explicit")
 
     def rollout_guess(self):

@@ -8,7 +8,7 @@ Two kinds of object: a ``TranscriptionMethod`` is the choice (``VI(s=2)``, ``Her
 ``Transcription`` of that problem (its variable layout, C++ core, guesses and trajectories)."""
 from __future__ import annotations
 
-from typing import Callable, Tuple, Union
+from typing import Any, Callable, Tuple, Union
 
 import numpy as np
 import scipy.sparse as sp
@@ -19,6 +19,8 @@ from .samples import SampleMap
 
 # An initial guess: None or 'rollout', 'linear', a Result, or (q(t), v(t), u(t)) functions
 Guess = Union[None, str, Result, Tuple[Callable[[np.ndarray], np.ndarray], ...]]
+# Functions of time, vectorised: t (K,) -> (K, n) or (K, m)
+TimeFunction = Callable[[np.ndarray], np.ndarray]
 
 
 class TranscriptionMethod:
@@ -37,7 +39,7 @@ class Transcription:
     the variables x; ``method`` is the TranscriptionMethod that made it."""
     name = "?"
 
-    def __init__(self, problem: Problem, core):
+    def __init__(self, problem: Problem, core: Any):
         problem.check()
         self.problem, self.core = problem, core
         self.model = problem.model
@@ -45,9 +47,10 @@ class Transcription:
 
     # --- implemented by each transcription ----------------------------------------------------
     def sample_map(self) -> SampleMap:
+        """Where the costs are evaluated: sample times, weights and the sparse maps from x (samples.py)."""
         raise NotImplementedError
 
-    def q_points(self):
+    def q_points(self) -> Tuple[np.ndarray, np.ndarray]:
         """(t (P,), offsets (P,)): times of the configuration variables and their offsets in x."""
         raise NotImplementedError
 
@@ -56,11 +59,12 @@ class Transcription:
         polynomial through q_points k (K - 1) .. k (K - 1) + K - 1 at these nodes (``interpolants``)."""
         raise NotImplementedError
 
-    def bounds(self):
-        """(lower, upper) of x: joint and control bounds, boundary conditions as fixed variables."""
+    def bounds(self) -> Tuple[np.ndarray, np.ndarray]:
+        """(lower (n_variables,), upper (n_variables,)) of x: joint and control bounds, boundary
+        conditions as fixed variables."""
         raise NotImplementedError
 
-    def linear_rows(self):
+    def linear_rows(self) -> Tuple[sp.csr_matrix, np.ndarray]:
         """(A (r, n_variables) sparse, b (r,)): boundary conditions that are linear equalities A x = b."""
         return sp.csr_matrix((0, self.core.n_variables)), np.zeros(0)
 
@@ -69,16 +73,17 @@ class Transcription:
         """The TranscriptionMethod that gives this transcription."""
         raise NotImplementedError
 
-    def guess(self, q_of_t, v_of_t, u_of_t) -> np.ndarray:
-        """x from functions of time (vectorised: t (K,) -> (K, n) / (K, m))."""
+    def guess(self, q_of_t: TimeFunction, v_of_t: TimeFunction, u_of_t: TimeFunction) -> np.ndarray:
+        """x (n_variables,) from functions of time (vectorised: t (K,) -> (K, n) / (K, m))."""
         raise NotImplementedError
 
     def rollout_guess(self) -> np.ndarray | None:
-        """x from a simulation from the initial state with zero controls, or None if it fails."""
+        """x (n_variables,) from a simulation from the initial state with zero controls, or None if it fails."""
         raise NotImplementedError
 
-    def linear_interpolants(self):
-        """(q(t), v(t), u(t)): q from q0 to qT (q0 without a final state) in a straight line, zero controls."""
+    def linear_interpolants(self) -> Tuple[TimeFunction, TimeFunction, TimeFunction]:
+        """(q(t), v(t), u(t)), t (K,) -> (K, n), (K, n), (K, m): q from q0 to qT (q0 without a final
+        state) in a straight line, zero controls."""
         problem = self.problem
         q0 = problem.q0
         qT = q0 if problem.qT is None else problem.qT
@@ -108,30 +113,34 @@ class Transcription:
         raise ValueError(f"guess must be None, 'rollout', 'linear', a Result or (q(t), v(t), u(t)), got {guess!r}")
 
     def at(self, x: np.ndarray, status: str, success: bool) -> Result:
-        """A Result holding the point x of this transcription (a start for a solver; no solve behind it)."""
+        """A Result holding the point x (n_variables,) of this transcription (a start for a solver;
+        no solve behind it)."""
         return Result(status=status, success=success, cost=float("nan"), constraint_violation=float("nan"),
                       iterations=0, wall_seconds=0.0, trajectory=self.trajectory(x), x=x, transcription=self)
 
-    def trajectory(self, x) -> dict:
+    def trajectory(self, x: np.ndarray) -> dict:
+        """The arrays of the solution x (n_variables,): t, q (P, n), p or v, u, multipliers."""
         raise NotImplementedError
 
-    def control_function(self, x):
-        """u(t) of a solution: the controls as the transcription interprets them, vectorised."""
+    def control_function(self, x: np.ndarray) -> TimeFunction:
+        """u(t) of a solution x (n_variables,): the controls as the transcription interprets them,
+        vectorised (t (K,) -> (K, m))."""
         raise NotImplementedError
 
-    def interpolants(self, x):
-        """(q(t), v(t), u(t)) of a solution, vectorised: a guess for another transcription or N."""
+    def interpolants(self, x: np.ndarray) -> Tuple[TimeFunction, TimeFunction, TimeFunction]:
+        """(q(t), v(t), u(t)) of a solution x (n_variables,), vectorised (t (K,) -> (K, n), (K, n),
+        (K, m)): a guess for another transcription or N."""
         raise NotImplementedError
 
     # --- shared helpers ---------------------------------------------------------------------
-    def u_points(self):
+    def u_points(self) -> np.ndarray:
         """(P,) offsets of the controls at the configuration points of q_points (per-point controls:
         the VI's control points, Hermite-Simpson's knots and midpoints)."""
         if self.problem.controls != "per_point":
             raise ValueError("controls at the configuration points need controls='per_point'")
         return self.u_off + np.arange(self.n_points) * self.m
 
-    def q_samples(self, between: int):
+    def q_samples(self, between: int) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``between`` (>= 1) evenly spaced configurations between each two consecutive
         configuration points, on the stage's polynomial (``stage_nodes``), as weighted sums of the
         stage's points: (t (P,), points (P, K), weights (P, K)), sample p = sum_k weights[p, k]

@@ -29,6 +29,7 @@ class VI(TranscriptionMethod):
 
     @property
     def name(self) -> str:
+        """A short label of the transcription (reports, plots)."""
         return f"vi (s={self.s})"
 
     def transcribe(self, problem: Problem) -> VariationalTranscription:
@@ -132,6 +133,7 @@ class VariationalTranscription(Transcription):
 
     @property
     def method(self) -> VI:
+        """The TranscriptionMethod that gives this transcription."""
         return VI(self.s)
 
     def rollout_guess(self):
