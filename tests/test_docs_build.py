@@ -27,6 +27,20 @@ def site(tmp_path_factory):
     return out
 
 
+def test_the_examples_page_lists_the_registry():
+    """docs/reference/examples.md's table is the registry's (hovi.examples.REGISTRY), row for row."""
+    import hovi.examples
+    with open(os.path.join(ROOT, "docs", "reference", "examples.md")) as f:
+        page = f.read()
+    table = page.split("<!-- registry:begin -->")[1].split("<!-- registry:end -->")[0]
+    rows = [r for r in table.strip().splitlines()[2:]]
+    expected = [f"| `{e.kind}` | `{e.name}` | {e.description} | `hovi.examples.{e.target.replace(':', '.')}` |"
+                for e in hovi.examples.REGISTRY]
+    assert rows == expected, "docs/reference/examples.md's table differs from hovi.examples.REGISTRY"
+    for e in hovi.examples.REGISTRY:  # every entry builds from its target
+        assert callable(e.function), e
+
+
 def _text(site, page):
     """The visible text of a built page's article, tags removed."""
     page_html = (site / page / "index.html").read_text(encoding="utf-8")
@@ -64,7 +78,7 @@ def test_api_reference_renders_compiled_and_python_members(site):
     assert re.search(r"add_spring\s*\(\s*joint\s*:\s*int\s*\|\s*str\s*,\s*stiffness\s*:\s*typing\s*\.\s*SupportsFloat", text), \
         "Model.add_spring's parameters are not rendered"
     assert "add_spring(self: hovi._core.Model" not in text
-    models = _anchors(site, "reference/models")
+    models = _anchors(site, "reference/examples")
     assert {"hovi.examples.models.pendulum", "hovi.examples.models.acrobot", "hovi.examples.models.cartpole", "hovi.examples.models.fourbar",
             "hovi.examples.models.slider_crank"} <= models
     viewer = _anchors(site, "reference/viewer")

@@ -1,4 +1,4 @@
-"""The typed API: mypy --strict passes on examples/typed_usage.py (which uses the installed hovi, its
+"""The typed API: mypy --strict passes on tests/typed_usage.py (which uses the installed hovi, its
 py.typed and the stubs of hovi._core), the script runs, and the package ships py.typed."""
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ import pytest
 import hovi
 
 ROOT = Path(__file__).resolve().parents[1]
-EXAMPLE = ROOT / "examples" / "typed_usage.py"
+EXAMPLE = ROOT / "tests" / "typed_usage.py"
 
 
 def test_mypy_strict_on_typed_example(tmp_path):

@@ -1,4 +1,4 @@
-"""hovi with type annotations: checked by ``mypy --strict examples/typed_usage.py`` (tests/test_typing.py
+"""hovi with type annotations: checked by ``mypy --strict tests/typed_usage.py`` (tests/test_typing.py
 runs it, and runs this script). A 3-link pendulum: one step, a rollout, its linearisation, and a
 trajectory saved and loaded again."""
 from __future__ import annotations
