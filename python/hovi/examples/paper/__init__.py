@@ -19,5 +19,7 @@ __all__ = ["NAMES", "build"]
 
 def build(name: str, quick: bool = False) -> Example:
     """The example ``name`` (one of NAMES), full or ``quick`` (a short horizon)."""
+    if name not in NAMES:
+        raise ValueError(f"unknown example '{name}' (choose from {', '.join(NAMES)})")
     example: Example = get(ROBOT_EXAMPLE, name).build(quick=quick)
     return example
