@@ -180,7 +180,7 @@ def test_replay_figures_measure_how_far_the_stages_are_from_integrator_steps(mak
     from hovi.examples.paper.report import replay_figures
     from hovi.examples import swingups as examples
     prob = examples.EXAMPLES[make](N=10) if make == "pendulum" else examples.slider_crank_to_target(N=10)
-    r = trajopt.solve(prob, "vi", s=2, verbose=False)
+    r = trajopt.solve(prob, trajopt.VI(s=2), verbose=False)
     example = SimpleNamespace(problem=prob)
     f = replay_figures(example, r)
     assert f["replay_stage_residual"] <= 1e-9 and f["replay_one_step_drift"] <= 1e-8
