@@ -2,7 +2,8 @@
 # make test   set up, build, then ctest and pytest
 # make bench  run the benchmarks in bench/ (slow; writes bench/results/)
 # make docs   build the documentation site into site/ (mkdocs build --strict: warnings fail)
-# make stubs  refresh the committed type stubs of hovi._core (python/hovi/_core/*.pyi) after a binding changed
+# make stubs  refresh the committed type stubs of hovi._core and hovi._baselines (python/hovi/_core/*.pyi,
+#             python/hovi/_baselines.pyi) after a binding changed
 # make sanitize  the C++ library and ctest suite under AddressSanitizer + UndefinedBehaviorSanitizer
 # make sanitize-python  the Python extension under ASan + UBSan, and pytest on ASAN_TESTS with it
 # make wheel-smoke  sdist -> wheel -> fresh venv -> smoke test (scripts/wheel_smoke.sh; a clean compile)
@@ -67,9 +68,9 @@ ASAN_TESTS ?= tests/test_model_api.py tests/test_del_residual.py tests/test_newt
 sanitize-python: setup
 	cmake -S . -B build/asan-py -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g" \
 	      -DHOVI_BUILD_PYTHON=ON -DHOVI_BUILD_TESTS=OFF -DHOVI_SANITIZE=ON -DHOVI_STUBS=OFF -DPython_EXECUTABLE=$(abspath $(PY))
-	cmake --build build/asan-py -j $(JOBS) --target _core
+	cmake --build build/asan-py -j $(JOBS) --target _core _baselines
 	rm -rf build/asan-py/stage && mkdir -p build/asan-py/stage && cp -r python/hovi build/asan-py/stage/
-	cp build/asan-py/_core*.so build/asan-py/stage/hovi/
+	cp build/asan-py/_core*.so build/asan-py/_baselines*.so build/asan-py/stage/hovi/
 	LD_PRELOAD="$$(gcc -print-file-name=libasan.so) $$(gcc -print-file-name=libstdc++.so)" ASAN_OPTIONS=detect_leaks=0 \
 	  UBSAN_OPTIONS=print_stacktrace=1 PYTHONPATH=build/asan-py/stage $(PY) -m pytest -q -p no:cacheprovider $(ASAN_TESTS)
 
@@ -83,7 +84,7 @@ docs: build
 # pybind11-stubgen on the installed hovi._core, with the build's options (tests/test_stubs.py checks the copy)
 stubs: build
 	$(PY) scripts/stubgen.py build/stubs
-	rm -rf python/hovi/_core && cp -r build/stubs/hovi/_core python/hovi/_core
+	rm -rf python/hovi/_core && cp -r build/stubs/hovi/_core python/hovi/_core && cp build/stubs/hovi/_baselines.pyi python/hovi/
 
 wheel-smoke: setup
 	JOBS=$(JOBS) ./scripts/wheel_smoke.sh

@@ -3,7 +3,7 @@ variational integrator (s = 2) on n-link pendulums: time of the DEL evaluation (
 the AD gradient of L_d, O(n) vs O(n^2)), the Newton direction (Algorithms A.1/A.2 vs a nested-AD
 Jacobian and dense LU, O(n) vs O(n^3)) and the linearisation D^2 L_d (Algorithms 2/3 + chain
 rule vs nested AD, O(n^2) vs O(n^3)); states with q0, qdot0 uniform in [-pi/2, pi/2]. Both run in
-C++ in this process (hovi._core.baselines.fig3_batch), timed per call.
+C++ in this process (hovi.baselines.fig3_batch), timed per call.
 
     python bench/fig3_autodiff.py [--quick]
 
@@ -18,6 +18,7 @@ import numpy as np
 from tqdm import tqdm
 
 import hovi
+import hovi.baselines
 from common import RESULTS, loglog_slope, update_readme_section, write_json
 
 OPS = {"del_residual": "DEL evaluation", "newton_direction": "Newton direction", "d2Ld": "linearisation D²L_d"}
@@ -41,7 +42,7 @@ def main():
         row = {"n": n}
         for method in ("recursive", "autodiff"):
             count = n_states if (method == "recursive" or n <= 16) else max(3, n_states * 16 // (n * n // 16))
-            d = hovi._core.baselines.fig3_batch(model, 2, 0.01, q0[:count], qd0[:count], method)
+            d = hovi.baselines.fig3_batch(model, 2, 0.01, q0[:count], qd0[:count], method)
             row[method] = {op: float(np.mean(d[op])) for op in OPS}
             row[method]["states"] = int(min(count, n_states))
         rows.append(row)

@@ -1,8 +1,9 @@
-# The type stubs of hovi._core (included by CMakeLists.txt when HOVI_STUBS is ON).
+# The type stubs of hovi._core and hovi._baselines (included by CMakeLists.txt when HOVI_STUBS is ON).
 #
-# After _core links, it is copied into a staging package (an empty hovi/__init__.py beside it, so
-# that only the extension is imported) and scripts/stubgen.py runs pybind11-stubgen on it; the
-# stubs (hovi/_core/__init__.pyi, baselines.pyi, trajopt.pyi) are installed next to the module.
+# After the extensions link, they are copied into a staging package (an empty hovi/__init__.py beside
+# them, so that only the extensions are imported) and scripts/stubgen.py runs pybind11-stubgen on
+# them; the stubs (hovi/_core/__init__.pyi, trajopt.pyi; hovi/_baselines.pyi) are installed next to
+# the modules.
 # scikit-build-core lets installed files take precedence over the package's own, so the wheel
 # ships these rather than the committed copy in python/hovi/_core/ (which `make stubs` refreshes
 # and tests/test_stubs.py compares with them).
@@ -19,12 +20,23 @@ file(MAKE_DIRECTORY ${HOVI_STUB_STAGE}/hovi)
 if(NOT EXISTS ${HOVI_STUB_STAGE}/hovi/__init__.py)
   file(WRITE ${HOVI_STUB_STAGE}/hovi/__init__.py "")
 endif()
+set(HOVI_STUB_MODULES _core)
+if(TARGET _baselines)
+  list(APPEND HOVI_STUB_MODULES _baselines)
+endif()
+set(HOVI_STUB_COPIES)
+foreach(module IN LISTS HOVI_STUB_MODULES)
+  list(APPEND HOVI_STUB_COPIES COMMAND ${CMAKE_COMMAND} -E copy $<TARGET_FILE:${module}> ${HOVI_STUB_STAGE}/hovi/)
+endforeach()
 add_custom_command(
   OUTPUT ${HOVI_STUB_OUT}/hovi/_core/__init__.pyi
-  COMMAND ${CMAKE_COMMAND} -E copy $<TARGET_FILE:_core> ${HOVI_STUB_STAGE}/hovi/
+  ${HOVI_STUB_COPIES}
   COMMAND ${Python_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/scripts/stubgen.py ${HOVI_STUB_OUT} --path ${HOVI_STUB_STAGE}
-  DEPENDS _core ${CMAKE_CURRENT_SOURCE_DIR}/scripts/stubgen.py
+  DEPENDS ${HOVI_STUB_MODULES} ${CMAKE_CURRENT_SOURCE_DIR}/scripts/stubgen.py
   COMMENT "Generating the type stubs of hovi._core (pybind11-stubgen)"
   VERBATIM)
 add_custom_target(hovi_stubs ALL DEPENDS ${HOVI_STUB_OUT}/hovi/_core/__init__.pyi)
 install(DIRECTORY ${HOVI_STUB_OUT}/hovi/_core DESTINATION hovi FILES_MATCHING PATTERN "*.pyi")
+if(TARGET _baselines)
+  install(FILES ${HOVI_STUB_OUT}/hovi/_baselines.pyi DESTINATION hovi)
+endif()

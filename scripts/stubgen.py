@@ -1,17 +1,19 @@
-"""Type stubs of the compiled module hovi._core, by pybind11-stubgen, with one set of options for
-the build (CMakeLists.txt runs this after the module links), ``make stubs`` and tests/test_stubs.py.
+"""Type stubs of the compiled modules hovi._core and hovi._baselines, by pybind11-stubgen, with one set
+of options for the build (CMakeLists.txt runs this after the modules link), ``make stubs`` and
+tests/test_stubs.py.
 
     python scripts/stubgen.py OUTPUT_DIR [--path DIR]
 
-writes OUTPUT_DIR/hovi/_core/__init__.pyi (and baselines.pyi, trajopt.pyi: _core has submodules,
-so its stubs are a package) from the hovi._core that Python imports; ``--path DIR`` is searched
-first (the build puts the just-linked module in DIR/hovi/ next to an empty __init__.py, so that
-only the extension is imported). Any error of pybind11-stubgen (a type it cannot express, an
+writes OUTPUT_DIR/hovi/_core/__init__.pyi (and trajopt.pyi: _core has a submodule, so its stubs are
+a package) and OUTPUT_DIR/hovi/_baselines.pyi (when that extension is built) from the modules that
+Python imports; ``--path DIR`` is searched first (the build puts the just-linked modules in DIR/hovi/
+next to an empty __init__.py, so that only the extensions are imported). Any error of pybind11-stubgen (a type it cannot express, an
 unresolved name) fails with exit status 1 and writes nothing.
 """
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import shutil
 import sys
 from pathlib import Path
@@ -32,10 +34,15 @@ def generate(output_dir: Path, path: str | None = None) -> int:
         return 1
     target = output_dir / "hovi" / "_core"
     shutil.rmtree(target, ignore_errors=True)  # no stale stubs of a removed submodule
-    try:
-        stubgen_main([*STUBGEN_OPTIONS, "-o", str(output_dir), "hovi._core"])
-    except SystemExit as e:  # --exit-code exits on an error
-        return int(e.code or 0)
+    baselines = output_dir / "hovi" / "_baselines.pyi"
+    baselines.unlink(missing_ok=True)
+    modules = ["hovi._core"] + (["hovi._baselines"] if importlib.util.find_spec("hovi._baselines") else [])
+    for module in modules:
+        try:
+            stubgen_main([*STUBGEN_OPTIONS, "-o", str(output_dir), module])
+        except SystemExit as e:  # --exit-code exits on an error
+            if e.code:
+                return int(e.code)
     return 0 if (target / "__init__.pyi").is_file() else 1
 
 
@@ -46,7 +53,7 @@ def main() -> int:
     args = parser.parse_args()
     status = generate(args.output_dir, args.path)
     if status:
-        print("stubgen: generating the stubs of hovi._core failed (see the errors above): give the binding "
+        print("stubgen: generating the stubs of hovi._core / hovi._baselines failed (see the errors above): give the binding "
               "an argument or return type pybind11-stubgen can express (cpp/bindings/common.hpp has typed "
               "argument classes), or build with -DHOVI_STUBS=OFF to ship the committed python/hovi/_core/*.pyi",
               file=sys.stderr)

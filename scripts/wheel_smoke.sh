@@ -33,7 +33,7 @@ top = names[0].split("/")[0]
 rel = {n[len(top) + 1:] for n in names if n.startswith(top + "/")}
 need = ["CMakeLists.txt", "pyproject.toml", "README.md", "PKG-INFO", "cmake/stubs.cmake", "scripts/stubgen.py",
         "python/hovi/__init__.py", "python/hovi/py.typed", "python/hovi/_core/__init__.pyi",
-        "cpp/bindings/module.cpp", "models/double_pendulum.urdf", "models/spring_flamingo.urdf",
+        "python/hovi/_baselines.pyi", "cpp/bindings/module.cpp", "cpp/baselines/bindings/module.cpp", "models/double_pendulum.urdf", "models/spring_flamingo.urdf",
         "models/littledog.urdf", "models/atlas.urdf"]
 missing = [f for f in need if f not in rel]
 assert not missing, f"the sdist lacks {missing}"
@@ -73,7 +73,7 @@ assert Path(hovi.__file__).resolve().is_relative_to(Path(sys.prefix).resolve()),
 assert hovi.__version__ == md.version("hovi"), (hovi.__version__, md.version("hovi"))
 assert [r for r in md.requires("hovi") or [] if "extra ==" not in r] == ["numpy>=1.22"], md.requires("hovi")
 package = Path(hovi.__file__).parent
-for f in ("py.typed", "_core/__init__.pyi", "_core/baselines.pyi", "_core/trajopt.pyi", "urdf/atlas.urdf"):
+for f in ("py.typed", "_core/__init__.pyi", "_baselines.pyi", "_core/trajopt.pyi", "urdf/atlas.urdf"):
     assert (package / f).is_file(), f"the wheel did not install hovi/{f}"
 assert "def mass_matrix" in (package / "_core" / "__init__.pyi").read_text()
 for heavy in ("matplotlib", "scipy", "cyipopt", "meshcat", "tqdm"):

@@ -9,12 +9,12 @@ import hovi.baselines
 
 @pytest.mark.parametrize("armature", [False, True])
 def test_autodiff_matches_recursive_algorithms(armature):
-    model = hovi.models.pendulum(5)
+    model = hovi.examples.models.pendulum(5)
     if armature:  # 1/2 a q̇^2 in the automatically differentiated L_d
         model.armature = [0.2, 0.0, 0.1, 0.3, 0.05]
     integ = hovi.Integrator(model, s=2, dt=0.02, direction="recursive")
     lin = hovi.Linearizer(integ)
-    ad = hovi._core.baselines.AutodiffDel(model, 2, 0.02)
+    ad = hovi.baselines.AutodiffDel(model, 2, 0.02)
     rng = np.random.default_rng(0)
     qc, p = rng.uniform(-1, 1, (3, 5)), rng.uniform(-1, 1, 5)
     r, pn = integ.del_residual(qc, p)
@@ -27,13 +27,13 @@ def test_autodiff_matches_recursive_algorithms(armature):
 
 @pytest.mark.parametrize("armature", [False, True])
 def test_quasi_newton_and_newton_reach_the_same_step(armature):
-    model = hovi.models.pendulum(8)
+    model = hovi.examples.models.pendulum(8)
     if armature:  # the quasi-Newton Jacobian -(M(q^k) + diag(a)) / dt
         model.armature = np.linspace(0.0, 0.4, 8)
     rng = np.random.default_rng(1)
     q0, qd0 = rng.uniform(-0.5, 0.5, (2, 10, 8))
-    newton = hovi._core.baselines.one_step_batch(model, 0.005, q0, qd0, "newton", tol=1e-12)
-    qn = hovi._core.baselines.one_step_batch(model, 0.005, q0, qd0, "quasi_newton", tol=1e-12)
+    newton = hovi.baselines.one_step_batch(model, 0.005, q0, qd0, "newton", tol=1e-12)
+    qn = hovi.baselines.one_step_batch(model, 0.005, q0, qd0, "quasi_newton", tol=1e-12)
     assert newton["converged"].all() and qn["converged"].all()
     assert (qn["iterations"] > newton["iterations"]).all()  # linear against quadratic convergence
     np.testing.assert_allclose(qn["q_next"], newton["q_next"], atol=1e-10)
@@ -43,7 +43,7 @@ def test_quasi_newton_and_newton_reach_the_same_step(armature):
 
 
 def test_continuation_batch_reports_the_branch_or_an_explicit_failure():
-    model = hovi.models.pendulum(32)
+    model = hovi.examples.models.pendulum(32)
     rng = np.random.default_rng(0)
     q0, qd0 = rng.uniform(-np.pi / 2, np.pi / 2, (2, 30, 32))
     easy = hovi.baselines.one_step_batch(model, 0.005, q0, qd0, "continuation")
@@ -64,7 +64,7 @@ def test_continuation_batch_reports_the_branch_or_an_explicit_failure():
 
 def test_hermite_simpson_converges_at_order_3_or_better_against_dop853():
     from scipy.integrate import solve_ivp
-    model = hovi.models.pendulum(5)
+    model = hovi.examples.models.pendulum(5)
     rng = np.random.default_rng(1)
     q0, v0 = rng.uniform(-0.5, 0.5, 5), rng.uniform(-0.5, 0.5, 5)
 
@@ -84,7 +84,7 @@ def test_hermite_simpson_converges_at_order_3_or_better_against_dop853():
 
 def test_hermite_simpson_simplified_newton_gives_the_full_newton_trajectory():
     """Keeping the Jacobian within a step (the default, as for the VI) reaches the same steps."""
-    model = hovi.models.pendulum(8)
+    model = hovi.examples.models.pendulum(8)
     q0 = np.random.default_rng(3).uniform(-np.pi / 12, np.pi / 12, 8)
     full = hovi.baselines.HermiteSimpson(model, 0.01, tol=1e-12, reuse_jacobian=False).rollout(q0, np.zeros(8), 500)
     kept = hovi.baselines.HermiteSimpson(model, 0.01, tol=1e-12).rollout(q0, np.zeros(8), 500)
@@ -95,14 +95,14 @@ def test_hermite_simpson_simplified_newton_gives_the_full_newton_trajectory():
 
 def test_hermite_simpson_rejects_bad_input():
     with pytest.raises(ValueError, match="dt"):
-        hovi.baselines.HermiteSimpson(hovi.models.pendulum(2), 0.0)
-    hs = hovi.baselines.HermiteSimpson(hovi.models.pendulum(2), 0.01)
+        hovi.baselines.HermiteSimpson(hovi.examples.models.pendulum(2), 0.0)
+    hs = hovi.baselines.HermiteSimpson(hovi.examples.models.pendulum(2), 0.01)
     with pytest.raises(ValueError, match="q0 must be a 1-D array of length 2"):
         hs.rollout(np.zeros(3), np.zeros(2), 5)
 
 
 def test_baseline_batches_and_autodiff_reject_bad_input():
-    model = hovi.models.pendulum(3)
+    model = hovi.examples.models.pendulum(3)
     with pytest.raises(ValueError, match="method must be 'newton', 'quasi_newton', 'continuation' or 'newton"):
         hovi.baselines.one_step_batch(model, 0.01, np.zeros((1, 3)), np.zeros((1, 3)), "bisection")
     with pytest.raises(ValueError, match=r"qdot0 must be a 2-D array of shape \(1, 3\)"):
@@ -112,7 +112,7 @@ def test_baseline_batches_and_autodiff_reject_bad_input():
     ad = hovi.baselines.AutodiffDel(model, 2, 0.01)
     with pytest.raises(ValueError, match=r"control_points must be a 2-D array of shape \(3, 3\)"):
         ad.residual(np.zeros((2, 3)), np.zeros(3))
-    forced = hovi.models.pendulum(3)
+    forced = hovi.examples.models.pendulum(3)
     forced.add_drag(0, 0.1)
     with pytest.raises(hovi.ModelError):
         hovi.baselines.AutodiffDel(forced, 2, 0.01)

@@ -19,7 +19,7 @@ import hovi.geometry
 import hovi.models
 import hovi.robots
 import hovi.trajopt
-from hovi import _core
+from hovi import _baselines, _core
 
 try:  # the viewer extra
     import hovi.video
@@ -46,7 +46,7 @@ def _public_api() -> dict[str, object]:
             obj = getattr(module, name)
             if (inspect.isclass(obj) or inspect.isroutine(obj)) and getattr(obj, "__module__", "").startswith("hovi"):
                 api[f"{module.__name__}.{name}"] = obj
-    for module in (_core, _core.baselines, _core.trajopt):
+    for module in (_core, _baselines, _core.trajopt):
         for name, obj in vars(module).items():
             if not name.startswith("_") and (inspect.isclass(obj) or inspect.isroutine(obj)):
                 api[f"{module.__name__}.{name}"] = obj

@@ -1,6 +1,7 @@
-"""The type stubs of hovi._core: the committed copy (python/hovi/_core/*.pyi, for editors) must be what
-pybind11-stubgen makes of the installed module now, and the installed package must ship the same
-stubs (the build generates them). A binding added or changed without `make stubs` fails here."""
+"""The type stubs of hovi._core and hovi._baselines: the committed copy (python/hovi/_core/*.pyi,
+python/hovi/_baselines.pyi, for editors) must be what pybind11-stubgen makes of the installed modules
+now, and the installed package must ship the same stubs (the build generates them). A binding added or
+changed without `make stubs` fails here."""
 from __future__ import annotations
 
 import ast
@@ -14,13 +15,16 @@ import pytest
 import hovi
 
 ROOT = Path(__file__).resolve().parents[1]
-COMMITTED = ROOT / "python" / "hovi" / "_core"
-INSTALLED = Path(hovi.__file__).parent / "_core"
-HINT = "the committed stubs of hovi._core are stale: run `make stubs` and commit python/hovi/_core/*.pyi"
+COMMITTED = ROOT / "python" / "hovi"
+INSTALLED = Path(hovi.__file__).parent
+HINT = ("the committed stubs of hovi._core / hovi._baselines are stale: run `make stubs` and commit "
+        "python/hovi/_core/*.pyi and python/hovi/_baselines.pyi")
 
 
-def _stubs(folder: Path) -> dict[str, str]:
-    return {p.name: p.read_text() for p in sorted(folder.glob("*.pyi"))}
+def _stubs(package: Path) -> dict[str, str]:
+    """The stubs of the extensions in a hovi package folder, by path relative to it."""
+    files = sorted(package.glob("_core/*.pyi")) + sorted(package.glob("_baselines.pyi"))
+    return {p.relative_to(package).as_posix(): p.read_text() for p in files}
 
 
 def _differences(expected: dict[str, str], actual: dict[str, str]) -> list[str]:
@@ -43,7 +47,7 @@ def fresh(tmp_path_factory) -> dict[str, str]:
     proc = subprocess.run([sys.executable, str(ROOT / "scripts" / "stubgen.py"), str(out)], cwd=out,
                           capture_output=True, text=True, timeout=300)
     assert proc.returncode == 0, proc.stdout + proc.stderr
-    return _stubs(out / "hovi" / "_core")
+    return _stubs(out / "hovi")
 
 
 def test_committed_stubs_are_current(fresh):
@@ -53,19 +57,20 @@ def test_committed_stubs_are_current(fresh):
 
 
 def test_installed_package_ships_the_stubs(fresh):
-    assert (INSTALLED.parent / "py.typed").is_file()
+    assert (INSTALLED / "py.typed").is_file()
     diff = _differences(fresh, _stubs(INSTALLED))
-    assert not diff, "the installed hovi/_core/*.pyi differ from the module's stubs (rebuild: make build)\n" + \
+    assert not diff, "the installed hovi/_core/*.pyi, hovi/_baselines.pyi differ from the module's stubs (rebuild: make build)\n" + \
         "\n".join(diff)
 
 
 def test_stubs_are_valid_and_typed():
     stubs = _stubs(COMMITTED)
-    assert set(stubs) == {"__init__.pyi", "baselines.pyi", "trajopt.pyi"}
+    assert set(stubs) == {"_core/__init__.pyi", "_core/trajopt.pyi", "_baselines.pyi"}
     for name, text in stubs.items():
         ast.parse(text, filename=name)  # valid syntax (e.g. no required argument after a defaulted one)
         assert "Incomplete" not in text and "_typeshed" not in text, name
-    core = stubs["__init__.pyi"]
+    core = stubs["_core/__init__.pyi"]
+    assert "baselines" not in core and "def one_step_batch" in stubs["_baselines.pyi"]  # the product has none
     # Arrays in, numpy arrays out
     assert "def mass_matrix(self, q: numpy.typing.ArrayLike) -> typing.Annotated[numpy.typing.NDArray[numpy.float64]" \
         in core
@@ -90,5 +95,5 @@ def test_stubgen_failure_is_an_error_with_a_clear_message(tmp_path):
                           timeout=300)
     assert proc.returncode == 1, proc.stdout + proc.stderr
     assert "Can't find/import 'no_such_module.Type'" in proc.stderr, proc.stderr
-    assert "generating the stubs of hovi._core failed" in proc.stderr and "-DHOVI_STUBS=OFF" in proc.stderr
+    assert "generating the stubs of hovi._core / hovi._baselines failed" in proc.stderr and "-DHOVI_STUBS=OFF" in proc.stderr
     assert not (tmp_path / "out" / "hovi" / "_core" / "__init__.pyi").exists()

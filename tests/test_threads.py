@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 import hovi
+import hovi.baselines
 from mechanisms import fourbar
 
 THREADS, REPEATS = 6, 4
@@ -102,7 +103,7 @@ def test_shared_linearizer():
 
 def test_shared_baselines():
     model = hovi.models.pendulum(6)
-    hs = hovi._core.baselines.HermiteSimpson(model, 0.01)
+    hs = hovi.baselines.HermiteSimpson(model, 0.01)
     Q, QD = states(6, 6, 4)
     check([lambda q=q, qd=qd: (lambda r: (r["q"], r["v"], r["iterations"]))(hs.rollout(q, qd, 50))
            for q, qd in zip(Q, QD)])

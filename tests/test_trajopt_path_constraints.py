@@ -21,7 +21,7 @@ def test_body_point_kinematics_against_placements_and_finite_differences():
     Q = rng.uniform(-np.pi, np.pi, size=(4, model.n))
     bodies = [3, 1, 3, 0]
     points = rng.normal(size=(4, 3))
-    X, J = hovi._core.trajopt.body_point_kinematics(model, Q, bodies, points)
+    X, J = hovi._core.body_point_kinematics(model, Q, bodies, points)
     assert X.shape == (4, 4, 3) and J.shape == (4, 4, 3, model.n)
     h = 1e-6
     for p, q in enumerate(Q):
@@ -30,19 +30,19 @@ def test_body_point_kinematics_against_placements_and_finite_differences():
             np.testing.assert_allclose(X[p, i], poses[b][:3, :3] @ r + poses[b][:3, 3], rtol=0, atol=1e-14)
         for j in range(model.n):
             e = h * np.eye(model.n)[j]
-            Xp = hovi._core.trajopt.body_point_kinematics(model, [q + e], bodies, points)[0][0]
-            Xm = hovi._core.trajopt.body_point_kinematics(model, [q - e], bodies, points)[0][0]
+            Xp = hovi._core.body_point_kinematics(model, [q + e], bodies, points)[0][0]
+            Xm = hovi._core.body_point_kinematics(model, [q - e], bodies, points)[0][0]
             np.testing.assert_allclose(J[p, :, :, j], (Xp - Xm) / (2 * h), rtol=0, atol=1e-9)
 
 
 def test_body_point_kinematics_refuses_bad_input():
     model = branched_model()
     with pytest.raises(hovi.ModelError, match="out of range"):
-        hovi._core.trajopt.body_point_kinematics(model, np.zeros((1, model.n)), [7], np.zeros((1, 3)))
+        hovi._core.body_point_kinematics(model, np.zeros((1, model.n)), [7], np.zeros((1, 3)))
     with pytest.raises(ValueError):
-        hovi._core.trajopt.body_point_kinematics(model, np.zeros((1, model.n)), [0, 1], np.zeros((1, 3)))
+        hovi._core.body_point_kinematics(model, np.zeros((1, model.n)), [0, 1], np.zeros((1, 3)))
     with pytest.raises(ValueError):
-        hovi._core.trajopt.body_point_kinematics(model, np.zeros((1, model.n + 1)), [0], np.zeros((1, 3)))
+        hovi._core.body_point_kinematics(model, np.zeros((1, model.n + 1)), [0], np.zeros((1, 3)))
 
 
 def test_shared_kinematics_equal_each_constraint_alone():

@@ -88,13 +88,13 @@ def test_path_constraints_hold_at_the_solution():
     prob = examples.pendulum_swingup(N=20)
     free = trajopt.solve(prob, trajopt.VI(s=2), verbose=False).cost
     tip = [0, 0, -0.5]
-    target = hovi._core.trajopt.body_point_kinematics(prob.model, [[-1.0]], [0], [tip])[0][0, 0]
+    target = hovi._core.body_point_kinematics(prob.model, [[-1.0]], [0], [tip])[0][0, 0]
     prob.add_constraint(trajopt.BodyPoint(0, tip, target=target, at=1.0))
     prob.add_constraint(trajopt.BodyPoint(0, tip, axes="z", lower=-0.45, window=(1.5, 2.0)))
     r = trajopt.solve(prob, trajopt.VI(s=2), verbose=False)
     assert r.success, r.status
     t, Q = r.trajectory["t"], r.trajectory["q"]
-    X = hovi._core.trajopt.body_point_kinematics(prob.model, Q, [0], [tip])[0][:, 0]
+    X = hovi._core.body_point_kinematics(prob.model, Q, [0], [tip])[0][:, 0]
     np.testing.assert_allclose(X[np.argmin(np.abs(t - 1.0))], target, atol=1e-9)
     assert X[t >= 1.5, 2].min() >= -0.45 - 1e-9
     assert r.cost > free * (1 + 1e-3)  # the constraints cost effort
@@ -130,7 +130,7 @@ def test_path_constraint_between_points_holds_along_the_trajectory():
 
     def tip_z(r, t):
         Q = r.transcription.interpolants(r.x)[0](t)
-        return hovi._core.trajopt.body_point_kinematics(r.transcription.model, Q, [0], [tip])[0][:, 0, 2]
+        return hovi._core.body_point_kinematics(r.transcription.model, Q, [0], [tip])[0][:, 0, 2]
 
     sampled, points_only = solve(3), solve(0)
     t, _, _ = sampled.transcription.q_samples(3)
@@ -182,7 +182,7 @@ def test_bad_costs_and_path_constraints_raise_clear_errors():
     with pytest.raises(ValueError, match="radius must be positive"):
         trajopt.Clearance(0, center=[0, 0, 0], radius=0.0, at=0.5)
     with pytest.raises(hovi.ModelError, match="out of range"):
-        hovi._core.trajopt.body_point_kinematics(hovi.examples.models.pendulum(2), np.zeros((1, 2)), [5], np.zeros((1, 3)))
+        hovi._core.body_point_kinematics(hovi.examples.models.pendulum(2), np.zeros((1, 2)), [5], np.zeros((1, 3)))
     with pytest.raises(ValueError, match="controls must be"):
         hovi._core.trajopt.VariationalTranscription(hovi.examples.models.pendulum(2), 2, 5, 0.1, "sometimes")
     prob = examples.pendulum_swingup(N=5)

@@ -2,6 +2,7 @@
 #include <memory>
 
 #include "py_model.hpp"
+#include "hovi/algorithms/body_points.hpp"
 #include "hovi/algorithms/dynamics.hpp"
 #include "hovi/algorithms/energy.hpp"
 #include "hovi/constraints/constraint.hpp"
@@ -32,14 +33,6 @@ int index_arg(const Model& model, const py::handle& obj, const char* what, Looku
   return i;
 }
 }  // namespace
-
-void ModelWatch::check() const {
-  if (source_->revision != revision_)
-    throw ModelError(std::string("the model was changed (") + source_->last_change + ") after this " + owner_ +
-                     " was made from it; the " + owner_ + " works on a copy of the model and would ignore the "
-                     "change: make a new hovi." + owner_ + " from the changed model (copy the model with "
-                     "Model.copy() first to keep both versions)");
-}
 
 int joint_arg(const Model& model, const py::handle& joint) {
   return index_arg(model, joint, "joint", [&](const std::string& n) { return model.joint_index(n); });
@@ -491,6 +484,34 @@ actuators plus the body wrench elements mapped to joint space (gravity not inclu
         return pm;
       }, py::arg("n"), py::arg("length") = 0.5, py::arg("mass") = 1.0, py::arg("radius") = 0.02,
       "The paper's n-link 3D pendulum (see hovi.models.pendulum).");
+
+  m.def("body_point_kinematics", [](PyModel& pm, const ArrayLike& Q, const std::vector<int>& bodies,
+                                    const ArrayLike& points) {
+        const MatX q = as_matrix(Q, "q", -1, pm.model.n()).transpose();
+        MatX r = as_matrix(points, "points", static_cast<long>(bodies.size()), 3).transpose();
+        for (int i = 0; i < r.cols(); ++i) {  // joint frame -> COM frame
+          if (bodies[i] < 0 || bodies[i] >= pm.model.n())
+            throw ModelError("body index " + std::to_string(bodies[i]) + " out of range");
+          r.col(i) -= pm.model.spec[bodies[i]].com;
+        }
+        MatX X, J;  // the GIL stays held: pm.ws() is the model's one shared workspace
+        body_point_kinematics(pm.model, pm.ws(), q, bodies, r, X, J);
+        const int n = pm.model.n(), P = static_cast<int>(q.cols()), m = static_cast<int>(r.cols());
+        py::array_t<double> Xs(std::vector<py::ssize_t>{P, m, 3}), Js(std::vector<py::ssize_t>{P, m, 3, n});
+        auto x = Xs.mutable_unchecked<3>();
+        auto j = Js.mutable_unchecked<4>();
+        for (int p = 0; p < P; ++p)
+          for (int i = 0; i < m; ++i)
+            for (int a = 0; a < 3; ++a) {
+              x(p, i, a) = X(a, p * m + i);
+              for (int k = 0; k < n; ++k) j(p, i, a, k) = J(a, (p * m + i) * n + k);
+            }
+        return py::make_tuple(Xs, Js);
+      }, py::arg("model"), py::arg("q"), py::arg("bodies"), py::arg("points"), R"doc(
+World positions (P, m, 3) and Jacobians (P, m, 3, n) of m body points at P configurations q (P, n):
+point i is points[i] (in the body's joint frame, as for add_point_constraint) of body bodies[i].
+One forward kinematics per configuration serves all the points.
+)doc");
 }
 
 }  // namespace hovi::py_bind

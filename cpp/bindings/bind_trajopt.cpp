@@ -2,7 +2,6 @@
 // costs and the solver are Python (python/hovi/trajopt/). Every evaluation is one C++ call over
 // the whole trajectory, with the GIL released.
 #include "hovi/errors.hpp"
-#include "hovi/trajopt/body_points.hpp"
 #include "hovi/trajopt/hermite_simpson_transcription.hpp"
 #include "hovi/trajopt/variational_transcription.hpp"
 #include "py_model.hpp"
@@ -112,34 +111,6 @@ variables q, v (and a) at the 2N + 1 knots and midpoints, controls, multipliers 
       .def_property_readonly("n_control_values", [](const PH& p) { return p.t.n_control_values(); },
                              "Number of control samples (per point or per interval).");
   bind_common(hs);
-
-  t.def("body_point_kinematics", [](PyModel& pm, const ArrayLike& Q, const std::vector<int>& bodies,
-                                    const ArrayLike& points) {
-        const MatX q = as_matrix(Q, "q", -1, pm.model.n()).transpose();
-        MatX r = as_matrix(points, "points", static_cast<long>(bodies.size()), 3).transpose();
-        for (int i = 0; i < r.cols(); ++i) {  // joint frame -> COM frame
-          if (bodies[i] < 0 || bodies[i] >= pm.model.n())
-            throw ModelError("body index " + std::to_string(bodies[i]) + " out of range");
-          r.col(i) -= pm.model.spec[bodies[i]].com;
-        }
-        MatX X, J;  // the GIL stays held: pm.ws() is the model's one shared workspace
-        body_point_kinematics(pm.model, pm.ws(), q, bodies, r, X, J);
-        const int n = pm.model.n(), P = static_cast<int>(q.cols()), m = static_cast<int>(r.cols());
-        py::array_t<double> Xs(std::vector<py::ssize_t>{P, m, 3}), Js(std::vector<py::ssize_t>{P, m, 3, n});
-        auto x = Xs.mutable_unchecked<3>();
-        auto j = Js.mutable_unchecked<4>();
-        for (int p = 0; p < P; ++p)
-          for (int i = 0; i < m; ++i)
-            for (int a = 0; a < 3; ++a) {
-              x(p, i, a) = X(a, p * m + i);
-              for (int k = 0; k < n; ++k) j(p, i, a, k) = J(a, (p * m + i) * n + k);
-            }
-        return py::make_tuple(Xs, Js);
-      }, py::arg("model"), py::arg("q"), py::arg("bodies"), py::arg("points"), R"doc(
-World positions (P, m, 3) and Jacobians (P, m, 3, n) of m body points at P configurations q (P, n):
-point i is points[i] (in the body's joint frame, as for add_point_constraint) of body bodies[i].
-One forward kinematics per configuration serves all the points.
-)doc");
 }
 
 }  // namespace hovi::py_bind

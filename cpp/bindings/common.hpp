@@ -52,7 +52,6 @@ py::array_t<double> stack(const std::vector<Vec6>& vecs);
 void bind_model(py::module_& m);
 void bind_integrator(py::module_& m);
 void bind_linearizer(py::module_& m);
-void bind_baselines(py::module_& m);
 void bind_trajopt(py::module_& m);
 
 }  // namespace hovi::py_bind

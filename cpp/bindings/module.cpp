@@ -27,6 +27,5 @@ PYBIND11_MODULE(_core, m) {
   hovi::py_bind::bind_model(m);
   hovi::py_bind::bind_integrator(m);
   hovi::py_bind::bind_linearizer(m);
-  hovi::py_bind::bind_baselines(m);
   hovi::py_bind::bind_trajopt(m);
 }

@@ -1,8 +1,10 @@
 // The Python-side model shared by the bindings: the core Model plus a lazily sized workspace.
 #pragma once
 #include <memory>
+#include <string>
 
 #include "common.hpp"
+#include "hovi/errors.hpp"
 #include "hovi/model/data.hpp"
 
 namespace hovi::py_bind {
@@ -31,7 +33,13 @@ class ModelWatch {
  public:
   ModelWatch(std::shared_ptr<const PyModel> source, const char* owner)
       : source_(std::move(source)), revision_(source_->revision), owner_(owner) {}
-  void check() const;
+  void check() const {
+    if (source_->revision != revision_)
+      throw ModelError(std::string("the model was changed (") + source_->last_change + ") after this " + owner_ +
+                       " was made from it; the " + owner_ + " works on a copy of the model and would ignore the "
+                       "change: make a new hovi." + owner_ + " from the changed model (copy the model with "
+                       "Model.copy() first to keep both versions)");
+  }
 
  private:
   std::shared_ptr<const PyModel> source_;

@@ -10,7 +10,14 @@
   the step length ('continuation') or Newton with continuation when it fails
   ('newton+continuation'), timed in C++.
 - ``fig3_batch(...)``: per-call times of the recursive algorithms or their AD counterparts.
+
+They are compiled into their own extension, ``hovi._baselines``, beside the product ``hovi._core``.
 """
-from ._core.baselines import AutodiffDel, HermiteSimpson, fig3_batch, one_step_batch
+try:
+    from ._baselines import AutodiffDel, HermiteSimpson, fig3_batch, one_step_batch
+except ImportError as e:  # pragma: no cover - a build without the baselines
+    raise ImportError(
+        "hovi.baselines needs the extension hovi._baselines, which this build of hovi does not have: "
+        "build with the CMake option HOVI_BUILD_BASELINES=ON (the default), e.g. `make build`") from e
 
 __all__ = ["AutodiffDel", "HermiteSimpson", "fig3_batch", "one_step_batch"]

@@ -2,13 +2,13 @@
 hovi C++ core: higher-order variational integrators for robots
 """
 from __future__ import annotations
+import collections.abc
 import numpy
 import numpy.typing
 import os
 import typing
-from . import baselines
 from . import trajopt
-__all__: list[str] = ['Integrator', 'Linearizer', 'Model', 'ModelError', 'URDFError', 'baselines', 'march', 'pendulum', 'trajopt']
+__all__: list[str] = ['Integrator', 'Linearizer', 'Model', 'ModelError', 'URDFError', 'body_point_kinematics', 'march', 'pendulum', 'trajopt']
 class ModelError(ValueError):
     """
     An invalid model or model input (a ValueError): a bad body, joint, force or constraint, an unknown joint or body name, or a call on an Integrator or Linearizer whose model changed after it was made.
@@ -491,6 +491,12 @@ class Linearizer:
         At a converged step's control points (s+1, n) (and multipliers (s, m_c)): returns (A (2n, 2n) or
         None, B (2n, (s+1) m) or None), the Jacobians of (q^{k+1}, p^{k+1}) by (q^k, p^k) and u^{k,0..s}.
         """
+def body_point_kinematics(model: Model, q: numpy.typing.ArrayLike, bodies: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], points: numpy.typing.ArrayLike) -> tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64]]:
+    """
+    World positions (P, m, 3) and Jacobians (P, m, 3, n) of m body points at P configurations q (P, n):
+    point i is points[i] (in the body's joint frame, as for add_point_constraint) of body bodies[i].
+    One forward kinematics per configuration serves all the points.
+    """
 def pendulum(n: typing.SupportsInt | typing.SupportsIndex, length: typing.SupportsFloat | typing.SupportsIndex = 0.5, mass: typing.SupportsFloat | typing.SupportsIndex = 1.0, radius: typing.SupportsFloat | typing.SupportsIndex = 0.02) -> Model:
     """
     The paper's n-link 3D pendulum (see hovi.models.pendulum).

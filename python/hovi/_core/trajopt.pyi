@@ -2,12 +2,11 @@
 Transcriptions of trajectory-optimisation problems
 """
 from __future__ import annotations
-import collections.abc
 import hovi._core
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['HermiteSimpsonTranscription', 'VariationalTranscription', 'body_point_kinematics']
+__all__: list[str] = ['HermiteSimpsonTranscription', 'VariationalTranscription']
 class VariationalTranscription:
     """
     The Galerkin VI of order 2s as NLP constraints (variational_transcription.hpp): variables q at the
@@ -114,9 +113,3 @@ class HermiteSimpsonTranscription:
         """
         (rows (nnz,), cols (nnz,)) of the Jacobian's nonzeros, in the order `jacobian` returns values.
         """
-def body_point_kinematics(model: hovi._core.Model, q: numpy.typing.ArrayLike, bodies: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], points: numpy.typing.ArrayLike) -> tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64]]:
-    """
-    World positions (P, m, 3) and Jacobians (P, m, 3, n) of m body points at P configurations q (P, n):
-    point i is points[i] (in the body's joint frame, as for add_point_constraint) of body bodies[i].
-    One forward kinematics per configuration serves all the points.
-    """

@@ -168,7 +168,7 @@ class ContactRows:
         """Contact positions X (P, C, 3) and their Jacobians J (P, C, 3, n) at all points."""
         Q = x[self.q_off[:, None] + np.arange(self.n)]
         points = self.contacts.points
-        return _core.trajopt.body_point_kinematics(self.contacts.model, Q, [c.body for c in points],
+        return _core.body_point_kinematics(self.contacts.model, Q, [c.body for c in points],
                                                    np.array([c.point for c in points]))
 
     def quantities(self, x: np.ndarray) -> dict:

@@ -111,7 +111,7 @@ class Contacts:
         q = np.asarray(q, dtype=float)
         if q.shape != (self.model.n,):
             raise ValueError(f"q must have shape ({self.model.n},), got {q.shape}")
-        X, _ = _core.trajopt.body_point_kinematics(self.model, q[None], [c.body for c in self.points],
+        X, _ = _core.body_point_kinematics(self.model, q[None], [c.body for c in self.points],
                                                    np.array([c.point for c in self.points]))
         return self.terrain.gap(X[0])
 

@@ -170,7 +170,7 @@ class NLP:
 
     def _path(self, x, with_jacobian):
         model = self.problem.model
-        kinematics = {key: _core.trajopt.body_point_kinematics(model, self._configurations(x, points, weights), bodies, local)
+        kinematics = {key: _core.body_point_kinematics(model, self._configurations(x, points, weights), bodies, local)
                       for key, (points, weights, bodies, local) in self._point_groups.items()}
         out = []
         for (c, t, points, weights), slot in zip(self.paths, self._point_slots):

@@ -88,7 +88,7 @@ class OnBodyPoints(PathConstraint):
 
     def evaluate(self, model: _core.Model, t: np.ndarray, Q: np.ndarray) -> PathValue:
         """At configurations Q (P, n): (values (P, r), jacobians (P, r, n)); the times t do not enter."""
-        return self.of_points(*_core.trajopt.body_point_kinematics(model, Q, self.bodies, self.local))
+        return self.of_points(*_core.body_point_kinematics(model, Q, self.bodies, self.local))
 
 
 class BodyPoint(OnBodyPoints):

@@ -83,7 +83,7 @@ def _feet_kinematics(robot: Robot, q: np.ndarray):
     m = robot.model
     bodies = [m.body_index(b) for b, _ in robot.contact_points]
     points = np.array([p for _, p in robot.contact_points])
-    X, J = _core.trajopt.body_point_kinematics(m, np.asarray(q, float)[None], bodies, points)
+    X, J = _core.body_point_kinematics(m, np.asarray(q, float)[None], bodies, points)
     return X[0], J[0]
 
 

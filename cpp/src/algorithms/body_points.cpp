@@ -1,7 +1,8 @@
-#include "hovi/trajopt/body_points.hpp"
+#include "hovi/algorithms/body_points.hpp"
+
+#include <string>
 
 #include "hovi/algorithms/kinematics.hpp"
-#include "hovi/constraints/constraint.hpp"
 #include "hovi/errors.hpp"
 
 namespace hovi {
@@ -11,20 +12,21 @@ void body_point_kinematics(const Model& model, Data& data, const Eigen::Ref<cons
   const int n = model.n(), P = static_cast<int>(Q.cols()), m = static_cast<int>(bodies.size());
   if (Q.rows() != n || points.rows() != 3 || points.cols() != m)
     throw InputError("body_point_kinematics: Q (n x P), bodies (m) and points (3 x m) do not match");
-  std::vector<PointConstraint> point;  // h = world position of point i
-  point.reserve(m);
-  for (int i = 0; i < m; ++i) {
-    point.emplace_back(bodies[i], points.col(i), Vec3::Zero());
-    point.back().check(model);
-  }
+  for (int b : bodies)
+    if (b < 0 || b >= n) throw ModelError("body_point_kinematics: body index " + std::to_string(b) + " out of range");
   X.resize(3, m * P);
-  J.resize(3, n * m * P);
+  J.setZero(3, n * m * P);
   for (int p = 0; p < P; ++p) {
     forward_kinematics(model, data, Q.col(p));
-    const KinematicsView kin{model, data.g.data(), data.Sbar.data(), 1};
     for (int i = 0; i < m; ++i) {
-      point[i].value(kin, Q.col(p), X.col(p * m + i));
-      point[i].jacobian(kin, J.middleCols((p * m + i) * n, n));
+      const Vec3 x = data.g[bodies[i]].act(points.col(i));  // x = g_b r
+      X.col(p * m + i) = x;
+      auto Ji = J.middleCols((p * m + i) * n, n);
+      // dx/dq_j = v_j + ω_j × x for S̄_j = (ω_j, v_j), j on the path from b to the root.
+      for (int j = bodies[i]; j >= 0; j = model.parent[j]) {
+        const Twist& S = data.Sbar[j];
+        Ji.col(j) = S.tail<3>() + S.head<3>().cross(x);
+      }
     }
   }
 }

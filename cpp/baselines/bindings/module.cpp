@@ -1,4 +1,4 @@
-// Bindings of the comparison baselines of the paper's Section 5 (hovi._core.baselines): the
+// The extension module hovi._baselines: the comparison baselines of the paper's Section 5, the
 // quasi-Newton of Lee et al. 2016, automatic differentiation, Hermite-Simpson collocation, and
 // batch runners that time each solve in C++ (no Python overhead in the measurements).
 #include <chrono>
@@ -187,8 +187,7 @@ using PyHermiteSimpson = PyBaseline<HermiteSimpson>;
 using PyAutodiffDel = PyBaseline<AutodiffDel>;
 }  // namespace
 
-void bind_baselines(py::module_& m) {
-  py::module_ b = m.def_submodule("baselines", "The paper's comparison baselines (Section 5)");
+void bind_baselines(py::module_& b) {
   b.def("one_step_batch", &one_step_batch, py::arg("model"), py::arg("dt"), py::arg("q0"), py::arg("qdot0"),
         py::arg("method"), py::arg("tol") = 1e-10, py::arg("max_iterations") = 100, py::arg("threads") = py::none(), R"doc(
 One trapezoidal (s = 1) step from every state (rows of q0, qdot0, (N, n); p0 = M(q0) qdot0) by 'newton'
@@ -284,3 +283,9 @@ dict: q, v (K+1, n), iterations, status (per step), steps K, seconds.
 }
 
 }  // namespace hovi::py_bind
+
+PYBIND11_MODULE(_baselines, m) {
+  m.doc() = "The paper's comparison baselines (Section 5), apart from the hovi._core product";
+  pybind11::module_::import("hovi._core");  // Model, the exceptions and their translators
+  hovi::py_bind::bind_baselines(m);
+}

@@ -1,5 +1,5 @@
 """
-The paper's comparison baselines (Section 5)
+The paper's comparison baselines (Section 5), apart from the hovi._core product
 """
 from __future__ import annotations
 import hovi._core
