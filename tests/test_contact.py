@@ -374,3 +374,20 @@ def test_solve_contact_leaves_the_problem_unchanged_and_old_spellings_warn():
     with pytest.raises(ValueError, match="solve_contact"):
         trajopt.NLP(prob, VI1, relaxation=hovi.contact.ComplementarityRelaxation(0.0))
     assert trajopt.NLP(prob, VI1, relaxation=hovi.contact.ComplementarityRelaxation(1e-2)).contact_rows.epsilon == 1e-2
+
+
+def test_moved_contact_names_keep_deprecated_aliases():
+    """hovi.trajopt.complementarity and hovi.trajopt.contact_solve (moved to hovi.contact and
+    hovi.trajopt.solvers.contact_homotopy) still give the same objects for one release, with a warning."""
+    import hovi.contact.sides
+    import hovi.trajopt.solvers.contact_homotopy as homotopy
+    with pytest.warns(DeprecationWarning, match="hovi.contact.ContactRows"):
+        from hovi.trajopt.complementarity import ContactRows as OldRows
+    with pytest.warns(DeprecationWarning, match="hovi.contact.least_slack"):
+        from hovi.trajopt.contact_solve import least_slack as old_least_slack
+    with pytest.warns(DeprecationWarning, match="hovi.trajopt.solve_contact"):
+        from hovi.trajopt.contact_solve import solve_contact as old_solve_contact
+    with pytest.warns(DeprecationWarning, match="FINISH_BELOW"):
+        from hovi.trajopt.contact_solve import FINISH_BELOW as old_finish_below
+    assert OldRows is ContactRows and old_least_slack is hovi.contact.sides.least_slack
+    assert old_solve_contact is trajopt.solve_contact and old_finish_below == homotopy.FINISH_BELOW == FINISH_BELOW
