@@ -37,7 +37,7 @@ def main():
     n_states = 5 if args.quick else 100
     rows = []
     for n in tqdm(ns, desc="n"):
-        model = hovi.models.pendulum(n)
+        model = hovi.examples.models.pendulum(n)
         q0, qd0 = states(n, n_states, n)
         row = {"n": n}
         for method in ("recursive", "autodiff"):

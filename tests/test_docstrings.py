@@ -2,7 +2,7 @@
 return arrays state shapes, e.g. "q: (n,) ...; returns (n, 4, 4)"; pure-Python public functions
 are annotated.
 
-The public API: ``hovi.__all__``, ``hovi.models``, ``hovi.robots``, ``hovi.trajopt.__all__``, ``hovi.distributed``, the viewer modules
+The public API: ``hovi.__all__``, ``hovi.examples.models``, ``hovi.examples.robots``, ``hovi.trajopt.__all__``, ``hovi.distributed``, the viewer modules
 ``hovi.geometry``, ``hovi.viewer`` and ``hovi.video`` (when hovi[viewer] is installed), and every
 class and function of the compiled module ``hovi._core`` (and its submodules)."""
 from __future__ import annotations
@@ -16,8 +16,8 @@ import pytest
 import hovi
 import hovi.distributed
 import hovi.geometry
-import hovi.models
-import hovi.robots
+import hovi.examples.models
+import hovi.examples.robots
 import hovi.trajopt
 from hovi import _baselines, _core
 
@@ -40,7 +40,7 @@ def _public_api() -> dict[str, object]:
         obj = getattr(hovi, name)
         if not isinstance(obj, types.ModuleType):
             api[f"hovi.{name}"] = obj
-    for module in (hovi.models, hovi.robots, hovi.trajopt, hovi.distributed, hovi.geometry, *VIEWER_MODULES):
+    for module in (hovi.examples.models, hovi.examples.robots, hovi.trajopt, hovi.distributed, hovi.geometry, *VIEWER_MODULES):
         names = getattr(module, "__all__", None) or [n for n in vars(module) if not n.startswith("_")]
         for name in names:
             obj = getattr(module, name)
@@ -113,7 +113,7 @@ ITEMS = _items()
 def test_public_api_is_found():
     names = {q for q, _ in ITEMS}
     for expected in ("hovi.Model.mass_matrix", "hovi.Integrator.rollout", "hovi.Linearizer.step_jacobians",
-                     "hovi.Trajectory.energy", "hovi.models.pendulum", "hovi.trajopt.Problem.add_cost",
+                     "hovi.Trajectory.energy", "hovi.examples.models.pendulum", "hovi.trajopt.Problem.add_cost",
                      "hovi._core.Integrator.step", "hovi._core.trajopt.VariationalTranscription.jacobian",
                      "hovi.Integrator.rollout_batch", "hovi.TrajectoryBatch.trajectory", "hovi.distributed.rollout_batch"):
         assert expected in names

@@ -52,7 +52,7 @@ def rollout_result(t):
 
 @pytest.mark.parametrize("reuse_jacobian", [False, True])
 def test_shared_integrator_steps_and_rollouts(reuse_jacobian):
-    integ = hovi.Integrator(hovi.models.pendulum(16), s=2, dt=0.01, reuse_jacobian=reuse_jacobian)
+    integ = hovi.Integrator(hovi.examples.models.pendulum(16), s=2, dt=0.01, reuse_jacobian=reuse_jacobian)
     Q, QD = states(16, 8, 1)
     jobs = []
     for q, qd in zip(Q, QD):
@@ -63,7 +63,7 @@ def test_shared_integrator_steps_and_rollouts(reuse_jacobian):
 
 
 def test_shared_integrator_residuals_directions_and_energies():
-    integ = hovi.Integrator(hovi.models.pendulum(16), s=3, dt=0.01)
+    integ = hovi.Integrator(hovi.examples.models.pendulum(16), s=3, dt=0.01)
     Q, QD = states(16, 8, 2)
     jobs = []
     for q, qd in zip(Q, QD):
@@ -89,7 +89,7 @@ def test_shared_constrained_integrator():
 
 
 def test_shared_linearizer():
-    integ = hovi.Integrator(hovi.models.pendulum(8), s=2, dt=0.01)
+    integ = hovi.Integrator(hovi.examples.models.pendulum(8), s=2, dt=0.01)
     lin = hovi.Linearizer(integ)
     Q, QD = states(8, 6, 3)
     jobs = []
@@ -102,7 +102,7 @@ def test_shared_linearizer():
 
 
 def test_shared_baselines():
-    model = hovi.models.pendulum(6)
+    model = hovi.examples.models.pendulum(6)
     hs = hovi.baselines.HermiteSimpson(model, 0.01)
     Q, QD = states(6, 6, 4)
     check([lambda q=q, qd=qd: (lambda r: (r["q"], r["v"], r["iterations"]))(hs.rollout(q, qd, 50))
