@@ -4,7 +4,7 @@ inside the cone of its sole, with the centre of pressure in the sole), the left 
 ground, the left hand at the ball at the final time, from a single-support stance at rest."""
 from __future__ import annotations
 
-from typing import Dict, Sequence
+from typing import Dict
 
 import numpy as np
 from scipy.optimize import least_squares
@@ -14,6 +14,7 @@ from ...contact import FlatFoot, wrench_cone
 from ..robots import Robot, atlas
 from ...trajopt import Problem, Result
 from .example import Example, Scenery
+from .statics import static_controls
 
 MU = 0.8          # friction coefficient of the stance foot
 LIFT = 0.05       # the left sole's height above the ground at the start (m)
@@ -63,18 +64,6 @@ def single_support(robot: Robot, lift: float = LIFT) -> np.ndarray:
     q = q0.copy()
     q[free] = z
     return q
-
-
-def static_controls(model, q: np.ndarray, controls: Sequence[int] | None = None) -> np.ndarray:
-    """Controls u (m,) that hold configuration q (n,) at rest: Q(q, 0, u) = G(q), with Q = Q0 + (dQ/du) u
-    the non-conservative force (force_jacobians) and G(q) = inverse_dynamics(q, 0, 0) the gravity force;
-    the least-squares (least-norm) u using only the ``controls`` (indices; default all), the others zero."""
-    zero = np.zeros(model.n)
-    Q0, _, _, Qu = model.force_jacobians(q, zero)
-    cols = np.arange(model.n_controls) if controls is None else np.asarray(controls, dtype=int)
-    u = np.zeros(model.n_controls)
-    u[cols] = np.linalg.lstsq(Qu[:, cols], model.inverse_dynamics(q, zero, zero) - Q0, rcond=None)[0]
-    return u
 
 
 def build(quick: bool = False) -> Example:

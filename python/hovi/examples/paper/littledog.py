@@ -27,7 +27,7 @@ from ... import _core, trajopt
 from ...contact import Contacts, Gap, Terrain
 from ..robots import Robot, littledog
 from ...trajopt import Problem, Result
-from .atlas import static_controls
+from .statics import static_controls
 from .contact_figures import CONTACT_BOUNDS, contact_figures, path_configurations
 from .example import Example, Scenery, samples_between
 
