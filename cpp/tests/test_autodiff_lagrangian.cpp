@@ -21,7 +21,7 @@
 #include "hovi/algorithms/newton_direction.hpp"
 #include "hovi/baselines/autodiff_lagrangian.hpp"
 #include "hovi/errors.hpp"
-#include "hovi/forces/body_wrench.hpp"
+#include "hovi/forces/builtin_wrenches.hpp"
 #include "hovi/integrators/newton_solver.hpp"
 #include "hovi/models/pendulum.hpp"
 

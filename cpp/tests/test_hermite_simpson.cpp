@@ -13,6 +13,7 @@
 #include "hovi/algorithms/mass_matrix.hpp"
 #include "hovi/baselines/hermite_simpson.hpp"
 #include "hovi/errors.hpp"
+#include "hovi/forces/builtin_wrenches.hpp"
 #include "hovi/integrators/galerkin_integrator.hpp"
 #include "hovi/models/pendulum.hpp"
 

@@ -3,9 +3,10 @@
 #include <gtest/gtest.h>
 
 #include "test_models.hpp"
-#include "hovi/constraints/constraint.hpp"
+#include "hovi/constraints/builtin_constraints.hpp"
+#include "hovi/forces/builtin_wrenches.hpp"
 #include "hovi/errors.hpp"
-#include "hovi/model/model_serialization.hpp"
+#include "hovi/parsers/model_serialization.hpp"
 
 using namespace hovi;
 

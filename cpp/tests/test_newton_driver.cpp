@@ -17,7 +17,7 @@
 #include "hovi/algorithms/mass_matrix.hpp"
 #include "hovi/baselines/hermite_simpson.hpp"
 #include "hovi/baselines/quasi_newton.hpp"
-#include "hovi/constraints/constraint.hpp"
+#include "hovi/constraints/builtin_constraints.hpp"
 #include "hovi/integrators/constrained_solver.hpp"
 #include "hovi/integrators/newton_solver.hpp"
 #include "hovi/integrators/step_continuation.hpp"

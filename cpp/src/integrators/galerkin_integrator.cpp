@@ -9,8 +9,8 @@
 #include "hovi/algorithms/energy.hpp"
 #include "hovi/algorithms/kinematics.hpp"
 #include "hovi/algorithms/mass_matrix.hpp"
-#include "hovi/constraints/constraint.hpp"
-#include "hovi/constraints/tangent_velocity.hpp"
+#include "hovi/algorithms/stacked_constraints.hpp"
+#include "hovi/algorithms/tangent_velocity.hpp"
 #include "hovi/errors.hpp"
 #include "hovi/integrators/dense_direction.hpp"
 

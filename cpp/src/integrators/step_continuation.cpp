@@ -6,7 +6,7 @@
 
 #include "hovi/algorithms/del_residual.hpp"
 #include "hovi/algorithms/newton_direction.hpp"
-#include "hovi/constraints/tangent_velocity.hpp"
+#include "hovi/algorithms/tangent_velocity.hpp"
 #include "hovi/errors.hpp"
 
 namespace hovi {

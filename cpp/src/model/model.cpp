@@ -4,7 +4,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "hovi/constraints/constraint.hpp"
+#include "hovi/model/constraint.hpp"
 #include "hovi/errors.hpp"
 
 namespace hovi {

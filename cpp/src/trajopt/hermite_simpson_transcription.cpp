@@ -7,7 +7,7 @@
 #include "hovi/algorithms/dynamics.hpp"
 #include "hovi/algorithms/kinematics.hpp"
 #include "hovi/algorithms/mass_matrix.hpp"
-#include "hovi/constraints/constraint.hpp"
+#include "hovi/algorithms/stacked_constraints.hpp"
 #include "hovi/errors.hpp"
 #include "hovi/trajopt/jacobian_blocks.hpp"
 

@@ -4,7 +4,7 @@
 
 #include "hovi/algorithms/del_residual.hpp"
 #include "hovi/algorithms/kinematics.hpp"
-#include "hovi/constraints/constraint.hpp"
+#include "hovi/algorithms/stacked_constraints.hpp"
 #include "hovi/errors.hpp"
 #include "hovi/trajopt/jacobian_blocks.hpp"
 

@@ -9,7 +9,7 @@
 // (O(s^2 n) each), then (Dh W) dλ = -h - Dh dz_r, an (s m) x (s m) dense system; in all
 // O(s^3 n + s^3 m n + s^3 m^3) per iteration: O(mn) + O(m^3) for s = 1 as in the paper.
 #pragma once
-#include "hovi/constraints/constraint.hpp"
+#include "hovi/algorithms/stacked_constraints.hpp"
 #include "hovi/integrators/newton_solver.hpp"
 
 namespace hovi {

@@ -7,7 +7,7 @@
 #include <Eigen/LU>
 
 #include "hovi/algorithms/del_jacobian.hpp"
-#include "hovi/integrators/newton_solver.hpp"
+#include "hovi/integrators/direction.hpp"
 
 namespace hovi {
 

@@ -12,7 +12,7 @@
 #include <memory>
 
 #include "hovi/algorithms/del_jacobian.hpp"
-#include "hovi/constraints/constraint.hpp"
+#include "hovi/algorithms/stacked_constraints.hpp"
 #include "hovi/integrators/galerkin_integrator.hpp"
 
 namespace hovi {

@@ -7,16 +7,13 @@
 #pragma once
 #include "hovi/algorithms/del_residual.hpp"
 #include "hovi/algorithms/newton_direction.hpp"
+#include "hovi/integrators/direction.hpp"
 #include "hovi/integrators/newton_driver.hpp"
 
 #include <memory>
 
 namespace hovi {
 
-// The Newton direction: Algorithms A.1/A.2 (recursive, O(s^3 n)), a dense LU of the DEL
-// Jacobian from the linearisation (O(s^2 n^2) + O(s^3 n^3), cheaper for small n), or the
-// cheaper of the two for this model and s (dense_direction.hpp's measured crossover).
-enum class Direction { Auto, Recursive, Dense };
 enum class Reuse { Never, WithinStep };
 // The first guess of a rollout step (galerkin_integrator.hpp): History extrapolates the last two
 // steps' control points; Flow integrates the continuous dynamics over the step (flow_predictor.hpp,

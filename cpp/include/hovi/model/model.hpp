@@ -6,12 +6,13 @@
 // The joint frame itself is kept for output (joint_placement) and for URDF round trips.
 #pragma once
 #include <limits>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include "hovi/forces/body_wrench.hpp"
-#include "hovi/forces/joint_forces.hpp"
+#include "hovi/model/body_wrench.hpp"
+#include "hovi/model/joint_forces.hpp"
 #include "hovi/model/visual.hpp"
 #include "hovi/spatial/algebra.hpp"
 

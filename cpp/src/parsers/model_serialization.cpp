@@ -1,6 +1,6 @@
-#include "hovi/model/model_serialization.hpp"
+#include "hovi/parsers/model_serialization.hpp"
 
-#include "hovi/constraints/constraint.hpp"
+#include "hovi/constraints/builtin_constraints.hpp"
 #include "hovi/errors.hpp"
 #include "hovi/util/byte_stream.hpp"
 

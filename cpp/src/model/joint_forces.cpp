@@ -1,4 +1,4 @@
-#include "hovi/forces/joint_forces.hpp"
+#include "hovi/model/joint_forces.hpp"
 
 namespace hovi {
 

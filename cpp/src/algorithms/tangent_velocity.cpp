@@ -1,10 +1,10 @@
-#include "hovi/constraints/tangent_velocity.hpp"
+#include "hovi/algorithms/tangent_velocity.hpp"
 
 #include <Eigen/LU>
 
 #include "hovi/algorithms/dynamics.hpp"
 #include "hovi/algorithms/kinematics.hpp"
-#include "hovi/constraints/constraint.hpp"
+#include "hovi/algorithms/stacked_constraints.hpp"
 #include "hovi/errors.hpp"
 
 namespace hovi {

@@ -1,4 +1,4 @@
-#include "hovi/constraints/constraint.hpp"
+#include "hovi/constraints/builtin_constraints.hpp"
 
 #include <cstring>
 
@@ -23,10 +23,6 @@ void add_point_jacobian(const KinematicsView& kin, int b, const Vec3& x, double 
 const char* const kAxisNames = "xyz";
 }  // namespace
 
-void Constraint::save(ByteWriter&) const {
-  throw ModelError(std::string("a constraint of kind '") + kind() + "' cannot be serialised (it does not implement save)");
-}
-
 Eigen::Matrix<double, Eigen::Dynamic, 3> axes_selector(const std::string& axes) {
   if (axes.empty() || axes.size() > 3) throw ModelError("axes must be a non-empty subset of 'xyz', got '" + axes + "'");
   Eigen::Matrix<double, Eigen::Dynamic, 3> P = Eigen::Matrix<double, Eigen::Dynamic, 3>::Zero(axes.size(), 3);
@@ -37,34 +33,6 @@ Eigen::Matrix<double, Eigen::Dynamic, 3> axes_selector(const std::string& axes) 
     P(k, at - kAxisNames) = 1;
   }
   return P;
-}
-
-void constraint_values(const Model& model, const KinematicsView& kin, const Eigen::Ref<const VecX>& q,
-                       Eigen::Ref<VecX> h) {
-  int row = 0;
-  for (const auto& c : model.constraints) {
-    c->value(kin, q, h.segment(row, c->dim()));
-    row += c->dim();
-  }
-}
-
-void constraint_jacobian(const Model& model, const KinematicsView& kin, Eigen::Ref<MatX> J) {
-  int row = 0;
-  for (const auto& c : model.constraints) {
-    c->jacobian(kin, J.middleRows(row, c->dim()));
-    row += c->dim();
-  }
-}
-
-Model with_constraint_forces(const Model& model) {
-  Model aug = model;
-  aug.constraints.clear();
-  for (const auto& c : model.constraints) {
-    const int first = aug.n_controls();
-    for (int k = 0; k < c->dim(); ++k) aug.add_control();
-    c->add_force_elements(aug, first);
-  }
-  return aug;
 }
 
 // ---- PointConstraint -------------------------------------------------------------------------
