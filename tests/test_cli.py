@@ -55,7 +55,7 @@ def test_bad_arguments_exit_with_usage_error():
 
 def test_bad_model_or_option_is_a_clean_error(capsys):
     assert main(["simulate", "/nonexistent.urdf", "--no-progress"]) == 2
-    assert "cannot open URDF file" in capsys.readouterr().err
+    assert "model file '/nonexistent.urdf' not found" in capsys.readouterr().err
     assert main(["simulate", "pendulum:3", "--order", "3", "--no-progress"]) == 2
     assert "order must be an even number" in capsys.readouterr().err
 
@@ -95,3 +95,64 @@ def test_simulate_and_info_take_the_registry_names(capsys, tmp_path):
     assert main(["simulate", "cartpole", "--duration", "0.05", "--no-progress", "--no-plot",
                  "--output", str(tmp_path)]) == 0
     assert json.loads((tmp_path / "simulate.json").read_text())["dof"] == 2
+
+
+URDF_2DOF = """<robot name="arm">
+  <link name="a"><inertial><mass value="1"/><inertia ixx="0.1" iyy="0.1" izz="0.1" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <link name="b"><inertial><mass value="1"/><inertia ixx="0.1" iyy="0.1" izz="0.1" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <link name="c"><inertial><mass value="1"/><inertia ixx="0.1" iyy="0.1" izz="0.1" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="j1" type="continuous"><parent link="a"/><child link="b"/><axis xyz="0 1 0"/></joint>
+  <joint name="j2" type="continuous"><parent link="b"/><child link="c"/><origin xyz="0 0 -1"/><axis xyz="0 1 0"/></joint>
+</robot>
+"""
+
+
+def test_a_file_named_like_the_pendulum_is_a_file(tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "pendulum_arm.urdf").write_text(URDF_2DOF)
+    assert main(["info", "pendulum_arm.urdf"]) == 0
+    assert capsys.readouterr().out.startswith("hovi.Model: 2 DoF")
+    assert main(["info", "pendulum"]) == 0 and "32 DoF" in capsys.readouterr().out
+    assert main(["info", "pendulum:5"]) == 0 and "5 DoF" in capsys.readouterr().out
+    for name in ("acrobot", "cartpole", "fourbar", "slider_crank", "spring_flamingo"):
+        assert main(["info", name]) == 0, name
+        capsys.readouterr()
+
+
+@pytest.mark.parametrize("spec, says", [
+    ("pendulum5", "unknown model 'pendulum5'"),
+    ("pendulum_arm.urdf", "model file 'pendulum_arm.urdf' not found"),
+    ("Acrobot", "unknown model 'Acrobot'"),
+    ("pendulum:abc", "N in 'pendulum:N' must be a whole number of links >= 1, got 'abc'"),
+    ("pendulum:0", "got '0'"),
+    ("pendulum:-2", "got '-2'"),
+])
+def test_a_bad_model_name_says_what_is_accepted(spec, says, tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    for command in ("info", "simulate"):
+        assert main([command, spec, "--no-progress"] if command == "simulate" else [command, spec]) == 2
+        err = capsys.readouterr().err
+        assert says in err and len(err.strip().splitlines()) == 1 and "Traceback" not in err
+        if "unknown" in says or "not found" in says:
+            assert "'pendulum:N'" in err and "cartpole" in err and "atlas" in err and "URDF" in err
+
+
+def test_a_bad_model_file_says_what_is_wrong(tmp_path, capsys):
+    cases = {
+        "folder": (None, "is a directory, not a URDF file"),
+        "humanoid.xml": ('<mujoco model="h">\n  <worldbody/>\n</mujoco>\n', "MJCF (MuJoCo) file, root element <mujoco>"),
+        "broken.urdf": ('<robot name="r">\n  <link name="a">\n</robot>\n', "not well-formed XML at line 3"),
+        "sdf.urdf": ('<sdf version="1.6"><model name="m"/></sdf>', "root element <sdf>; hovi reads URDF files"),
+        "nolimits.urdf": ('<robot name="r"><link name="a"/><link name="b"/><joint name="j" type="revolute">'
+                          '<parent link="a"/><child link="b"/></joint></robot>', "does not specify limits"),
+    }
+    for name, (text, says) in cases.items():
+        path = tmp_path / name
+        if text is None:
+            path.mkdir()
+        else:
+            path.write_text(text)
+        assert main(["info", str(path)]) == 2, name
+        err = capsys.readouterr().err
+        assert says in err, (name, err)
+        assert len(err.strip().splitlines()) == 1 and "Traceback" not in err

@@ -6,6 +6,7 @@ import json
 import os
 import sys
 import time
+from typing import Tuple
 
 import numpy as np
 
@@ -14,26 +15,71 @@ from .examples import MODEL, OPTIMIZATION, ROBOT, ROBOT_EXAMPLE, entries, get, n
 from .integrator import ConvergenceError, Integrator
 
 
+class ModelSpecError(ValueError):
+    """A model argument that is neither an existing URDF file nor a built-in name (one-line message)."""
+
+
 def model_listing() -> str:
     """What ``hovi simulate`` and ``hovi info`` take, from the registry of examples."""
-    return (f"'pendulum:N' (the built-in N-link pendulum), a built-in model ({', '.join(names(MODEL)[1:])}), "
-            f"a robot ({', '.join(names(ROBOT))}) or a URDF path")
+    return (f"'pendulum' or 'pendulum:N' (the built-in N-link pendulum, N >= 1), a built-in model "
+            f"({', '.join(names(MODEL)[1:])}), a robot ({', '.join(names(ROBOT))}) or the path of a URDF file")
+
+
+def resolve_model(spec: str, base: str = "fixed") -> Tuple[Model, str]:
+    """The model named by ``spec`` and how its root is attached to the world ('fixed', 'floating'
+    or 'planar'): a path if that file exists, else a built-in by its exact name ('pendulum',
+    'pendulum:N', a model or a robot of ``hovi.examples``). ModelSpecError with a one-line message
+    saying what is wrong and what is accepted otherwise."""
+    accepted = "accepted: " + model_listing()
+    if os.path.isdir(spec):
+        raise ModelSpecError(f"model '{spec}' is a directory, not a URDF file; {accepted}")
+    if os.path.isfile(spec):
+        return load_urdf(spec, base), base
+    name, colon, n = spec.partition(":")
+    if name == "pendulum":
+        if not colon:
+            return get(MODEL, "pendulum").build(32), "fixed"
+        if not n.isdigit() or int(n) < 1:
+            raise ModelSpecError(f"model '{spec}': N in 'pendulum:N' must be a whole number of links >= 1, "
+                                 f"got '{n}'")
+        return get(MODEL, "pendulum").build(int(n)), "fixed"
+    if spec in entries(MODEL):
+        return get(MODEL, spec).build(), "fixed"
+    if spec in entries(ROBOT):
+        robot = get(ROBOT, spec).build()
+        return robot.model, robot.base
+    if spec.lower().endswith((".urdf", ".xml", ".xacro")) or os.sep in spec:
+        raise ModelSpecError(f"model file '{spec}' not found; {accepted}")
+    raise ModelSpecError(f"unknown model '{spec}' (no such file or built-in name); {accepted}")
+
+
+def load_urdf(path: str, base: str) -> Model:
+    """A URDF file as a Model; a one-line ModelSpecError for an MJCF file, malformed XML (with its
+    line) or anything the URDF parser refuses."""
+    import xml.etree.ElementTree as ET
+    try:
+        root = ET.parse(path).getroot()
+    except ET.ParseError as e:
+        line = e.position[0] if getattr(e, "position", None) else None
+        where = f" at line {line}" if line else ""
+        raise ModelSpecError(f"'{path}' is not well-formed XML{where} ({e}); hovi reads URDF files "
+                             f"(root element <robot>)") from None
+    except UnicodeDecodeError:
+        raise ModelSpecError(f"'{path}' is not a text XML file; hovi reads URDF files (root element <robot>)") from None
+    if root.tag == "mujoco":
+        raise ModelSpecError(f"'{path}' is an MJCF (MuJoCo) file, root element <mujoco>; hovi reads URDF files "
+                             f"(root element <robot>): convert it to URDF first")
+    if root.tag != "robot":
+        raise ModelSpecError(f"'{path}' has root element <{root.tag}>; hovi reads URDF files (root element <robot>)")
+    try:
+        return Model.from_urdf(path, base=base)
+    except ValueError as e:  # hovi.URDFError / ModelError: the link or joint at fault
+        raise ModelSpecError(f"'{path}': " + " ".join(str(e).split())) from None
 
 
 def load_model(spec: str, base: str = "fixed") -> Model:
-    """'pendulum:N' for the built-in N-link pendulum, the name of a built-in model or robot
-    (``hovi.examples``), otherwise a URDF path (attached to the world by ``base``)."""
-    name, _, n = spec.partition(":")
-    if name == "pendulum":
-        model: Model = get(MODEL, "pendulum").build(int(n) if n else 32)
-        return model
-    if spec in entries(MODEL):
-        model = get(MODEL, spec).build()
-        return model
-    if spec in entries(ROBOT):
-        robot_model: Model = get(ROBOT, spec).build().model
-        return robot_model
-    return Model.from_urdf(spec, base=base)
+    """The model named by ``spec`` (see resolve_model)."""
+    return resolve_model(spec, base)[0]
 
 
 def initial_state(model: Model, spread: float, seed: int):
