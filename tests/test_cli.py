@@ -156,3 +156,34 @@ def test_a_bad_model_file_says_what_is_wrong(tmp_path, capsys):
         err = capsys.readouterr().err
         assert says in err, (name, err)
         assert len(err.strip().splitlines()) == 1 and "Traceback" not in err
+
+
+def test_version(capsys):
+    import hovi
+    with pytest.raises(SystemExit) as e:
+        main(["--version"])
+    assert e.value.code == 0 and capsys.readouterr().out.strip() == f"hovi {hovi.__version__}"
+
+
+@pytest.mark.parametrize("argv, says", [
+    (["simulate", "--dt", "0"], "argument --dt: must be a finite number > 0, got '0'"),
+    (["simulate", "--dt", "-0.01"], "argument --dt: must be a finite number > 0"),
+    (["simulate", "--dt", "nan"], "argument --dt: must be a finite number > 0, got 'nan'"),
+    (["simulate", "--dt", "abc"], "argument --dt: 'abc' is not a number"),
+    (["simulate", "--duration", "inf"], "argument --duration: must be a finite number > 0, got 'inf'"),
+    (["simulate", "--duration", "nan"], "argument --duration: must be a finite number > 0"),
+    (["simulate", "--seed", "-1"], "argument --seed: must be a whole number >= 0, got '-1'"),
+    (["info", "--seed", "1.5"], "argument --seed: '1.5' is not a whole number"),
+    (["simulate", "--fps", "0"], "argument --fps: must be a finite number > 0"),
+    (["simulate", "--tol", "-1"], "argument --tol: must be a finite number >= 0"),
+    (["optimize", "pendulum", "--max-iter", "-5"], "argument --max-iter: must be a whole number >= 1, got '-5'"),
+    (["optimize", "pendulum", "--N", "0"], "argument --N: must be a whole number >= 1, got '0'"),
+    (["optimize", "pendulum", "--T", "-1"], "argument --T: must be a finite number > 0, got '-1'"),
+    (["optimize", "pendulum", "--T", "0"], "argument --T: must be a finite number > 0, got '0'"),
+    (["optimize", "pendulum", "--order", "3"], "argument --order: must be an even number >= 2"),
+])
+def test_bad_numbers_are_refused_naming_the_flag(argv, says, capsys):
+    with pytest.raises(SystemExit) as e:
+        main(argv)
+    err = capsys.readouterr().err
+    assert e.value.code == 2 and says in err and "Traceback" not in err

@@ -10,7 +10,7 @@ from typing import Tuple
 
 import numpy as np
 
-from . import Model
+from . import Model, __version__
 from .examples import MODEL, OPTIMIZATION, ROBOT, ROBOT_EXAMPLE, entries, get, names
 from .integrator import ConvergenceError, Integrator
 
@@ -166,9 +166,9 @@ def cmd_optimize(args) -> int:
     from .trajopt.transcriptions import from_name
     make = get(OPTIMIZATION, args.example).function
     kwargs = {"controls": args.controls}
-    if args.N:
+    if args.N is not None:
         kwargs["N"] = args.N
-    if args.T:
+    if args.T is not None:
         kwargs["T"] = args.T
     prob = make(**kwargs)
     s = args.order // 2
@@ -232,29 +232,55 @@ def print_replay(s) -> None:
           f".. {s['energy_max']:.6g})")
 
 
+def number(kind, condition: str):
+    """An argparse type: ``kind`` (int or float) that is finite and satisfies ``condition``
+    ('> 0', '>= 0', '>= 1' or '>= 2'); argparse names the flag in its message."""
+    bound = float(condition.split()[1])
+    strict = condition.startswith(">") and not condition.startswith(">=")
+
+    def parse(text: str):
+        try:
+            value = kind(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"'{text}' is not {'a whole number' if kind is int else 'a number'}") from None
+        if not np.isfinite(value) or (value <= bound if strict else value < bound):
+            raise argparse.ArgumentTypeError(f"must be {'a whole number' if kind is int else 'a finite number'} "
+                                             f"{condition}, got '{text}'")
+        return value
+    parse.__name__ = "whole number" if kind is int else "number"
+    return parse
+
+
+positive = number(float, "> 0")
+non_negative = number(float, ">= 0")
+count = number(int, ">= 1")
+seed = number(int, ">= 0")
+
+
 def add_model_args(p):
     p.add_argument("model", nargs="?", default="pendulum:32", help=model_listing() + " (default: pendulum:32)")
     p.add_argument("--base", default="fixed", choices=["fixed", "floating", "planar"],
                    help="how a URDF's root link is attached to the world (default: fixed)")
-    p.add_argument("--seed", type=int, default=0, help="seed of the random initial state (default: 0)")
+    p.add_argument("--seed", type=seed, default=0, help="seed of the random initial state (default: 0)")
 
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="hovi", description="Higher-order variational integrators for robots.")
+    parser.add_argument("--version", action="version", version=f"hovi {__version__}")
     sub = parser.add_subparsers(dest="command", required=True)
     sim = sub.add_parser("simulate", help="simulate a model and report speed and energy error",
                          description="Simulate from a random configuration at rest with the Galerkin variational "
                                      "integrator; print steps per second, Newton iterations per step and the "
                                      "energy error; write plots and a JSON summary.")
     add_model_args(sim)
-    sim.add_argument("--order", type=int, default=4, help="order of accuracy 2s: 2 trapezoidal, 4 Simpson, "
+    sim.add_argument("--order", type=count, default=4, help="order of accuracy 2s: 2 trapezoidal, 4 Simpson, "
                                                           "6, 8, ... (default: 4)")
-    sim.add_argument("--dt", type=float, default=0.01, help="time step in seconds (default: 0.01)")
-    sim.add_argument("--duration", type=float, default=10.0, help="simulated time in seconds (default: 10)")
-    sim.add_argument("--spread", type=float, default=np.pi / 12,
+    sim.add_argument("--dt", type=positive, default=0.01, help="time step in seconds (default: 0.01)")
+    sim.add_argument("--duration", type=positive, default=10.0, help="simulated time in seconds (default: 10)")
+    sim.add_argument("--spread", type=non_negative, default=np.pi / 12,
                      help="initial joint positions uniform in [-spread, spread] rad or m (default: pi/12, the "
                           "paper's Fig. 4 range; larger values make a long chain whip and need a smaller dt)")
-    sim.add_argument("--tol", type=float, default=0.0,
+    sim.add_argument("--tol", type=non_negative, default=0.0,
                      help="optional residual tolerance ||r|| <= tol (1 + ||p||) (default 0: converge to round-off)")
     sim.add_argument("--output", default="results", help="folder for the plots and JSON (default: results)")
     sim.add_argument("--no-plot", action="store_true", help="skip the plots")
@@ -262,7 +288,7 @@ def main(argv=None) -> int:
     sim.add_argument("--animate", action="store_true",
                      help="also write animation.html (3D view, opens without a server) and animation.mp4 "
                           "(needs hovi[viewer]: meshcat, imageio-ffmpeg, trimesh)")
-    sim.add_argument("--fps", type=float, default=20.0, help="frames per second of the animation (default: 20)")
+    sim.add_argument("--fps", type=positive, default=20.0, help="frames per second of the animation (default: 20)")
     sim.add_argument("--package-dir", action="append", default=[], metavar="DIR",
                      help="directory searched for package:// meshes (repeatable; then ROS_PACKAGE_PATH)")
     sim.set_defaults(func=cmd_simulate)
@@ -276,12 +302,12 @@ def main(argv=None) -> int:
                      help="the example: " + "; ".join(f"{e.name}: {e.description}" for e in entries(OPTIMIZATION).values()))
     opt.add_argument("--transcription", default="vi", choices=["vi", "hs-implicit", "hs-explicit"],
                      help="the dynamics: the Galerkin VI (default) or Hermite-Simpson collocation")
-    opt.add_argument("--order", type=int, default=4, help="VI order 2s (default 4: Simpson)")
-    opt.add_argument("--N", type=int, default=0, help="number of stages (default: the example's)")
-    opt.add_argument("--T", type=float, default=0.0, help="final time in s (default: the example's)")
+    opt.add_argument("--order", type=count, default=4, help="VI order 2s (default 4: Simpson)")
+    opt.add_argument("--N", type=count, default=None, help="number of stages, >= 1 (default: the example's)")
+    opt.add_argument("--T", type=positive, default=None, help="final time in s, > 0 (default: the example's)")
     opt.add_argument("--controls", default="per_point", choices=["per_point", "held"],
                      help="controls at every sample point (default) or held over each stage")
-    opt.add_argument("--max-iter", type=int, default=3000, help="IPOPT iteration limit (default 3000)")
+    opt.add_argument("--max-iter", type=count, default=3000, help="IPOPT iteration limit (default 3000)")
     opt.add_argument("--quiet", action="store_true", help="no per-iteration progress")
     opt.add_argument("--output", default="results", help="folder for the plot and JSON (default: results)")
     opt.add_argument("--no-plot", action="store_true", help="skip the plot")
@@ -302,7 +328,7 @@ def main(argv=None) -> int:
                     help="VI order 2s (default 2: the trapezoidal VI, inelastic impacts; 4: the paper's Simpson VI)")
     ex.add_argument("--output", default="results", help="directory for the files (default: results)")
     ex.add_argument("--no-animate", action="store_true", help="skip the animation (needs hovi[viewer])")
-    ex.add_argument("--fps", type=float, default=25.0, help="frames per second of the animation (default: 25)")
+    ex.add_argument("--fps", type=positive, default=25.0, help="frames per second of the animation (default: 25)")
     ex.add_argument("--quiet", action="store_true", help="no IPOPT progress lines")
     ex.add_argument("--checkpoint", default=None, metavar="FILE",
                     help="keep the contact homotopy's state in FILE (npz) after each relaxed solve and resume from it "
@@ -312,10 +338,8 @@ def main(argv=None) -> int:
     add_model_args(info)
     info.set_defaults(func=cmd_info)
     args = parser.parse_args(argv)
-    if getattr(args, "dt", 1) <= 0 or getattr(args, "duration", 1) <= 0 or getattr(args, "fps", 1) <= 0:
-        parser.error("--dt, --duration and --fps must be positive")
-    if args.command == "optimize" and (args.order < 2 or args.order % 2 or args.N < 0 or args.T < 0):
-        parser.error("--order must be an even number >= 2, --N and --T non-negative")
+    if args.command == "optimize" and (args.order < 2 or args.order % 2):
+        parser.error("argument --order: must be an even number >= 2 (2, 4, 6, ...)")
     try:
         return args.func(args)
     except (ValueError, OSError) as e:  # bad model file, bad option value: a clean message, no traceback
