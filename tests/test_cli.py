@@ -187,3 +187,12 @@ def test_bad_numbers_are_refused_naming_the_flag(argv, says, capsys):
         main(argv)
     err = capsys.readouterr().err
     assert e.value.code == 2 and says in err and "Traceback" not in err
+
+
+def test_the_speed_figure_is_the_integrators_own_time(tmp_path, capsys):
+    assert main(["simulate", "pendulum:3", "--duration", "0.5", "--no-plot", "--output", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    summary = json.loads((tmp_path / "simulate.json").read_text())
+    assert 0 < summary["solve_seconds"] <= summary["wall_time_s"]
+    assert summary["steps_per_second"] == pytest.approx(summary["steps"] / summary["solve_seconds"])
+    assert "s in the integrator" in out and "wall with the progress bar" in out
