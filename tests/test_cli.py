@@ -196,3 +196,17 @@ def test_the_speed_figure_is_the_integrators_own_time(tmp_path, capsys):
     assert 0 < summary["solve_seconds"] <= summary["wall_time_s"]
     assert summary["steps_per_second"] == pytest.approx(summary["steps"] / summary["solve_seconds"])
     assert "s in the integrator" in out and "wall with the progress bar" in out
+
+
+def test_a_floating_base_is_said_to_free_fall(tmp_path, capsys):
+    assert main(["simulate", "littledog", "--duration", "0.05", "--no-progress", "--no-plot",
+                 "--output", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "floating base" in out and "no ground" in out and "free-falls" in out and "0.0123 m in 0.05 s" in out
+    (tmp_path / "arm.urdf").write_text(URDF_2DOF)
+    assert main(["simulate", str(tmp_path / "arm.urdf"), "--duration", "0.05", "--no-progress", "--no-plot",
+                 "--output", str(tmp_path)]) == 0
+    assert "free-falls" not in capsys.readouterr().out
+    assert main(["simulate", str(tmp_path / "arm.urdf"), "--base", "floating", "--duration", "0.05", "--no-progress",
+                 "--no-plot", "--output", str(tmp_path)]) == 0
+    assert "floating base" in capsys.readouterr().out

@@ -91,12 +91,14 @@ def initial_state(model: Model, spread: float, seed: int):
 
 
 def cmd_simulate(args) -> int:
-    model = load_model(args.model, args.base)
+    model, base = resolve_model(args.model, args.base)
     integ = Integrator(model, order=args.order, dt=args.dt, tol=args.tol)
     steps = int(round(args.duration / args.dt))
     q0 = initial_state(model, args.spread, args.seed)
     print(f"{args.model}: {model.n} DoF, {model.total_mass:.4g} kg; order {integ.order} (s = {integ.s}), "
           f"dt = {args.dt} s, {steps} steps")
+    if base != "fixed":
+        print(free_fall_note(model, base, steps * args.dt))
     t0 = time.perf_counter()
     try:
         traj = integ.rollout(q0, steps, progress=not args.no_progress)
@@ -138,6 +140,14 @@ def cmd_simulate(args) -> int:
     if args.animate:
         write_animation(model, traj, args)
     return 0 if traj.converged else 1
+
+
+def free_fall_note(model: Model, base: str, duration: float) -> str:
+    """The note for a model whose root is not welded to the world: no ground yet, so it falls."""
+    g = float(np.linalg.norm(np.asarray(model.gravity, dtype=float)))
+    return (f"note: this model has a {base} base and hovi simulate has no ground or contact (not yet): the robot "
+            f"free-falls under gravity, about {0.5 * g * duration ** 2:.3g} m in {duration:.3g} s; for a robot that "
+            f"stands and walks, see 'hovi example' (contact-implicit trajectory optimisation)")
 
 
 def write_animation(model: Model, traj, args) -> None:
