@@ -1,6 +1,7 @@
 // Bindings of the Galerkin integrator (hovi._core.Integrator). The Pythonic layer (argument
 // normalisation, Trajectory, exceptions) is python/hovi/integrator.py. Arrays of control points
 // are (s+1, n) on the Python side (row a = q^{k,a}); controls (s+1, m).
+#include <optional>
 #include <chrono>
 
 #include "hovi/errors.hpp"
@@ -86,6 +87,19 @@ held over the step or (s+1, m) per control point; multipliers (s, n_constraints)
           }, "The Newton direction computed: 'dense' or 'recursive'.")
       .def_property_readonly("n", &PyIntegrator::n, "Number of joints n of the model.")
       .def_property_readonly("n_controls", &PyIntegrator::m, "Number of control inputs m of the model.")
+      .def("rollout_controls", [](const PyIntegrator& p, const OptArrayLike& u, long steps, std::optional<long> batch) {
+            return p.rollout_controls(u, steps, batch ? *batch : -1);
+          }, py::arg("u"), py::arg("steps"), py::arg("batch") = py::none(),
+          R"(The controls of `steps` steps as rollout and rollout_batch take them: u of shape lead + (m,)
+(held throughout), lead + (steps, m) (held per step) or lead + (steps, s+1, m) (per control point),
+lead = () or (batch,), as an array lead + (steps, (s+1) m); None for None. Raises ValueError for a
+model without controls, another shape, NaN or infinity.)")
+      .def("step_controls", [](const PyIntegrator& p, const OptArrayLike& u, long count) {
+            return p.step_controls(u, count);
+          }, py::arg("u"), py::arg("count"),
+          R"(The controls of one step from each of `count` states as step_batch takes them: u of shape
+(count, m) (held) or (count, s+1, m) (per control point) as an array (count, (s+1) m); None for
+None. Raises ValueError as rollout_controls.)")
       .def_property_readonly("n_constraints", &PyIntegrator::mc, "Number of constraint equations m_c of the model.")
       .def("project", [](PyIntegrator& p, const ArrayLike& q, const ArrayLike& qd, double tol) {
             auto qv = p.integ().project(as_vector(q, "q", p.n()), as_vector(qd, "qdot", p.n()), tol);

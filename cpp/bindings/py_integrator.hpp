@@ -1,5 +1,9 @@
 // The Python-side integrator shared by the bindings.
 #pragma once
+#include <cmath>
+#include <string>
+#include <vector>
+
 #include "hovi/errors.hpp"
 #include "hovi/integrators/galerkin_integrator.hpp"
 #include "py_model.hpp"
@@ -34,6 +38,70 @@ class PyIntegrator {
     if (M == 0) throw InputError("the model has no controls (add actuators or controls first), but u was given");
     if (a && a.ndim() == 1) return as_vector(u, "u", M).replicate(1, S1);
     return as_matrix(u, "u (one row per control point)", S1, M).transpose();
+  }
+  // The controls of `steps` steps (of each of `batch` states; batch < 0: one state) as the core's
+  // rollouts take them, lead + (steps, (s+1) m) with lead = () or (batch,), from lead + (m,) held
+  // throughout, lead + (steps, m) held per step or lead + (steps, s+1, m) per control point; None
+  // for None. InputError (ValueError) for a model without controls, another shape or NaN/infinity.
+  py::object rollout_controls(const py::handle& u, long steps, long batch) const {
+    if (u.is_none()) return py::none();
+    const long S1 = s() + 1, M = m(), L = batch < 0 ? 0 : 1, B = batch < 0 ? 1 : batch;
+    if (M == 0) throw InputError("the model has no controls (add actuators or controls first), but u was given");
+    auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(u);
+    if (!a) throw InputError("u must be an array of real numbers");
+    const std::vector<py::ssize_t> shape(a.shape(), a.shape() + a.ndim());
+    auto is = [&](std::vector<py::ssize_t> tail) {
+      if (L) tail.insert(tail.begin(), batch);
+      return shape == tail;
+    };
+    auto text = [&](std::vector<py::ssize_t> t) {
+      if (L) t.insert(t.begin(), batch);
+      std::string out = "(";
+      for (std::size_t k = 0; k < t.size(); ++k) out += (k ? ", " : "") + std::to_string(t[k]);
+      return out + (t.size() == 1 ? ",)" : ")");
+    };
+    const int kind = is({M}) ? 0 : is({steps, M}) ? 1 : is({steps, S1, M}) ? 2 : -1;
+    if (kind < 0) {
+      std::vector<py::ssize_t> got(shape.begin(), shape.end());
+      std::string g = "(";
+      for (std::size_t k = 0; k < got.size(); ++k) g += (k ? ", " : "") + std::to_string(got[k]);
+      g += got.size() == 1 ? ",)" : ")";
+      throw InputError("u must have shape " + text({M}) + ", " + text({steps, M}) + ", " + text({steps, S1, M}) +
+                       ", got " + g);
+    }
+    const double* in = a.data();
+    for (py::ssize_t k = 0; k < a.size(); ++k)
+      if (!std::isfinite(in[k])) throw InputError("u contains NaN or infinity");
+    std::vector<py::ssize_t> out_shape{steps, S1 * M};
+    if (L) out_shape.insert(out_shape.begin(), batch);
+    py::array_t<double> out(out_shape);
+    double* o = out.mutable_data();
+    for (long b = 0; b < B; ++b)
+      for (long k = 0; k < steps; ++k)
+        for (long a_ = 0; a_ < S1; ++a_) {
+          const double* src = kind == 0 ? in + b * M : kind == 1 ? in + (b * steps + k) * M : in + ((b * steps + k) * S1 + a_) * M;
+          std::copy(src, src + M, o + ((b * steps + k) * S1 + a_) * M);
+        }
+    return std::move(out);
+  }
+  // The controls of one step from each of `count` states, (count, m) held or (count, s+1, m) per
+  // control point, as the core takes them: (count, (s+1) m); None for None.
+  py::object step_controls(const py::handle& u, long count) const {
+    if (u.is_none()) return py::none();
+    const long S1 = s() + 1, M = m();
+    auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(u);
+    if (!a) throw InputError("u must be an array of real numbers");
+    const bool held = a.ndim() == 2 && a.shape(0) == count && a.shape(1) == M;
+    const bool per_point = a.ndim() == 3 && a.shape(0) == count && a.shape(1) == S1 && a.shape(2) == M;
+    if (M && !held && !per_point) {
+      std::string g = "(";
+      for (py::ssize_t k = 0; k < a.ndim(); ++k) g += (k ? ", " : "") + std::to_string(a.shape(k));
+      g += a.ndim() == 1 ? ",)" : ")";
+      throw InputError("u must have shape (" + std::to_string(count) + ", " + std::to_string(M) + ") or (" +
+                       std::to_string(count) + ", " + std::to_string(S1) + ", " + std::to_string(M) + "), got " + g);
+    }
+    py::object per_step = rollout_controls(per_point ? py::object(a.reshape({count, 1L, S1, M})) : py::object(a), 1, count);
+    return per_step.attr("reshape")(count, -1);
   }
   // (s, m_c) Python array -> m_c x s
   MatX multipliers_arg(const py::handle& x) const {

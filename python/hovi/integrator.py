@@ -46,19 +46,18 @@ class Integrator:
     line search. The direction is exact: ``direction="recursive"`` is the paper's O(s^3 n)
     recursion (appendix Algorithms A.1/A.2), ``"dense"`` an LU of the DEL Jacobian from the
     linearisation (O(s^2 n^2) + O(s^3 n^3), cheaper for small n) and ``"auto"`` (default) the
-    faster of the two for this model and s (crossover measured in bench/direction_crossover.py).
+    faster of the two for this model and s (the crossover: bench/direction_crossover.py).
     ``reuse_jacobian`` (default True, simplified Newton) factors the Jacobian once per step at the
     predicted control points and keeps it while the iteration contracts by at least
     ``reuse_contraction`` per iteration, refactoring otherwise; False refactors every iteration
     (the paper's Newton). The first guess of a rollout step (``predictor``): ``"history"``
-    extrapolates the last two steps' control points (cheap; most steps converge in two iterations
-    at accuracy-relevant dt); ``"flow"`` integrates the continuous dynamics over the step from
-    q^k and M^{-1} p^k (classical Runge-Kutta: 4 s forward-dynamics passes for s <= 2, 9 for s = 3,
-    13 for s = 4; O(s n); at steps that resolve fast modes
-    only barely it saves most iterations and refactorisations: bench/README.md); ``"auto"``
-    (default) takes the flow for s >= 3 once a step from the history needed more than four
-    iterations (six where the direction is dense, whose iterations are cheap), trying the
-    history again after 16 steps (32, 64, ... after failed tries).
+    extrapolates the last two steps' control points (cheap); ``"flow"`` integrates the continuous
+    dynamics over the step from q^k and M^{-1} p^k by classical Runge-Kutta, O(s n), which helps
+    at steps that resolve fast modes only barely; ``"auto"`` (default) switches from the history to
+    the flow for higher s when a step needed many iterations and tries the history again later.
+    The substep counts and switching thresholds have one home, the C++ FlowPredictor and
+    PredictorChoice (cpp/include/hovi/integrators/flow_predictor.hpp); measurements in
+    bench/README.md.
     The converged step does not depend on the guess (to round-off, on the same solution branch).
 
     A step has converged when the next Newton correction, the estimated error of the iterate,
@@ -292,7 +291,7 @@ class Integrator:
             p0 = self.momentum(q0, v0)
         else:
             self._check_consistent(q0, None)
-        U = self._rollout_controls(u, steps)
+        U = self._core.rollout_controls(u, steps)
         bar = None
         if progress:
             from tqdm import tqdm  # type: ignore[import-untyped, unused-ignore]
@@ -323,40 +322,6 @@ class Integrator:
                                    f"{traj.status[-1]}, residual {traj.residuals[-1]:.3e}; try a smaller dt",
                                    trajectory=traj)
         return traj
-
-    def _rollout_controls(self, u: Optional[npt.ArrayLike], steps: int,
-                          lead: Tuple[int, ...] = ()) -> Optional[FloatArray]:
-        """u of shape lead + (m,), lead + (steps, m) or lead + (steps, s+1, m) as the core takes it:
-        lead + (steps, (s+1) m); lead = (B,) for a batch."""
-        m, S1 = self._core.n_controls, self.s + 1
-        if u is None:
-            return None
-        if m == 0:
-            raise ValueError("the model has no controls (add actuators or controls first), but u was given")
-        U = np.asarray(u, dtype=float)
-        if U.shape == lead + (m,):
-            U = np.broadcast_to(U[..., None, None, :], lead + (steps, S1, m))
-        elif U.shape == lead + (steps, m):
-            U = np.repeat(U[..., None, :], S1, axis=-2)
-        elif U.shape != lead + (steps, S1, m):
-            shapes = ", ".join(str(lead + x) for x in ((m,), (steps, m), (steps, S1, m)))
-            raise ValueError(f"u must have shape {shapes}, got {U.shape}")
-        if not np.all(np.isfinite(U)):
-            raise ValueError("u contains NaN or infinity")
-        return np.ascontiguousarray(U.reshape(lead + (steps, S1 * m)))
-
-    def _step_controls(self, u: Optional[npt.ArrayLike], count: int) -> Optional[FloatArray]:
-        """u of ``count`` states, (count, m) held or (count, s+1, m) per control point, as the core takes
-        it: (count, (s+1) m)."""
-        if u is None:
-            return None
-        U = np.asarray(u, dtype=float)
-        m, S1 = self._core.n_controls, self.s + 1
-        if m and U.shape not in ((count, m), (count, S1, m)):
-            raise ValueError(f"u must have shape ({count}, {m}) or ({count}, {S1}, {m}), got {U.shape}")
-        per_step = self._rollout_controls(U[:, None] if U.ndim == 3 else U, 1, (count,))
-        assert per_step is not None
-        return per_step.reshape(count, -1)
 
     def _batch_states(self, q: npt.ArrayLike, p: Optional[npt.ArrayLike], qdot: Optional[npt.ArrayLike],
                       names: Tuple[str, str, str]) -> Tuple[FloatArray, FloatArray, bool]:
@@ -402,7 +367,7 @@ class Integrator:
             raise ValueError("steps must be non-negative")
         Q, second, velocities = self._batch_states(q0s, p0s, qdot0s, ("q0s", "p0s", "qdot0s"))
         _check_trajectory_memory(steps, self.s, self.n, 2 * len(Q))  # the C++ results and the stacked arrays
-        U = self._rollout_controls(u, steps, (len(Q),))
+        U = self._core.rollout_controls(u, steps, len(Q))
         raw = self._core.rollout_batch(Q, second, velocities, steps, None if U is None else U.reshape(-1, U.shape[-1]),
                                        threads)
         B, S1 = len(Q), self.s + 1
@@ -425,7 +390,7 @@ class Integrator:
         B = 0, NaN or infinity, threads < 1, a state that violates the constraints).
         """
         Q, second, velocities = self._batch_states(qs, ps, qdots, ("qs", "ps", "qdots"))
-        U = self._step_controls(u, len(Q))
+        U = self._core.step_controls(u, len(Q))
         raw = self._core.step_batch(Q, second, velocities, U, threads)
         cp = raw["control_points"]
         return StepBatch(q_next=cp[:, -1].copy(), p_next=raw["p_next"], control_points=cp, converged=raw["converged"],
@@ -455,7 +420,7 @@ class Integrator:
         per control point: (steps, s+1, m) (or (B, steps, s+1, m)); None for None. ValueError for a
         shape rollout does not take, NaN or infinity."""
         lead = () if batch is None else (int(batch),)
-        U = self._rollout_controls(u, int(steps), lead)
+        U = self._core.rollout_controls(u, int(steps), None if batch is None else int(batch))
         return None if U is None else U.reshape(lead + (int(steps), self.s + 1, self._core.n_controls))
 
     def check_rollout_batch(self, q0s: npt.ArrayLike, steps: int, *, p0s: Optional[npt.ArrayLike] = None,
@@ -463,11 +428,11 @@ class Integrator:
         """ValueError as ``rollout_batch`` raises it for the shapes of the states (q0s, p0s or qdot0s
         (B, n)) and controls and for states that violate the constraints, without computing anything."""
         Q, _, _ = self._batch_states(q0s, p0s, qdot0s, ("q0s", "p0s", "qdot0s"))
-        self._rollout_controls(u, int(steps), (len(Q),))
+        self._core.rollout_controls(u, int(steps), len(Q))
 
     def check_step_batch(self, qs: npt.ArrayLike, ps: Optional[npt.ArrayLike] = None,
                          u: Optional[npt.ArrayLike] = None, *, qdots: Optional[npt.ArrayLike] = None) -> None:
         """ValueError as ``step_batch`` raises it for the shapes of the states (qs, ps or qdots (B, n))
         and controls and for states that violate the constraints, without computing anything."""
         Q, _, _ = self._batch_states(qs, ps, qdots, ("qs", "ps", "qdots"))
-        self._step_controls(u, len(Q))
+        self._core.step_controls(u, len(Q))

@@ -394,6 +394,13 @@ class Integrator:
         completed, status (B,) ('converged', the failed step's status, or 'error'), seconds (B,) and
         errors (B,) (an exception's message, or None).
         """
+    def rollout_controls(self, u: numpy.typing.ArrayLike | None, steps: typing.SupportsInt | typing.SupportsIndex, batch: typing.SupportsInt | typing.SupportsIndex | None = None) -> typing.Any:
+        """
+        The controls of `steps` steps as rollout and rollout_batch take them: u of shape lead + (m,)
+        (held throughout), lead + (steps, m) (held per step) or lead + (steps, s+1, m) (per control point),
+        lead = () or (batch,), as an array lead + (steps, (s+1) m); None for None. Raises ValueError for a
+        model without controls, another shape, NaN or infinity.
+        """
     def step(self, q: numpy.typing.ArrayLike, p: numpy.typing.ArrayLike, u: numpy.typing.ArrayLike | None = None, guess: numpy.typing.ArrayLike | None = None, multipliers: numpy.typing.ArrayLike | None = None) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], dict[str, typing.Any]]:
         """
         One step from q, p (n,) (GIL released): guess (s+1, n) for a single Newton solve, else the robust
@@ -409,6 +416,12 @@ class Integrator:
         iterate where a solve failed), p_next (B, n), multipliers (B, s, m_c), residual (B,), iterations,
         factorizations, residual_evaluations (B,), converged (B,), status (B,) (or 'error'), seconds (B,)
         and errors (B,) (an exception's message, or None).
+        """
+    def step_controls(self, u: numpy.typing.ArrayLike | None, count: typing.SupportsInt | typing.SupportsIndex) -> typing.Any:
+        """
+        The controls of one step from each of `count` states as step_batch takes them: u of shape
+        (count, m) (held) or (count, s+1, m) (per control point) as an array (count, (s+1) m); None for
+        None. Raises ValueError as rollout_controls.
         """
     def velocity(self, q: numpy.typing.ArrayLike, p: numpy.typing.ArrayLike) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         """

@@ -4,17 +4,14 @@
 // algorithm: for s <= 2 one per interval between consecutive Lobatto points (4 s forward-dynamics
 // passes); for s >= 3 m < s equal steps as long as the longest interval (rounded: m = 2 for s = 3,
 // 3 for s = 4), with the points read off the quintic Hermite interpolant of (q, q̇, q̈) at their
-// ends (4 m + 1 passes: 9 in place of 12, 13 in place of 16; measured as close to the
-// converged points as one step per interval, bench/README.md). The
-// joint forces (springs, dampers, actuators; the controls interpolated linearly between the
+// ends (4 m + 1 passes: 9 in place of 12, 13 in place of 16; as close to the converged points
+// as one step per interval, bench/README.md). The joint forces (springs, dampers, actuators; the controls interpolated linearly between the
 // control points) enter; force elements on bodies (BodyWrench) and constraints do not: it is a
 // starting point for Newton, whose converged step does not depend on it.
 //
 // Why: at steps that resolve a chain's fast modes only barely, the polynomial extrapolated from
 // the last two steps lands far from the solution and Newton needs many damped iterations and
-// refactorisations; measured on the 64-link pendulum (bench/README.md), s = 3 at dt = 0.015:
-// 20.6 iterations and 13.8 factorisations per step from the extrapolation, 5.1 and 2.3 from the
-// flow (its median distance to the converged control points 1.5e-4).
+// refactorisations; the flow starts much closer (figures: bench/README.md).
 #pragma once
 #include "hovi/integrators/newton_solver.hpp"
 #include "hovi/model/data.hpp"
@@ -49,15 +46,10 @@ class FlowPredictor {
 // and takes the flow once a step from the history needed more than kEnough Newton iterations
 // (kEnoughDense on the dense path), trying the history again after kProbeFirst steps (twice as
 // many after each probe that needed more, up to kProbeMax) and keeping it when that step needs no
-// more. At accuracy-relevant steps the history needs two to four iterations, the flow two, for
-// forward dynamics that cost about as much as one or two iterations (12-link pendulum, s = 3,
-// dt = 0.03, with one Runge-Kutta step per interval: history 3.2 iterations, 53 µs per step;
-// flow 2.0, 74 µs). A second factorisation
-// is no signal: near round-off the simplified Newton refactors on steps of three iterations.
-// (Measured on the n-link pendulum, bench/README.md: the flow cut s = 3 and 4 at n = 64,
-// dt = 0.015 from 20-25 iterations and 13-18 factorisations per step to 4-5 and 2, while for
-// s = 1 it took three times as many and for s = 2 more or about as many: their control points lie
-// too far from the continuous flow at such steps.)
+// more. At accuracy-relevant steps the history is as good and cheaper, hence the thresholds; for
+// s = 1, 2 the flow does not help (their control points lie too far from the continuous flow).
+// A second factorisation is no signal: near round-off the simplified Newton refactors on steps of
+// three iterations. (The measurements behind these choices: bench/README.md.)
 class PredictorChoice {
  public:
   static constexpr int kEnough = 4, kEnoughDense = 6, kProbeFirst = 16, kProbeMax = 1024;

@@ -26,9 +26,8 @@ struct SolverOptions {
   // solver's error does not accumulate over long runs (no energy drift, no error floor under
   // the method's own error). If the corrections stop shrinking at a level below 1e-10 (1 + ||q||)
   // with a fresh Jacobian, or no fraction of such a correction reduces the residual, the
-  // iterate is at the round-off floor of its residual: converged. (Measured on the 12-link
-  // pendulum, s = 3, dt = 0.01, 10^4 steps: energy error last/first tenth 2.4 at 1e-13 (a drift
-  // of the solver's error), 0.73 at 1e-14, 0.40 at 1e-15 for 1% more time.)
+  // iterate is at the round-off floor of its residual: converged. (Why 1e-15: a looser default
+  // lets the energy drift; bench/README.md.)
   double step_tol = kStepTol;
   // Optional residual test (0: off): also converged when ||r||_inf <= tol (1 + ||p^k||_inf).
   // A looser tol trades accuracy for fewer iterations.
@@ -42,8 +41,7 @@ struct SolverOptions {
   // fast (||Δq_k|| <= reuse_contraction ||Δq_{k-1}||) and full steps are accepted; refactor
   // otherwise. Never: a fresh factorisation every iteration (the paper's Newton); WithinStep:
   // factor at the predicted control points of each step and keep it for the step. (Keeping it
-  // across steps as well was measured and dropped: on the 8- and 12-link pendulums at dt = 0.01
-  // it needed 7 to 11 iterations per step instead of 2 to 4, for 0.01 to 0.4 factorisations.)
+  // across steps as well was tried and dropped: many more iterations; bench/README.md.)
   // A reused factorisation costs an O(s^2 n) solve (recursive) or O(s^2 n^2) (dense) instead
   // of a new factorisation. The stopping test above makes the converged step independent of
   // which Jacobian was used, to round-off.
