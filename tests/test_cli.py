@@ -210,3 +210,59 @@ def test_a_floating_base_is_said_to_free_fall(tmp_path, capsys):
     assert main(["simulate", str(tmp_path / "arm.urdf"), "--base", "floating", "--duration", "0.05", "--no-progress",
                  "--no-plot", "--output", str(tmp_path)]) == 0
     assert "floating base" in capsys.readouterr().out
+
+
+def test_optimize_writes_a_trajectory_file(tmp_path, capsys):
+    pytest.importorskip("cyipopt")
+    import hovi
+    assert main(["optimize", "pendulum", "--N", "10", "--quiet", "--no-plot", "--output", str(tmp_path)]) == 0
+    assert f"wrote {tmp_path / 'optimize_pendulum.npz'}" in capsys.readouterr().out
+    model = hovi.examples.models.pendulum(1)
+    traj = hovi.load_trajectory(tmp_path / "optimize_pendulum.npz", hovi.Integrator(model, s=2, dt=0.2))
+    assert traj.steps == 10 and abs(traj.q[-1, 0] - 3.14159265) < 1e-6 and traj.status == ["optimized"] * 10
+    assert abs(traj.energy[-1] - 2.4525) < 1e-3  # upright at rest: m g l / 2 of the 1-link pendulum
+    summary = json.loads((tmp_path / "optimize_pendulum.json").read_text())
+    assert summary["trajectory_file"] == str(tmp_path / "optimize_pendulum.npz")
+    # Hermite-Simpson: the optimised controls replayed with the VI
+    assert main(["optimize", "pendulum", "--N", "10", "--transcription", "hs-implicit", "--quiet", "--no-plot",
+                 "--output", str(tmp_path)]) == 0
+    assert "replayed with the order-4 VI: 10 of 10 steps" in capsys.readouterr().out
+    assert hovi.load_trajectory(tmp_path / "optimize_pendulum.npz").steps == 10
+
+
+def test_optimize_animate(tmp_path, capsys):
+    pytest.importorskip("cyipopt")
+    pytest.importorskip("hovi.viewer", reason="hovi[viewer] is not installed")
+    assert main(["optimize", "pendulum", "--N", "10", "--quiet", "--no-plot", "--animate", "--fps", "5",
+                 "--output", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert f"wrote {tmp_path / 'animation.html'}" in out and "MeshCat.Viewer" in (tmp_path / "animation.html").read_text()
+
+
+def test_an_unsuccessful_solve_names_the_worst_violation(tmp_path, capsys):
+    pytest.importorskip("cyipopt")
+    assert main(["optimize", "pendulum", "--N", "10", "--quiet", "--no-plot", "--max-iter", "3",
+                 "--output", str(tmp_path)]) == 1
+    err = capsys.readouterr().err
+    assert "NOT solved (Maximum number of iterations exceeded" in err
+    assert "is the dynamics (the discrete equations of motion) of stage" in err and "--N" in err
+    worst = json.loads((tmp_path / "optimize_pendulum.json").read_text())["most_violated"]
+    assert worst["violation"] > 1e-3 and "row" in worst
+
+
+def test_most_violated_names_a_bound():
+    pytest.importorskip("cyipopt")
+    from hovi import trajopt
+    from hovi.cli import most_violated
+    from hovi.examples.swingups import pendulum_swingup
+    result = trajopt.solve(pendulum_swingup(N=5), trajopt.VI(s=1), verbose=False)
+    tr = result.transcription
+    result.x[tr.u_off + 2] = 10.0   # |u| <= 4
+    worst = most_violated(result)
+    assert worst["what"] == "the bound on u of input 0 at point 2" and worst["violation"] == pytest.approx(6.0)
+    assert "control limits" in worst["relax"]
+    result.x[tr.u_off + 2] = 0.0
+    result.x[tr.q_off] = 1.0        # q(0) = 0 is fixed
+    worst = most_violated(result)
+    assert worst["what"].startswith("the bound on q of ") and "(a fixed boundary value)" in worst["what"]
+    assert "boundary" in worst["relax"]

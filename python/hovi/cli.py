@@ -205,15 +205,112 @@ def cmd_optimize(args) -> int:
     print(f"{result.status}\ncost {result.cost:.8g}, constraint violation {result.constraint_violation:.2e}, "
           f"{result.iterations} iterations in {result.wall_seconds:.2f} s ({1e3 * result.timing['per_iteration']:.2f} "
           f"ms each; {100 * result.timing['callbacks'] / result.wall_seconds:.0f}% in hovi's callbacks)")
+    if not result.success:
+        worst = most_violated(result)
+        summary["most_violated"] = worst
+        print(f"NOT solved ({result.status.rstrip('.')}): the largest violation, {worst['violation']:.3g}, is {worst['what']}; "
+              f"{worst['relax']}", file=sys.stderr)
     os.makedirs(args.output, exist_ok=True)
+    traj, how = optimized_trajectory(result, prob, args.order)
+    npz = os.path.join(args.output, f"optimize_{args.example}.npz")
+    traj.save(npz)
+    summary["trajectory_file"] = npz
     with open(os.path.join(args.output, f"optimize_{args.example}.json"), "w") as f:
         json.dump(summary, f, indent=2)
+    print(f"wrote {npz} ({how}; hovi.load_trajectory reads it with Integrator(model, s={traj.control_points.shape[1] - 1}, "
+          f"dt={prob.T / prob.N:g}))")
     if not args.no_plot:
         from .plotting import plot_optimized
         path = os.path.join(args.output, f"optimize_{args.example}.png")
         plot_optimized(result, prob, path, f"{args.example}, {label}, N = {prob.N}")
         print(f"wrote {path} and optimize_{args.example}.json")
+    if args.animate:
+        write_animation(prob.model, traj, args)
     return 0 if result.success else 1
+
+
+def optimized_trajectory(result, prob, order: int):
+    """The optimised motion as a hovi Trajectory (``save``/``load_trajectory``) and how it was made:
+    a VI solution's own states and control points (status 'optimized', no Newton iterations);
+    a Hermite-Simpson solution's controls replayed with the Galerkin VI of ``order`` on its N stages."""
+    from .trajectory import Trajectory
+    tr = result.transcription
+    if hasattr(tr, "replay") and hasattr(tr, "_stage_points"):
+        arrays = tr.trajectory(result.x)
+        cp = arrays["q"][tr._stage_points()]                               # (N, s+1, n)
+        knots = np.vstack([cp[:, 0, :], cp[-1:, -1, :]])
+        N = len(cp)
+        traj = Trajectory(t=arrays["t_knots"], q=knots, p=arrays["p"], control_points=cp,
+                          iterations=np.zeros(N, dtype=np.int64), residuals=np.full(N, np.nan),
+                          factorizations=np.zeros(N, dtype=np.int64), status=["optimized"] * N,
+                          multipliers=arrays["multipliers"], discretization=tr.integrator.discretization)
+        return traj, "the optimised states of the VI transcription"
+    integ = Integrator(prob.model, order=order, dt=prob.T / prob.N)
+    q_of_t, v_of_t, u_of_t = result.as_guess()
+    t = (np.arange(prob.N)[:, None] + integ.nodes[None, :]) * integ.dt
+    u = None
+    if prob.model.n_controls:
+        u = np.asarray(u_of_t(t.ravel())).reshape(prob.N, integ.s + 1, prob.model.n_controls)
+    traj = integ.rollout(np.asarray(q_of_t(np.zeros(1)))[0], prob.N, qdot0=np.asarray(v_of_t(np.zeros(1)))[0], u=u,
+                         raise_on_failure=False)
+    return traj, (f"the optimised controls replayed with the order-{integ.order} VI: {traj.steps} of {prob.N} steps; "
+                  f"the Hermite-Simpson states are not a VI trajectory")
+
+
+def most_violated(result) -> dict:
+    """The constraint row or variable bound violated most at the solution: its kind (dynamics,
+    path constraint, contact, boundary, input constraint, bound on q / p / v / u), where, by how much
+    and what to relax."""
+    from .trajopt.nlp import NLP
+    tr = result.transcription
+    nlp = NLP(tr)
+    x = result.x
+    g = nlp.constraints(x)
+    rows = np.maximum(nlp.cl - g, g - nlp.cu)
+    bounds = np.maximum(nlp.lower - x, x - nlp.upper)
+    r, b = int(np.argmax(rows)) if len(rows) else -1, int(np.argmax(bounds))
+    N, T = tr.problem.N, tr.problem.T
+    if r >= 0 and rows[r] >= bounds[b]:
+        kinds = [("the dynamics (the discrete equations of motion)", nlp.core.n_constraints,
+                  "more stages (--N), more iterations (--max-iter), or a longer final time (--T)")]
+        for c, _t, points, _w in nlp.paths:
+            kinds.append((f"the path constraint {getattr(c, 'name', None) or type(c).__name__}",
+                          points.shape[0] * len(c.lower), "relax that path constraint or give a longer --T"))
+        if nlp.contact_rows is not None:
+            kinds.append(("a contact condition", nlp.contact_rows.count, "a larger complementarity relaxation"))
+        n_eq = tr.linear_rows()[0].shape[0]
+        kinds.append(("a boundary condition", n_eq, "relax the boundary conditions or give a longer --T"))
+        kinds.append(("an input constraint", len(nlp.cl) - sum(k[1] for k in kinds), "relax the input constraints"))
+        start = 0
+        for what, count, relax in kinds:
+            if r < start + count:
+                where = ""
+                if what.startswith("the dynamics") and count % N == 0:
+                    k = (r - start) // (count // N)
+                    where = f" of stage {k} (t = {k * T / N:.3g}..{(k + 1) * T / N:.3g} s)"
+                return {"violation": float(rows[r]), "what": what + where, "relax": relax, "row": r}
+            start += count
+    blocks = sorted((getattr(tr, f"{name}_off"), name) for name in ("q", "p", "v", "a", "u", "l")
+                    if isinstance(getattr(tr, f"{name}_off", None), (int, np.integer)))
+    name, off = "variable", 0
+    for o, nm in blocks:
+        if o <= b:
+            name, off = nm, o
+    model = tr.problem.model
+    width = model.n_controls if name == "u" else model.n_constraints if name == "l" else model.n
+    label = {"q": "the bound on q", "p": "the bound on p", "v": "the bound on v", "a": "the bound on the acceleration",
+             "u": "the bound on u", "l": "the bound on a multiplier"}.get(name, "a variable bound")
+    where = ""
+    if width:
+        point, j = divmod(b - off, width)
+        joint = model.joint_names[j] if name in ("q", "p", "v", "a") else f"input {j}"
+        where = f" of {joint} at point {point}"
+    fixed = nlp.lower[b] == nlp.upper[b]
+    relax = ("a boundary state is fixed there: relax the boundary conditions or give a longer --T" if fixed else
+             "widen the control limits or give a longer --T" if name == "u" else
+             "widen the joint limits or give a longer --T")
+    return {"violation": float(bounds[b]), "what": label + where + (" (a fixed boundary value)" if fixed else ""),
+            "relax": relax, "variable": b}
 
 
 def cmd_example(args) -> int:
@@ -311,7 +408,8 @@ def main(argv=None) -> int:
                                      "limits and a fixed final time; a slider-crank driven to a target) with the "
                                      "variational integrator or Hermite-Simpson collocation as the dynamics; print "
                                      "IPOPT's progress and a summary; replay the optimised controls with the "
-                                     "integrator; write a plot and a JSON summary.")
+                                     "integrator; write the trajectory (npz, hovi.load_trajectory), a plot and a "
+                                     "JSON summary; a solve that fails names the constraint or bound violated most.")
     opt.add_argument("example", choices=names(OPTIMIZATION),
                      help="the example: " + "; ".join(f"{e.name}: {e.description}" for e in entries(OPTIMIZATION).values()))
     opt.add_argument("--transcription", default="vi", choices=["vi", "hs-implicit", "hs-explicit"],
@@ -323,8 +421,14 @@ def main(argv=None) -> int:
                      help="controls at every sample point (default) or held over each stage")
     opt.add_argument("--max-iter", type=count, default=3000, help="IPOPT iteration limit (default 3000)")
     opt.add_argument("--quiet", action="store_true", help="no per-iteration progress")
-    opt.add_argument("--output", default="results", help="folder for the plot and JSON (default: results)")
+    opt.add_argument("--output", default="results", help="folder for the trajectory, plot and JSON (default: results)")
     opt.add_argument("--no-plot", action="store_true", help="skip the plot")
+    opt.add_argument("--animate", action="store_true",
+                     help="also write animation.html (3D view, opens without a server) and animation.mp4 "
+                          "(needs hovi[viewer]: meshcat, imageio-ffmpeg, trimesh)")
+    opt.add_argument("--fps", type=positive, default=20.0, help="frames per second of the animation (default: 20)")
+    opt.add_argument("--package-dir", action="append", default=[], metavar="DIR",
+                     help="directory searched for package:// meshes (repeatable; then ROS_PACKAGE_PATH)")
     opt.set_defaults(func=cmd_optimize)
     ROBOT_EXAMPLES = names(ROBOT_EXAMPLE)
     ex = sub.add_parser("example", help="the paper's robot examples (Sec. 6): " + ", ".join(ROBOT_EXAMPLES),
