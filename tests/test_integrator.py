@@ -313,3 +313,15 @@ def test_automatic_direction_follows_the_measured_crossover():
         ratio = row["dense_us"] / row["recursive_us"]
         if abs(ratio - 1) > 0.1:
             assert auto == ("dense" if ratio < 1 else "recursive"), row
+
+
+def test_the_integrators_options_are_keyword_only_and_steps_a_whole_number():
+    model = hovi.examples.models.pendulum(2)
+    with pytest.raises(TypeError):
+        hovi.Integrator(model, 4, dt=0.01)  # s = 4 or order 4? neither: say which
+    integ = hovi.Integrator(model, s=2, dt=0.01)
+    assert integ.order == 4 and hovi.Integrator(model, order=4, dt=0.01).s == 2
+    for steps in (10.0, 10.5, "10", True):
+        with pytest.raises(ValueError, match="steps must be a whole number"):
+            integ.rollout(np.zeros(2), steps)
+    assert integ.rollout(np.zeros(2), np.int64(3)).steps == 3

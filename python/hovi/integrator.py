@@ -80,7 +80,7 @@ class Integrator:
     accurate with respect to a smooth u(t).
     """
 
-    def __init__(self, model: _core.Model, s: Optional[int] = None, *, order: Optional[int] = None, dt: float = 0.01,
+    def __init__(self, model: _core.Model, *, s: Optional[int] = None, order: Optional[int] = None, dt: float = 0.01,
                  tol: float = 0.0, step_tol: float = 1e-15, max_iterations: int = 30, max_backtracks: int = 12,
                  line_search: bool = True, direction: str = "auto", reuse_jacobian: bool = True,
                  reuse_contraction: float = 0.1, predictor: str = "auto") -> None:
@@ -278,6 +278,8 @@ class Integrator:
         Raises ConvergenceError at the first failed step (its .trajectory holds what was done),
         unless raise_on_failure=False, in which case the trajectory stops there.
         """
+        if isinstance(steps, (bool, np.bool_)) or not isinstance(steps, (int, np.integer)):
+            raise ValueError(f"steps must be a whole number (an int), got {steps!r} ({type(steps).__name__})")
         steps = int(steps)
         if steps < 0:
             raise ValueError("steps must be non-negative")
