@@ -57,7 +57,7 @@ def ancestors(name: str) -> List[str]:
 
 
 def is_known(name: str) -> bool:
-    """A hovi module, or a submodule of a compiled extension (hovi._core.baselines)."""
+    """A hovi module, or a submodule of a compiled extension (hovi._core.trajopt)."""
     return name in KNOWN or any(name.startswith(e + ".") for e in EXTENSIONS)
 
 

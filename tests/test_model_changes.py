@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 import hovi
+import hovi.baselines
 
 
 def changes():
@@ -72,8 +73,8 @@ def test_a_new_integrator_sees_the_change_and_a_copy_keeps_the_old_model():
 
 def test_baselines_raise_after_a_change():
     model = hovi.examples.models.pendulum(2)
-    hs = hovi._core.baselines.HermiteSimpson(model, 0.01)
-    ad = hovi._core.baselines.AutodiffDel(model, 1, 0.01)
+    hs = hovi.baselines.HermiteSimpson(model, 0.01)
+    ad = hovi.baselines.AutodiffDel(model, 1, 0.01)
     model.add_spring(0, 10.0)
     with pytest.raises(hovi.ModelError, match=r"changed \(add_spring\).*HermiteSimpson"):
         hs.rollout(np.zeros(2), np.zeros(2), 3)

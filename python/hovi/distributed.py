@@ -136,7 +136,8 @@ def step_batch(integrator: Integrator, qs: npt.ArrayLike, ps: Optional[npt.Array
 
 def _one_step_task(model: _core.Model, dt: float, q0: np.ndarray, qdot0: np.ndarray, method: str, tol: float,
                    max_iterations: int, threads: int) -> dict[str, Any]:
-    result: dict[str, Any] = _core.baselines.one_step_batch(model, dt, q0, qdot0, method, tol, max_iterations, threads)
+    from . import baselines  # on the worker: the baselines extension, an optional part of the install
+    result: dict[str, Any] = baselines.one_step_batch(model, dt, q0, qdot0, method, tol, max_iterations, threads)
     return result
 
 
