@@ -8,6 +8,7 @@
 #include "hovi/integrators/dense_direction.hpp"
 #include "hovi/integrators/batch.hpp"
 #include "hovi/integrators/galerkin_integrator.hpp"
+#include "hovi/quadrature/lobatto.hpp"
 #include "py_integrator.hpp"
 
 namespace hovi::py_bind {
@@ -50,6 +51,16 @@ MatX batch_states(const PyIntegrator& p, const py::handle& x, const char* name, 
 }  // namespace
 
 void bind_integrator(py::module_& m) {
+  m.def("lagrange_basis", [](int s, const ArrayLike& x, bool derivative) {
+        const Quadrature quad(s);
+        const VecX xs = as_vector(x, "x", -1);
+        MatX L(xs.size(), s + 1);
+        for (Eigen::Index k = 0; k < xs.size(); ++k)
+          L.row(k) = (derivative ? quad.basis_derivative(xs[k]) : quad.basis(xs[k])).transpose();
+        return L;
+      }, py::arg("s"), py::arg("x"), py::arg("derivative") = false,
+      "x: (K,) points (on [0, 1] or beyond); returns (K, s+1): l_b(x_k), the Lagrange polynomials through the "
+      "s+1 Lobatto nodes (Integrator.nodes), or their derivatives l_b'(x_k).");
   py::class_<PyIntegrator>(m, "Integrator", R"doc(
 The core of hovi.Integrator (use that: it normalises arguments and returns Trajectory and
 StepInfo objects). Arrays: q, p (n,); control points (s+1, n), row a = q^{k,a}; controls u (m,)

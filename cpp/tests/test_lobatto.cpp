@@ -65,3 +65,17 @@ TEST(Lobatto, RejectsBadS) {
   EXPECT_THROW(Quadrature(0), InputError);
   EXPECT_THROW(Quadrature(17), InputError);
 }
+
+// basis_derivative: the differentiation matrix at the nodes, and central differences of basis between them.
+TEST_P(LobattoOrder, BasisDerivativeMatchesDifferentiationMatrixAndDifferences) {
+  const int s = GetParam();
+  const Quadrature Q(s);
+  for (int a = 0; a <= s; ++a)
+    EXPECT_LT((Q.basis_derivative(Q.c[a]).transpose() - Q.b.row(a)).cwiseAbs().maxCoeff(), 1e-10 * std::pow(s, 2));
+  const double h = 1e-6;
+  for (double x : {-0.2, 0.13, 0.5, 0.77, 1.1}) {
+    const VecX fd = (Q.basis(x + h) - Q.basis(x - h)) / (2 * h);
+    EXPECT_LT((Q.basis_derivative(x) - fd).cwiseAbs().maxCoeff(), 1e-6 * std::pow(s, 2)) << "x " << x;
+  }
+}
+

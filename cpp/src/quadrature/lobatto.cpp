@@ -59,4 +59,17 @@ VecX Quadrature::basis(double x) const {
   return l;
 }
 
+VecX Quadrature::basis_derivative(double x) const {
+  VecX d = VecX::Zero(s + 1);
+  for (int j = 0; j <= s; ++j)
+    for (int m = 0; m <= s; ++m) {  // the product rule: the factor of node m differentiated
+      if (m == j) continue;
+      double term = 1.0 / (c[j] - c[m]);
+      for (int k = 0; k <= s; ++k)
+        if (k != j && k != m) term *= (x - c[k]) / (c[j] - c[k]);
+      d[j] += term;
+    }
+  return d;
+}
+
 }  // namespace hovi

@@ -8,7 +8,7 @@ import numpy.typing
 import os
 import typing
 from . import trajopt
-__all__: list[str] = ['Integrator', 'Linearizer', 'Model', 'ModelError', 'URDFError', 'body_point_kinematics', 'march', 'pendulum', 'trajopt']
+__all__: list[str] = ['Integrator', 'Linearizer', 'Model', 'ModelError', 'URDFError', 'body_point_kinematics', 'lagrange_basis', 'march', 'pendulum', 'trajopt']
 class ModelError(ValueError):
     """
     An invalid model or model input (a ValueError): a bad body, joint, force or constraint, an unknown joint or body name, or a call on an Integrator or Linearizer whose model changed after it was made.
@@ -509,6 +509,10 @@ def body_point_kinematics(model: Model, q: numpy.typing.ArrayLike, bodies: colle
     World positions (P, m, 3) and Jacobians (P, m, 3, n) of m body points at P configurations q (P, n):
     point i is points[i] (in the body's joint frame, as for add_point_constraint) of body bodies[i].
     One forward kinematics per configuration serves all the points.
+    """
+def lagrange_basis(s: typing.SupportsInt | typing.SupportsIndex, x: numpy.typing.ArrayLike, derivative: bool = False) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+    """
+    x: (K,) points (on [0, 1] or beyond); returns (K, s+1): l_b(x_k), the Lagrange polynomials through the s+1 Lobatto nodes (Integrator.nodes), or their derivatives l_b'(x_k).
     """
 def pendulum(n: typing.SupportsInt | typing.SupportsIndex, length: typing.SupportsFloat | typing.SupportsIndex = 0.5, mass: typing.SupportsFloat | typing.SupportsIndex = 1.0, radius: typing.SupportsFloat | typing.SupportsIndex = 0.02) -> Model:
     """

@@ -111,8 +111,8 @@ class HermiteSimpsonTranscription(Transcription):
         if traj.steps != pr.N:
             return None
         cp = traj.control_points
-        return self.guess(lambda t: piecewise_polynomial(pr.dt, integ.nodes, cp, t),
-                          lambda t: piecewise_polynomial(pr.dt, integ.nodes, cp, t, derivative=True),
+        return self.guess(lambda t: piecewise_polynomial(pr.dt, integ.s, cp, t),
+                          lambda t: piecewise_polynomial(pr.dt, integ.s, cp, t, derivative=True),
                           self.linear_interpolants()[2])
 
     def guess(self, q_of_t, v_of_t, u_of_t):
@@ -148,11 +148,11 @@ class HermiteSimpsonTranscription(Transcription):
         U = x[self.u_off:self.u_off + self.n_u * self.m].reshape(self.n_u, self.m)
         if self.problem.controls == "held":
             return lambda t: U[np.clip((np.atleast_1d(t) / self.dt).astype(int), 0, self.N - 1)]
-        return lambda t: piecewise_polynomial(self.dt, np.array([0.0, 0.5, 1.0]), U[self._points_of_samples()], t)
+        return lambda t: piecewise_polynomial(self.dt, 2, U[self._points_of_samples()], t)
 
     def interpolants(self, x):
         """q(t) and v(t): the quadratics through each interval's knot, midpoint and knot values."""
-        tr, j, nodes = self.trajectory(x), self._points_of_samples(), np.array([0.0, 0.5, 1.0])
+        tr, j = self.trajectory(x), self._points_of_samples()
         Q, V = tr["q"][j], tr["v"][j]
-        return (lambda t: piecewise_polynomial(self.dt, nodes, Q, t), lambda t: piecewise_polynomial(self.dt, nodes, V, t),
+        return (lambda t: piecewise_polynomial(self.dt, 2, Q, t), lambda t: piecewise_polynomial(self.dt, 2, V, t),
                 self.control_function(x))

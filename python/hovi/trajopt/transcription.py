@@ -13,6 +13,7 @@ from typing import Any, Callable, Tuple, Union
 import numpy as np
 import scipy.sparse as sp
 
+from .. import _core
 from .problem import Problem
 from .result import Result
 from .samples import SampleMap
@@ -55,8 +56,9 @@ class Transcription:
         raise NotImplementedError
 
     def stage_nodes(self) -> np.ndarray:
-        """Nodes (K,) on [0, 1] of a stage's configuration points: stage k's configuration is the
-        polynomial through q_points k (K - 1) .. k (K - 1) + K - 1 at these nodes (``interpolants``)."""
+        """Nodes (K,) on [0, 1] of a stage's configuration points, the Lobatto nodes of s = K - 1: stage
+        k's configuration is the polynomial through q_points k (K - 1) .. k (K - 1) + K - 1 at these
+        nodes (``interpolants``)."""
         raise NotImplementedError
 
     def bounds(self) -> Tuple[np.ndarray, np.ndarray]:
@@ -155,41 +157,15 @@ class Transcription:
         h = tq[first + K - 1] - tq[first]
         t = (tq[first][:, None] + h[:, None] * tau[None, :]).ravel()
         points = np.repeat((first[:, None] + np.arange(K))[:, None, :], len(tau), 1).reshape(-1, K)
-        return t, points, np.tile(lagrange_basis(nodes, tau), (N, 1))
+        return t, points, np.tile(_core.lagrange_basis(K - 1, tau), (N, 1))
 
     def _tile_bounds(self, lower, upper, count):
         return np.tile(lower, count), np.tile(upper, count)
 
 
-def lagrange_basis(nodes: np.ndarray, x: np.ndarray) -> np.ndarray:
-    """L[k, b] = l_b(x_k) for the Lagrange polynomials through ``nodes``."""
-    x = np.atleast_1d(x)[:, None]
-    L = np.ones((x.shape[0], len(nodes)))
-    for b, nb in enumerate(nodes):
-        for c, nc in enumerate(nodes):
-            if c != b:
-                L[:, b] *= (x[:, 0] - nc) / (nb - nc)
-    return L
-
-
-def lagrange_derivative(nodes: np.ndarray, x: np.ndarray) -> np.ndarray:
-    """D[k, b] = l_b'(x_k)."""
-    x = np.atleast_1d(x)
-    D = np.zeros((len(x), len(nodes)))
-    for b, nb in enumerate(nodes):
-        for j, nj in enumerate(nodes):
-            if j == b:
-                continue
-            term = np.full(len(x), 1.0 / (nb - nj))
-            for c, nc in enumerate(nodes):
-                if c not in (b, j):
-                    term *= (x - nc) / (nb - nc)
-            D[:, b] += term
-    return D
-
-
-def piecewise_polynomial(t_stage: float, nodes: np.ndarray, values: np.ndarray, t: np.ndarray, derivative=False):
-    """Evaluate the piecewise polynomial with values[k, a] (stages k, nodes a on [0, 1]) at t."""
+def piecewise_polynomial(t_stage: float, s: int, values: np.ndarray, t: np.ndarray, derivative=False):
+    """Evaluate at t the piecewise polynomial with values[k, a] at stage k's Lobatto nodes c^a of s
+    (Integrator.nodes; s = 2: start, midpoint, end), or its time derivative."""
     N = values.shape[0]
     t = np.atleast_1d(np.asarray(t, float))
     k = np.clip(np.floor(t / t_stage).astype(int), 0, N - 1)
@@ -197,6 +173,6 @@ def piecewise_polynomial(t_stage: float, nodes: np.ndarray, values: np.ndarray, 
     out = np.zeros((len(t),) + values.shape[2:])
     for kk in np.unique(k):
         sel = k == kk
-        B = (lagrange_derivative(nodes, x[sel]) / t_stage) if derivative else lagrange_basis(nodes, x[sel])
+        B = _core.lagrange_basis(s, x[sel], derivative) / (t_stage if derivative else 1.0)
         out[sel] = np.tensordot(B, values[kk], axes=(1, 0))
     return out

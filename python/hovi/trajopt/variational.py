@@ -11,6 +11,7 @@ import scipy.sparse as sp
 
 from .. import _core
 from ..integrator import Integrator
+from ..trajectory import Trajectory
 from .problem import Problem
 from .samples import SampleMap
 from .transcription import Transcription, TranscriptionMethod, piecewise_polynomial
@@ -179,13 +180,24 @@ class VariationalTranscription(Transcription):
         U = self.stage_controls(x)
         if self.problem.controls == "held":
             return lambda t: U[np.clip((np.atleast_1d(t) / self.dt).astype(int), 0, self.N - 1), 0]
-        return lambda t: piecewise_polynomial(self.dt, self.nodes, U, t)
+        return lambda t: piecewise_polynomial(self.dt, self.s, U, t)
 
     def interpolants(self, x):
         """q(t): the degree-s polynomial through each stage's control points; v(t) its derivative."""
         Q = x[self.q_off:self.p_off].reshape(-1, self.n)[self._stage_points()]
-        return (lambda t: piecewise_polynomial(self.dt, self.nodes, Q, t),
-                lambda t: piecewise_polynomial(self.dt, self.nodes, Q, t, derivative=True), self.control_function(x))
+        return (lambda t: piecewise_polynomial(self.dt, self.s, Q, t),
+                lambda t: piecewise_polynomial(self.dt, self.s, Q, t, derivative=True), self.control_function(x))
+
+    def solution_trajectory(self, x) -> Trajectory:
+        """The solution x as a hovi.Trajectory (``save``, ``load_trajectory``): its own configurations,
+        control points, momenta and multipliers, status 'optimized' (no Newton iterations, residuals NaN)."""
+        arrays = self.trajectory(x)
+        cp = arrays["q"][self._stage_points()]                               # (N, s+1, n)
+        return Trajectory(t=arrays["t_knots"], q=np.vstack([cp[:, 0, :], cp[-1:, -1, :]]), p=arrays["p"],
+                          control_points=cp, iterations=np.zeros(self.N, dtype=np.int64),
+                          residuals=np.full(self.N, np.nan), factorizations=np.zeros(self.N, dtype=np.int64),
+                          status=["optimized"] * self.N, multipliers=arrays["multipliers"],
+                          discretization=self.integrator.discretization)
 
     def replay(self, x):
         """Re-simulate the optimised controls with the Integrator from the optimised (q^0, p^0)."""

@@ -17,6 +17,8 @@ struct Quadrature {
 
   // Lagrange basis l_b(x) at x (x may lie outside [0, 1], for extrapolation).
   VecX basis(double x) const;
+  // Its derivative l_b'(x) (at the nodes, row a of b).
+  VecX basis_derivative(double x) const;
 };
 
 }  // namespace hovi
