@@ -233,18 +233,10 @@ def optimized_trajectory(result, prob, order: int):
     """The optimised motion as a hovi Trajectory (``save``/``load_trajectory``) and how it was made:
     a VI solution's own states and control points (status 'optimized', no Newton iterations);
     a Hermite-Simpson solution's controls replayed with the Galerkin VI of ``order`` on its N stages."""
-    from .trajectory import Trajectory
+    from .trajopt.variational import VariationalTranscription
     tr = result.transcription
-    if hasattr(tr, "replay") and hasattr(tr, "_stage_points"):
-        arrays = tr.trajectory(result.x)
-        cp = arrays["q"][tr._stage_points()]                               # (N, s+1, n)
-        knots = np.vstack([cp[:, 0, :], cp[-1:, -1, :]])
-        N = len(cp)
-        traj = Trajectory(t=arrays["t_knots"], q=knots, p=arrays["p"], control_points=cp,
-                          iterations=np.zeros(N, dtype=np.int64), residuals=np.full(N, np.nan),
-                          factorizations=np.zeros(N, dtype=np.int64), status=["optimized"] * N,
-                          multipliers=arrays["multipliers"], discretization=tr.integrator.discretization)
-        return traj, "the optimised states of the VI transcription"
+    if isinstance(tr, VariationalTranscription):
+        return tr.solution_trajectory(result.x), "the optimised states of the VI transcription"
     integ = Integrator(prob.model, order=order, dt=prob.T / prob.N)
     q_of_t, v_of_t, u_of_t = result.as_guess()
     t = (np.arange(prob.N)[:, None] + integ.nodes[None, :]) * integ.dt
