@@ -47,7 +47,7 @@ def reference_error(result, prob, refine=64):
     if traj.steps < steps:
         return float("nan")
     t, q = result.trajectory["t"], result.trajectory["q"]
-    q_ref = piecewise_polynomial(integ.dt, integ.nodes, traj.control_points, t)
+    q_ref = piecewise_polynomial(integ.dt, integ.s, traj.control_points, t)
     return float(np.abs(q - q_ref).max())
 
 

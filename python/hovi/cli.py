@@ -367,6 +367,16 @@ def add_model_args(p):
     p.add_argument("--seed", type=seed, default=0, help="seed of the random initial state (default: 0)")
 
 
+def add_animation_arguments(parser: argparse.ArgumentParser) -> None:
+    """--animate, --fps and --package-dir: the same for every command that animates its motion."""
+    parser.add_argument("--animate", action="store_true",
+                        help="also write animation.html (3D view, opens without a server) and animation.mp4 "
+                             "(needs hovi[viewer]: meshcat, imageio-ffmpeg, trimesh)")
+    parser.add_argument("--fps", type=positive, default=20.0, help="frames per second of the animation (default: 20)")
+    parser.add_argument("--package-dir", action="append", default=[], metavar="DIR",
+                        help="directory searched for package:// meshes (repeatable; then ROS_PACKAGE_PATH)")
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="hovi", description="Higher-order variational integrators for robots.")
     parser.add_argument("--version", action="version", version=f"hovi {__version__}")
@@ -388,12 +398,7 @@ def main(argv=None) -> int:
     sim.add_argument("--output", default="results", help="folder for the plots and JSON (default: results)")
     sim.add_argument("--no-plot", action="store_true", help="skip the plots")
     sim.add_argument("--no-progress", action="store_true", help="no progress bar")
-    sim.add_argument("--animate", action="store_true",
-                     help="also write animation.html (3D view, opens without a server) and animation.mp4 "
-                          "(needs hovi[viewer]: meshcat, imageio-ffmpeg, trimesh)")
-    sim.add_argument("--fps", type=positive, default=20.0, help="frames per second of the animation (default: 20)")
-    sim.add_argument("--package-dir", action="append", default=[], metavar="DIR",
-                     help="directory searched for package:// meshes (repeatable; then ROS_PACKAGE_PATH)")
+    add_animation_arguments(sim)
     sim.set_defaults(func=cmd_simulate)
     opt = sub.add_parser("optimize", help="solve a built-in trajectory optimisation with IPOPT",
                          description="Solve a built-in trajectory-optimisation example (swing-ups with torque "
@@ -415,12 +420,7 @@ def main(argv=None) -> int:
     opt.add_argument("--quiet", action="store_true", help="no per-iteration progress")
     opt.add_argument("--output", default="results", help="folder for the trajectory, plot and JSON (default: results)")
     opt.add_argument("--no-plot", action="store_true", help="skip the plot")
-    opt.add_argument("--animate", action="store_true",
-                     help="also write animation.html (3D view, opens without a server) and animation.mp4 "
-                          "(needs hovi[viewer]: meshcat, imageio-ffmpeg, trimesh)")
-    opt.add_argument("--fps", type=positive, default=20.0, help="frames per second of the animation (default: 20)")
-    opt.add_argument("--package-dir", action="append", default=[], metavar="DIR",
-                     help="directory searched for package:// meshes (repeatable; then ROS_PACKAGE_PATH)")
+    add_animation_arguments(opt)
     opt.set_defaults(func=cmd_optimize)
     ROBOT_EXAMPLES = names(ROBOT_EXAMPLE)
     ex = sub.add_parser("example", help="the paper's robot examples (Sec. 6): " + ", ".join(ROBOT_EXAMPLES),
