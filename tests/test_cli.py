@@ -266,3 +266,58 @@ def test_most_violated_names_a_bound():
     worst = most_violated(result)
     assert worst["what"].startswith("the bound on q of ") and "(a fixed boundary value)" in worst["what"]
     assert "boundary" in worst["relax"]
+
+
+def test_a_quiet_solve_says_how_far_it_is(tmp_path, capsys, monkeypatch):
+    """--quiet turns IPOPT's lines off, not the heartbeat: a line on stderr every HEARTBEAT_SECONDS."""
+    pytest.importorskip("cyipopt")
+    import hovi.cli
+    from hovi.trajopt.solvers import ipopt
+    seen = []
+    with ipopt.on_iteration(lambda k, cost, inf_pr, inf_du: seen.append(k)):
+        monkeypatch.setattr(hovi.cli, "HEARTBEAT_SECONDS", 0.02)
+        assert main(["optimize", "pendulum", "--N", "10", "--quiet", "--no-plot", "--output", str(tmp_path)]) == 0
+    assert seen[0] == 0 and len(seen) > 5 and ipopt._ITERATION_HOOKS == []  # the CLI's hook is gone
+    err = capsys.readouterr().err
+    assert "solving pendulum: " in err and "IPOPT iterations so far" in err
+    beat = hovi.cli.Heartbeat("x", every=0.01)
+    with beat:
+        beat.iteration(0, 1.0, 0.5, 0.1)
+        beat.iteration(1, 1.0, 0.25, 0.1)
+    assert beat.iterations == 1 and beat.infeasibility == 0.25
+
+
+def test_animations_of_a_floating_base_draw_the_ground_and_missing_meshes_warn(tmp_path, capsys):
+    pytest.importorskip("hovi.viewer", reason="hovi[viewer] is not installed")
+    (tmp_path / "arm.urdf").write_text(URDF_2DOF)
+    assert main(["simulate", str(tmp_path / "arm.urdf"), "--base", "floating", "--duration", "0.1", "--no-progress",
+                 "--no-plot", "--animate", "--fps", "10", "--output", str(tmp_path)]) == 0
+    html = (tmp_path / "animation.html").read_text()
+    assert "hovi-time" in html
+    import test_viewer
+    assert test_viewer.scene_objects(tmp_path / "animation.html").get("/meshcat/hovi/ground/grid") == "LineSegments"
+    from test_geometry import MISSING_MESH_URDF
+    (tmp_path / "mesh.urdf").write_text(MISSING_MESH_URDF)
+    assert main(["simulate", str(tmp_path / "mesh.urdf"), "--duration", "0.1", "--no-progress", "--no-plot",
+                 "--animate", "--fps", "10", "--output", str(tmp_path / "mesh")]) == 0
+    err = capsys.readouterr().err
+    assert err.count("hovi: warning: 1 mesh file(s) not found") == 1 and "package://nowhere/a.stl" in err
+    assert "--package-dir" in err and "Traceback" not in err
+    assert (tmp_path / "mesh" / "animation.mp4").stat().st_size > 1000
+
+
+def test_plots_have_legends_and_equal_axes():
+    import hovi
+    from hovi.plotting import configuration_figure, control_labels, pyplot
+    model = hovi.examples.models.acrobot()
+    fig = configuration_figure(model, [0.3, 0.4])
+    ax = fig.axes[0]
+    labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert "centres of mass" in labels and "joints" in labels
+    assert {t.get_text().strip() for t in ax.texts} >= set(model.joint_names)
+    limits = [ax.get_xlim(), ax.get_ylim(), ax.get_zlim()]
+    assert len({round(hi - lo, 9) for lo, hi in limits}) == 1
+    aspect = ax.get_box_aspect()
+    assert aspect[0] == pytest.approx(aspect[1]) == pytest.approx(aspect[2])
+    pyplot().close(fig)
+    assert control_labels(model) == ["u[0] (elbow)"]

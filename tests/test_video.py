@@ -59,6 +59,44 @@ def test_meshes_render(tmp_path):
     assert (frames[0] < 200).any(axis=-1).sum() > 2000  # the arm's grey on the white background
 
 
+def robot_box(frame, background=255, threshold=40):
+    """(width, height) fractions of the frame spanned by the pixels that are not the white background."""
+    rows, cols = np.nonzero((background - frame.astype(int)).max(axis=-1) > threshold)
+    return (cols.max() - cols.min() + 1) / frame.shape[1], (rows.max() - rows.min() + 1) / frame.shape[0]
+
+
+def test_the_camera_fits_the_motion_and_frames_show_the_time(tmp_path, monkeypatch):
+    """A UR5 with its example-robot-data meshes (found without package_dirs) fills the frame: its
+    bounding box covers more than half of it; the time stamp is drawn in the top left corner."""
+    import imageio.v3 as iio
+
+    monkeypatch.delenv("ROS_PACKAGE_PATH", raising=False)
+    model = hovi.Model.from_urdf(erd_urdf("ur_description/urdf/ur5_robot.urdf"))
+    q = np.array([[0, -1.0, 1.0, 0, 0.5, 0], [0.5, -0.5, 1.5, 0, 0.5, 0]])
+    plain = iio.imread(video.render_video(model, q, tmp_path / "ur5.gif", times=[0, 0.1], fps=10, time_stamp=False),
+                       index=None)
+    width, height = robot_box(plain[0])
+    assert width * height > 0.5 and max(width, height) > 0.85, f"the UR5 spans {width:.0%} x {height:.0%}"
+    stamped = iio.imread(video.render_video(model, q, tmp_path / "ur5_t.gif", times=[0, 0.1], fps=10), index=None)
+    corner = np.abs(stamped[1, :40, :160].astype(int) - plain[1, :40, :160].astype(int)).max(axis=-1) > 40
+    assert corner.sum() > 50  # "t = 0.10 s"
+
+
+def test_ground_grid_and_progress_bar(tmp_path, capsys):
+    import imageio.v3 as iio
+
+    model = hovi.examples.models.pendulum(2)
+    q = np.array([[0.3, 0.2], [0.5, 0.1]])
+    bare = iio.imread(video.render_video(model, q, tmp_path / "a.gif", times=[0, 0.1], fps=10, time_stamp=False),
+                      index=None)
+    grid = iio.imread(video.render_video(model, q, tmp_path / "b.gif", times=[0, 0.1], fps=10, time_stamp=False,
+                                         ground=-1.2, progress=True), index=None)
+    assert (np.abs(bare[0].astype(int) - grid[0].astype(int)).max(axis=-1) > 40).sum() > 200
+    assert "rendering b.gif" in capsys.readouterr().err
+    with pytest.raises(ValueError, match="ground must be a finite height"):
+        video.render_video(model, q, tmp_path / "c.gif", times=[0, 0.1], ground=np.inf)
+
+
 def test_bad_arguments_raise(tmp_path):
     model = hovi.examples.models.pendulum(2)
     with pytest.raises(ValueError, match=r"\.mp4 or \.gif"):

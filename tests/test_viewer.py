@@ -1,5 +1,8 @@
 """hovi.viewer: standalone HTML animations rendered by a headless browser (the robot is drawn and
 moves), markers, the live meshcat server, and clear errors."""
+import base64
+import re
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -19,8 +22,23 @@ def ur5_and_package_dir():
     return hovi.Model.from_urdf(str(path)), path.parents[3]  # .../share holds example-robot-data/robots/...
 
 
+def scene_objects(html):
+    """{path: object type} of the set_object commands recorded in an exported HTML file."""
+    import umsgpack
+    blobs = re.search(r"for \(const blob of \[(.*?)\]\)", Path(html).read_text(), re.S).group(1)
+    commands = [umsgpack.unpackb(base64.b64decode(b)) for b in re.findall(r'"([A-Za-z0-9+/=]+)"', blobs)]
+    return {c["path"]: c["object"]["object"]["type"] for c in commands if c["type"] == "set_object"}
+
+
+def drawn_box(image, background, threshold=40):
+    """(width, height) fractions of the frame spanned by the pixels that differ from background."""
+    rows, cols = np.nonzero(np.abs(image.astype(int) - background.astype(int)).max(axis=2) > threshold)
+    return (cols.max() - cols.min() + 1) / image.shape[1], (rows.max() - rows.min() + 1) / image.shape[0]
+
+
 def check_animation(model, traj, tmp_path, name, package_dirs=()):
-    """Screenshots at two times and with the model hidden: the model is drawn and moves."""
+    """Screenshots at two times and with the model hidden: the model is drawn and moves; returns
+    the early screenshot and the background."""
     html = viewer.animation_html(model, traj, tmp_path / f"{name}.html", package_dirs=package_dirs)
     early = screenshot(html, tmp_path / f"{name}_early.png", "t=0.1")
     late = screenshot(html, tmp_path / f"{name}_late.png", "t=0.9")
@@ -35,6 +53,7 @@ def check_animation(model, traj, tmp_path, name, package_dirs=()):
         assert drawn > 500, f"{name} at t = {when} s: the model covers only {drawn:.0f} pixels"
     moved = changed_fraction(early, late) * pixels
     assert moved > 500, f"{name}: only {moved:.0f} pixels changed between t = 0.1 and 0.9 s"
+    return early, background
 
 
 def test_pendulum_animation_is_drawn_and_moves(tmp_path):
@@ -43,11 +62,42 @@ def test_pendulum_animation_is_drawn_and_moves(tmp_path):
     check_animation(model, traj, tmp_path, "pendulum5")
 
 
-def test_urdf_with_meshes_animation_is_drawn_and_moves(tmp_path):
-    model, share = ur5_and_package_dir()
+def test_urdf_with_meshes_animation_is_drawn_and_moves(tmp_path, monkeypatch):
+    """A UR5 of the installed example-robot-data, its meshes found without package_dirs, fills the view."""
+    monkeypatch.delenv("ROS_PACKAGE_PATH", raising=False)
+    model, _ = ur5_and_package_dir()
     assert {v["shape"] for v in model.visuals} == {"mesh"}
     traj = hovi.Integrator(model, order=4, dt=0.01).rollout(np.array([0, -1.0, 1.0, 0, 0.5, 0]), 100)
-    check_animation(model, traj, tmp_path, "ur5", package_dirs=[share])
+    from hovi.geometry import MeshNotFoundWarning
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", MeshNotFoundWarning)  # every mesh found
+        early, background = check_animation(model, traj, tmp_path, "ur5")
+    width, height = drawn_box(early, background)
+    assert max(width, height) > 0.6, f"the UR5 spans only {width:.0%} x {height:.0%} of the view"
+    assert '<div id="hovi-time"' in (tmp_path / "ur5.html").read_text()
+
+
+def test_ground_grid_terrain_and_time_stamp(tmp_path):
+    """A robot example's animation (report.animate) holds its terrain boxes, a ground grid and the clock."""
+    from hovi.examples import ROBOT_EXAMPLE, get
+    from hovi.examples.paper import report
+
+    example = get(ROBOT_EXAMPLE, "littledog").build(quick=True)
+    t = np.array([0.0, 0.3])
+
+    class Motion:  # what animate reads of a trajopt.Result: the example's guess (a trot) over 0.3 s
+        trajectory = {"t": t, "q": np.asarray(example.guess[0](t))}
+
+    html, mp4 = report.animate(example, Motion(), str(tmp_path), fps=5)
+    objects = scene_objects(html)
+    assert objects.get("/meshcat/hovi/ground/grid") == "LineSegments"
+    terrain = [p for p in objects if p.startswith("/meshcat/hovi/world/")]
+    assert len(terrain) == len(example.scenery.shapes) >= 2
+    text = Path(html).read_text()
+    assert '<div id="hovi-time" data-start="0.0"' in text
+    still = screenshot(Path(html), tmp_path / "littledog.png", "t=0.2")
+    assert still.shape == (480, 640, 3)
+    assert Path(mp4).stat().st_size > 1000
 
 
 def test_markers_and_arrows_are_drawn(tmp_path):
@@ -106,5 +156,9 @@ def test_bad_input_raises_clear_errors(tmp_path):
                     '<inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial><visual><geometry>'
                     '<mesh filename="package://nowhere/a.stl"/></geometry></visual></link><joint name="j" '
                     'type="continuous"><parent link="base"/><child link="a"/></joint></robot>')
-    with pytest.raises(FileNotFoundError, match="package 'nowhere' not found"):
-        viewer.Viewer(hovi.Model.from_urdf(str(urdf)), server=False)
+    from hovi.geometry import MeshNotFoundWarning
+    with pytest.warns(MeshNotFoundWarning, match="package://nowhere/a.stl"):
+        drawn = viewer.Viewer(hovi.Model.from_urdf(str(urdf)), server=False)
+    assert {s.kind for s in drawn.shapes} <= {"cylinder", "sphere"}  # the link's capsule in its place
+    with pytest.raises(ValueError, match="height must be a finite number"):
+        v.add_ground(np.nan)

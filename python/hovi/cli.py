@@ -5,8 +5,10 @@ import argparse
 import json
 import os
 import sys
+import threading
 import time
-from typing import Tuple
+import warnings
+from typing import Optional, Tuple
 
 import numpy as np
 
@@ -138,7 +140,7 @@ def cmd_simulate(args) -> int:
                            f"{name} at t = {traj.t[-1]:.3g} s")
         print(f"wrote {args.output}/energy_error.png, final_configuration.png, simulate.json")
     if args.animate:
-        write_animation(model, traj, args)
+        write_animation(model, traj, args, ground=None if base == "fixed" else 0.0)
     return 0 if traj.converged else 1
 
 
@@ -150,18 +152,88 @@ def free_fall_note(model: Model, base: str, duration: float) -> str:
             f"stands and walks, see 'hovi example' (contact-implicit trajectory optimisation)")
 
 
-def write_animation(model: Model, traj, args) -> None:
-    """animation.html (meshcat, standalone) and animation.mp4 (offline render) in args.output."""
+def warn_missing_meshes(model: Model, package_dirs) -> None:
+    """One line on stderr naming the meshes that --package-dir, ROS_PACKAGE_PATH and the installed
+    example-robot-data do not hold (they are drawn as simple shapes), before a long render."""
+    from .geometry import MeshNotFoundWarning, model_shapes
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", MeshNotFoundWarning)
+        model_shapes(model, package_dirs)
+    for w in caught:
+        if issubclass(w.category, MeshNotFoundWarning):
+            print(f"hovi: warning: {w.message}", file=sys.stderr)
+        else:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+
+
+def write_animation(model: Model, traj, args, ground: Optional[float] = None) -> None:
+    """animation.html (meshcat, standalone) and animation.mp4 (offline render, with a progress bar on
+    a terminal unless --no-progress) in args.output; ``ground``: the height of a ground grid (a
+    floating or planar base), None for none."""
+    from .geometry import MeshNotFoundWarning
     from .video import render_video
     from .viewer import animation_html
 
-    html = animation_html(model, traj, os.path.join(args.output, "animation.html"), fps=args.fps,
-                          package_dirs=args.package_dir)
-    t0 = time.perf_counter()
-    video = render_video(model, traj, os.path.join(args.output, "animation.mp4"), fps=args.fps,
-                         package_dirs=args.package_dir)
-    print(f"wrote {html} (open it in a browser: play, pause and scrub under Open Controls > Animations)")
+    warn_missing_meshes(model, args.package_dir)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", MeshNotFoundWarning)  # said once above
+        html = animation_html(model, traj, os.path.join(args.output, "animation.html"), fps=args.fps,
+                              package_dirs=args.package_dir, ground=ground)
+        print(f"wrote {html} (open it in a browser: play, pause and scrub under Open Controls > Animations)")
+        t0 = time.perf_counter()
+        video = render_video(model, traj, os.path.join(args.output, "animation.mp4"), fps=args.fps,
+                             package_dirs=args.package_dir, ground=ground,
+                             progress=False if getattr(args, "no_progress", False) else None)
     print(f"wrote {video} ({time.perf_counter() - t0:.1f} s to render)")
+
+
+#: Seconds between the heartbeat lines of a long solve (Heartbeat).
+HEARTBEAT_SECONDS = 10.0
+
+
+class Heartbeat:
+    """Within a ``with`` block, while IPOPT runs, a line on stderr every ``every`` seconds: the time
+    so far, the IPOPT iterations so far (of every solve of a contact homotopy) and the last one's
+    primal infeasibility; also with --quiet, so that a solve of minutes is never silent. From the
+    IPOPT adapter's iteration hook (``hovi.trajopt.solvers.ipopt.on_iteration``, ``solving``)."""
+
+    def __init__(self, label: str, every: Optional[float] = None, stream=None, enabled: bool = True) -> None:
+        self.label, self.every, self.enabled = label, HEARTBEAT_SECONDS if every is None else float(every), enabled
+        self.stream = sys.stderr if stream is None else stream
+        self.iterations, self.infeasibility = 0, float("nan")
+        self._stop = threading.Event()
+        self._thread: Optional[threading.Thread] = None
+        self._hook = None
+
+    def iteration(self, k: int, cost: float, inf_pr: float, inf_du: float) -> None:
+        if k > 0:  # IPOPT reports its starting point as iteration 0 of each solve
+            self.iterations += 1
+        self.infeasibility = inf_pr
+
+    def _beat(self) -> None:
+        from .trajopt.solvers.ipopt import solving
+        while not self._stop.wait(self.every):
+            if not solving():  # between solves, or writing the files and the video (its own progress bar)
+                continue
+            print(f"{self.label}: {time.perf_counter() - self._start:.0f} s, {self.iterations} IPOPT iterations so far "
+                  f"(primal infeasibility {self.infeasibility:.1e})", file=self.stream, flush=True)
+
+    def __enter__(self) -> "Heartbeat":
+        from .trajopt.solvers.ipopt import on_iteration
+        self._hook = on_iteration(self.iteration)
+        self._hook.__enter__()
+        self._start = time.perf_counter()
+        if self.enabled:
+            self._thread = threading.Thread(target=self._beat, name="hovi-heartbeat", daemon=True)
+            self._thread.start()
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self._stop.set()
+        if self._thread is not None:
+            self._thread.join()
+        if self._hook is not None:
+            self._hook.__exit__(*exc)
 
 
 def cmd_info(args) -> int:
@@ -190,8 +262,9 @@ def cmd_optimize(args) -> int:
     print(f"{args.example}: {prob.model.n} DoF, {prob.model.n_controls} controls, {prob.model.n_constraints} "
           f"constraint equations; N = {prob.N} stages over T = {prob.T} s; {label}")
     guess = "linear" if args.example == "acrobot" else None
-    result = trajopt.solve(prob, from_name(args.transcription, s), guess=guess, verbose=not args.quiet,
-                           options={"max_iter": args.max_iter})
+    with Heartbeat(f"solving {args.example}", enabled=args.quiet):
+        result = trajopt.solve(prob, from_name(args.transcription, s), guess=guess, verbose=not args.quiet,
+                               options={"max_iter": args.max_iter})
     summary = {"example": args.example, "transcription": args.transcription, "order": args.order, "N": prob.N,
                "T": prob.T, "status": result.status, "success": result.success, "cost": result.cost,
                "constraint_violation": result.constraint_violation, "iterations": result.iterations,
@@ -311,14 +384,18 @@ def cmd_example(args) -> int:
     prob = example.problem
     print(f"{args.name}: {example.description}; {prob.model.n} DoF, {prob.model.n_controls} inputs, N = {prob.N} "
           f"stages over T = {prob.T} s{' (quick)' if args.quick else ''}")
-    s = report.run(example, args.output, animation=not args.no_animate, fps=args.fps, verbose=not args.quiet,
-                   method=args.transcription, s=args.order // 2, checkpoint=args.checkpoint)
+    with Heartbeat(f"solving {args.name}", enabled=not args.no_progress):
+        s = report.run(example, args.output, animation=not args.no_animate, fps=args.fps, verbose=not args.quiet,
+                       method=args.transcription, s=args.order // 2, checkpoint=args.checkpoint,
+                       progress=False if args.no_progress else None)
     print(f"{s['status']}: {s['iterations']} IPOPT iterations, {s['solve_seconds']:.1f} s; constraint violation "
           f"{s['constraint_violation']:.2e}")
     for key in example.bounds:
         print(f"  {key}: {s[key]:.3g}")
     if "replay_stage_residual" in s:
         print_replay(s)
+    for line in s.get("report", []):     # between-knot penetration and the replay per stage, in words
+        print(line)
     print("wrote " + ", ".join(s["files"]))
     if not s["feasible"]:
         print("NOT feasible: " + "; ".join(s["failures"]), file=sys.stderr)
@@ -417,7 +494,8 @@ def main(argv=None) -> int:
     opt.add_argument("--controls", default="per_point", choices=["per_point", "held"],
                      help="controls at every sample point (default) or held over each stage")
     opt.add_argument("--max-iter", type=count, default=3000, help="IPOPT iteration limit (default 3000)")
-    opt.add_argument("--quiet", action="store_true", help="no per-iteration progress")
+    opt.add_argument("--quiet", action="store_true", help="no per-iteration progress (a line every 10 s instead)")
+    opt.add_argument("--no-progress", action="store_true", help="no progress bar while the video renders")
     opt.add_argument("--output", default="results", help="folder for the trajectory, plot and JSON (default: results)")
     opt.add_argument("--no-plot", action="store_true", help="skip the plot")
     add_animation_arguments(opt)
@@ -439,7 +517,10 @@ def main(argv=None) -> int:
     ex.add_argument("--output", default="results", help="directory for the files (default: results)")
     ex.add_argument("--no-animate", action="store_true", help="skip the animation (needs hovi[viewer])")
     ex.add_argument("--fps", type=positive, default=25.0, help="frames per second of the animation (default: 25)")
-    ex.add_argument("--quiet", action="store_true", help="no IPOPT progress lines")
+    ex.add_argument("--quiet", action="store_true", help="no IPOPT progress lines (a line every 10 s still says "
+                                                         "how far the solve is)")
+    ex.add_argument("--no-progress", action="store_true", help="no line every 10 s during the solve and no progress "
+                                                              "bar while the video renders")
     ex.add_argument("--checkpoint", default=None, metavar="FILE",
                     help="keep the contact homotopy's state in FILE (npz) after each relaxed solve and resume from it "
                          "if it exists: a solve of hours survives an interruption")

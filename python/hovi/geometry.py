@@ -9,7 +9,11 @@ of mass with a radius growing as mass^(1/3).
 """
 from __future__ import annotations
 
+import functools
+import importlib.util
 import os
+import sys
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Iterable, List, Optional, Sequence
@@ -18,7 +22,8 @@ import numpy as np
 
 from ._core import Model
 
-__all__ = ["Shape", "Motion", "LINK_RGBA", "COM_RGBA", "package_search_path", "resolve_mesh", "model_shapes",
+__all__ = ["Shape", "Motion", "LINK_RGBA", "COM_RGBA", "MeshNotFoundWarning", "package_search_path",
+           "example_robot_data_dirs", "resolve_mesh", "model_shapes", "shape_corners", "ground_lines",
            "default_shapes", "segment_frame", "translation", "transform_points", "body_frames", "motion_arrays", "sample_configurations"]
 
 #: Colours of the default shapes (links, centres of mass) and of visuals without a material.
@@ -40,11 +45,45 @@ class Shape:
     scale: np.ndarray = field(default_factory=lambda: np.ones(3))  #: (3,) mesh scale
 
 
+class MeshNotFoundWarning(UserWarning):
+    """A visual's mesh file was not found: a simple shape is drawn in its place (``model_shapes``)."""
+
+
+def example_robot_data_dirs() -> List[Path]:
+    """The folders of the installed ``example-robot-data`` (pip ``example-robot-data``) that hold
+    ``package://`` names: its share folder (``package://example-robot-data/robots/...``) and its
+    ``robots`` folder (``package://ur_description/...``); empty when it is not installed.
+
+    Found as ``example_robot_data.getModelPath`` finds it (``../../../share/example-robot-data/robots``
+    beside the package's site-packages folder, or beside an entry of ``sys.path``), without importing
+    the package (which imports pinocchio)."""
+    return list(_example_robot_data_dirs())
+
+
+@functools.lru_cache(maxsize=1)
+def _example_robot_data_dirs() -> tuple[Path, ...]:
+    try:
+        spec = importlib.util.find_spec("example_robot_data")
+    except (ImportError, ValueError):
+        spec = None
+    if spec is None:
+        return ()
+    roots = [Path(d).parent for d in (spec.submodule_search_locations or [])]
+    roots += [Path(p) for p in sys.path if p]
+    for root in roots:
+        robots = (root / ".." / ".." / ".." / "share" / "example-robot-data" / "robots").resolve()
+        if robots.is_dir():
+            return (robots.parent.parent, robots)
+    return ()
+
+
 def package_search_path(package_dirs: Iterable[str | os.PathLike[str]] = ()) -> List[Path]:
-    """The directories searched for ``package://NAME/...``: ``package_dirs``, then ``ROS_PACKAGE_PATH``."""
+    """The directories searched for ``package://NAME/...``: ``package_dirs`` (the command line's
+    ``--package-dir``), then ``ROS_PACKAGE_PATH``, then the installed example-robot-data
+    (``example_robot_data_dirs``)."""
     dirs = [Path(d) for d in package_dirs]
     dirs += [Path(d) for d in os.environ.get("ROS_PACKAGE_PATH", "").split(os.pathsep) if d]
-    return dirs
+    return dirs + [d for d in example_robot_data_dirs() if d not in dirs]
 
 
 def resolve_mesh(filename: str, package_dirs: Iterable[str | os.PathLike[str]] = ()) -> str:
@@ -66,22 +105,99 @@ def resolve_mesh(filename: str, package_dirs: Iterable[str | os.PathLike[str]] =
         for candidate in (d / package / rest, d / rest if d.name == package else None):
             if candidate is not None and candidate.is_file():
                 return str(candidate)
-    searched = ", ".join(str(d) for d in dirs) or "(none: pass package_dirs or set ROS_PACKAGE_PATH)"
-    raise FileNotFoundError(f"mesh '{filename}': package '{package}' not found in {searched}")
+    searched = ", ".join(str(d) for d in dirs) or "(no directory)"
+    raise FileNotFoundError(f"mesh '{filename}': package '{package}' not found in {searched}; give the directory "
+                            f"that holds '{package}' (package_dirs; on the command line --package-dir DIR) or set "
+                            f"ROS_PACKAGE_PATH")
 
 
-def model_shapes(model: Model, package_dirs: Iterable[str | os.PathLike[str]] = ()) -> List[Shape]:
-    """The shapes to draw for ``model``: its visuals (meshes resolved), or default shapes if it has none."""
+def model_shapes(model: Model, package_dirs: Iterable[str | os.PathLike[str]] = (), *,
+                 missing: str = "warn") -> List[Shape]:
+    """The shapes to draw for ``model``: its visuals (meshes resolved), or default shapes if it has none.
+
+    missing: what a mesh that cannot be found becomes: 'warn' (default) draws the body's default
+    shapes (``default_shapes``: its capsules; a small box for a shape on the world) in its place and
+    warns once (MeshNotFoundWarning) naming the meshes; 'raise' raises FileNotFoundError.
+    """
+    if missing not in ("warn", "raise"):
+        raise ValueError(f"missing must be 'warn' or 'raise', got {missing!r}")
     if not model.visuals:
         return default_shapes(model)
     dirs = list(package_dirs)
-    shapes = []
+    shapes: List[Shape] = []
+    lost: List[tuple[str, str]] = []  # (mesh name, why)
+    replaced: set[int] = set()
+    defaults: Optional[List[Shape]] = None
     for k, v in enumerate(model.visuals):
         rgba = LINK_RGBA if v["rgba"] is None else np.asarray(v["rgba"], dtype=float)
-        mesh = resolve_mesh(v["filename"], dirs) if v["shape"] == "mesh" else None
+        mesh = None
+        if v["shape"] == "mesh":
+            try:
+                mesh = resolve_mesh(v["filename"], dirs)
+            except FileNotFoundError as e:
+                if missing == "raise":
+                    raise
+                lost.append((v["filename"], str(e)))
+                body = int(v["body"])
+                if body in replaced:
+                    continue
+                replaced.add(body)
+                if body < 0:
+                    shapes.append(Shape(body, f"{v['link']}_{k}_missing", "box", np.full(3, 0.05), np.asarray(v["origin"]),
+                                        LINK_RGBA))
+                    continue
+                defaults = default_shapes(model) if defaults is None else defaults
+                shapes += [Shape(s.body, f"{v['link']}_{k}_missing_{s.name}", s.kind, s.size, s.origin, s.rgba)
+                           for s in defaults if s.body == body and not s.name.startswith("com")]
+                continue
         shapes.append(Shape(v["body"], f"{v['link']}_{k}", v["shape"], np.asarray(v["size"]), np.asarray(v["origin"]),
                             rgba, mesh, np.asarray(v["scale"])))
+    if lost:
+        names = ", ".join(f"'{name}'" for name, _ in lost[:5]) + (f" and {len(lost) - 5} more" if len(lost) > 5 else "")
+        warnings.warn(f"{len(lost)} mesh file(s) not found, drawn as simple shapes (the link's default capsule): "
+                      f"{names}. {lost[0][1]}", MeshNotFoundWarning, stacklevel=2)
     return shapes
+
+
+def shape_corners(shape: Shape) -> np.ndarray:
+    """(8, 3) corners of a box around the shape, in its body's joint frame (its origin applied): the
+    primitive's extent, or a mesh file's bounding box (read with trimesh; its origin alone if trimesh
+    is missing or cannot read it). What cameras fit to the view."""
+    if shape.kind == "box":
+        half = np.asarray(shape.size, dtype=float) / 2
+        lo, hi = -half, half
+    elif shape.kind == "cylinder":
+        r, length = float(shape.size[0]), float(shape.size[1])
+        lo, hi = np.array([-r, -r, -length / 2]), np.array([r, r, length / 2])
+    elif shape.kind == "sphere":
+        r = float(shape.size[0])
+        lo, hi = np.full(3, -r), np.full(3, r)
+    else:
+        try:
+            import trimesh
+            bounds = np.asarray(trimesh.load(shape.mesh_path, force="mesh").bounds, dtype=float) * shape.scale
+            lo, hi = bounds.min(axis=0), bounds.max(axis=0)
+        except Exception:  # no trimesh, or a file it cannot read: the origin
+            lo = hi = np.zeros(3)
+    corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
+    return transform_points(shape.origin, corners)
+
+
+def ground_lines(points: np.ndarray, height: float = 0.0, margin: float = 0.5,
+                 spacing: Optional[float] = None) -> np.ndarray:
+    """(L, 2, 3) segments of a square grid on the plane z = height under ``points`` (K, 3) (the
+    motion's extent in x and y, widened by ``margin`` m on each side), ``spacing`` m apart (default:
+    a round 0.1, 0.25, 0.5 or 1 m giving 10 to 40 lines each way)."""
+    pts = np.asarray(points, dtype=float).reshape(-1, 3)
+    lo, hi = pts[:, :2].min(axis=0) - margin, pts[:, :2].max(axis=0) + margin
+    if spacing is None:
+        span = float((hi - lo).max())
+        spacing = next((d for d in (0.1, 0.25, 0.5, 1.0, 2.0, 5.0) if span / d <= 40), 10.0)
+    lo, hi = np.floor(lo / spacing) * spacing, np.ceil(hi / spacing) * spacing
+    xs = np.arange(lo[0], hi[0] + spacing / 2, spacing)
+    ys = np.arange(lo[1], hi[1] + spacing / 2, spacing)
+    lines = [[[x, lo[1], height], [x, hi[1], height]] for x in xs] + [[[lo[0], y, height], [hi[0], y, height]] for y in ys]
+    return np.array(lines, dtype=float)
 
 
 def segment_frame(a: np.ndarray, b: np.ndarray) -> np.ndarray:

@@ -1,7 +1,23 @@
-"""Plots of simulations (matplotlib, Agg backend)."""
+"""hovi.plotting: figures of simulations and optimisations as image files (matplotlib, Agg backend).
+
+What ``hovi simulate`` and ``hovi optimize`` write (``energy_error.png``, ``final_configuration.png``,
+``optimize_NAME.png``); each function takes arrays or a result and a path and draws without a
+window. Curves per joint carry the joint's name in a legend; a configuration in space is drawn with
+equal axes (a metre is as long along x, y and z).
+"""
 from __future__ import annotations
 
 import numpy as np
+
+
+def control_labels(model) -> list:
+    """A legend label per control: ``u[k]`` and, for an actuator on one joint, that joint's name."""
+    actuation = np.asarray(model.actuation, dtype=float).reshape(model.n, -1)
+    labels = []
+    for k in range(model.n_controls):
+        joints = np.flatnonzero(actuation[:, k]) if k < actuation.shape[1] else []
+        labels.append(f"u[{k}] ({model.joint_names[joints[0]]})" if len(joints) == 1 else f"u[{k}]")
+    return labels
 
 
 def pyplot():
@@ -28,7 +44,17 @@ def plot_energy_error(t, energy, path, title=""):
 
 
 def plot_configuration(model, q, path, title=""):
-    """The kinematic tree at q: joint origins joined parent to child, centres of mass as dots."""
+    """Write ``configuration_figure(model, q, title)`` to ``path``."""
+    plt = pyplot()
+    fig = configuration_figure(model, q, title)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def configuration_figure(model, q, title=""):
+    """The kinematic tree at q (n,) as a matplotlib figure: joint origins joined parent to child,
+    centres of mass as dots, with equal axes, a legend, and the joints' names beside them (up to
+    12 joints)."""
     plt = pyplot()
     X = model.joint_placements(q)[:, :3, 3]
     C = model.body_poses(q)[:, :3, 3]
@@ -36,26 +62,31 @@ def plot_configuration(model, q, path, title=""):
     ax = fig.add_subplot(projection="3d")
     for i, par in enumerate(model.parents):
         a = X[par] if par >= 0 else np.zeros(3)
-        ax.plot(*np.stack([a, X[i]]).T, color="tab:gray", lw=1)
-        ax.plot(*np.stack([X[i], C[i]]).T, color="tab:blue", lw=2)
+        ax.plot(*np.stack([a, X[i]]).T, color="tab:gray", lw=1, label="joint to joint" if i == 0 else None)
+        ax.plot(*np.stack([X[i], C[i]]).T, color="tab:blue", lw=2, label="joint to centre of mass" if i == 0 else None)
     # the last link of each leaf: from its joint through its centre of mass and as far again
     children = {p for p in model.parents}
     for i in range(model.n):
         if i not in children:
             ax.plot(*np.stack([X[i], 2 * C[i] - X[i]]).T, color="tab:blue", lw=2)
-    ax.scatter(*C.T, s=8, color="tab:red")
+    ax.scatter(*X.T, s=10, color="tab:gray", label="joints")
+    ax.scatter(*C.T, s=8, color="tab:red", label="centres of mass")
+    if model.n <= 12:
+        for i, name in enumerate(model.joint_names):
+            ax.text(*X[i], f" {name}", fontsize=7, color="0.25")
+    ax.legend(fontsize=7, loc="upper left")
     pts = np.vstack([X, C, np.zeros((1, 3))])
     mid, half = pts.mean(axis=0), max(np.ptp(pts, axis=0).max() / 2, 1e-3)
     ax.set_xlim(mid[0] - half, mid[0] + half)
     ax.set_ylim(mid[1] - half, mid[1] + half)
     ax.set_zlim(mid[2] - half, mid[2] + half)
-    ax.set_xlabel("x")
-    ax.set_ylabel("y")
-    ax.set_zlabel("z")
+    ax.set_box_aspect((1, 1, 1))  # equal axes: equal limits in a cube
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.set_zlabel("z [m]")
     ax.set_title(title or "configuration")
     fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    return fig
 
 
 def plot_optimized(result, problem, path, title=""):
@@ -70,8 +101,8 @@ def plot_optimized(result, problem, path, title=""):
     axes[0].legend(fontsize=8)
     t = np.linspace(0, problem.T, 400)
     u = result.control_function()(t)
-    for k in range(problem.model.n_controls):
-        axes[1].plot(t, u[:, k], lw=1, label=f"u[{k}]")
+    for k, label in enumerate(control_labels(problem.model)):
+        axes[1].plot(t, u[:, k], lw=1, label=label)
     axes[1].set_xlabel("time [s]")
     axes[1].set_ylabel("control")
     axes[1].legend(fontsize=8)

@@ -3,18 +3,23 @@
 matplotlib's Agg backend draws the model's shapes (``hovi.geometry``) as shaded triangles, so no
 browser, GPU or window is needed (``pip install hovi[viewer]``). Mesh files are read with
 trimesh (STL, OBJ; DAE through pycollada) and, above ``max_faces`` triangles, simplified by
-vertex clustering. The camera looks at the whole motion from the side, as the HTML export does.
+vertex clustering. The camera looks at the whole motion from the side, as the HTML export does,
+and fits it to the frame; the axes are equal (a metre is as long along x, y and z). A frame shows
+its time (``t = 1.23 s``) and, with ``ground``, a ground grid; a progress bar (tqdm, on stderr)
+follows long renders.
 """
 from __future__ import annotations
 
 import os
+import sys
 from pathlib import Path
 from typing import Any, Dict, Iterable, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
 from ._core import Model
-from .geometry import Motion, Shape, body_frames, model_shapes, motion_arrays, sample_configurations, transform_points
+from .geometry import (Motion, Shape, body_frames, ground_lines, model_shapes, motion_arrays, sample_configurations,
+                       transform_points)
 
 __all__ = ["render_video", "shape_triangles", "box_triangles", "cylinder_triangles", "sphere_triangles",
            "cluster_vertices"]
@@ -110,14 +115,45 @@ def _shade(tris: np.ndarray, rgba: np.ndarray) -> np.ndarray:
     return out
 
 
+def _fit_view(ax: Any, canvas: Any, points: np.ndarray, aspect: Tuple[float, float, float], width: int,
+              height: int, fill: float = 0.9) -> None:
+    """Zoom the 3D axes (box ``aspect``) and shift them in the figure so that ``points`` (K, 3) span
+    ``fill`` of the frame's width or height, centred. A few passes: the perspective makes the zoom
+    not quite a scaling. The shapes are drawn unclipped, so the view may use the whole frame (a 3D
+    axes is a square)."""
+    from mpl_toolkits.mplot3d import proj3d
+
+    zoom, offset, middle = 1.0, np.zeros(2), np.array([width, height]) / 2
+    for _ in range(5):
+        canvas.draw()
+        x, y, _ = proj3d.proj_transform(points[:, 0], points[:, 1], points[:, 2], ax.get_proj())
+        pixels = ax.transData.transform(np.column_stack([x, y]))
+        lo, hi = pixels.min(axis=0), pixels.max(axis=0)
+        extent = np.maximum(hi - lo, 1.0)
+        factor = min(fill * width / extent[0], fill * height / extent[1])
+        centre = (lo + hi) / 2
+        if abs(factor - 1) < 0.01 and np.abs(centre - middle).max() < 2:
+            break
+        relative = centre - middle - offset  # the content's centre from the axes' centre
+        zoom *= factor
+        offset = -factor * relative  # zoom scales about the axes' centre; the shift brings it to the middle
+        ax.set_box_aspect(aspect, zoom=zoom)
+        ax.set_position((offset[0] / width, offset[1] / height, 1, 1))
+
+
 def render_video(model: Model, motion: Motion, path: Union[str, os.PathLike[str]],
                  times: Optional[Sequence[float]] = None, fps: float = 30.0, size: Tuple[int, int] = (640, 480),
-                 package_dirs: Iterable[Union[str, os.PathLike[str]]] = (), max_faces: int = 2000) -> Path:
+                 package_dirs: Iterable[Union[str, os.PathLike[str]]] = (), max_faces: int = 2000, *,
+                 ground: Optional[float] = None, time_stamp: bool = True, progress: Optional[bool] = False) -> Path:
     """Render a motion to an MP4 (``.mp4``) or GIF (``.gif``) file; returns its path.
 
     motion: a hovi.Trajectory or (N, n) configurations at ``times`` (N,) seconds (default 1/fps
     apart), sampled at ``fps`` (one frame per 1/fps s of motion). size: (width, height) pixels,
     multiples of 16 for MP4. max_faces: triangles per mesh file before simplification.
+    ground: a height in m: a ground grid on that plane under the motion (None: none; world shapes
+    such as terrain boxes are the model's visuals). time_stamp: the time in the top left corner.
+    progress: a progress bar on stderr (tqdm): True, False, or None for only when stderr is a terminal.
+    The camera fits the bounding box of the motion's shapes (equal axes).
     """
     out = Path(path)
     suffix = out.suffix.lower()
@@ -126,8 +162,10 @@ def render_video(model: Model, motion: Motion, path: Union[str, os.PathLike[str]
     width, height = (int(s) for s in size)
     if width < 16 or height < 16 or (suffix == ".mp4" and (width % 16 or height % 16)):
         raise ValueError(f"size must be at least 16 x 16 pixels (multiples of 16 for MP4), got {size}")
+    if ground is not None and not np.isfinite(ground):
+        raise ValueError(f"ground must be a finite height in m or None, got {ground!r}")
     t, q = motion_arrays(model, motion, times, fps)
-    _, frames_q = sample_configurations(q, t, fps)
+    frame_t, frames_q = sample_configurations(q, t, fps)
     shapes = model_shapes(model, package_dirs)
     local: Dict[int, List[np.ndarray]] = {}
     colours: Dict[int, List[np.ndarray]] = {}
@@ -145,22 +183,39 @@ def render_video(model: Model, motion: Motion, path: Union[str, os.PathLike[str]
 
     from matplotlib.figure import Figure  # with its Agg canvas directly: the user's pyplot backend is untouched
     from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+    from mpl_toolkits.mplot3d.art3d import Line3DCollection, Poly3DCollection
 
     sample = np.concatenate([world_triangles(qk).reshape(-1, 3) for qk in frames_q[:: max(1, len(frames_q) // 40)]])
     lo, hi = sample.min(axis=0), sample.max(axis=0)
-    centre, half = (lo + hi) / 2, max(float(np.ptp(sample, axis=0).max()) / 2, 0.05) * 1.05
+    if ground is not None:  # the limits (equal axes) reach down or up to the ground
+        lo[2], hi[2] = min(lo[2], float(ground)), max(hi[2], float(ground))
+    pad = 0.02 * max(float(np.ptp(sample, axis=0).max()), 0.05)
+    lo, hi = lo - pad, hi + pad
     fig = Figure(figsize=(width / 100, height / 100), dpi=100)
     canvas = FigureCanvasAgg(fig)
     ax = fig.add_axes((0, 0, 1, 1), projection="3d")
-    ax.set_xlim(centre[0] - half, centre[0] + half)
-    ax.set_ylim(centre[1] - half, centre[1] + half)
-    ax.set_zlim(centre[2] - half, centre[2] + half)
-    ax.set_box_aspect((1, 1, 1), zoom=1.5)
+    ax.set_xlim(lo[0], hi[0])
+    ax.set_ylim(lo[1], hi[1])
+    ax.set_zlim(lo[2], hi[2])
+    aspect = (float(hi[0] - lo[0]), float(hi[1] - lo[1]), float(hi[2] - lo[2]))
+    ax.set_box_aspect(aspect)  # equal axes: the limits are the box, its sides in proportion
     ax.view_init(elev=15, azim=-70)
     ax.set_axis_off()
-    collection = Poly3DCollection(world_triangles(frames_q[0]), linewidths=0)
-    ax.add_collection3d(collection)
+    ax.computed_zorder = False  # the grid under everything, the shapes sorted by depth among themselves
+    if ground is not None:
+        grid = Line3DCollection(ground_lines(sample, float(ground)), colors=[(0.55, 0.57, 0.6, 1.0)], linewidths=0.6,
+                                zorder=0)
+        ax.add_collection3d(grid, autolim=False)
+        grid.set_clip_on(False)
+    collection = Poly3DCollection(world_triangles(frames_q[0]), linewidths=0, zorder=1)
+    ax.add_collection3d(collection, autolim=False)
+    collection.set_clip_on(False)
+    fit = sample[:: max(1, len(sample) // 200000)]
+    if ground is not None:  # the ground under the motion in view too
+        fit = np.vstack([fit, [[x, y, float(ground)] for x in (lo[0], hi[0]) for y in (lo[1], hi[1])]])
+    _fit_view(ax, canvas, fit, aspect, width, height)
+    clock = fig.text(0.015, 0.975, "", ha="left", va="top", family="monospace", fontsize=11, color="#222222",
+                     bbox={"facecolor": "white", "alpha": 0.7, "edgecolor": "none", "pad": 2}) if time_stamp else None
 
     import imageio.v2 as imageio
 
@@ -169,11 +224,24 @@ def render_video(model: Model, motion: Motion, path: Union[str, os.PathLike[str]
     else:
         kwargs = {"duration": 1000.0 / fps, "loop": 0}
     out.parent.mkdir(parents=True, exist_ok=True)
-    with imageio.get_writer(str(out), **kwargs) as writer:
-        for qk in frames_q:
-            tris = world_triangles(qk)
-            collection.set_verts(tris)
-            collection.set_facecolor(_shade(tris, rgba))
-            canvas.draw()
-            writer.append_data(np.asarray(canvas.buffer_rgba())[:, :, :3].copy())
+    bar = None
+    if progress is not False:
+        from tqdm import tqdm  # type: ignore[import-untyped, unused-ignore]
+        bar = tqdm(total=len(frames_q), unit="frame", desc=f"rendering {out.name}", file=sys.stderr,
+                   disable=None if progress is None else False)
+    try:
+        with imageio.get_writer(str(out), **kwargs) as writer:
+            for tk, qk in zip(frame_t, frames_q):
+                tris = world_triangles(qk)
+                collection.set_verts(tris)
+                collection.set_facecolor(_shade(tris, rgba))
+                if clock is not None:
+                    clock.set_text(f"t = {tk:.2f} s")
+                canvas.draw()
+                writer.append_data(np.asarray(canvas.buffer_rgba())[:, :, :3].copy())
+                if bar is not None:
+                    bar.update(1)
+    finally:
+        if bar is not None:
+            bar.close()
     return out

@@ -8,7 +8,11 @@ controls), ``add_marker`` / ``add_arrow`` draw points (contacts, targets) and fo
 without a server. ``Viewer(model, server=False)`` records without starting a server (scripts,
 tests, the command line); ``animation_html`` does that in one call.
 
-In an exported HTML file, an address ending in ``#t=1.5`` pauses the animation at 1.5 s.
+``add_ground(height)`` draws a ground grid under the motion (models with a floating or planar
+base, the robot examples; world shapes such as terrain boxes are the model's visuals on the
+world, ``Model.add_visual(None, ...)``); ``frame_model`` fits the camera to the bounding box of
+the motion. An exported animation shows its time (``t = 1.23 s``) in the top left corner, and
+an address ending in ``#t=1.5`` pauses it at 1.5 s.
 """
 from __future__ import annotations
 
@@ -21,8 +25,8 @@ from typing import Any, Iterable, Optional, Sequence, Union
 import numpy as np
 
 from ._core import Model
-from .geometry import (Motion, Shape, body_frames, model_shapes, motion_arrays, sample_configurations, segment_frame,
-                       translation)
+from .geometry import (Motion, Shape, body_frames, ground_lines, model_shapes, motion_arrays, sample_configurations,
+                       segment_frame, shape_corners, transform_points, translation)
 
 __all__ = ["Viewer", "animation_html"]
 
@@ -90,6 +94,8 @@ class Viewer:
         self._visualizer = mc.Visualizer(zmq_url=zmq_url) if server or zmq_url else None
         self._commands: "OrderedDict[tuple[str, str], Any]" = OrderedDict()
         self._camera: Optional[tuple[np.ndarray, np.ndarray]] = None
+        self._corners: Optional[list[np.ndarray]] = None
+        self._start_time: Optional[float] = None  # of the last motion given to play (the time stamp)
         self.duration = 0.0  #: length of the last motion given to play (s)
         self._body_paths = [self._path("hovi", "bodies", f"{i:03d}_{self._safe(name)}")
                             for i, name in enumerate(model.body_names)] + [self._path("hovi", "world")]
@@ -153,7 +159,23 @@ class Viewer:
         self.display(frames_q[0])
         self._send(mc.commands.SetAnimation(anim, play=True, repetitions=int(repetitions)))
         self.duration = float(frame_t[-1] - frame_t[0])
+        self._start_time = float(frame_t[0])
         return self
+
+    def add_ground(self, height: float = 0.0, q: Optional[np.ndarray] = None, margin: float = 0.5,
+                   spacing: Optional[float] = None) -> None:
+        """A ground grid on the plane z = height (world shapes, such as terrain boxes, are the
+        model's visuals): under the model at configurations q ((n,) or (N, n); default zeros) with
+        ``margin`` m around it, lines ``spacing`` m apart (default: 10 to 40 lines each way, see
+        ``hovi.geometry.ground_lines``). Replaces meshcat's own grid (at z = 0, 20 m wide)."""
+        if not np.isfinite(height):
+            raise ValueError(f"height must be a finite number, got {height!r}")
+        mc = _meshcat()
+        lines = ground_lines(self._points(q), float(height), margin, spacing)
+        geometry = mc.geometry.PointsGeometry(position=lines.reshape(-1, 3).astype(np.float32).T)
+        grid = mc.geometry.LineSegments(geometry, mc.geometry.LineBasicMaterial(color=0x8a8f98))
+        self._send(mc.commands.SetObject(grid, path=self._path("hovi", "ground", "grid")))
+        self._send(mc.commands.SetProperty("visible", False, mc.path.Path(("Grid",))))
 
     def add_marker(self, name: str, position: Sequence[float], radius: float = 0.03,
                    rgba: Sequence[float] = (0.1, 0.8, 0.2, 1.0)) -> None:
@@ -209,21 +231,39 @@ class Viewer:
         self._send(mc.commands.SetProperty("position", _y_up(self._camera[1]).tolist(),
                                            mc.path.Path(("Cameras", "default", "rotated", "<object>"))))
 
-    def frame_model(self, q: Optional[np.ndarray] = None) -> None:
-        """Point the camera at the model from the side, keeping it in view.
-
-        q: (n,) one configuration, or (N, n) configurations (a motion) to keep in view; default zeros.
-        """
+    def _points(self, q: Optional[np.ndarray] = None) -> np.ndarray:
+        """(K, 3) world corners of the shapes' boxes (``hovi.geometry.shape_corners``) at up to 50 of
+        the configurations q ((n,) or (N, n); default zeros)."""
+        if self._corners is None:
+            self._corners = [shape_corners(s) for s in self.shapes]
         qs = np.atleast_2d(np.zeros(self.model.n) if q is None else np.asarray(q, dtype=float))
         points = []
         for qk in qs[:: max(1, len(qs) // 50)]:
             frames = body_frames(self.model, qk)
-            points += [(frames[s.body] @ s.origin)[:3, 3] for s in self.shapes] + [frames[-1][:3, 3]]
-        points_array = np.array(points)
-        centre = (points_array.min(axis=0) + points_array.max(axis=0)) / 2
-        radius = max(float(np.linalg.norm(points_array - centre, axis=1).max()), 0.1)
+            points += [transform_points(frames[s.body], c) for s, c in zip(self.shapes, self._corners)]
+            points.append(frames[:-1, :3, 3])
+        return np.concatenate(points)
+
+    def frame_model(self, q: Optional[np.ndarray] = None, aspect: float = 4 / 3) -> None:
+        """Point the camera at the model from the side, fitting the bounding box of its shapes.
+
+        q: (n,) one configuration, or (N, n) configurations (a motion) to keep in view; default zeros.
+        The camera looks at the centre of the box from the front left, above, as close as keeps
+        the box's corners inside meshcat's 75 degree (vertical) view in a window of ``aspect``
+        (width / height).
+        """
+        points = self._points(q)
+        centre = (points.min(axis=0) + points.max(axis=0)) / 2
         direction = np.array([0.4, -1.0, 0.5])
-        self.set_camera(centre, centre + 1.7 * radius * direction / np.linalg.norm(direction))
+        direction /= np.linalg.norm(direction)
+        right = np.cross(direction, [0.0, 0.0, 1.0])
+        right /= np.linalg.norm(right)
+        up = np.cross(right, direction)
+        rel = points - centre
+        depth, x, y = rel @ direction, np.abs(rel @ right), np.abs(rel @ up)
+        tan_v = np.tan(np.radians(75.0) / 2) * 0.92  # a small margin
+        distance = float(np.max(np.maximum(depth + x / (aspect * tan_v), depth + y / tan_v)))
+        self.set_camera(centre, centre + max(distance, 0.1) * direction)
 
     def html(self) -> str:
         """The standalone HTML of everything shown so far (meshcat's JavaScript included)."""
@@ -237,7 +277,9 @@ class Viewer:
             (tx, ty, tz), (px, py, pz) = (_y_up(p) for p in self._camera)
             camera = (f"viewer.camera.position.set({px}, {py}, {pz});\n"
                       f"viewer.controls.target.set({tx}, {ty}, {tz});\n")
-        return _HTML.format(script=script.replace("</script", "<\\/script"), commands=blobs, camera=camera)
+        clock = "" if self._start_time is None else _CLOCK.format(start=self._start_time)
+        return _HTML.format(script=script.replace("</script", "<\\/script"), commands=blobs, camera=camera,
+                            clock=clock)
 
     def export_html(self, path: Union[str, os.PathLike[str]]) -> Path:
         """Write ``html()`` to a file; returns its path. Open it in any browser, no server needed."""
@@ -261,10 +303,16 @@ def _finite3(x: Sequence[float], name: str) -> np.ndarray:
 
 def animation_html(model: Model, motion: Motion, path: Union[str, os.PathLike[str]],
                    times: Optional[Sequence[float]] = None, fps: float = 30.0,
-                   package_dirs: Iterable[Union[str, os.PathLike[str]]] = ()) -> Path:
-    """Write a standalone HTML animation of a motion (see Viewer.play) without starting a server."""
+                   package_dirs: Iterable[Union[str, os.PathLike[str]]] = (), *,
+                   ground: Optional[float] = None) -> Path:
+    """Write a standalone HTML animation of a motion (see Viewer.play) without starting a server:
+    the camera fits the motion (``Viewer.frame_model``), the time shows in the top left corner, and
+    ``ground`` (a height in m; None: none) draws a ground grid under the motion (``Viewer.add_ground``)."""
     viewer = Viewer(model, package_dirs, server=False)
-    viewer.frame_model(motion_arrays(model, motion, times, fps)[1])
+    q = motion_arrays(model, motion, times, fps)[1]
+    if ground is not None:
+        viewer.add_ground(ground, q)
+    viewer.frame_model(q)
     viewer.play(motion, times, fps)
     return viewer.export_html(path)
 
@@ -276,7 +324,7 @@ _HTML = """<!DOCTYPE html>
 </head>
 <body>
 <div id="meshcat-pane"></div>
-<script>{script}</script>
+{clock}<script>{script}</script>
 <script>
 var viewer = new MeshCat.Viewer(document.getElementById("meshcat-pane"));
 for (const blob of [{commands}]) {{
@@ -288,7 +336,21 @@ for (const blob of [{commands}]) {{
 // An address ending in #t=SECONDS pauses the animation there (stills, tests).
 const at = /[#&]t=([0-9.eE+-]+)/.exec(window.location.hash);
 if (at) {{ viewer.animator.pause(); viewer.animator.seek(parseFloat(at[1])); }}
+const clock = document.getElementById("hovi-time");
+if (clock) {{
+  const tick = () => {{
+    const action = viewer.animator.actions[0];
+    if (action) clock.textContent = "t = " + (Number(clock.dataset.start) + action.time).toFixed(2) + " s";
+    requestAnimationFrame(tick);
+  }};
+  tick();
+}}
 </script>
 </body>
 </html>
 """
+
+# The time stamp of an exported animation (updated from meshcat's animation clock by _HTML's script).
+_CLOCK = ('<div id="hovi-time" data-start="{start}" style="position: absolute; left: 10px; top: 8px; '
+          'font: 15px monospace; color: #222; background: rgba(255, 255, 255, 0.7); padding: 1px 4px; '
+          'pointer-events: none;">t = {start:.2f} s</div>\n')

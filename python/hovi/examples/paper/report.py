@@ -71,11 +71,14 @@ def plot(example: Example, result: Result, path: str) -> None:
     fig, axes = plt.subplots(1, 3, figsize=(16, 4.2))
     joints = [model.joint_index(j) for j in robot.actuated]
     for j in joints:
-        axes[0].plot(tr["t"], tr["q"][:, j], lw=1)
+        axes[0].plot(tr["t"], tr["q"][:, j], lw=1, label=model.joint_names[j])
     axes[0].set_title("actuated joint angles [rad]")
     m = len(robot.actuated)
-    axes[1].plot(tr["t"], tr["u"][:, :m], lw=1)
+    for k in range(m):
+        axes[1].plot(tr["t"], tr["u"][:, k], lw=1, label=robot.actuated[k])
     axes[1].set_title("actuator torques [N m]")
+    for ax in axes[:2]:
+        ax.legend(fontsize=6, ncol=2 if m > 6 else 1)
     forces = example.contact_forces(tr["u"])
     for k, label in enumerate(example.force_labels):
         axes[2].plot(tr["t"], forces[:, k], lw=1, label=label)
@@ -90,8 +93,10 @@ def plot(example: Example, result: Result, path: str) -> None:
     plt.close(fig)
 
 
-def animate(example: Example, result: Result, output: str, fps: float) -> list[str]:
-    """animation.html (meshcat, standalone) and animation.mp4 of the optimised motion with its scenery."""
+def animate(example: Example, result: Result, output: str, fps: float, progress: bool | None = False) -> list[str]:
+    """animation.html (meshcat, standalone) and animation.mp4 of the optimised motion with its scenery
+    (the terrain: world shapes) on a ground grid at the lowest top of its boxes; ``progress``: the
+    video's progress bar (``hovi.video.render_video``)."""
     from ...video import render_video
     from ...viewer import animation_html
     model = example.robot.model.copy()
@@ -102,8 +107,11 @@ def animate(example: Example, result: Result, output: str, fps: float) -> list[s
     tr = result.trajectory
     t = np.linspace(0.0, tr["t"][-1], max(2, int(round(tr["t"][-1] * fps)) + 1))
     q = np.column_stack([np.interp(t, tr["t"], tr["q"][:, j]) for j in range(model.n)])
-    html = animation_html(model, q, os.path.join(output, f"{example.name}.html"), times=t, fps=fps)
-    video = render_video(model, q, os.path.join(output, f"{example.name}.mp4"), times=t, fps=fps)
+    tops = [centre[2] + size[2] / 2 for shape, size, centre, _ in example.scenery.shapes if shape == "box"]
+    ground = min(tops) - 1e-3 if tops else 0.0  # just below the terrain's tops (no flicker where they meet)
+    html = animation_html(model, q, os.path.join(output, f"{example.name}.html"), times=t, fps=fps, ground=ground)
+    video = render_video(model, q, os.path.join(output, f"{example.name}.mp4"), times=t, fps=fps, ground=ground,
+                         progress=progress)
     return [str(html), str(video)]
 
 
@@ -148,11 +156,12 @@ def solve(example: Example, method: str = "vi", s: int = 1, verbose: bool = Fals
 
 
 def run(example: Example, output: str, *, animation: bool = True, plots: bool = True, fps: float = 25.0,
-        verbose: bool = False, method: str = "vi", s: int = 1, checkpoint: str | None = None) -> Dict[str, Any]:
+        verbose: bool = False, method: str = "vi", s: int = 1, checkpoint: str | None = None,
+        progress: bool | None = False) -> Dict[str, Any]:
     """Solve ``example`` (``method``, ``checkpoint`` as in ``solve``: the VI of order 2s by default),
     check it, replay it (VI only: the replay figures put the solution into the integrator's
     equations) and write its files into ``output``; returns the summary (also written as <name>.json) with 'feasible' and, if not,
-    'failures'."""
+    'failures'. ``progress``: the video's progress bar (True, False, None: on a terminal)."""
     os.makedirs(output, exist_ok=True)
     t0 = time.perf_counter()
     result = solve(example, method, s, verbose, checkpoint=checkpoint)
@@ -178,7 +187,7 @@ def run(example: Example, output: str, *, animation: bool = True, plots: bool = 
         plot(example, result, base + ".png")
         files.append(base + ".png")
     if animation:
-        files += animate(example, result, output, fps)
+        files += animate(example, result, output, fps, progress)
     summary["files"] = files
     with open(base + ".json", "w") as f:
         json.dump(summary, f, indent=2, default=float)

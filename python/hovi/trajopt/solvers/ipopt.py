@@ -8,8 +8,9 @@ released; costs and path constraints are vectorised numpy over all samples.
 """
 from __future__ import annotations
 
+import contextlib
 import time
-from typing import Any
+from typing import Any, Callable, Iterator
 
 import numpy as np
 
@@ -36,6 +37,28 @@ DEFAULT_OPTIONS = {
 }
 
 HESSIANS = ("lbfgs", "fd")
+
+# Called after every IPOPT iteration of every solve in this process (on_iteration).
+_ITERATION_HOOKS: list[Callable[[int, float, float, float], None]] = []
+_SOLVING = [0]  # IPOPT solves running in this process (solving())
+
+
+def solving() -> bool:
+    """Whether an IPOPT solve is running in this process (a heartbeat stays quiet between solves)."""
+    return _SOLVING[0] > 0
+
+
+@contextlib.contextmanager
+def on_iteration(callback: Callable[[int, float, float, float], None]) -> Iterator[None]:
+    """Within the block, ``callback(iteration, cost, primal_infeasibility, dual_infeasibility)``
+    after every IPOPT iteration of every solve (also ``verbose=False`` ones, and the solves of a
+    contact homotopy): a heartbeat for long solves (``hovi example``). An exception it raises
+    stops the solve and is raised by it."""
+    _ITERATION_HOOKS.append(callback)
+    try:
+        yield
+    finally:
+        _ITERATION_HOOKS.remove(callback)
 
 
 class IpoptCallbacks:
@@ -86,6 +109,12 @@ class IpoptCallbacks:
         self.iterations = iter_count
         if self.error is not None:
             return False
+        for hook in tuple(_ITERATION_HOOKS):
+            try:
+                hook(iter_count, obj_value, inf_pr, inf_du)
+            except Exception as e:  # kept and raised by solve_nlp(), like a callback's
+                self.error = e
+                return False
         if self.verbose:
             if iter_count % 20 == 0:
                 print(f"{'iter':>5} {'cost':>14} {'primal inf':>11} {'dual inf':>10} {'log mu':>7}", flush=True)
@@ -164,7 +193,11 @@ class Ipopt(NLPSolver):
         for key, value in self.ipopt_options().items():
             ip.add_option(key, value)
         t0 = time.perf_counter()
-        x, info = ip.solve(x0)
+        _SOLVING[0] += 1
+        try:
+            x, info = ip.solve(x0)
+        finally:
+            _SOLVING[0] -= 1
         wall = time.perf_counter() - t0
         if cb.error is not None:
             raise cb.error
