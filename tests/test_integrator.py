@@ -324,4 +324,9 @@ def test_the_integrators_options_are_keyword_only_and_steps_a_whole_number():
     for steps in (10.0, 10.5, "10", True):
         with pytest.raises(ValueError, match="steps must be a whole number"):
             integ.rollout(np.zeros(2), steps)
+        with pytest.raises(ValueError, match="steps must be a whole number"):
+            integ.rollout_batch(np.zeros((2, 2)), steps)
+        with pytest.raises(ValueError, match="steps must be a whole number"):
+            integ.check_rollout_batch(np.zeros((2, 2)), steps)
     assert integ.rollout(np.zeros(2), np.int64(3)).steps == 3
+    assert list(integ.rollout_batch(np.zeros((2, 2)), np.int64(3)).steps) == [3, 3]

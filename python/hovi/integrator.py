@@ -15,6 +15,16 @@ from .trajectory import Discretization, StepInfo, Trajectory
 __all__ = ["ConvergenceError", "Integrator", "StepInfo", "Trajectory"]
 
 
+def _whole_steps(steps: Any) -> int:
+    """A step count as an int: ValueError naming ``steps`` for a float (even 10.0), a string, a bool
+    or a negative number (``int()`` would truncate 10.5 silently)."""
+    if isinstance(steps, (bool, np.bool_)) or not isinstance(steps, (int, np.integer)):
+        raise ValueError(f"steps must be a whole number (an int), got {steps!r} ({type(steps).__name__})")
+    if steps < 0:
+        raise ValueError("steps must be non-negative")
+    return int(steps)
+
+
 def _check_trajectory_memory(steps: int, s: int, n: int, count: int = 1) -> None:
     """MemoryError, before anything is allocated, if ``count`` trajectories of ``steps`` steps (q, p
     and control points, (steps+1) (s+3) n doubles each) need more than this machine's physical memory."""
@@ -278,11 +288,7 @@ class Integrator:
         Raises ConvergenceError at the first failed step (its .trajectory holds what was done),
         unless raise_on_failure=False, in which case the trajectory stops there.
         """
-        if isinstance(steps, (bool, np.bool_)) or not isinstance(steps, (int, np.integer)):
-            raise ValueError(f"steps must be a whole number (an int), got {steps!r} ({type(steps).__name__})")
-        steps = int(steps)
-        if steps < 0:
-            raise ValueError("steps must be non-negative")
+        steps = _whole_steps(steps)
         _check_trajectory_memory(steps, self.s, self.n)
         q0 = np.asarray(q0, dtype=float)
         if p0 is not None and qdot0 is not None:
@@ -364,9 +370,7 @@ class Integrator:
         Raises ValueError for bad input (shapes, B = 0, NaN or infinity, threads < 1, an initial
         state that violates the constraints).
         """
-        steps = int(steps)
-        if steps < 0:
-            raise ValueError("steps must be non-negative")
+        steps = _whole_steps(steps)
         Q, second, velocities = self._batch_states(q0s, p0s, qdot0s, ("q0s", "p0s", "qdot0s"))
         _check_trajectory_memory(steps, self.s, self.n, 2 * len(Q))  # the C++ results and the stacked arrays
         U = self._core.rollout_controls(u, steps, len(Q))
@@ -430,7 +434,7 @@ class Integrator:
         """ValueError as ``rollout_batch`` raises it for the shapes of the states (q0s, p0s or qdot0s
         (B, n)) and controls and for states that violate the constraints, without computing anything."""
         Q, _, _ = self._batch_states(q0s, p0s, qdot0s, ("q0s", "p0s", "qdot0s"))
-        self._core.rollout_controls(u, int(steps), len(Q))
+        self._core.rollout_controls(u, _whole_steps(steps), len(Q))
 
     def check_step_batch(self, qs: npt.ArrayLike, ps: Optional[npt.ArrayLike] = None,
                          u: Optional[npt.ArrayLike] = None, *, qdots: Optional[npt.ArrayLike] = None) -> None:
