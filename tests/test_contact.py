@@ -103,8 +103,10 @@ def test_terrain_heights_and_contact_input_layout():
     assert contacts.input_index(1, "slack") == 12
     with pytest.raises(ValueError, match="mu must be"):
         Contacts(model, [("mass", (0, 0, 0))], terrain, mu=-1)
-    with pytest.raises(ValueError, match="depth"):
+    with pytest.raises(ValueError, match="x0 < x1"):
         Terrain(gaps=[Gap(1.0, 0.5)])
+    with pytest.raises(ValueError, match="depth must be > 0"):
+        Terrain(gaps=[Gap(0.5, 1.0, depth=0.0)])
     prob = trajopt.Problem(model, N=4, T=1.0)
     with pytest.raises(ValueError, match="contacts.model"):
         prob.add_contacts(contacts)
@@ -157,6 +159,7 @@ def test_time_limit_stops_the_homotopy_between_solves():
     result = trajopt.solve_contact(prob, VI1, time_limit=1e-3)
     assert len(result.contact["solves"]) == 1 and result.contact["solves"][0][0] == 0.1
     assert result.contact["out_of_time"] and not result.contact["finished"] and result.contact["epsilon"] == 0.1
+    assert not result.success and result.status.startswith("stopped by time_limit = 0.001 s before the exact solve")
     assert not trajopt.solve_contact(prob, VI1, time_limit=600.0).contact["out_of_time"]
 
 

@@ -114,7 +114,7 @@ def test_bad_flat_foot_input_is_refused_with_a_reason():
                           ({"X": 0.0}, "half-size X"), ({"mu": -1.0}, "mu must be"),
                           ({"centre": (0, 0)}, "centre must be 3"), ({"q0": q0[:3]}, "q0 must be"),
                           ({"q0": q0 + [0, 0, 0, 0, 0.2, 0]}, "not flat at q0: its z axis is 11.5 degrees"),
-                          ({"scale": 0.0}, "scale must be positive")):
+                          ({"scale": 0.0}, "scale must be > 0")):
         args = {"body": "block", "centre": (0, 0, -0.1), "X": 0.1, "Y": 0.1, "mu": 0.5, "q0": q0, **kwargs}
         with pytest.raises(ValueError, match=match):
             FlatFoot(block_model(), **args)

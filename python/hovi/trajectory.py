@@ -14,6 +14,8 @@ from __future__ import annotations
 
 import os
 import warnings
+import zipfile
+import zlib
 from dataclasses import dataclass, field
 from typing import Any, Dict, List, Optional, Protocol
 
@@ -158,7 +160,10 @@ class Trajectory:
 
 
 def save_trajectory(trajectory: Trajectory, path: str | os.PathLike[str]) -> None:
-    """Write ``trajectory`` (a hovi.Trajectory made by an Integrator) to ``path`` (.npz)."""
+    """Write ``trajectory`` (a hovi.Trajectory made by an Integrator) to ``path`` (.npz). ValueError,
+    and nothing written, if its arrays do not fit its model, s and dt (the checks of ``load_trajectory``)."""
+    if not isinstance(trajectory, Trajectory):
+        raise TypeError(f"trajectory must be a hovi.Trajectory, got {type(trajectory).__name__}")
     d = trajectory.discretization
     if d is None:
         raise ValueError("this trajectory has no integrator: its joint names, s and dt are unknown")
@@ -174,35 +179,167 @@ def save_trajectory(trajectory: Trajectory, path: str | os.PathLike[str]) -> Non
         arrays["factorizations"] = trajectory.factorizations
     if trajectory.multipliers is not None:
         arrays["multipliers"] = trajectory.multipliers
+    try:
+        arrays = check_arrays(arrays, d.model.n_constraints)
+    except ValueError as e:
+        raise ValueError(f"cannot save this trajectory (nothing written): {e}") from None
     np.savez_compressed(path, **arrays)
+
+
+REQUIRED = ("format_version", "joint_names", "s", "dt", "t", "q", "p", "control_points", "iterations", "residuals",
+            "status", "solve_seconds")
+OPTIONAL = ("factorizations", "multipliers")
+
+
+def _scalar(a: np.ndarray, name: str, kinds: str, what: str) -> np.ndarray:
+    if a.shape != () or a.dtype.kind not in kinds:
+        raise ValueError(f"{name} must be {what}, got {a.dtype} of shape {a.shape}")
+    return a
+
+
+def _numbers(a: Any, name: str, shape: tuple, kinds: str = "iuf", finite: bool = True) -> np.ndarray:
+    a = np.asarray(a)
+    if a.dtype.kind not in kinds:
+        raise ValueError(f"{name} must be an array of {'integers' if kinds == 'iu' else 'real numbers'}, got {a.dtype}")
+    if a.shape != shape:
+        raise ValueError(f"{name} must have shape {shape}, got {a.shape}")
+    if finite and a.dtype.kind == "f" and not np.all(np.isfinite(a)):
+        raise ValueError(f"{name} holds NaN or infinity (at index {tuple(int(i) for i in np.argwhere(~np.isfinite(a))[0])})")
+    return a
+
+
+def check_arrays(arrays: Dict[str, Any], n_constraints: Optional[int] = None) -> Dict[str, np.ndarray]:
+    """The arrays of a trajectory file (as ``save_trajectory`` writes them), checked against each
+    other: format_version an integer 1..FORMAT_VERSION, n joint names, s >= 1, dt > 0, t (K+1,) = k dt,
+    q and p (K+1, n), control_points (K, s+1, n) starting at q^k and ending at q^{k+1}, per attempted
+    step (K, or K+1 when the last step failed) iterations, residuals, status and factorizations,
+    multipliers (K, s, n_constraints) (``n_constraints`` of the model when known; they must be given
+    exactly when it is > 0), solve_seconds >= 0. Returns the arrays as numpy arrays; ValueError
+    naming the array and what is wrong."""
+    missing = [k for k in REQUIRED if k not in arrays]
+    if missing:
+        raise ValueError(f"not a hovi trajectory (missing {', '.join(missing)})")
+    unknown = sorted(set(arrays) - set(REQUIRED) - set(OPTIONAL))
+    if unknown:
+        raise ValueError(f"unknown entries {unknown} (a trajectory file holds {', '.join(REQUIRED + OPTIONAL)})")
+    a = {k: np.asarray(v) for k, v in arrays.items()}
+    version = a["format_version"]
+    if version.shape != () or version.dtype.kind not in "iu" or not 1 <= int(version) <= FORMAT_VERSION:
+        if version.shape == () and version.dtype.kind in "iu" and int(version) > FORMAT_VERSION:
+            raise ValueError(f"written by a newer hovi (format_version {int(version)}; this hovi reads "
+                             f"format_version 1..{FORMAT_VERSION})")
+        raise ValueError(f"format_version must be an integer from 1 to {FORMAT_VERSION}, got "
+                         f"{version.tolist() if version.size < 10 else version.dtype} ({version.dtype})")
+    names = a["joint_names"]
+    if names.ndim != 1 or names.dtype.kind != "U" or len(names) == 0:
+        raise ValueError(f"joint_names must be a non-empty 1-D array of strings, got {names.dtype} of shape {names.shape}")
+    n = len(names)
+    s = int(_scalar(a["s"], "s", "iu", "an integer"))
+    if s < 1:
+        raise ValueError(f"s must be >= 1, got {s}")
+    dt = float(_scalar(a["dt"], "dt", "f", "a real number"))
+    if not (np.isfinite(dt) and dt > 0):
+        raise ValueError(f"dt must be positive and finite, got {dt}")
+    t = a["t"]
+    if t.ndim != 1 or len(t) == 0:
+        raise ValueError(f"t must be a non-empty 1-D array (K+1,), got shape {t.shape}")
+    K = len(t) - 1
+    t = _numbers(t, "t", (K + 1,))
+    if not np.allclose(t, np.arange(K + 1) * dt, rtol=1e-12, atol=1e-12 * dt):
+        k = int(np.argmax(np.abs(t - np.arange(K + 1) * dt)))
+        raise ValueError(f"t must be k dt (dt = {dt}), got t[{k}] = {t[k]}")
+    q = _numbers(a["q"], "q", (K + 1, n))
+    _numbers(a["p"], "p", (K + 1, n))
+    cp = _numbers(a["control_points"], "control_points", (K, s + 1, n))
+    if K and not (np.allclose(cp[:, 0], q[:-1], rtol=1e-12, atol=1e-12)
+                  and np.allclose(cp[:, -1], q[1:], rtol=1e-12, atol=1e-12)):
+        raise ValueError("control_points must start at q^k and end at q^{k+1} in every step k, they do not")
+    status = a["status"]
+    if status.ndim != 1 or (status.dtype.kind != "U" and len(status)):
+        raise ValueError(f"status must be a 1-D array of strings, got {status.dtype} of shape {status.shape}")
+    attempted = len(status)
+    if attempted not in (K, K + 1):
+        raise ValueError(f"status must have one entry per attempted step ({K} or {K + 1} for K = {K} steps), "
+                         f"got {attempted}")
+    if attempted == K + 1 and str(status[-1]) == "converged":
+        raise ValueError(f"status has {K + 1} entries for {K} steps but its last step converged")
+    its = _numbers(a["iterations"], "iterations", (attempted,), "iu")
+    if np.any(its < 0):
+        raise ValueError("iterations must be >= 0")
+    _numbers(a["residuals"], "residuals", (attempted,), finite=False)
+    if "factorizations" in a:
+        fac = _numbers(a["factorizations"], "factorizations", (attempted,), "iu")
+        if np.any(fac < 0):
+            raise ValueError("factorizations must be >= 0")
+    seconds = float(_scalar(a["solve_seconds"], "solve_seconds", "iuf", "a real number"))
+    if not (np.isfinite(seconds) and seconds >= 0):
+        raise ValueError(f"solve_seconds must be finite and >= 0, got {seconds}")
+    if "multipliers" in a:
+        mult = a["multipliers"]
+        if n_constraints == 0:
+            raise ValueError("multipliers given for a model without constraints")
+        if mult.ndim != 3:
+            raise ValueError(f"multipliers must be a 3-D array (K, s, n_constraints) with K = {K}, s = {s}, "
+                             f"got shape {mult.shape}")
+        _numbers(mult, "multipliers", (K, s, mult.shape[2] if n_constraints is None else n_constraints))
+    elif n_constraints:
+        raise ValueError(f"multipliers (K, s, {n_constraints}) are missing for a model with {n_constraints} constraints")
+    return a
 
 
 def load_trajectory(path: str | os.PathLike[str], integrator: Optional[HasDiscretization] = None) -> Trajectory:
     """Read a trajectory written by ``Trajectory.save``. With ``integrator`` (a hovi.Integrator),
     its model's joint names, s and dt must match the file's (ValueError naming the difference
     otherwise) and its discretization is attached to the trajectory. Arrays as saved: t (K+1,),
-    q and p (K+1, n), control_points (K, s+1, n)."""
-    d = None if integrator is None else integrator.discretization
+    q and p (K+1, n), control_points (K, s+1, n).
+
+    Every array is checked against the others, the file's s and dt and the integrator's model
+    (``check_arrays``): a file whose arrays do not fit is refused with a ValueError naming the
+    array. FileNotFoundError for a missing file; ValueError for an empty, damaged or truncated
+    file, one that is not a trajectory, and a format_version that is missing, not an integer or
+    newer than this hovi's."""
+    d = None
+    if integrator is not None:
+        d = getattr(integrator, "discretization", None)
+        if not isinstance(d, Discretization):
+            raise TypeError(f"integrator must be a hovi.Integrator (or None), got {type(integrator).__name__}")
+    where = os.fspath(path) if isinstance(path, (str, os.PathLike)) else repr(path)
+    if isinstance(path, (str, os.PathLike)):
+        if not os.path.exists(path):
+            raise FileNotFoundError(f"no trajectory file at {where}")
+        if os.path.isdir(path):
+            raise ValueError(f"{where}: is a directory, not a trajectory file (.npz)")
+        if os.path.getsize(path) == 0:
+            raise ValueError(f"{where}: the file is empty (0 bytes), not a trajectory file (.npz)")
     try:
         data = np.load(path, allow_pickle=False)
-    except (OSError, ValueError) as e:
-        raise ValueError(f"{path}: not a trajectory file ({e})") from e
+    except FileNotFoundError:
+        raise
+    except (OSError, ValueError, EOFError, MemoryError, NotImplementedError, zipfile.BadZipFile, zlib.error) as e:
+        raise ValueError(f"{where}: not a trajectory file ({type(e).__name__}: {e})") from e
+    if not isinstance(data, np.lib.npyio.NpzFile):
+        raise ValueError(f"{where}: not a trajectory file (a single array, .npy, not an .npz archive)")
     with data:
-        missing = {"format_version", "joint_names", "s", "dt", "t", "q", "p", "control_points"} - set(data.files)
-        if missing:
-            raise ValueError(f"{path}: not a hovi trajectory (missing {', '.join(sorted(missing))})")
-        if int(data["format_version"]) > FORMAT_VERSION:
-            raise ValueError(f"{path}: written by a newer hovi (format {int(data['format_version'])})")
-        names, s, dt = [str(x) for x in data["joint_names"]], int(data["s"]), float(data["dt"])
-        if d is not None:
-            if list(d.model.joint_names) != names:
-                raise ValueError(f"{path}: joint names {names} differ from the integrator's model "
-                                 f"{list(d.model.joint_names)}")
-            if d.s != s or d.dt != dt:
-                raise ValueError(f"{path}: s = {s}, dt = {dt} differ from the integrator's s = {d.s}, dt = {d.dt}")
-        optional = {k: data[k] for k in ("factorizations", "multipliers") if k in data.files}
-        traj = Trajectory(t=data["t"], q=data["q"], p=data["p"], control_points=data["control_points"],
-                          iterations=data["iterations"], residuals=data["residuals"],
-                          status=[str(x) for x in data["status"]], solve_seconds=float(data["solve_seconds"]),
-                          discretization=d, **optional)
-    return traj
+        arrays = {}
+        for k in data.files:
+            try:
+                arrays[k] = data[k]
+            except (OSError, ValueError, EOFError, KeyError, MemoryError, NotImplementedError, zipfile.BadZipFile,
+                    zlib.error) as e:
+                raise ValueError(f"{where}: entry {k!r} cannot be read (a damaged or truncated file? {e})") from e
+    try:
+        check_arrays(arrays, None if d is None else d.model.n_constraints)
+    except ValueError as e:
+        raise ValueError(f"{where}: {e}") from None
+    names, s, dt = [str(x) for x in arrays["joint_names"]], int(arrays["s"]), float(arrays["dt"])
+    if d is not None:
+        if list(d.model.joint_names) != names:
+            raise ValueError(f"{where}: joint names {names} differ from the integrator's model "
+                             f"{list(d.model.joint_names)}")
+        if d.s != s or d.dt != dt:
+            raise ValueError(f"{where}: s = {s}, dt = {dt} differ from the integrator's s = {d.s}, dt = {d.dt}")
+    optional = {k: arrays[k] for k in OPTIONAL if k in arrays}
+    return Trajectory(t=arrays["t"], q=arrays["q"], p=arrays["p"], control_points=arrays["control_points"],
+                      iterations=arrays["iterations"], residuals=arrays["residuals"],
+                      status=[str(x) for x in arrays["status"]], solve_seconds=float(arrays["solve_seconds"]),
+                      discretization=d, **optional)

@@ -43,8 +43,29 @@ import numpy as np
 
 from .. import _core
 from .._bodies import body_index
+from .._checks import real_array, real_number
 from .._core import Model
 from .terrain import Terrain
+
+# The largest friction coefficient taken: real ones are below about 2 (rubber on rough ground);
+# mu = 1e3 already means no slip, and beyond it the cone rows mu lambda - sum beta lose their scale.
+MAX_FRICTION = 1e3
+
+
+def friction_coefficient(mu: object, name: str = "mu", *, positive: bool = False) -> float:
+    """``mu`` checked: a real number, finite, >= 0 (> 0 with ``positive``) and at most MAX_FRICTION."""
+    value = real_number(mu, name, minimum=0.0, strict_minimum=positive)
+    if value > MAX_FRICTION:
+        raise ValueError(f"{name} must be at most {MAX_FRICTION:g} (a friction coefficient: real ones are below "
+                         f"about 2; {MAX_FRICTION:g} already means no slip), got {value:g}")
+    return value
+
+
+def contact_body(model: Model, body: object, what: str) -> int:
+    """The index of ``body`` (a name, or an integer index: not a bool or float) in ``model``."""
+    if not isinstance(body, (str, int, np.integer)) or isinstance(body, (bool, np.bool_)):
+        raise TypeError(f"{what} must be a body name or an integer index, got {type(body).__name__} {body!r:.60}")
+    return body_index(model, body if isinstance(body, str) else int(body), what)
 
 
 @dataclass(frozen=True)
@@ -78,22 +99,27 @@ class Contacts:
             raise TypeError(f"model must be a hovi.Model, got {type(model).__name__}")
         if not isinstance(terrain, Terrain):
             raise TypeError(f"terrain must be a hovi.contact.Terrain, got {type(terrain).__name__}")
+        if isinstance(points, (str, bytes, dict, np.ndarray)) or not isinstance(points, Sequence):
+            raise TypeError(f"points must be a list of (body name or index, point (3,)), got {type(points).__name__}")
         if not points:
             raise ValueError("give at least one contact point")
-        if not (np.isfinite(mu) and mu >= 0):
-            raise ValueError(f"mu must be finite and non-negative, got {mu}")
-        self.terrain, self.mu = terrain, float(mu)
+        mu = friction_coefficient(mu)
+        if not isinstance(plane, str):
+            raise ValueError(f"plane must be '' (3D), 'xz' or 'yz', got {plane!r}")
+        self.terrain, self.mu = terrain, mu
         self.D = friction_directions(plane)
         self.d = len(self.D)
         self.points: List[ContactPoint] = []
-        for entry in points:
-            if len(entry) != 2:
-                raise ValueError(f"a contact point is (body name or index, point (3,)), got {entry!r}")
+        for i, entry in enumerate(points):
+            if isinstance(entry, (str, bytes)) or not hasattr(entry, "__len__") or len(entry) != 2:
+                raise ValueError(f"contact point {i}: a contact point is (body name or index, point (3,)), got {entry!r}")
             body, point = entry
-            b = body_index(model, body, "contact body")
-            p = np.asarray(point, dtype=float)
-            if p.shape != (3,) or not np.all(np.isfinite(p)):
-                raise ValueError(f"contact point must be 3 finite numbers, got {point!r}")
+            b = contact_body(model, body, "contact body")
+            try:
+                p = real_array(point, f"contact point {i} ({body!r})", (3,))
+            except (TypeError, ValueError) as e:
+                raise ValueError(f"{e}: a contact point must be 3 finite numbers (in the body's joint frame), got "
+                                 f"{point!r:.60}") from None
             self.points.append(ContactPoint(b, p))
         self.m_user = model.n_controls
         self.model = model.copy()
@@ -108,9 +134,7 @@ class Contacts:
 
     def gaps(self, q: np.ndarray) -> np.ndarray:
         """The signed gaps (C,) of the contact points to the terrain at configuration q (n,)."""
-        q = np.asarray(q, dtype=float)
-        if q.shape != (self.model.n,):
-            raise ValueError(f"q must have shape ({self.model.n},), got {q.shape}")
+        q = real_array(q, "q", (self.model.n,))
         X, _ = _core.body_point_kinematics(self.model, q[None], [c.body for c in self.points],
                                                    np.array([c.point for c in self.points]))
         return self.terrain.gap(X[0])
@@ -141,6 +165,11 @@ class Contacts:
 
     def forces(self, u: np.ndarray) -> np.ndarray:
         """World contact forces (P, contacts, 3) from controls u (P, m) of the contact model."""
+        u = real_array(u, "u")
+        m = self.model.n_controls
+        if u.ndim not in (1, 2) or u.shape[-1] != m:
+            raise ValueError(f"u must be the controls of the contact model, (P, {m}) or ({m},) (the robot's "
+                             f"{self.m_user} and {m - self.m_user} contact inputs), got shape {u.shape}")
         u = np.atleast_2d(u)
         out = np.zeros((len(u), self.n_contacts, 3))
         for c in range(self.n_contacts):

@@ -25,8 +25,9 @@ from typing import Sequence, Tuple, Union
 
 import numpy as np
 
-from .._bodies import body_index
+from .._checks import real_array, real_number
 from .._core import Model
+from .contacts import contact_body, friction_coefficient
 
 
 def wrench_cone(X: float, Y: float, mu: float) -> np.ndarray:
@@ -82,18 +83,18 @@ class FlatFoot:
                  mu: float, q0: Sequence[float], scale: float | None = None) -> None:
         if not isinstance(model, Model):
             raise TypeError(f"model must be a hovi.Model, got {type(model).__name__}")
-        self.body = body_index(model, body, "foot body")
-        self.centre = np.asarray(centre, dtype=float)
-        if self.centre.shape != (3,) or not np.all(np.isfinite(self.centre)):
-            raise ValueError(f"the sole centre must be 3 finite numbers, got {centre!r}")
+        self.body = contact_body(model, body, "foot body")
+        try:
+            self.centre = real_array(centre, "the sole centre", (3,))
+        except (TypeError, ValueError) as e:
+            raise ValueError(f"{e}: the sole centre must be 3 finite numbers, got {centre!r:.60}") from None
         for name, value in (("X", X), ("Y", Y)):
-            if not (np.isfinite(value) and value > 0):
-                raise ValueError(f"the sole's half-size {name} must be positive and finite, got {value}")
-        if not (np.isfinite(mu) and mu > 0):
-            raise ValueError(f"mu must be positive and finite, got {mu}")
-        q0 = np.asarray(q0, dtype=float)
-        if q0.shape != (model.n,) or not np.all(np.isfinite(q0)):
-            raise ValueError(f"q0 must be {model.n} finite numbers, got shape {q0.shape}")
+            real_number(value, f"the sole's half-size {name}", minimum=0.0, strict_minimum=True)
+        mu = friction_coefficient(mu, positive=True)
+        try:
+            q0 = real_array(q0, "q0", (model.n,))
+        except (TypeError, ValueError) as e:
+            raise ValueError(f"{e}: q0 must be {model.n} finite numbers") from None
         pose = model.joint_placements(q0)[self.body]
         self.R0 = pose[:3, :3]
         tilt = np.degrees(np.arccos(np.clip(self.R0[2, 2], -1.0, 1.0)))
@@ -103,9 +104,8 @@ class FlatFoot:
         self.model = model.copy()
         self.first_input = self.model.n_controls
         weight = model.total_mass * float(np.linalg.norm(model.gravity))
-        self.scale = (weight if weight > 0 else 1.0) if scale is None else float(scale)
-        if not (np.isfinite(self.scale) and self.scale > 0):
-            raise ValueError(f"scale must be positive and finite, got {scale}")
+        self.scale = (weight if weight > 0 else 1.0) if scale is None else \
+            real_number(scale, "scale", minimum=0.0, strict_minimum=True)
         for axis in self.R0.T:                                               # f along the sole axes
             self.model.add_point_wrench(self.body, force=self.scale * axis, point=self.centre,
                                         control=self.model.add_control())
@@ -129,6 +129,11 @@ class FlatFoot:
 
     def wrench(self, u: np.ndarray) -> np.ndarray:
         """The wrenches (P, 6) (f, tau in the sole frame at its centre; N, N m) in the controls u (P, m)."""
+        u = real_array(u, "u")
+        m = self.model.n_controls
+        if u.ndim not in (1, 2) or u.shape[-1] < self.first_input + 6:
+            raise ValueError(f"u must be controls (P, m) or (m,) of the foot's model (m >= {self.first_input + 6}: "
+                             f"its {m} inputs, and any appended after them), got shape {u.shape}")
         return self.scale * np.atleast_2d(u)[:, self.first_input:self.first_input + 6]
 
     def centre_of_pressure(self, u: np.ndarray) -> np.ndarray:

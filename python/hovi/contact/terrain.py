@@ -9,23 +9,48 @@ from typing import List, Sequence, Tuple
 
 import numpy as np
 
+from .._checks import real_number
+
+
+def _check_gap(g: "Gap", name: str) -> None:
+    x0, x1 = real_number(g.x0, f"{name}.x0"), real_number(g.x1, f"{name}.x1")
+    real_number(g.depth, f"{name}.depth", minimum=0.0, strict_minimum=True)
+    if not x0 < x1:
+        raise ValueError(f"{name} needs x0 < x1, got x0 = {x0}, x1 = {x1}")
+
+
+def _check_box(b: "Box", name: str) -> None:
+    x0, x1 = real_number(b.x0, f"{name}.x0"), real_number(b.x1, f"{name}.x1")
+    y0, y1 = real_number(b.y0, f"{name}.y0", finite=False), real_number(b.y1, f"{name}.y1", finite=False)
+    real_number(b.top, f"{name}.top")
+    if not (x0 < x1 and y0 < y1):
+        raise ValueError(f"{name} needs x0 < x1 and y0 < y1, got x0 = {x0}, x1 = {x1}, y0 = {y0}, y1 = {y1}")
+
 
 @dataclass
 class Gap:
-    """No ground for x0 < x < x1 (a strip across y), down to ``depth`` below the ground."""
+    """No ground for x0 < x < x1 (a strip across y), down to ``depth`` below the ground (x0, x1 and
+    depth finite numbers, x0 < x1, depth > 0)."""
     x0: float
     x1: float
     depth: float = 1.0
 
+    def __post_init__(self) -> None:
+        _check_gap(self, "Gap")
+
 
 @dataclass
 class Box:
-    """A block with its top face at height ``top`` over x0 < x < x1, y0 < y < y1."""
+    """A block with its top face at height ``top`` over x0 < x < x1, y0 < y < y1 (x0, x1 and top
+    finite numbers, y0 and y1 numbers, +-inf allowed)."""
     x0: float
     x1: float
     top: float
     y0: float = -np.inf
     y1: float = np.inf
+
+    def __post_init__(self) -> None:
+        _check_box(self, "Box")
 
 
 @dataclass
@@ -36,12 +61,19 @@ class Terrain:
     boxes: List[Box] = field(default_factory=list)
 
     def __post_init__(self) -> None:
-        for g in self.gaps:
-            if not (np.isfinite(g.x0) and np.isfinite(g.x1) and g.x0 < g.x1 and g.depth > 0):
-                raise ValueError(f"a gap needs finite x0 < x1 and a positive depth, got {g}")
-        for b in self.boxes:
-            if not (b.x0 < b.x1 and b.y0 < b.y1 and np.isfinite(b.top)):
-                raise ValueError(f"a box needs x0 < x1, y0 < y1 and a finite top, got {b}")
+        real_number(self.ground, "Terrain ground")
+        for field_name, kind, check in (("gaps", Gap, _check_gap), ("boxes", Box, _check_box)):
+            items = getattr(self, field_name)
+            if isinstance(items, (str, bytes, dict)) or not hasattr(items, "__iter__"):
+                raise TypeError(f"Terrain {field_name} must be a list of hovi.contact.{kind.__name__}, got "
+                                f"{type(items).__name__}")
+            items = list(items)
+            for i, item in enumerate(items):
+                if not isinstance(item, kind):
+                    raise TypeError(f"Terrain {field_name}[{i}] must be a hovi.contact.{kind.__name__}, got "
+                                    f"{type(item).__name__} {item!r:.60}")
+                check(item, f"Terrain {field_name}[{i}]")
+            setattr(self, field_name, items)
 
     def height(self, xy: np.ndarray) -> np.ndarray:
         """h (P,) of the surface below the points xy (P, 2)."""

@@ -9,6 +9,7 @@ from typing import Callable, Tuple
 import numpy as np
 import numpy.typing as npt
 
+from .._checks import real_array
 from .samples import Samples
 
 # (value, dq (K, n), dv (K, n), du (K, m)): a cost and its gradients with respect to the samples
@@ -22,17 +23,64 @@ class Cost:
         raise NotImplementedError
 
 
+def _vector(value: npt.ArrayLike, name: str, size: int | None = None, *, nonnegative: bool = False) -> np.ndarray:
+    """A number or ``size`` numbers (any length when size is None), finite (and >= 0 with
+    ``nonnegative``), as an array of shape () or (size,); errors name ``name``."""
+    v = real_array(value, name)
+    if v.ndim > 1 or (size is not None and v.shape not in ((), (size,), (1,))):
+        raise ValueError(f"{name} must be a number or {'a vector (one per coordinate)' if size is None else f'{size} numbers'}"
+                         f", got shape {v.shape}")
+    if nonnegative and np.any(v < 0):
+        raise ValueError(f"{name} must be non-negative, got {v.tolist()}")
+    return v if size is None else np.broadcast_to(v, (size,)).copy()
+
+
 def _weights(W: npt.ArrayLike, size: int, name: str) -> np.ndarray:
-    W = np.broadcast_to(np.asarray(W, dtype=float), (size,)).copy()
-    if np.any(W < 0) or not np.all(np.isfinite(W)):
-        raise ValueError(f"{name} weights must be finite and non-negative")
-    return W
+    return _vector(W, f"{name} weight", size, nonnegative=True)
+
+
+def _reference_or_function(ref, name: str):
+    """A reference given to a cost: None, a callable, or checked numbers."""
+    if ref is None or callable(ref):
+        return ref
+    _vector(ref, name)
+    return ref
+
+
+def checked_cost(cost: Cost, s: Samples, name: str, *, finite: bool = False) -> CostValue:
+    """``cost(s)``, checked: a tuple (value, dq, dv, du) with value a real number and the gradients
+    of the samples' shapes, all real (and, with ``finite``, finite); ValueError naming the cost term
+    ``name`` and what it returned otherwise."""
+    out = cost(s)
+    if not isinstance(out, (tuple, list)) or len(out) != 4:
+        raise ValueError(f"{name} must return (value, dq, dv, du), got {type(out).__name__}"
+                         f"{'' if not hasattr(out, '__len__') else ' of length ' + str(len(out))}")
+    value, dq, dv, du = out
+    if (isinstance(value, (bool, np.bool_, str, bytes)) or np.ndim(value) != 0
+            or np.asarray(value).dtype.kind not in "iuf"):
+        raise ValueError(f"{name} returned a cost value that is not a real number: {value!r}")
+    value = float(value)
+    grads = []
+    for g_name, g, ref in (("dq", dq, s.q), ("dv", dv, s.v), ("du", du, s.u)):
+        try:
+            g = real_array(g, f"{name}: its gradient {g_name}", tuple(ref.shape), finite=False)
+        except TypeError as e:
+            raise ValueError(str(e)) from None
+        grads.append(g)
+    if finite:
+        if not np.isfinite(value):
+            raise ValueError(f"{name} returned the cost value {value} (not finite)")
+        for g_name, g in zip(("dq", "dv", "du"), grads):
+            if not np.all(np.isfinite(g)):
+                raise ValueError(f"{name} returned NaN or infinity in its gradient {g_name}")
+    return value, grads[0], grads[1], grads[2]
 
 
 class ControlEffort(Cost):
     """∫ sum_i R_i u_i(t)^2 dt (weight R a scalar or one weight per control, (m,))."""
 
     def __init__(self, weight: npt.ArrayLike = 1.0):
+        _vector(weight, "ControlEffort weight", nonnegative=True)
         self.weight = weight
 
     def __call__(self, s: Samples) -> CostValue:
@@ -48,22 +96,37 @@ class StateTracking(Cost):
     def __init__(self, q_ref: npt.ArrayLike | Callable[[np.ndarray], np.ndarray], weight: npt.ArrayLike = 1.0,
                  v_ref: npt.ArrayLike | Callable[[np.ndarray], np.ndarray] | None = None,
                  velocity_weight: npt.ArrayLike = 0.0):
+        if q_ref is None:
+            raise TypeError("StateTracking q_ref must be numbers or a function of time, got None")
+        _reference_or_function(q_ref, "StateTracking q_ref")
+        _reference_or_function(v_ref, "StateTracking v_ref")
+        _vector(weight, "StateTracking weight", nonnegative=True)
+        _vector(velocity_weight, "StateTracking velocity_weight", nonnegative=True)
         self.q_ref, self.weight, self.v_ref, self.velocity_weight = q_ref, weight, v_ref, velocity_weight
 
     @staticmethod
-    def _reference(ref, t, n):
+    def _reference(ref, t, n, name="a reference"):
         if ref is None:
             return np.zeros((len(t), n))
-        r = np.asarray(ref(t) if callable(ref) else np.broadcast_to(np.asarray(ref, dtype=float), (len(t), n)), float)
-        if r.shape != (len(t), n):
-            raise ValueError(f"a reference must be {n} values or a vectorised function of the sample times "
-                             f"t (K,) returning (K, {n}); got shape {r.shape}")
-        return r
+        if callable(ref):
+            try:
+                r = real_array(ref(t), f"{name} (a function of the sample times t ({len(t)},))", (len(t), n))
+            except TypeError as e:
+                raise ValueError(f"{e}; it must return ({len(t)}, {n}) real numbers") from None
+            except ValueError as e:
+                raise ValueError(f"{e}: {name} must be {n} values or a vectorised function of the sample times "
+                                 f"t (K,) returning (K, {n})") from None
+            return r
+        r = real_array(ref, name)
+        if r.shape not in ((), (1,), (n,)):
+            raise ValueError(f"{name} must be {n} values (one per coordinate) or a vectorised function of the "
+                             f"sample times t (K,) returning (K, {n}); got shape {r.shape}")
+        return np.broadcast_to(r, (len(t), n))
 
     def __call__(self, s: Samples) -> CostValue:
         n = s.q.shape[1]
-        eq = s.q - self._reference(self.q_ref, s.t, n)
-        ev = s.v - self._reference(self.v_ref, s.t, n)
+        eq = s.q - self._reference(self.q_ref, s.t, n, "StateTracking q_ref")
+        ev = s.v - self._reference(self.v_ref, s.t, n, "StateTracking v_ref")
         Wq = s.w[:, None] * _weights(self.weight, n, "state tracking")
         Wv = s.w[:, None] * _weights(self.velocity_weight, n, "velocity tracking")
         value = float(np.sum(Wq * eq * eq) + np.sum(Wv * ev * ev))
@@ -76,12 +139,17 @@ class TerminalCost(Cost):
 
     def __init__(self, q_target: npt.ArrayLike, weight: npt.ArrayLike = 1.0, v_target: npt.ArrayLike | None = None,
                  velocity_weight: npt.ArrayLike = 0.0):
+        _vector(q_target, "TerminalCost q_target")
+        if v_target is not None:
+            _vector(v_target, "TerminalCost v_target")
+        _vector(weight, "TerminalCost weight", nonnegative=True)
+        _vector(velocity_weight, "TerminalCost velocity_weight", nonnegative=True)
         self.q_target, self.weight, self.v_target, self.velocity_weight = q_target, weight, v_target, velocity_weight
 
     def __call__(self, s: Samples) -> CostValue:
         n, f = s.q.shape[1], s.final
-        eq = s.q[f] - np.broadcast_to(np.asarray(self.q_target, dtype=float), (n,))
-        ev = s.v[f] - (np.zeros(n) if self.v_target is None else np.broadcast_to(np.asarray(self.v_target, float), (n,)))
+        eq = s.q[f] - _vector(self.q_target, "TerminalCost q_target", n)
+        ev = s.v[f] - (np.zeros(n) if self.v_target is None else _vector(self.v_target, "TerminalCost v_target", n))
         Wq, Wv = _weights(self.weight, n, "terminal"), _weights(self.velocity_weight, n, "terminal velocity")
         dq, dv = np.zeros_like(s.q), np.zeros_like(s.v)
         dq[f], dv[f] = 2 * Wq * eq, 2 * Wv * ev
@@ -93,11 +161,16 @@ class CallbackCost(Cost):
     samples' shapes (vectorised over the samples: called once per evaluation, not per stage)."""
 
     def __init__(self, fun: Callable[..., tuple[float, npt.ArrayLike, npt.ArrayLike, npt.ArrayLike]]):
+        if not callable(fun):
+            raise TypeError(f"CallbackCost fun must be callable, got {type(fun).__name__}")
         self.fun = fun
 
     def __call__(self, s: Samples) -> CostValue:
-        value, dq, dv, du = self.fun(s.t, s.w, s.q, s.v, s.u)
+        out = self.fun(s.t, s.w, s.q, s.v, s.u)
+        if not isinstance(out, (tuple, list)) or len(out) != 4:
+            raise ValueError(f"CallbackCost: fun must return (value, dq, dv, du), got {type(out).__name__}")
+        value, dq, dv, du = out
         for name, g, ref in (("dq", dq, s.q), ("dv", dv, s.v), ("du", du, s.u)):
             if np.shape(g) != ref.shape:
                 raise ValueError(f"CallbackCost: {name} must have shape {ref.shape}, got {np.shape(g)}")
-        return float(value), np.asarray(dq, float), np.asarray(dv, float), np.asarray(du, float)
+        return checked_cost(lambda _: (value, dq, dv, du), s, "CallbackCost")

@@ -13,6 +13,7 @@ import scipy.sparse as sp
 
 from .. import _core
 from ..contact.complementarity import ComplementarityRelaxation, ContactRows
+from .costs import checked_cost
 from .path_constraints import OnBodyPoints
 from .problem import Problem
 from .transcription import Transcription, TranscriptionMethod
@@ -33,6 +34,10 @@ class NLP:
 
     def __init__(self, problem: Problem | Transcription, transcription: TranscriptionMethod | Transcription | None = None,
                  *, relaxation: ComplementarityRelaxation | None = None):
+        if not isinstance(problem, (Problem, Transcription)):
+            raise TypeError(f"problem must be a hovi.trajopt.Problem, got {type(problem).__name__}")
+        if relaxation is not None and not isinstance(relaxation, ComplementarityRelaxation):
+            raise TypeError(f"relaxation must be a hovi.contact.ComplementarityRelaxation, got {type(relaxation).__name__}")
         if isinstance(problem, Transcription):
             if transcription is not None:
                 raise TypeError("give NLP(problem, transcription) or NLP(transcribed problem), not both")
@@ -154,19 +159,42 @@ class NLP:
         self.eval_seconds += time.perf_counter() - t0
         return out
 
+    def _cost_terms(self, x: np.ndarray, finite: bool = False):
+        """Each cost term's (value, dq, dv, du) at x, checked (``costs.checked_cost``: a real value and
+        gradients of the samples' shapes; all finite with ``finite``)."""
+        s = self.samples.evaluate(x)
+        return [checked_cost(c, s, f"cost {i} ({type(c).__name__})", finite=finite)
+                for i, c in enumerate(self.problem.costs)]
+
     def objective(self, x: np.ndarray) -> float:
         """The total cost at x (n_variables,)."""
-        s = self.samples.evaluate(x)
-        return sum(c(s)[0] for c in self.problem.costs)
+        return float(sum(value for value, _, _, _ in self._cost_terms(x)))
 
     def gradient(self, x: np.ndarray) -> np.ndarray:
         """The cost's gradient (n_variables,) at x (n_variables,)."""
-        s = self.samples.evaluate(x)
         g = np.zeros(self.n_variables)
-        for c in self.problem.costs:
-            _, dq, dv, du = c(s)
+        for _, dq, dv, du in self._cost_terms(x):
             g += self.samples.pullback(dq, dv, du)
         return g
+
+    def check_start(self, x: np.ndarray) -> None:
+        """Raise the errors of the costs, path constraints and dynamics at a starting point x
+        (n_variables,) before a solver runs: x finite, every cost term a finite real value with
+        finite gradients of the right shapes (ValueError naming the term), constraints and
+        Jacobian evaluable."""
+        x = np.asarray(x)
+        if x.shape != (self.n_variables,):
+            raise ValueError(f"guess: the starting point must have {self.n_variables} variables, got shape {x.shape}")
+        if not np.all(np.isfinite(x)):
+            bad = int(np.argmax(~np.isfinite(x)))
+            raise ValueError(f"guess: the starting point holds NaN or infinity (variable {bad} of {self.n_variables}, "
+                             f"{self.transcription.describe_variable(bad)})")
+        try:
+            self._cost_terms(x, finite=True)
+        except ValueError as e:
+            raise ValueError(f"{e} at the initial guess") from None
+        self.constraints(x)
+        self.jacobian(x)
 
     def _path(self, x, with_jacobian):
         model = self.problem.model

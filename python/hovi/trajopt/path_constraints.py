@@ -12,12 +12,23 @@ import numpy.typing as npt
 
 from .. import _core
 from .._bodies import body_index
+from .._checks import real_array, real_number
 
 # (values (P, r), jacobians (P, r, n)) of a path constraint at P configuration points
 PathValue = Tuple[np.ndarray, np.ndarray]
 
 
 _AXES = {"x": 0, "y": 1, "z": 2}
+
+
+def _rows(value: npt.ArrayLike, r: int, name: str, *, finite: bool = False) -> np.ndarray:
+    """A number or r numbers (no NaN; finite with ``finite``) as (r,), errors naming ``name``."""
+    v = real_array(value, name, finite=False)
+    if v.shape not in ((), (1,), (r,)):
+        raise ValueError(f"{name} must be a number or {r} numbers (one per axis), got shape {v.shape}")
+    if np.any(np.isnan(v)) or (finite and not np.all(np.isfinite(v))):
+        raise ValueError(f"{name} must be {'finite' if finite else 'numbers, not NaN'}, got {v.tolist()}")
+    return np.broadcast_to(v, (r,)).copy()
 
 
 def _axes(axes: str) -> list[int]:
@@ -36,6 +47,13 @@ class PathConstraint:
     def __init__(self, at: float | None = None, window: tuple[float, float] | None = None, between: int = 0):
         if (at is None) == (window is None):
             raise ValueError("give exactly one of at= (a time) or window= (t0, t1)")
+        if at is not None:
+            at = real_number(at, "at")
+        if window is not None:
+            w = real_array(window, "window", finite=False)
+            if w.shape != (2,) or np.any(np.isnan(w)):
+                raise ValueError(f"window must be two times (t0, t1), got {window!r}")
+            window = (float(w[0]), float(w[1]))
         if window is not None and not window[0] <= window[1]:
             raise ValueError(f"window must satisfy t0 <= t1, got {window}")
         if isinstance(between, bool) or not isinstance(between, (int, np.integer)) or between < 0:
@@ -100,19 +118,23 @@ class BodyPoint(OnBodyPoints):
                  lower: npt.ArrayLike | None = None, upper: npt.ArrayLike | None = None, axes: str = "xyz",
                  at: float | None = None, window: tuple[float, float] | None = None, between: int = 0):
         super().__init__(at, window, between)
-        self.body, self.point, self.rows = body, np.asarray(point, float), _axes(axes)
+        if not isinstance(axes, str):
+            raise ValueError(f"axes must be a combination of 'x', 'y', 'z', got {axes!r}")
+        self.rows = _axes(axes)
+        self.point = real_array(point, "point", finite=False)
+        if self.point.shape != (3,) or not np.all(np.isfinite(self.point)):
+            raise ValueError(f"point must have 3 coordinates, finite, got {point!r:.60}")
+        self.body = body
         r = len(self.rows)
         if target is not None:
             if lower is not None or upper is not None:
                 raise ValueError("give target= or lower=/upper=, not both")
-            self.lower = self.upper = np.broadcast_to(np.asarray(target, float), (r,)).copy()
+            self.lower = self.upper = _rows(target, r, "target", finite=True)
         else:
-            self.lower = np.broadcast_to(np.asarray(-np.inf if lower is None else lower, float), (r,)).copy()
-            self.upper = np.broadcast_to(np.asarray(np.inf if upper is None else upper, float), (r,)).copy()
+            self.lower = _rows(-np.inf if lower is None else lower, r, "lower")
+            self.upper = _rows(np.inf if upper is None else upper, r, "upper")
         if np.any(self.lower > self.upper):
             raise ValueError(f"lower > upper in a body-point constraint: {self.lower} > {self.upper}")
-        if self.point.shape != (3,):
-            raise ValueError("point must have 3 coordinates")
 
     def bind(self, model: _core.Model) -> BodyPoint:
         """Resolve the body (index or name) against the model; returns self."""
@@ -133,7 +155,8 @@ class Clearance(BodyPoint):
                  radius: float, axes: str = "xyz", at: float | None = None, window: tuple[float, float] | None = None,
                  between: int = 0):
         super().__init__(body, point, axes=axes, at=at, window=window, between=between)
-        self.center = np.asarray(center, float)
+        self.center = real_array(center, "center", (3,))
+        radius = real_number(radius, "radius")
         if radius <= 0:
             raise ValueError("radius must be positive")
         self.lower, self.upper = np.array([radius ** 2]), np.array([np.inf])
@@ -190,7 +213,12 @@ class CallbackPathConstraint(PathConstraint):
                  at: float | None = None, window: tuple[float, float] | None = None, between: int = 0):
         super().__init__(at, window, between)
         self.fun, self.jac = fun, jac
-        self.lower, self.upper = np.atleast_1d(np.asarray(lower, float)), np.atleast_1d(np.asarray(upper, float))
+        if not (callable(fun) and callable(jac)):
+            raise TypeError("CallbackPathConstraint fun and jac must be callable")
+        self.lower = np.atleast_1d(real_array(lower, "lower", finite=False))
+        self.upper = np.atleast_1d(real_array(upper, "upper", finite=False))
+        if np.any(np.isnan(self.lower)) or np.any(np.isnan(self.upper)):
+            raise ValueError("CallbackPathConstraint lower and upper must not be NaN")
         if self.lower.shape != self.upper.shape or np.any(self.lower > self.upper):
             raise ValueError("lower and upper must have the same shape with lower <= upper")
 

@@ -7,6 +7,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .. import _core
+from .._checks import real_array, real_number, whole_number
 from ..contact.contacts import Contacts
 from ..contact.flat_foot import Stance, WrenchCone
 from .costs import Cost
@@ -32,13 +33,11 @@ class Problem:
                  u_bounds: tuple[npt.ArrayLike, npt.ArrayLike] | None = None):
         if not isinstance(model, _core.Model):
             raise TypeError(f"model must be a hovi.Model, got {type(model).__name__}")
-        if int(N) != N or N < 1:
-            raise ValueError(f"N must be a positive integer, got {N}")
-        if not (np.isfinite(T) and T > 0):
-            raise ValueError(f"T must be positive and finite, got {T}")
-        if controls not in ("per_point", "held"):
-            raise ValueError(f"controls must be 'per_point' or 'held', got '{controls}'")
-        self.model, self.N, self.T, self.controls = model, int(N), float(T), controls
+        N = whole_number(N, "N", minimum=1)
+        T = real_number(T, "T", minimum=0.0, strict_minimum=True)
+        if not isinstance(controls, str) or controls not in ("per_point", "held"):
+            raise ValueError(f"controls must be 'per_point' or 'held', got {controls!r}")
+        self.model, self.N, self.T, self.controls = model, N, T, controls
         self.costs: list[Cost] = []
         self.path_constraints: list[PathConstraint] = []
         self.input_constraints: list[InputConstraint] = []
@@ -54,12 +53,30 @@ class Problem:
 
     @staticmethod
     def _bounds(given, lo_default, hi_default, size, name):
-        lo, hi = (lo_default, hi_default) if given is None else given
-        lo = np.broadcast_to(np.asarray(lo, float), (size,)).copy()
-        hi = np.broadcast_to(np.asarray(hi, float), (size,)).copy()
-        if np.any(lo > hi) or np.any(np.isnan(lo)) or np.any(np.isnan(hi)):
-            bad = np.nonzero(~(lo <= hi))[0]
-            raise ValueError(f"{name} bounds with lower > upper (or NaN) at indices {bad.tolist()}")
+        """(lower (size,), upper (size,)) from ``given`` = (lower, upper), each a number or ``size``
+        numbers (+-inf allowed, not NaN, lower <= upper, lower < inf, upper > -inf)."""
+        arg = f"{name}_bounds"
+        if given is None:
+            lo, hi = lo_default, hi_default
+        else:
+            if isinstance(given, (str, bytes)) or not hasattr(given, "__len__") or len(given) != 2:
+                raise ValueError(f"{arg} must be a pair (lower, upper), each a number or {size} numbers, got {given!r}")
+            lo, hi = given
+        out = []
+        for side, value in (("lower", lo), ("upper", hi)):
+            v = real_array(value, f"{arg} ({side})", finite=False)
+            if v.shape not in ((), (size,), (1,)):
+                raise ValueError(f"{arg} ({side}) must be a number or {size} numbers (one per "
+                                 f"{'joint' if name == 'q' else 'control'}), got shape {v.shape}")
+            if np.any(np.isnan(v)):
+                raise ValueError(f"{arg} ({side}) holds NaN at indices {np.nonzero(np.isnan(np.broadcast_to(v, (size,))))[0].tolist()}")
+            out.append(np.broadcast_to(v, (size,)).copy())
+        lo, hi = out
+        if np.any(lo > hi):
+            raise ValueError(f"{arg} with lower > upper at indices {np.nonzero(lo > hi)[0].tolist()}")
+        if np.any(lo == np.inf) or np.any(hi == -np.inf):
+            raise ValueError(f"{arg}: a lower bound of +inf or an upper bound of -inf leaves no value, at indices "
+                             f"{np.nonzero((lo == np.inf) | (hi == -np.inf))[0].tolist()}")
         return lo, hi
 
     def _effort_bounds(self):
@@ -74,13 +91,17 @@ class Problem:
 
     def _state(self, q, qdot, what):
         n = self.model.n
-        q = np.asarray(q, float)
-        if q.shape != (n,) or not np.all(np.isfinite(q)):
-            raise ValueError(f"the {what} configuration must be {n} finite numbers, got shape {q.shape}")
-        if qdot is not None:
-            qdot = np.asarray(qdot, float)
-            if qdot.shape != (n,) or not np.all(np.isfinite(qdot)):
-                raise ValueError(f"the {what} velocity must be {n} finite numbers, got shape {qdot.shape}")
+        for name, value in (("configuration", q), ("velocity", qdot)):
+            if value is None:
+                continue
+            a = real_array(value, f"the {what} {name}", finite=False)
+            if a.shape != (n,) or not np.all(np.isfinite(a)):
+                raise ValueError(f"the {what} {name} must be {n} finite numbers, got "
+                                 f"{'shape ' + str(a.shape) if a.shape != (n,) else a.tolist()}")
+            if np.abs(a).max() > 1e150:  # the model's limit (its arithmetic would overflow)
+                raise ValueError(f"the {what} {name} has an entry beyond 1e150 in magnitude: {a.tolist()}")
+        q = np.array(q, float)
+        qdot = None if qdot is None else np.array(qdot, float)
         if self.model.n_constraints:
             h = self.model.constraint_values(q)
             if np.abs(h).max() > 1e-8:

@@ -14,6 +14,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .. import _core
+from .._checks import real_array
 from .problem import Problem
 from .result import Result
 from .samples import SampleMap
@@ -100,11 +101,14 @@ class Transcription:
         straight line, zero controls), a Result (warm start from another solve of the same
         transcription), or a tuple of functions (q(t), v(t), u(t))."""
         if isinstance(guess, Result):
-            if len(guess.x) != self.core.n_variables:
-                raise ValueError("the guess Result comes from a problem of a different size")
-            return guess.x.copy()
+            return self._result_guess(guess)
         if isinstance(guess, tuple):
-            return self.guess(*guess)
+            if len(guess) != 3 or not all(callable(f) for f in guess):
+                raise ValueError(f"guess: a tuple guess must be three functions (q(t), v(t), u(t)) of times t (K,), got "
+                                 f"{len(guess)} items of types {[type(f).__name__ for f in guess]}")
+            names = ("q(t)", "v(t)", "u(t)")
+            widths = (self.n, self.n, self.m)
+            return self.guess(*(self._checked_function(f, name, width) for f, name, width in zip(guess, names, widths)))
         if guess is None or (isinstance(guess, str) and guess == "rollout"):
             x = self.rollout_guess()
             if x is not None:
@@ -112,7 +116,55 @@ class Transcription:
             guess = "linear"
         if isinstance(guess, str) and guess == "linear":
             return self.guess(*self.linear_interpolants())
-        raise ValueError(f"guess must be None, 'rollout', 'linear', a Result or (q(t), v(t), u(t)), got {guess!r}")
+        raise ValueError(f"guess must be None, 'rollout', 'linear', a Result or (q(t), v(t), u(t)), got "
+                         f"{type(guess).__name__} {guess!r:.80}")
+
+    def _result_guess(self, guess: Result) -> np.ndarray:
+        """x (n_variables,) of a Result of this transcription of a problem of this size (warm start)."""
+        other = guess.transcription
+        here = f"{self.method!r}, N = {self.problem.N}, {self.core.n_variables} variables"
+        there = (f"{other.method!r}, N = {other.problem.N}, " if isinstance(other, Transcription) else "") + \
+            f"{np.size(guess.x)} variables"
+        if isinstance(other, Transcription) and (other.method != self.method or other.problem.N != self.problem.N
+                                                 or other.model.n != self.n or other.m != self.m):
+            raise ValueError(f"guess: the Result comes from another problem or transcription ({there}; this solve: "
+                             f"{here}); pass result.as_guess() to interpolate it")
+        x = np.asarray(guess.x)
+        if x.shape != (self.core.n_variables,):
+            raise ValueError(f"guess: the Result comes from a problem of a different size ({there}; this solve: "
+                             f"{here}); pass result.as_guess() to interpolate it")
+        x = real_array(x, "guess (the Result's x)")
+        return x.copy()
+
+    def _checked_function(self, f: TimeFunction, name: str, width: int) -> TimeFunction:
+        """f, with its values at times t checked: (len(t), width) finite real numbers (ValueError
+        naming the guess function ``name`` otherwise)."""
+        def checked(t: np.ndarray) -> np.ndarray:
+            label = f"guess {name}"
+            try:
+                out = real_array(f(t), f"{label} at the {len(t)} times t", (len(t), width))
+            except TypeError as e:
+                raise ValueError(str(e)) from None
+            except ValueError as e:
+                raise ValueError(f"{e}: {label} must be vectorised, times t (K,) -> (K, {width})") from None
+            return out
+        return checked
+
+    def describe_variable(self, i: int) -> str:
+        """Which variable x[i] is: its block (q, p, v, a, u or a multiplier), joint or input and point."""
+        blocks = sorted((getattr(self, f"{name}_off"), name) for name in ("q", "p", "v", "a", "u", "l")
+                        if isinstance(getattr(self, f"{name}_off", None), (int, np.integer)))
+        name, off = "variable", 0
+        for o, nm in blocks:
+            if o <= i:
+                name, off = nm, o
+        width = self.m if name == "u" else self.mc if name == "l" else self.n
+        if name == "variable" or not width:
+            return f"variable {i}"
+        point, j = divmod(i - off, width)
+        what = {"l": "multiplier", "u": "u"}.get(name, name)
+        who = self.model.joint_names[j] if name in ("q", "p", "v", "a") else f"{'input' if name == 'u' else 'row'} {j}"
+        return f"{what} of {who} at point {point}"
 
     def at(self, x: np.ndarray, status: str, success: bool) -> Result:
         """A Result holding the point x (n_variables,) of this transcription (a start for a solver;

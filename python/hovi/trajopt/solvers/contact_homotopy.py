@@ -71,6 +71,8 @@ class ContactHomotopy(Solver):
               sides_from: Result | None = None) -> Result:
         """The homotopy on ``problem`` (with ``add_contacts``) transcribed by ``transcription``, from
         ``guess``; ``checkpoint`` and ``sides_from`` as in ``solve_contact``."""
+        if not isinstance(problem, Problem):
+            raise TypeError(f"problem must be a hovi.trajopt.Problem, got {type(problem).__name__}")
         if problem.contacts is None:
             raise ValueError("the problem has no contacts: call problem.add_contacts(contacts)")
         if not isinstance(transcription, TranscriptionMethod):
@@ -135,11 +137,18 @@ class ContactHomotopy(Solver):
         if exact is not None and checkpoint is not None and os.path.exists(checkpoint):
             os.remove(checkpoint)                      # finished: a new solve starts afresh
         result = exact or relaxed
+        stopped = exact is None and out_of_time() and (finish_below > 0 or last != schedule[-1])
+        if stopped:   # the budget ran out before the exact solve (or, finish_below = 0, the last relaxation)
+            before = "the exact solve" if finish_below > 0 else f"the last relaxation (epsilon = {eps[-1]:g})"
+            result = dataclasses.replace(
+                result, success=False,
+                status=f"stopped by time_limit = {self.time_limit:g} s before {before}; the last relaxed "
+                       f"solve (epsilon = {last:g}) ended: {result.status}")
         rows = ContactRows(problem.contacts, result.transcription, 0.0)
         result.contact = {**rows.violations(result.x), "epsilon": 0.0 if exact else last,
                           "finished": exact is not None, "solves": solves,
                           "iterations": sum(it for _, it, _ in solves), "wall_seconds": wall,
-                          "out_of_time": exact is None and out_of_time(),
+                          "out_of_time": stopped,
                           "sides_from": None if sides_from is None else sides_from.transcription.name}
         return result
 
@@ -178,7 +187,9 @@ def solve_contact(problem: Problem, transcription: TranscriptionMethod = DEFAULT
     (from its start, close to the answer, the large relaxations are not needed). On the robot
     examples this finishes where the homotopy from the example's guess is far slower (bench/README.md).
 
-    Returns the exact Result (or the last relaxed one) with ``result.contact`` = {'penetration',
+    Returns the exact Result (or the last relaxed one; when ``time_limit`` stopped the homotopy
+    before the exact solve, that one with ``success=False`` and a status that says so) with
+    ``result.contact`` = {'penetration',
     'cone', 'complementarity' (largest product), 'epsilon' (0 after the exact solve), 'finished',
     'solves' ([(epsilon, iterations, success), ...], epsilon 0 for an exact attempt),
     'iterations' (total), 'wall_seconds' (in IPOPT, total), 'out_of_time', 'sides_from' (the
@@ -192,6 +203,8 @@ def solve_contact(problem: Problem, transcription: TranscriptionMethod = DEFAULT
         warnings.warn("solve_contact(problem, epsilons) is deprecated: pass epsilons=...", DeprecationWarning,
                       stacklevel=2)
         transcription, epsilons = DEFAULT_TRANSCRIPTION, transcription
+    if not isinstance(problem, Problem):
+        raise TypeError(f"problem must be a hovi.trajopt.Problem, got {type(problem).__name__}")
     if problem.contacts is None:
         raise ValueError("the problem has no contacts: call problem.add_contacts(contacts)")
     method = resolve(transcription, s, old_default_s=1, caller="solve_contact")

@@ -8,6 +8,8 @@ released; costs and path constraints are vectorised numpy over all samples.
 """
 from __future__ import annotations
 
+import difflib
+import numbers
 import contextlib
 import time
 from typing import Any, Callable, Iterator
@@ -59,6 +61,116 @@ def on_iteration(callback: Callable[[int, float, float, float], None]) -> Iterat
         yield
     finally:
         _ITERATION_HOOKS.remove(callback)
+
+
+# IPOPT's options by the type of their value (IPOPT 3.11 to 3.14; the subset of its options
+# reference users reach for). Only for the messages: whether IPOPT takes an option is IPOPT's say.
+_NUMBER, _INTEGER, _TEXT = "a number", "an integer", "a string"
+IPOPT_OPTION_TYPES = {
+    **dict.fromkeys((
+        "tol", "dual_inf_tol", "constr_viol_tol", "compl_inf_tol", "acceptable_tol", "acceptable_dual_inf_tol",
+        "acceptable_constr_viol_tol", "acceptable_compl_inf_tol", "acceptable_obj_change_tol", "diverging_iterates_tol",
+        "max_cpu_time", "max_wall_time", "mu_init", "mu_max", "mu_min", "mu_target", "mu_max_fact",
+        "mu_linear_decrease_factor", "mu_superlinear_decrease_power", "barrier_tol_factor", "bound_relax_factor",
+        "bound_push", "bound_frac", "slack_bound_push", "slack_bound_frac", "constr_mult_init_max",
+        "bound_mult_init_val", "obj_scaling_factor", "nlp_scaling_max_gradient", "nlp_scaling_obj_target_gradient",
+        "nlp_scaling_constr_target_gradient", "nlp_scaling_min_value", "nlp_lower_bound_inf", "nlp_upper_bound_inf",
+        "warm_start_bound_push", "warm_start_bound_frac", "warm_start_slack_bound_push",
+        "warm_start_slack_bound_frac", "warm_start_mult_bound_push", "warm_start_mult_init_max",
+        "required_infeasibility_reduction", "expect_infeasible_problem_ctol", "expect_infeasible_problem_ytol",
+        "kappa_d", "s_max", "tau_min", "alpha_for_y_tol", "point_perturbation_radius",
+        "derivative_test_perturbation", "derivative_test_tol", "findiff_perturbation", "limited_memory_init_val",
+        "limited_memory_init_val_max", "limited_memory_init_val_min", "mumps_pivtol", "mumps_pivtolmax",
+        "mumps_dep_tol", "ma27_pivtol", "ma27_pivtolmax", "ma57_pivtol", "ma57_pivtolmax", "ma86_u", "ma97_u",
+        "fixed_mu_oracle_tol", "mu_oracle_quality_function_tol", "recalc_y_feas_tol", "max_cpu_time_resto",
+        "resto_penalty_parameter", "resto_proximity_weight", "bound_mult_reset_threshold",
+        "constr_mult_reset_threshold", "residual_ratio_max", "residual_ratio_singular", "residual_improvement_factor",
+        "neg_curv_test_tol", "max_hessian_perturbation", "min_hessian_perturbation", "first_hessian_perturbation",
+        "perturb_inc_fact_first", "perturb_inc_fact", "perturb_dec_fact", "jacobian_regularization_value",
+        "jacobian_regularization_exponent", "theta_max_fact", "theta_min_fact", "eta_phi", "delta", "s_phi",
+        "s_theta", "gamma_phi", "gamma_theta", "alpha_min_frac", "kappa_soc", "obj_max_inc", "watchdog_trial_iter_max",
+        "soft_resto_pderror_reduction_factor", "tiny_step_tol", "tiny_step_y_tol", "sigma_max", "sigma_min", "quality_function_section_sigma_tol", "quality_function_section_qf_tol",
+        "adaptive_mu_monotone_init_factor", "adaptive_mu_kkterror_red_fact", "filter_margin_fact", "filter_max_margin",
+        "adaptive_mu_safeguard_factor"), _NUMBER),
+    **dict.fromkeys((
+        "max_iter", "print_level", "file_print_level", "acceptable_iter", "limited_memory_max_history",
+        "limited_memory_max_skipping", "max_resto_iter", "max_soc", "watchdog_shortened_iter_trigger",
+        "print_frequency_iter", "derivative_test_first_index", "mumps_mem_percent", "mumps_permuting_scaling",
+        "mumps_pivot_order", "mumps_scaling", "max_refinement_steps", "min_refinement_steps",
+        "accept_after_max_steps", "adaptive_mu_kkt_norm_type", "max_filter_resets", "filter_reset_trigger",
+        "num_linear_variables", "ma57_pivot_order", "ma57_block_size", "ma57_node_amalgamation",
+        "ma57_small_pivot_flag", "quality_function_max_section_steps", "ma27_liw_init_factor",
+        "ma27_la_init_factor", "ma27_meminc_factor"), _INTEGER),
+    **dict.fromkeys((
+        "hessian_approximation", "mu_strategy", "mu_oracle", "fixed_mu_oracle", "linear_solver",
+        "nlp_scaling_method", "warm_start_init_point", "derivative_test", "sb", "print_user_options",
+        "print_options_documentation", "output_file", "option_file_name", "print_timing_statistics",
+        "honor_original_bounds", "check_derivatives_for_naninf", "fixed_variable_treatment", "jac_c_constant",
+        "jac_d_constant", "hessian_constant", "limited_memory_update_type", "limited_memory_initialization",
+        "limited_memory_special_for_resto", "limited_memory_aug_solver", "line_search_method",
+        "accept_every_trial_step", "corrector_type", "expect_infeasible_problem", "start_with_resto", "recalc_y",
+        "alpha_for_y", "adaptive_mu_globalization", "mehrotra_algorithm", "dependency_detector",
+        "linear_system_scaling", "linear_scaling_on_demand", "skip_finalize_solution_call", "print_info_string",
+        "inf_pr_output", "timing_statistics", "bound_mult_init_method", "least_square_init_primal",
+        "least_square_init_duals", "mu_allow_fast_monotone_decrease", "evaluate_orig_obj_at_resto_trial",
+        "hessian_approximation_space", "replace_bounds", "derivative_test_print_all", "jacobian_approximation",
+        "gradient_approximation", "ma57_automatic_scaling", "warm_start_same_structure", "warm_start_entire_iterate",
+        "dependency_detection_with_rhs", "fast_step_computation", "neg_curv_test_reg", "perturb_always_cd",
+        "skip_corr_if_neg_curv", "skip_corr_in_monotone_mode", "print_advanced_options", "file_append",
+        "quality_function_norm_type", "quality_function_centrality", "quality_function_balancing_term",
+        "constraint_violation_norm_type", "hsllib", "pardisolib", "grad_f_constant"), _TEXT),
+}
+
+
+def _option_type(value: Any) -> str:
+    if isinstance(value, str):
+        return _TEXT
+    if isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_)):
+        return _INTEGER
+    if isinstance(value, (float, np.floating)):
+        return _NUMBER
+    return type(value).__name__
+
+
+def apply_options(problem: Any, options: dict[str, Any]) -> None:
+    """``problem.add_option(key, value)`` (a cyipopt.Problem) for every option, numpy scalars as
+    Python numbers; ValueError (TypeError for a name that is not a string) naming the option,
+    its value and, for a name IPOPT does not know, the closest one it does."""
+    for key, value in options.items():
+        if not isinstance(key, str):
+            raise TypeError(f"IPOPT option names are strings, got {key!r} ({type(key).__name__})")
+        kind = _option_type(value)
+        if kind not in (_TEXT, _INTEGER, _NUMBER):
+            raise ValueError(f"IPOPT option {key!r}: the value must be a string, an integer or a number, got "
+                             f"{type(value).__name__} {value!r:.60}")
+        if kind == _INTEGER and IPOPT_OPTION_TYPES.get(key) == _NUMBER:
+            kind = _NUMBER                     # tol=1: IPOPT takes a number option only as a float
+        plain = str(value) if kind == _TEXT else int(value) if kind == _INTEGER else float(value)
+        if kind == _NUMBER and np.isnan(plain):
+            raise ValueError(f"IPOPT option {key!r}: the value is NaN")
+        try:
+            problem.add_option(key, plain)
+        except (TypeError, ValueError) as e:
+            expected = IPOPT_OPTION_TYPES.get(key)
+            if expected is None:
+                close = difflib.get_close_matches(key, list(IPOPT_OPTION_TYPES) + list(DEFAULT_OPTIONS), n=3)
+                hint = f" (did you mean {' or '.join(repr(c) for c in close)}?)" if close else ""
+                raise ValueError(f"unknown IPOPT option {key!r}{hint}: IPOPT refused {key!r} = {value!r:.60} "
+                                 f"(see IPOPT's options reference)") from e
+            if expected != kind and not (expected == _NUMBER and kind == _INTEGER):
+                raise ValueError(f"IPOPT option {key!r} takes {expected}, got {kind} {value!r:.60}") from e
+            raise ValueError(f"IPOPT refused the value {value!r:.60} of option {key!r} (out of its range, or not one "
+                             f"of its choices; see IPOPT's options reference)") from e
+
+
+class _OptionProbe:
+    """The least cyipopt problem object: IPOPT checks options against it (``Ipopt.__init__``)."""
+
+    def objective(self, x):
+        return 0.0
+
+    def gradient(self, x):
+        return np.zeros_like(x)
 
 
 class IpoptCallbacks:
@@ -151,9 +263,16 @@ class Ipopt(NLPSolver):
     copies), 'ipopt' (the rest: IPOPT's own work, mostly the sparse linear algebra)."""
 
     def __init__(self, options: dict[str, Any] | None = None, *, verbose: bool = True, hessian: str = "lbfgs"):
-        if hessian not in HESSIANS:
-            raise ValueError(f"hessian must be 'lbfgs' or 'fd', got '{hessian}'")
+        if not isinstance(hessian, str) or hessian not in HESSIANS:
+            raise ValueError(f"hessian must be 'lbfgs' or 'fd', got {hessian!r}")
+        if options is not None and not isinstance(options, dict):
+            raise TypeError(f"options must be a dict of IPOPT options, got {type(options).__name__}")
         self.options, self.verbose, self.hessian = dict(options or {}), bool(verbose), hessian
+        try:
+            import cyipopt
+        except ImportError:  # pragma: no cover - checked when solving
+            return
+        apply_options(cyipopt.Problem(n=1, m=0, problem_obj=_OptionProbe()), self.ipopt_options())
 
     def __repr__(self) -> str:
         return f"Ipopt(options={self.options!r}, verbose={self.verbose}, hessian={self.hessian!r})"
@@ -181,8 +300,7 @@ class Ipopt(NLPSolver):
                               "IPOPT: apt-get install coinor-libipopt-dev pkg-config, or `make trajopt-deps`)") from e
         tr = nlp.transcription
         x0 = np.clip(tr.initial_guess(guess), nlp.lower, nlp.upper)
-        for f in (nlp.objective, nlp.gradient, nlp.constraints, nlp.jacobian):
-            f(x0)  # user costs and path constraints raise their errors here, before IPOPT runs
+        nlp.check_start(x0)  # user costs and path constraints raise their errors here, before IPOPT runs
         nlp.eval_seconds = 0.0
         if self.hessian == "lbfgs":
             cb = IpoptCallbacks(nlp, self.verbose, cyipopt.CyIpoptEvaluationError)
@@ -190,8 +308,7 @@ class Ipopt(NLPSolver):
             cb = IpoptCallbacksWithHessian(nlp, self.verbose, cyipopt.CyIpoptEvaluationError, x0)
         ip = cyipopt.Problem(n=nlp.n_variables, m=nlp.n_constraints, problem_obj=cb, lb=nlp.lower, ub=nlp.upper,
                              cl=nlp.cl, cu=nlp.cu)
-        for key, value in self.ipopt_options().items():
-            ip.add_option(key, value)
+        apply_options(ip, self.ipopt_options())
         t0 = time.perf_counter()
         _SOLVING[0] += 1
         try:
