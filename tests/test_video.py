@@ -25,6 +25,15 @@ def test_primitive_triangles_enclose_the_right_volume():
     assert fine == pytest.approx(4 / 3 * np.pi, rel=2e-3)
 
 
+def test_large_faces_are_subdivided_keeping_the_volume():
+    box = video.box_triangles(np.array([3.0, 1.0, 0.02]))
+    fine = video.subdivide(box, 0.3)
+    assert len(fine) > 12 * 16
+    edges = np.linalg.norm(fine - np.roll(fine, 1, axis=1), axis=-1)
+    assert edges.max() <= 0.3 and volume(fine) == pytest.approx(0.06, rel=1e-12)
+    assert len(video.subdivide(box, 10.0)) == 12
+
+
 def test_vertex_clustering_keeps_the_shape_with_fewer_faces():
     tris = video.sphere_triangles(1.0, 60, 120)  # 14400 faces as an indexed mesh
     vertices, faces = np.unique(tris.reshape(-1, 3).round(12), axis=0, return_inverse=True)

@@ -22,7 +22,7 @@ from .geometry import (Motion, Shape, body_frames, ground_lines, model_shapes, m
                        transform_points)
 
 __all__ = ["render_video", "shape_triangles", "box_triangles", "cylinder_triangles", "sphere_triangles",
-           "cluster_vertices"]
+           "cluster_vertices", "subdivide"]
 
 _LIGHT = np.array([0.3, -0.5, 0.8]) / np.linalg.norm([0.3, -0.5, 0.8])
 
@@ -105,6 +105,23 @@ def shape_triangles(shape: Shape, max_faces: int = 2000) -> np.ndarray:
     return transform_points(shape.origin, tris)
 
 
+def subdivide(tris: np.ndarray, max_edge: float) -> np.ndarray:
+    """(F', 3, 3) the triangles (F, 3, 3) split in four (at their edges' midpoints) until no edge is
+    longer than max_edge: matplotlib sorts whole triangles by depth, so a large one (a terrain box's
+    face) would be drawn over what stands on it."""
+    tris = np.asarray(tris, dtype=float)
+    for _ in range(8):
+        edges = np.linalg.norm(tris - np.roll(tris, 1, axis=1), axis=-1).max(axis=1)
+        big = edges > max_edge
+        if not big.any():
+            break
+        a, b, c = tris[big, 0], tris[big, 1], tris[big, 2]
+        ab, bc, ca = (a + b) / 2, (b + c) / 2, (c + a) / 2
+        split = np.concatenate([np.stack(t, axis=1) for t in ((a, ab, ca), (ab, b, bc), (ca, bc, c), (ab, bc, ca))])
+        tris = np.concatenate([tris[~big], split])
+    return tris
+
+
 def _shade(tris: np.ndarray, rgba: np.ndarray) -> np.ndarray:
     n = np.cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0])
     n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
@@ -169,8 +186,13 @@ def render_video(model: Model, motion: Motion, path: Union[str, os.PathLike[str]
     shapes = model_shapes(model, package_dirs)
     local: Dict[int, List[np.ndarray]] = {}
     colours: Dict[int, List[np.ndarray]] = {}
-    for s in shapes:
-        tris = shape_triangles(s, max_faces)
+    shape_tris = [shape_triangles(s, max_faces) for s in shapes]
+    frames0 = body_frames(model, frames_q[0])
+    scene = np.concatenate([transform_points(frames0[s.body], t.reshape(-1, 3)) for s, t in zip(shapes, shape_tris)])
+    max_edge = max(float(np.ptp(scene, axis=0).max()), 1e-3) / 12
+    for s, tris in zip(shapes, shape_tris):
+        if s.body < 0:  # scenery (terrain boxes): split large faces so that the depth order holds
+            tris = subdivide(tris, max_edge)
         local.setdefault(s.body, []).append(tris)
         colours.setdefault(s.body, []).append(np.tile(s.rgba, (len(tris), 1)))
     bodies = sorted(local)
