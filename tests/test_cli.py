@@ -275,7 +275,7 @@ def test_a_quiet_solve_says_how_far_it_is(tmp_path, capsys, monkeypatch):
     from hovi.trajopt.solvers import ipopt
     seen = []
     with ipopt.on_iteration(lambda k, cost, inf_pr, inf_du: seen.append(k)):
-        monkeypatch.setattr(hovi.cli, "HEARTBEAT_SECONDS", 0.02)
+        monkeypatch.setattr(hovi.cli, "HEARTBEAT_SECONDS", 0.002)
         assert main(["optimize", "pendulum", "--N", "10", "--quiet", "--no-plot", "--output", str(tmp_path)]) == 0
     assert seen[0] == 0 and len(seen) > 5 and ipopt._ITERATION_HOOKS == []  # the CLI's hook is gone
     err = capsys.readouterr().err
