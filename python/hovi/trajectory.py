@@ -17,7 +17,7 @@ import warnings
 import zipfile
 import zlib
 from dataclasses import dataclass, field
-from typing import Any, Dict, List, Optional, Protocol
+from typing import Any, Dict, List, Optional, Protocol, Tuple
 
 import numpy as np
 import numpy.typing as npt
@@ -197,8 +197,8 @@ def _scalar(a: np.ndarray, name: str, kinds: str, what: str) -> np.ndarray:
     return a
 
 
-def _numbers(a: Any, name: str, shape: tuple, kinds: str = "iuf", finite: bool = True) -> np.ndarray:
-    a = np.asarray(a)
+def _numbers(value: Any, name: str, shape: Tuple[int, ...], kinds: str = "iuf", finite: bool = True) -> np.ndarray:
+    a: np.ndarray = np.asarray(value)
     if a.dtype.kind not in kinds:
         raise ValueError(f"{name} must be an array of {'integers' if kinds == 'iu' else 'real numbers'}, got {a.dtype}")
     if a.shape != shape:
@@ -208,7 +208,7 @@ def _numbers(a: Any, name: str, shape: tuple, kinds: str = "iuf", finite: bool =
     return a
 
 
-def check_arrays(arrays: Dict[str, Any], n_constraints: Optional[int] = None) -> Dict[str, np.ndarray]:
+def check_arrays(arrays: Dict[str, Any], n_constraints: Optional[int] = None) -> Dict[str, Any]:
     """The arrays of a trajectory file (as ``save_trajectory`` writes them), checked against each
     other: format_version an integer 1..FORMAT_VERSION, n joint names, s >= 1, dt > 0, t (K+1,) = k dt,
     q and p (K+1, n), control_points (K, s+1, n) starting at q^k and ending at q^{k+1}, per attempted
@@ -222,7 +222,7 @@ def check_arrays(arrays: Dict[str, Any], n_constraints: Optional[int] = None) ->
     unknown = sorted(set(arrays) - set(REQUIRED) - set(OPTIONAL))
     if unknown:
         raise ValueError(f"unknown entries {unknown} (a trajectory file holds {', '.join(REQUIRED + OPTIONAL)})")
-    a = {k: np.asarray(v) for k, v in arrays.items()}
+    a: Dict[str, Any] = {k: np.asarray(v) for k, v in arrays.items()}
     version = a["format_version"]
     if version.shape != () or version.dtype.kind not in "iu" or not 1 <= int(version) <= FORMAT_VERSION:
         if version.shape == () and version.dtype.kind in "iu" and int(version) > FORMAT_VERSION:
