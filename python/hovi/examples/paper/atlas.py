@@ -9,10 +9,11 @@ from typing import Dict
 import numpy as np
 from scipy.optimize import least_squares
 
-from ... import trajopt
+from ... import _core, trajopt
 from ...contact import FlatFoot, wrench_cone
 from ..robots import Robot, atlas
 from ...trajopt import Problem, Result
+from .contact_figures import BETWEEN_TOLERANCE, between_knot_penetration
 from .example import Example, Scenery
 from .statics import static_controls
 
@@ -96,6 +97,11 @@ def build(quick: bool = False) -> Example:
     options = {"constr_viol_tol": 1e-8}  # the dynamics' round-off floor of a 174 kg robot is ~5e-10
 
     G = wrench_cone(X, Y, MU)
+    corners = [c.body for c in robot.contacts], np.array([c.point for c in robot.contacts])
+
+    def heights(q: np.ndarray) -> np.ndarray:
+        """The sole corners' heights (K, 8) above the ground (z = 0, the right sole's plane)."""
+        return _core.body_point_kinematics(robot.model, np.atleast_2d(q), *corners)[0][..., 2]
 
     def checks(result: Result) -> Dict[str, float]:
         tr = result.trajectory
@@ -110,10 +116,12 @@ def build(quick: bool = False) -> Example:
                 "stance_foot_motion": float(np.abs(held - held[0]).max()),
                 "wrench_cone_margin": float((w @ G.T).min() / max(1.0, np.abs(w).max())),
                 "cop_margin": float(min(X - np.abs(cop[:, 0]).max(), Y - np.abs(cop[:, 1]).max())),
-                "normal_force_min": float(w[:, 2].min())}
+                "normal_force_min": float(w[:, 2].min()),
+                **between_knot_penetration(result, heights, [c.name for c in robot.contacts])}
 
     bounds = {"constraint_violation": ("<=", 1e-6), "ball_distance": ("<=", 0.01), "stance_foot_motion": ("<=", 1e-6),
-              "wrench_cone_margin": (">=", -1e-8), "cop_margin": (">=", 0.0), "normal_force_min": (">=", 0.0)}
+              "wrench_cone_margin": (">=", -1e-8), "cop_margin": (">=", 0.0), "normal_force_min": (">=", 0.0),
+              "between_knot_penetration": ("<=", BETWEEN_TOLERANCE)}
 
     scenery = Scenery().add("sphere", (BALL_RADIUS,), ball, (0.9, 0.3, 0.1, 1.0))
     scenery.add("box", (2.0, 2.0, 0.02), (0.0, 0.0, -0.01), (0.55, 0.6, 0.55, 1.0))

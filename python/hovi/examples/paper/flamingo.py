@@ -179,7 +179,8 @@ def build(quick: bool = False) -> Example:
         clearance = min(float(box_distance(leg_points(robot, qk), OBSTACLE).min()) for qk in path_configurations(result))
         feet = np.concatenate([_segment_points(robot.model, q[-1], c.body, np.array(c.point), np.array(c.point), 1)
                                for c in robot.contacts])
-        return {"constraint_violation": float(result.constraint_violation), **contact_figures(contacts, result),
+        return {"constraint_violation": float(result.constraint_violation),
+                **contact_figures(contacts, result, [c.name for c in robot.contacts]),
                 "obstacle_clearance": clearance, "feet_beyond_obstacle": float(OBSTACLE.x0 - feet[:, 0].max()),
                 "start_speed": float(-prob.qdot0[0]), "average_speed": float((q[0, 0] - q[-1, 0]) / T)}
 

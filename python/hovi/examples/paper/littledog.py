@@ -286,7 +286,8 @@ def figures(robot: Robot, contacts: Contacts, course: Course, result: Result) ->
     normal = force[:-1, :, 2]
     friction = np.abs(force[:-1, :, :2]).sum(-1)         # the friction pyramid: |f_x| + |f_y| <= mu f_z
     standing = feet[1:, :, 0][normal > LOADED]
-    return {"constraint_violation": float(result.constraint_violation), **contact_figures(contacts, result),
+    return {"constraint_violation": float(result.constraint_violation),
+            **contact_figures(contacts, result, [c.name for c in robot.contacts]),
             "friction_beyond_cone": float(max(0.0, (friction - contacts.mu * normal).max())),
             "foothold_gap_margin": float(gap_margin(contacts.terrain, standing).min()) if len(standing) else np.inf,
             "edge_clearance": mouth_clearance(contacts.terrain, robot.contact_radius, path.reshape(-1, 3)),
