@@ -44,18 +44,20 @@ def run_one(name: str, quick: bool, method: str, s: int, time_limit: float | Non
     wall = time.perf_counter() - t0
     if resumed:  # the time of all its processes
         wall = max(wall, report.ipopt_totals(result)[1])
-    figures = example.checks(result)
+    figures, replay, failures = report.check(example, result, method)
     row = {"example": name, "method": label(method, s), "N": example.problem.N,
            "T": example.problem.T, "success": bool(result.success), "status": result.status,
            "iterations": report.ipopt_totals(result)[0], "solve_seconds": wall, **result.sizes, **figures,
            "contact_solves": result.contact.get("solves", []), "time_limit": time_limit,
            "out_of_time": bool(result.contact.get("out_of_time", False)),
-           "failures": ([] if result.success else [result.status]) + example.failures(figures)}
+           **replay, "failures": failures}
     row["feasible"] = not row["failures"]
-    if method == "vi":
-        row.update(report.replay_figures(example, result))
     print(f"{name:8s} {row['method']:12s} N = {row['N']:3d}: {row['iterations']:4d} iterations, {wall:7.1f} s, "
+          f"between-knot penetration {row.get('between_knot_penetration', float('nan')) * 1e3:.3g} mm, "
           f"feasible {row['feasible']}", flush=True)
+    for line in ([report.between_knot_text(figures)] if "between_knot_penetration" in figures else []) + (
+            [report.replay_text(replay)] if replay else []):
+        print("  " + line, flush=True)
     return row
 
 
@@ -77,8 +79,7 @@ def main() -> None:
     for example, method, s in runs:
         rows = merge(name, run_one(example, args.quick, method, s, args.time_limit, args.verbose,
                                     args.checkpoints))
-    if not args.quick:
-        write_table(rows)
+    write_table(rows, quick=args.quick)
 
 
 def merge(name: str, row: dict) -> list:
@@ -102,10 +103,26 @@ def feasibility(row: dict) -> str:
     return f"no{out}: " + "; ".join(row.get("failures", [row["status"]]))
 
 
-def write_table(rows: list) -> None:
-    """The README table of the full rows (one per example and method)."""
+def between_cell(r: dict) -> str:
+    """The worst between-knot penetration (mm) with its contact and time, '-' if not measured."""
+    if "between_knot_penetration" not in r:
+        return "-"
+    return f"{r['between_knot_penetration'] * 1e3:.3g} ({r['between_knot_contact']}, {r['between_knot_time']:.3f} s)"
+
+
+def replay_cell(r: dict) -> str:
+    """The stages the integrator reproduces, '-' for a collocation."""
+    if "replay_stages" not in r:
+        return "-"
+    return f"{r['replay_stages_reproduced']} of {r['replay_stages']}"
+
+
+def write_table(rows: list, quick: bool = False) -> None:
+    """The README table of the rows (one per example and method): the full rows in 'robot_examples',
+    the quick ones in 'robot_examples_quick'."""
     lines = ["| example | transcription | N | variables | IPOPT iterations | solve [s] | feasible | constraint violation "
-             "| stage DEL residual | one-stage replay drift |", "|---|---|---|---|---|---|---|---|---|---|"]
+             "| stage DEL residual | one-stage replay drift | stages replayed | between-knot penetration [mm] (where) |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         residual = f"{r['replay_stage_residual']:.1e}" if "replay_stage_residual" in r else "-"
         drift = f"{r['replay_one_step_drift']:.1e}" if "replay_one_step_drift" in r else "-"
@@ -113,9 +130,8 @@ def write_table(rows: list) -> None:
             drift += f" ({r['replay_steps_elsewhere']} elsewhere)"
         lines.append(f"| {r['example']} | {r['method']} | {r['N']} | {r['variables']} | {r['iterations']} | "
                      f"{r['solve_seconds']:.1f} | {'yes' if r['feasible'] else feasibility(r)} | "
-                     f"{r['constraint_violation']:.1e} | {residual} | {drift} |")
-    update_readme_section("robot_examples", "\n".join(lines))
-
+                     f"{r['constraint_violation']:.1e} | {residual} | {drift} | {replay_cell(r)} | {between_cell(r)} |")
+    update_readme_section("robot_examples_quick" if quick else "robot_examples", "\n".join(lines))
 
 if __name__ == "__main__":
     main()

@@ -14,6 +14,7 @@ import numpy as np
 from ... import trajopt
 from ...trajopt import Result
 from ...trajopt.transcriptions import from_name
+from .contact_figures import between_knot_text
 from .example import Example
 
 
@@ -25,21 +26,27 @@ def ipopt_totals(result: Result) -> Tuple[int, float]:
     return int(result.iterations), float(result.wall_seconds)
 
 
+REPLAY_TOLERANCE = 1e-6  # m or rad: a stage is reproduced when the integrator's step lands this close to q^{k+1}
+
+
 def replay_figures(example: Example, result: Result) -> Dict[str, Any]:
     """The optimised motion checked with the integrator. Each stage's configuration points, momentum,
     controls and contact forces put into the integrator's own DEL equations (Algorithm 1): the
     largest residual |r^{k,a}| and |p^{k+1} - p^{k+1}_optimised| (how exactly each stage is a step of
-    the integrator). Each stage stepped from its optimised (q^k, p^k) by the integrator's Newton solve
-    from its own start (what a simulator would do): the largest distance of the step's end from
-    q^{k+1}, and how many stages land more than 1e-6 away (with a small residual: on a coarse grid
-    the DEL equations can have more than one root, and Newton found another one) or fail to converge. The whole horizon
-    from the start (open loop: a robot balancing on prescribed contact forces has no feedback, so
-    its drift shows how fast errors grow); the robot's energy (kinetic + potential + springs) along
-    the optimised motion, which the actuators and contacts change."""
+    the integrator). Each stage stepped from its optimised (q^k, p^k) with its optimised controls
+    and contact forces by the integrator's Newton solve from its own start (what a simulator would
+    do): the largest distance of the step's end from q^{k+1}, and how many stages land more than
+    REPLAY_TOLERANCE away (with a small residual: on a coarse grid the DEL equations can have more
+    than one root, and Newton found another one) or fail to converge; the stages reproduced
+    ('replay_stages_reproduced' of 'replay_stages', to 'replay_reproduced_to') and the worst stage
+    ('replay_worst_stage', 1-based, its coordinate 'replay_worst_joint' and 'replay_worst_unit').
+    The whole horizon from the start (open loop: a robot balancing on prescribed contact forces has
+    no feedback, so its drift shows how fast errors grow); the robot's energy (kinetic + potential +
+    springs) along the optimised motion, which the actuators and contacts change."""
     tr, tc = result.trajectory, result.transcription
     knots, P, U = tr["q"][::tc.s], tr["p"], tc.stage_controls(result.x)
     integ, model = tc.integrator, example.problem.model
-    residual, drift, elsewhere, failed = 0.0, [], 0, 0
+    residual, drift, elsewhere, failed, worst = 0.0, [], 0, 0, (0.0, 0, 0)
     for k in range(len(knots) - 1):
         points = tr["q"][k * tc.s:(k + 1) * tc.s + 1]
         if tr.get("multipliers") is None:
@@ -49,17 +56,74 @@ def replay_figures(example: Example, result: Result) -> Dict[str, Any]:
             r = np.concatenate([r.ravel(), h.ravel()])
         residual = max(residual, float(np.abs(r).max()), float(np.abs(p_next - P[k + 1]).max()))
         q_next, _, info = integ.step(knots[k], P[k], U[k], raise_on_failure=False)
-        drift.append(float(np.abs(q_next - knots[k + 1]).max()))
+        d = np.abs(q_next - knots[k + 1])
+        drift.append(float(d.max()) if info.converged and np.all(np.isfinite(d)) else np.inf)
         failed += not info.converged
-        elsewhere += info.converged and drift[-1] > 1e-6
+        elsewhere += bool(info.converged and drift[-1] > REPLAY_TOLERANCE)
+        if info.converged and np.isfinite(drift[-1]) and drift[-1] > worst[0]:
+            worst = (drift[-1], k, int(np.argmax(d)))
+    drift_arr = np.array(drift)
+    reproduced = drift_arr <= REPLAY_TOLERANCE
     replay = result.replay()
     steps = min(replay.steps, len(knots) - 1)
     energy = np.array([model.energy(q, integ.velocity(q, p)) for q, p in zip(knots, P)])
-    return {"replay_stage_residual": residual, "replay_one_step_drift": max(drift),
+    names, types = list(model.joint_names), list(model.joint_types)
+    return {"replay_stage_residual": residual, "replay_one_step_drift": float(drift_arr.max()),
             "replay_steps_elsewhere": int(elsewhere), "replay_failed_steps": int(failed),
+            "replay_stages": len(drift), "replay_stages_reproduced": int(reproduced.sum()),
+            "replay_reproduced_to": float(drift_arr[reproduced].max()) if reproduced.any() else float("nan"),
+            "replay_worst_stage": worst[1] + 1, "replay_worst_drift": worst[0], "replay_worst_joint": names[worst[2]],
+            "replay_worst_unit": "m" if types[worst[2]] == "prismatic" else "rad",
+            "replay_failed_stages": [k + 1 for k, d in enumerate(drift) if not np.isfinite(d)],
+            "replay_elsewhere_stages": [k + 1 for k, d in enumerate(drift) if np.isfinite(d) and d > REPLAY_TOLERANCE],
             "replay_open_loop_drift": float(np.abs(replay.q[:steps + 1] - knots[:steps + 1]).max()),
             "replay_open_loop_steps": int(replay.steps), "energy_start": float(energy[0]),
             "energy_end": float(energy[-1]), "energy_min": float(energy.min()), "energy_max": float(energy.max())}
+
+
+def replay_failures(replay: Dict[str, Any]) -> list:
+    """The replay's verdict as failure sentences (empty: every stage reproduced): a solution is only
+    feasible when stepping each stage's optimised state, controls and contact forces through the
+    integrator lands on the next optimised configuration point."""
+    out = []
+    if replay["replay_failed_steps"]:
+        out.append(f"replay: the integrator's Newton solve failed on stage(s) "
+                   f"{', '.join(map(str, replay['replay_failed_stages']))}")
+    if replay["replay_steps_elsewhere"]:
+        out.append(f"replay: {replay['replay_steps_elsewhere']} of {replay['replay_stages']} stages not reproduced "
+                   f"(stage(s) {', '.join(map(str, replay['replay_elsewhere_stages']))}; worst: stage "
+                   f"{replay['replay_worst_stage']}, {replay['replay_worst_joint']} differs by "
+                   f"{replay['replay_worst_drift']:.2g} {replay['replay_worst_unit']})")
+    return out
+
+
+def replay_text(replay: Dict[str, Any]) -> str:
+    """The replay per stage in plain words with units."""
+    n, ok = replay["replay_stages"], replay["replay_stages_reproduced"]
+    to = f" to {replay['replay_reproduced_to']:.1g} (m or rad)" if ok else ""
+    text = f"replay: {ok} of {n} stages reproduced{to} by the integrator from their optimised states, controls and forces"
+    if replay["replay_steps_elsewhere"]:
+        root = ("another root of the DEL equations" if replay["replay_stage_residual"] <= REPLAY_TOLERANCE
+                else "another point (the stage is no step of the integrator)")
+        text += (f"; stage {replay['replay_worst_stage']} converged to {root}: {replay['replay_worst_joint']} differs by "
+                 f"{replay['replay_worst_drift']:.2g} {replay['replay_worst_unit']}")
+        others = [k for k in replay["replay_elsewhere_stages"] if k != replay["replay_worst_stage"]]
+        if others:
+            text += f" (also stage(s) {', '.join(map(str, others))})"
+    if replay["replay_failed_steps"]:
+        text += f"; the Newton solve failed on stage(s) {', '.join(map(str, replay['replay_failed_stages']))}"
+    return text
+
+
+def check(example: Example, result: Result, method: str = "vi") -> Tuple[Dict[str, Any], Dict[str, Any], list]:
+    """(figures, replay figures, failures) of ``result``: the example's figures against its bounds
+    (between-knot penetration included), IPOPT's status and, for the VI, the replay's verdict
+    (``replay_failures``): the one verdict of ``run`` and bench/robot_examples.py."""
+    figures = example.checks(result)
+    replay = replay_figures(example, result) if method == "vi" else {}
+    failures = (([] if result.success else [f"IPOPT: {result.status}"]) + example.failures(figures)
+                + (replay_failures(replay) if replay else []))
+    return figures, replay, failures
 
 
 def plot(example: Example, result: Result, path: str) -> None:
@@ -166,8 +230,7 @@ def run(example: Example, output: str, *, animation: bool = True, plots: bool = 
     t0 = time.perf_counter()
     result = solve(example, method, s, verbose, checkpoint=checkpoint)
     wall = time.perf_counter() - t0
-    figures = example.checks(result)
-    failures = ([] if result.success else [f"IPOPT: {result.status}"]) + example.failures(figures)
+    figures, replay, failures = check(example, result, method)
     iterations, ipopt_seconds = ipopt_totals(result)
     summary: Dict[str, Any] = {
         "example": example.name, "description": example.description, "dof": example.robot.model.n,
@@ -176,8 +239,9 @@ def run(example: Example, output: str, *, animation: bool = True, plots: bool = 
         "solve_seconds": wall, "ipopt_seconds": ipopt_seconds, "cost": float(result.cost),
         "constraint_violation": float(result.constraint_violation), **result.sizes, **figures,
         "contact_solves": result.contact.get("solves", []),
-        **(replay_figures(example, result) if method == "vi" else {}),
-        "feasible": not failures, "failures": failures}
+        **replay, "feasible": not failures, "failures": failures}
+    summary["report"] = ([between_knot_text(figures)] if "between_knot_penetration" in figures else []) + (
+        [replay_text(replay)] if replay else [])
     base = os.path.join(output, example.name)
     tr = result.trajectory
     np.savez(base + ".npz", t=tr["t"], q=tr["q"], u=tr["u"], contact_forces=example.contact_forces(tr["u"]),
