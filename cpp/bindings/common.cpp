@@ -15,13 +15,45 @@ std::string shape_of(const py::array& a) {
   return os.str();
 }
 
-// Arrays of complex numbers would be cast to real silently (the imaginary part dropped): refuse them.
-void check_real(const py::handle& obj, const char* name) {
-  if (py::isinstance<py::array>(obj) && py::reinterpret_borrow<py::array>(obj).dtype().kind() == 'c')
-    throw InputError(std::string(name) + " must be an array of real numbers, got complex");
+std::string dtype_text(const py::array& a) { return py::str(a.dtype()); }
+}  // namespace
+
+RealArray real_array(const py::handle& obj, const char* name) {
   if (PyComplex_Check(obj.ptr())) throw InputError(std::string(name) + " must be real, got a complex number");
+  if (obj.is_none()) throw InputError(std::string(name) + " must be an array of real numbers, got None");
+  py::array a;
+  if (py::isinstance<py::array>(obj)) {
+    a = py::reinterpret_borrow<py::array>(obj);
+  } else {
+    try {
+      a = py::module_::import("numpy").attr("asarray")(obj);
+    } catch (py::error_already_set& e) {  // ragged nested lists, objects numpy cannot read
+      throw InputError(std::string(name) + " must be an array of real numbers (numpy cannot read it as an array: " +
+                       std::string(py::str(e.value())) + ")");
+    }
+  }
+  // Anything but integers and floats would be cast to real silently by a forced cast: complex numbers
+  // lose their imaginary part, strings are parsed, None reads as NaN, booleans as 0 and 1.
+  switch (a.dtype().kind()) {
+    case 'f': case 'i': case 'u': break;
+    case 'c': throw InputError(std::string(name) + " must be an array of real numbers, got complex (" + dtype_text(a) + ")");
+    case 'O': {
+      std::string first;
+      if (a.size()) first = ", e.g. " + std::string(py::repr(a.attr("flat")[py::int_(0)]));
+      throw InputError(std::string(name) + " must be an array of real numbers, got an object array (dtype object" +
+                       first + ")");
+    }
+    case 'U': case 'S':
+      throw InputError(std::string(name) + " must be an array of real numbers, got text (" + dtype_text(a) + ")");
+    case 'b': throw InputError(std::string(name) + " must be an array of real numbers, got booleans");
+    default: throw InputError(std::string(name) + " must be an array of real numbers, got dtype " + dtype_text(a));
+  }
+  auto d = RealArray::ensure(a);
+  if (!d) throw InputError(std::string(name) + " must be an array of real numbers");
+  return d;
 }
 
+namespace {
 // Values beyond this magnitude overflow products of states and inertias (v^2, M v): no physical input is near it.
 constexpr double kMaxInput = 1e150;
 
@@ -34,9 +66,7 @@ void check_values(const M& m, const char* name) {
 }  // namespace
 
 VecX as_vector(const py::handle& obj, const char* name, long n) {
-  check_real(obj, name);
-  auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(obj);
-  if (!a) throw InputError(std::string(name) + " must be an array of real numbers");
+  const RealArray a = real_array(obj, name);
   if (a.ndim() != 1 || (n >= 0 && a.shape(0) != n)) {
     std::ostringstream os;
     os << name << " must be a 1-D array";
@@ -50,9 +80,7 @@ VecX as_vector(const py::handle& obj, const char* name, long n) {
 }
 
 MatX as_matrix(const py::handle& obj, const char* name, long rows, long cols) {
-  check_real(obj, name);
-  auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(obj);
-  if (!a) throw InputError(std::string(name) + " must be an array of real numbers");
+  const RealArray a = real_array(obj, name);
   if (a.ndim() != 2 || (rows >= 0 && a.shape(0) != rows) || (cols >= 0 && a.shape(1) != cols)) {
     std::ostringstream os;
     os << name << " must be a 2-D array of shape (" << (rows >= 0 ? std::to_string(rows) : "*") << ", "

@@ -35,8 +35,15 @@ template <class T>
 using Optional = py::typing::Optional<T>;
 using StrDict = py::typing::Dict<py::str, py::object>;  // dict[str, typing.Any]
 
+// A C-ordered float64 numpy array.
+using RealArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
+// obj (an array, list, ...) as a RealArray of any shape, values unchecked; InputError (ValueError)
+// naming `name` unless numpy reads it as integers or floats: complex numbers (whose imaginary part a
+// cast would drop), text (which a cast would parse), Python objects (None would read as NaN),
+// booleans, None and ragged lists are refused. Every array argument of the bindings goes through it.
+RealArray real_array(const py::handle& obj, const char* name);
 // A 1-D real array of length n (n < 0: any length) converted to VecX; ValueError otherwise, and for
-// complex, non-finite or overflowing (beyond 1e150) values.
+// what real_array refuses, non-finite or overflowing (beyond 1e150) values.
 VecX as_vector(const py::handle& obj, const char* name, long n);
 // A 2-D real array of shape (rows, cols) (negative: any) converted to MatX; ValueError as as_vector.
 MatX as_matrix(const py::handle& obj, const char* name, long rows, long cols);

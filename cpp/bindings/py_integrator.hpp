@@ -47,8 +47,7 @@ class PyIntegrator {
     if (u.is_none()) return py::none();
     const long S1 = s() + 1, M = m(), L = batch < 0 ? 0 : 1, B = batch < 0 ? 1 : batch;
     if (M == 0) throw InputError("the model has no controls (add actuators or controls first), but u was given");
-    auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(u);
-    if (!a) throw InputError("u must be an array of real numbers");
+    const RealArray a = real_array(u, "u");
     const std::vector<py::ssize_t> shape(a.shape(), a.shape() + a.ndim());
     auto is = [&](std::vector<py::ssize_t> tail) {
       if (L) tail.insert(tail.begin(), batch);
@@ -89,8 +88,7 @@ class PyIntegrator {
   py::object step_controls(const py::handle& u, long count) const {
     if (u.is_none()) return py::none();
     const long S1 = s() + 1, M = m();
-    auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(u);
-    if (!a) throw InputError("u must be an array of real numbers");
+    RealArray a = real_array(u, "u");
     const bool held = a.ndim() == 2 && a.shape(0) == count && a.shape(1) == M;
     const bool per_point = a.ndim() == 3 && a.shape(0) == count && a.shape(1) == S1 && a.shape(2) == M;
     if (M && !held && !per_point) {

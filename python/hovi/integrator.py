@@ -290,14 +290,15 @@ class Integrator:
         """
         steps = _whole_steps(steps)
         _check_trajectory_memory(steps, self.s, self.n)
-        q0 = np.asarray(q0, dtype=float)
+        q0 = _core.real_array(q0, "q0")  # complex, text and object arrays refused, never cast
         if p0 is not None and qdot0 is not None:
             raise ValueError("give p0 or qdot0, not both")
         if p0 is None:
-            v0 = np.zeros(self.n) if qdot0 is None else np.asarray(qdot0, dtype=float)
+            v0 = np.zeros(self.n) if qdot0 is None else _core.real_array(qdot0, "qdot0")
             self._check_consistent(q0, v0)
             p0 = self.momentum(q0, v0)
         else:
+            p0 = _core.real_array(p0, "p0")
             self._check_consistent(q0, None)
         U = self._core.rollout_controls(u, steps)
         bar = None
@@ -307,7 +308,7 @@ class Integrator:
         parts: List[Dict[str, Any]] = []
         previous: Optional[FloatArray] = None
         lam: Optional[FloatArray] = None
-        q, p, done = q0, np.asarray(p0, dtype=float), 0
+        q, p, done = q0, p0, 0
         while True:
             n_chunk = min(chunk, steps - done) if progress else steps - done
             res = self._core.rollout(q, p, n_chunk, None if U is None else U[done:done + n_chunk], previous, lam)
@@ -335,7 +336,7 @@ class Integrator:
                       names: Tuple[str, str, str]) -> Tuple[FloatArray, FloatArray, bool]:
         """(q (B, n), second (B, n), velocities) of a batch of states given with momenta or
         velocities (default: at rest); each checked against the constraints as a single call does."""
-        Q = np.asarray(q, dtype=float)
+        Q = _core.real_array(q, names[0])  # complex, text and object arrays refused, never cast
         if Q.ndim != 2 or Q.shape[1] != self.n:
             raise ValueError(f"{names[0]} must be a 2-D array of shape (B, {self.n}), got shape {Q.shape}")
         if len(Q) == 0:
@@ -343,7 +344,8 @@ class Integrator:
         if p is not None and qdot is not None:
             raise ValueError(f"give {names[1]} or {names[2]}, not both")
         velocities = p is None
-        second = np.asarray(p if p is not None else np.zeros_like(Q) if qdot is None else qdot, dtype=float)
+        second = (_core.real_array(p, names[1]) if p is not None else np.zeros_like(Q) if qdot is None
+                  else _core.real_array(qdot, names[2]))
         if second.shape != Q.shape:
             raise ValueError(f"{names[1] if p is not None else names[2]} must have the shape of {names[0]}, {Q.shape}, "
                              f"got {second.shape}")
