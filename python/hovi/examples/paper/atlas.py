@@ -97,7 +97,7 @@ def build(quick: bool = False) -> Example:
     options = {"constr_viol_tol": 1e-8}  # the dynamics' round-off floor of a 174 kg robot is ~5e-10
 
     G = wrench_cone(X, Y, MU)
-    corners = [c.body for c in robot.contacts], np.array([c.point for c in robot.contacts])
+    corners = ([robot.model.body_index(c.body) for c in robot.contacts], np.array([c.point for c in robot.contacts]))
 
     def heights(q: np.ndarray) -> np.ndarray:
         """The sole corners' heights (K, 8) above the ground (z = 0, the right sole's plane)."""
