@@ -229,7 +229,7 @@ def test_a_result_of_another_problem_is_refused_as_a_guess():
 
 
 @pytest.mark.parametrize("options, error, match", [
-    ({"tols": 1e-6}, ValueError, "unknown IPOPT option 'tols' \\(did you mean 'tol'"),
+    ({"tols": 1e-6}, ValueError, "unknown IPOPT option 'tols' \\(did you mean 'tol'\\?\\)"),
     ({"max_itr": 10}, ValueError, "unknown IPOPT option 'max_itr' \\(did you mean 'max_iter'"),
     ({"max_iter": 10.5}, ValueError, "IPOPT option 'max_iter' takes an integer, got a number 10.5"),
     ({"tol": "small"}, ValueError, "IPOPT option 'tol' takes a number, got a string 'small'"),

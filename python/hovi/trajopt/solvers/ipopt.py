@@ -153,7 +153,7 @@ def apply_options(problem: Any, options: dict[str, Any]) -> None:
         except (TypeError, ValueError) as e:
             expected = IPOPT_OPTION_TYPES.get(key)
             if expected is None:
-                close = difflib.get_close_matches(key, list(IPOPT_OPTION_TYPES) + list(DEFAULT_OPTIONS), n=3)
+                close = difflib.get_close_matches(key, list(dict.fromkeys([*IPOPT_OPTION_TYPES, *DEFAULT_OPTIONS])), n=3)
                 hint = f" (did you mean {' or '.join(repr(c) for c in close)}?)" if close else ""
                 raise ValueError(f"unknown IPOPT option {key!r}{hint}: IPOPT refused {key!r} = {value!r:.60} "
                                  f"(see IPOPT's options reference)") from e
