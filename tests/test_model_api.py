@@ -114,3 +114,53 @@ def test_force_elements_reject_bad_input():
         model.add_spring(0, float("nan"))
     k = model.add_actuator("joint2", gear=2.0)
     np.testing.assert_array_equal(model.actuation[:, k], [0, 2.0, 0])
+
+
+@pytest.mark.parametrize("call, pattern", [
+    (lambda m: m.add_damper(1, -0.5), r"add_damper: joint 'joint2' \(index 1\): damping must be finite and "
+                                      r"non-negative, got -0.5"),
+    (lambda m: m.add_damper("joint1", np.nan), r"add_damper: joint 'joint1' .*damping must be finite and non-negative, "
+                                               r"got nan"),
+    (lambda m: m.add_damper(0, np.inf), "damping must be finite and non-negative, got inf"),
+    (lambda m: m.add_spring(0, np.nan), r"add_spring: joint 'joint1' \(index 0\): stiffness must be finite, got nan"),
+    (lambda m: m.add_spring(2, 1.0, -np.inf), r"add_spring: joint 'joint3' .*rest must be finite, got -inf"),
+    (lambda m: m.add_spring(2, 1e200, 1e200), r"stiffness \* rest \(the preload\) must be finite, got inf"),
+    (lambda m: m.add_actuator(0, gear=np.nan), "add_actuator: joint 'joint1' .*gear must be finite, got nan"),
+    (lambda m: m.add_drag(1, -1.0), "add_drag: body 'link2': linear and angular must be finite and non-negative, "
+                                    "got linear -1, angular 0"),
+    (lambda m: m.add_drag("link1", 0.1, np.nan), "add_drag: body 'link1': .*angular nan"),
+])
+def test_force_elements_refuse_bad_parameters_naming_the_joint(call, pattern):
+    """Issue 30: NaN and infinity everywhere, and a negative damper or drag (which would feed energy
+    in), are refused naming the joint (or body) and the value; the model is left unchanged."""
+    model = hovi.examples.models.pendulum(3)
+    with pytest.raises(hovi.ModelError, match=pattern):
+        call(model)
+    assert not model.joint_damping.any() and not model.stiffness.any() and model.n_wrenches == 0
+
+
+def test_a_negative_spring_stiffness_is_allowed():
+    model = hovi.examples.models.pendulum(2)
+    model.add_spring(0, -2.0, 0.1)  # conservative still: V = 1/2 k (q - rest)^2
+    assert model.stiffness[0] == -2.0
+
+
+@pytest.mark.parametrize("inertia, pattern", [
+    (np.diag([0.1, 0.1, 0.3]), r"izz = 0.3 exceeds ixx \+ iyy = 0.2"),
+    (np.diag([0.5, 0.1, 0.2]), r"ixx = 0.5 exceeds iyy \+ izz = 0.3"),
+    (np.full((3, 3), 0.1), r"the largest principal moment 0.3 exceeds the sum of the other two"),  # diagonal fine
+])
+def test_an_inertia_outside_the_triangle_inequality_is_refused_naming_the_body(inertia, pattern):
+    model = hovi.Model()
+    with pytest.raises(hovi.ModelError, match=r"^body 'b' \(joint 'b_joint'\): rotational inertia violates the "
+                                              r"triangle inequality: " + pattern):
+        model.add_body("b", None, mass=1.0, inertia=inertia)
+    assert model.n == 0
+
+
+@pytest.mark.parametrize("inertia", [np.diag([0.0, 0.1, 0.1]), np.diag([0.1, 0.1, 0.2]),
+                                     np.diag([0.1, 0.1, 0.2 * (1 + 1e-12)]), np.zeros((3, 3))])
+def test_rods_plates_and_round_off_on_the_triangle_inequality_are_accepted(inertia):
+    model = hovi.Model()
+    model.add_body("b", None, mass=1.0 if inertia.any() else 0.0, inertia=inertia)
+    assert model.n == 1

@@ -3,6 +3,7 @@ workers): a restored model is the same model (joints, inertias, force elements, 
 visuals), and what it computes (mass matrices, DEL residuals, rollouts) is bit for bit the
 original's."""
 import pickle
+import sys
 
 import numpy as np
 import pytest
@@ -146,3 +147,43 @@ def test_bad_state_raises(state, match):
     model = hovi.Model.__new__(hovi.Model)
     with pytest.raises(hovi.ModelError, match=match):
         model.__setstate__(state)
+
+
+def test_mutated_or_truncated_bytes_are_refused_never_loaded():
+    """Issue 30: the bytes carry a checksum of the model data; 400 random single-byte changes and
+    truncations (seeded) are each refused with a ModelError, none loads (as another model)."""
+    state = everything().__getstate__()
+    rng = np.random.default_rng(30)
+    messages = set()
+    for trial in range(400):
+        b = bytearray(state)
+        if trial % 5 == 4:
+            b = b[:int(rng.integers(0, len(state)))]
+        else:
+            k = int(rng.integers(len(b)))
+            b[k] = (b[k] + int(rng.integers(1, 256))) % 256
+        model = hovi.Model.__new__(hovi.Model)
+        with pytest.raises(hovi.ModelError) as err:
+            model.__setstate__(bytes(b))
+        messages.add(str(err.value).split(":")[0])
+    assert "model bytes are corrupted (checksum mismatch)" in messages  # most changes fall in the model data
+    header = state.index(b"hovi.Model") + 10 + 4 + 4 + 8 + 8  # magic, version, byte order, length, checksum
+    payload_byte = bytearray(state)
+    payload_byte[header + 40] ^= 1
+    with pytest.raises(hovi.ModelError, match=r"^model bytes are corrupted \(checksum mismatch\)"):
+        hovi.Model.__new__(hovi.Model).__setstate__(bytes(payload_byte))
+
+
+def test_bytes_of_the_previous_format_are_refused_with_the_version():
+    state = bytearray(everything().__getstate__())
+    start = state.index(b"hovi.Model") + len(b"hovi.Model")
+    state[start:start + 4] = (2).to_bytes(4, sys.byteorder)
+    with pytest.raises(hovi.ModelError, match="format 2: this hovi reads format 3"):
+        hovi.Model.__new__(hovi.Model).__setstate__(bytes(state))
+
+
+def test_a_urdf_model_with_an_inertia_outside_the_triangle_inequality_pickles(rng):
+    from urdf_snippets import joint, link, robot
+    with pytest.warns(UserWarning, match="link 'b': rotational inertia violates the triangle inequality"):
+        model = hovi.Model.from_urdf(robot(link("a"), link("b", inertia=(0.1, 0, 0, 0.1, 0, 0.3)), joint("j", "a", "b")))
+    assert_same_model(model, roundtrip(model), rng)

@@ -160,7 +160,10 @@ Body frames sit at each body's centre of mass with the joint frame's orientation
             opt.planar_normal = as_vector(planar_normal, "planar_normal", 3);
             const std::string src = py::str(py::module_::import("os").attr("fspath")(source));
             auto pm = std::make_shared<PyModel>();
-            pm->model = model_from_urdf(src, opt);
+            std::vector<std::string> warnings;
+            pm->model = model_from_urdf(src, opt, &warnings);
+            for (const std::string& w : warnings)  // an error if warnings are errors (python -W error)
+              if (PyErr_WarnEx(PyExc_UserWarning, w.c_str(), 1) < 0) throw py::error_already_set();
             return pm;
           },
           py::arg("source"), py::arg("base") = "fixed", py::arg("expand_joints") = false,
@@ -172,7 +175,9 @@ Z-Y-X Euler angles, singular at pitch = ±pi/2) or 'planar' (2 prismatic + 1 rev
 planar_normal (3,), default the x-z plane). expand_joints: expand URDF floating/planar joints the
 same way instead of raising. Fixed joints are merged (inertia lumped into the parent);
 continuous joints become revolute joints without limits; mimic joints are kept as metadata
-(integrated as independent joints). Raises hovi.URDFError naming the link or joint at fault.
+(integrated as independent joints). Raises hovi.URDFError naming the link or joint at fault. A link
+whose rotational inertia violates the triangle inequality (no rigid body has it; add_body refuses it)
+is loaded as given with a UserWarning naming the link (URDF files in use carry such inertias).
 )doc")
       .def(
           "add_body",
@@ -207,7 +212,9 @@ continuous joints become revolute joints without limits; mimic joints are kept a
 Append a body; returns its index. parent: index or body name, None for the world.
 placement: (4, 4) pose of the joint frame in the parent's joint frame at q = 0 (default identity).
 axis: (3,) joint axis in the joint frame. com: (3,) centre of mass in the joint frame. inertia:
-(3, 3) rotational inertia about the COM (joint-frame axes). lower, upper: joint position limits. Raises hovi.ModelError naming the body on invalid input.
+(3, 3) rotational inertia about the COM (joint-frame axes): symmetric, no negative principal moment, and
+none above the sum of the other two (the triangle inequality, e.g. izz <= ixx + iyy). lower, upper: joint
+position limits. Raises hovi.ModelError naming the body on invalid input.
 )doc")
       .def("copy", &copy_of, "An independent copy (later changes to either do not affect the other).")
       .def("__copy__", &copy_of, "The same as copy().")
@@ -283,11 +290,13 @@ Metadata only: the dynamics and existing integrators are unaffected. Raises Mode
             s.model.add_spring(joint_arg(s.model, joint), k, rest);
             s.changed("add_spring");
           }, py::arg("joint"), py::arg("stiffness"), py::arg("rest") = 0.0,
-          "Linear joint spring Q = -stiffness (q - rest) on a joint (index or name); adds 1/2 k (q - rest)^2 to V.")
+          "Linear joint spring Q = -stiffness (q - rest) on a joint (index or name); adds 1/2 k (q - rest)^2 to V. "
+          "stiffness and rest finite (a negative stiffness is allowed: still conservative); ModelError otherwise.")
       .def("add_damper", [](PyModel& s, const Index& joint, double c) {
             s.model.add_damper(joint_arg(s.model, joint), c);
             s.changed("add_damper");
-          }, py::arg("joint"), py::arg("damping"), "Linear joint damper Q = -damping q̇ on a joint (index or name).")
+          }, py::arg("joint"), py::arg("damping"), "Linear joint damper Q = -damping q̇ on a joint (index or name); ModelError naming the joint unless "
+          "damping is finite and non-negative.")
       .def("add_actuator", [](PyModel& s, const Index& joint, double gear) {
             const int k = s.model.add_actuator(joint_arg(s.model, joint), gear);
             s.changed("add_actuator");
@@ -319,11 +328,18 @@ joint frame; default: its centre of mass). frame='world': components fixed in th
 body (a follower force). control=k scales the wrench by the control input u[k].
 )doc")
       .def("add_drag", [](PyModel& s, const Index& body, double linear, double angular) {
-            if (linear < 0 || angular < 0) throw ModelError("add_drag: coefficients must be non-negative");
-            s.model.add_wrench(std::make_shared<BodyDrag>(body_arg(s.model, body), linear, angular));
+            const int i = body_arg(s.model, body);
+            if (!(std::isfinite(linear) && linear >= 0 && std::isfinite(angular) && angular >= 0)) {
+              std::ostringstream os;  // a negative coefficient would feed energy in
+              os << "add_drag: body '" << s.model.spec[i].name << "': linear and angular must be finite and "
+                 << "non-negative, got linear " << linear << ", angular " << angular;
+              throw ModelError(os.str());
+            }
+            s.model.add_wrench(std::make_shared<BodyDrag>(i, linear, angular));
             s.changed("add_drag");
           }, py::arg("body"), py::arg("linear"), py::arg("angular") = 0.0,
-          "Linear drag on a body (index or name) at its centre of mass, in the body frame: F = -(angular w, linear v_com).")
+          "Linear drag on a body (index or name) at its centre of mass, in the body frame: F = -(angular w, linear v_com); "
+          "ModelError unless both coefficients are finite and non-negative.")
       .def("add_point_constraint", [](PyModel& s, const Index& body, const OptArrayLike& point,
                                       const OptArrayLike& target, const std::string& axes) {
             if (target.is_none()) throw InputError("add_point_constraint: target (a world point, (3,)) is required");

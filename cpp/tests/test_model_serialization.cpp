@@ -82,6 +82,24 @@ TEST(ModelSerialization, BadBytesThrow) {
   EXPECT_THROW(deserialize(flipped), ModelError);
 }
 
+// The header's checksum of the model data: every byte changed anywhere (header or data, in the low or
+// the high bit) is refused, never read as another model; a change in the data says so.
+TEST(ModelSerialization, EveryChangedByteIsRefused) {
+  const std::string bytes = serialize(everything());
+  const std::size_t header = 8 + 10 + 4 + 4 + 8 + 8;  // magic, version, byte order, length, checksum
+  for (std::size_t k = 0; k < bytes.size(); ++k)
+    for (char bit : {char(0x01), char(0x80)}) {
+      std::string changed = bytes;
+      changed[k] ^= bit;
+      try {
+        deserialize(changed);
+        ADD_FAILURE() << "byte " << k << " changed was loaded";
+      } catch (const ModelError& e) {
+        if (k >= header) EXPECT_STREQ(e.what(), "model bytes are corrupted (checksum mismatch): they are not the bytes hovi wrote") << k;
+      }
+    }
+}
+
 TEST(ModelSerialization, AKindDefinedElsewhereCannotBeSaved) {
   struct Custom : BodyWrench {
     Custom() : BodyWrench(0) {}

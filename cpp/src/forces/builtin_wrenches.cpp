@@ -1,11 +1,17 @@
 #include "hovi/forces/builtin_wrenches.hpp"
 
+#include <cmath>
+#include <sstream>
+
 #include "hovi/errors.hpp"
 
 namespace hovi {
 
 PointWrench::PointWrench(int body, const Vec3& point, const Vec3& force, const Vec3& torque, Frame frame, int control)
-    : BodyWrench(body), point_(point), force_(force), torque_(torque), frame_(frame), control_(control) {}
+    : BodyWrench(body), point_(point), force_(force), torque_(torque), frame_(frame), control_(control) {
+  if (!point.allFinite() || !force.allFinite() || !torque.allFinite())
+    throw ModelError("point wrench on body " + std::to_string(body) + ": point, force and torque must be finite");
+}
 
 Wrench PointWrench::unit_value(const SE3& g) const {
   if (frame_ == Frame::World) {
@@ -49,7 +55,14 @@ std::shared_ptr<const PointWrench> PointWrench::load(ByteReader& in) {
 }
 
 BodyDrag::BodyDrag(int body, double linear, double angular)
-    : BodyWrench(body), C_(linear, Vec3::Zero(), angular * Mat3::Identity()) {}
+    : BodyWrench(body), C_(linear, Vec3::Zero(), angular * Mat3::Identity()) {
+  if (!(std::isfinite(linear) && linear >= 0 && std::isfinite(angular) && angular >= 0)) {
+    std::ostringstream os;  // a negative coefficient would feed energy in
+    os << "drag on body " << body << ": coefficients must be finite and non-negative, got linear " << linear
+       << ", angular " << angular;
+    throw ModelError(os.str());
+  }
+}
 
 Wrench BodyDrag::value(const SE3& g, const Twist& v, const VecX&) const { return -(C_.transformed(g) * v); }
 

@@ -19,7 +19,7 @@ bool finite(const Eigen::MatrixBase<D>& m) {
   return m.allFinite();
 }
 
-void validate(const BodySpec& s, int n) {
+void validate(const BodySpec& s, int n, TriangleInequality triangle) {
   if (s.parent < -1 || s.parent >= n) {
     std::ostringstream os;
     os << describe(s) << ": parent index " << s.parent
@@ -33,9 +33,37 @@ void validate(const BodySpec& s, int n) {
   if ((R.transpose() * R - Mat3::Identity()).norm() > 1e-9 || R.determinant() < 0)
     throw ModelError(describe(s) + ": placement rotation is not a rotation matrix");
   check_inertia(describe(s), s.mass, s.inertia);
+  if (triangle == TriangleInequality::Refuse) {
+    const std::string violation = triangle_inequality_violation(s.inertia);
+    if (!violation.empty())
+      throw ModelError(describe(s) + ": rotational inertia violates the triangle inequality: " + violation +
+                       " (no rigid body has such an inertia: correct it)");
+  }
 }
 
 }  // namespace
+
+std::string triangle_inequality_violation(const Mat3& inertia) {
+  const Vec3 d = inertia.diagonal();
+  Eigen::SelfAdjointEigenSolver<Mat3> es(inertia, Eigen::EigenvaluesOnly);
+  const Vec3 l = es.eigenvalues();  // ascending
+  // Relative 1e-9 with check_inertia's absolute floor of 1e-12 (entries of 1e-35 are round-off).
+  const double tol = 1e-9 * l.cwiseAbs().sum() + 1e-12;
+  std::ostringstream os;
+  os.precision(6);
+  // In any frame the diagonal obeys it too; name the entries when they show the violation.
+  const char* names[] = {"ixx", "iyy", "izz"};
+  for (int k = 0; k < 3; ++k) {
+    const int a = (k + 1) % 3, b = (k + 2) % 3, lo = std::min(a, b), hi = std::max(a, b);
+    if (d[k] > d[a] + d[b] + tol) {
+      os << names[k] << " = " << d[k] << " exceeds " << names[lo] << " + " << names[hi] << " = " << d[a] + d[b];
+      return os.str();
+    }
+  }
+  if (l[2] <= l[0] + l[1] + tol) return "";
+  os << "the largest principal moment " << l[2] << " exceeds the sum of the other two, " << l[0] << " + " << l[1];
+  return os.str();
+}
 
 void check_inertia(const std::string& what, double mass, const Mat3& inertia) {
   if (!std::isfinite(mass) || mass < 0)
@@ -62,8 +90,8 @@ void Model::add_visual(const Visual& visual) {
   visuals.push_back(visual);
 }
 
-int Model::add_body(const BodySpec& spec_in) {
-  validate(spec_in, n());
+int Model::add_body(const BodySpec& spec_in, TriangleInequality triangle) {
+  validate(spec_in, n(), triangle);
   BodySpec s = spec_in;
   s.axis.normalize();
   const int i = n();
@@ -92,15 +120,23 @@ void check_joint(const Model& m, int joint, const char* what) {
     throw ModelError(std::string(what) + ": joint index " + std::to_string(joint) + " out of range (model has " +
                      std::to_string(m.n()) + " joints)");
 }
-void check_finite(double x, const char* what) {
-  if (!std::isfinite(x)) throw ModelError(std::string(what) + ": value must be finite");
+// ModelError naming the call, the joint, the parameter and its value unless x is finite (and, with
+// non_negative, >= 0).
+void check_parameter(const Model& m, int joint, const char* what, const char* parameter, double x,
+                     bool non_negative = false) {
+  if (std::isfinite(x) && (!non_negative || x >= 0)) return;
+  std::ostringstream os;
+  os << what << ": joint '" << m.spec[joint].joint_name << "' (index " << joint << "): " << parameter
+     << " must be finite" << (non_negative ? " and non-negative" : "") << ", got " << x;
+  throw ModelError(os.str());
 }
 }  // namespace
 
 void Model::add_spring(int joint, double stiffness, double rest) {
   check_joint(*this, joint, "add_spring");
-  check_finite(stiffness, "add_spring");
-  check_finite(rest, "add_spring");
+  check_parameter(*this, joint, "add_spring", "stiffness", stiffness);
+  check_parameter(*this, joint, "add_spring", "rest", rest);
+  check_parameter(*this, joint, "add_spring", "stiffness * rest (the preload)", stiffness * rest);
   joint_forces.stiffness[joint] += stiffness;
   joint_forces.preload[joint] += stiffness * rest;
 }
@@ -115,7 +151,7 @@ void Model::set_armature(int joint, double value) {
 
 void Model::add_damper(int joint, double damping) {
   check_joint(*this, joint, "add_damper");
-  check_finite(damping, "add_damper");
+  check_parameter(*this, joint, "add_damper", "damping", damping, true);
   joint_forces.damping[joint] += damping;
 }
 
@@ -128,7 +164,7 @@ int Model::add_control() {
 
 int Model::add_actuator(int joint, double gear) {
   check_joint(*this, joint, "add_actuator");
-  check_finite(gear, "add_actuator");
+  check_parameter(*this, joint, "add_actuator", "gear", gear);
   const int k = add_control();
   joint_forces.actuation(joint, k) = gear;
   return k;

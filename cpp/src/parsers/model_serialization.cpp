@@ -9,8 +9,22 @@ namespace hovi {
 namespace {
 
 constexpr const char* kMagic = "hovi.Model";
-constexpr std::uint32_t kVersion = 2;  // 2: joint armature
+// 2: joint armature; 3: the header carries the payload's length and checksum.
+constexpr std::uint32_t kVersion = 3;
 constexpr std::uint32_t kByteOrder = 0x01020304;  // reads back as 0x04030201 on the other byte order
+constexpr std::uint32_t kOtherByteOrder = 0x04030201;
+
+// FNV-1a (64 bit) of the payload. Each step h = (h ^ byte) * prime is a bijection of h, so bytes that
+// differ from the written ones in one place (or in a run shorter than 8 bytes) always change it; other
+// damage goes unnoticed with probability 2^-64.
+std::uint64_t checksum(const char* data, std::size_t size) {
+  std::uint64_t h = 14695981039346656037ull;
+  for (std::size_t k = 0; k < size; ++k) {
+    h ^= static_cast<unsigned char>(data[k]);
+    h *= 1099511628211ull;
+  }
+  return h;
+}
 
 void put(ByteWriter& out, const SE3& g) {
   out.put(g.R);
@@ -120,10 +134,7 @@ void check_close(const A& stored, const B& derived) {
 }  // namespace
 
 std::string serialize(const Model& model) {
-  ByteWriter out;
-  out.put(std::string(kMagic));
-  out.put(kVersion);
-  out.put(kByteOrder);
+  ByteWriter out;  // the payload; the header goes before it
   out.put(model.n());
   for (int i = 0; i < model.n(); ++i) {
     put(out, model.spec[i]);
@@ -152,21 +163,40 @@ std::string serialize(const Model& model) {
   }
   out.put(static_cast<int>(model.visuals.size()));
   for (const Visual& v : model.visuals) put(out, v);
-  return out.bytes();
+  const std::string& payload = out.bytes();
+  ByteWriter header;
+  header.put(std::string(kMagic));
+  header.put(kVersion);
+  header.put(kByteOrder);
+  header.put(static_cast<std::uint64_t>(payload.size()));
+  header.put(checksum(payload.data(), payload.size()));
+  return header.bytes() + payload;
 }
 
 Model deserialize(const std::string& bytes) {
   ByteWriter magic;
   magic.put(std::string(kMagic));
   if (bytes.compare(0, magic.bytes().size(), magic.bytes()) != 0) throw ModelError("not a serialised hovi model");
-  ByteReader in(bytes);
-  in.get_string();
-  const auto version = in.get<std::uint32_t>();
+  ByteReader head(bytes);
+  head.get_string();
+  const auto version = head.get<std::uint32_t>();
   if (version != kVersion)
     throw ModelError("a serialised hovi model of format " + std::to_string(version) + ": this hovi reads format " +
-                     std::to_string(kVersion));
-  if (in.get<std::uint32_t>() != kByteOrder)
+                     std::to_string(kVersion) + " (pickle the model again with this hovi)");
+  const auto order = head.get<std::uint32_t>();
+  if (order == kOtherByteOrder)
     throw ModelError("the serialised model was written on a machine of the other byte order");
+  if (order != kByteOrder) throw ModelError("model bytes are corrupted (bad header)");
+  const auto size = head.get<std::uint64_t>();
+  const auto sum = head.get<std::uint64_t>();
+  const std::size_t start = head.position();
+  if (size != bytes.size() - start)
+    throw ModelError("the serialised model is truncated or corrupt: its header announces " + std::to_string(size) +
+                     " bytes of model data, " + std::to_string(bytes.size() - start) + " follow");
+  if (checksum(bytes.data() + start, bytes.size() - start) != sum)
+    throw ModelError("model bytes are corrupted (checksum mismatch): they are not the bytes hovi wrote");
+  const std::string payload = bytes.substr(start);
+  ByteReader in(payload);
   Model model;
   const int n = in.get<int>();
   if (n < 0) ByteReader::corrupt();
@@ -177,7 +207,9 @@ Model deserialize(const std::string& bytes) {
     const double mass = in.get<double>();
     const Vec3 h = in.get_matrix<Vec3>();
     const Mat3 I = in.get_matrix<Mat3>();
-    model.add_body(spec);  // checks the body; the stored derived quantities then replace its own
+    // Checks the body (keeping an inertia that violates the triangle inequality, as a URDF model may
+    // have); the stored derived quantities then replace its own.
+    model.add_body(spec, TriangleInequality::Accept);
     check_close(S, model.S[i]);
     check_close(g.matrix(), model.g_parent0[i].matrix());
     check_close(Eigen::Matrix<double, 1, 1>(mass), Eigen::Matrix<double, 1, 1>(model.M[i].m));

@@ -124,13 +124,18 @@ SE3 to_se3(const urdf::Pose& pose) {
 
 Vec3 to_vec(const urdf::Vector3& v) { return Vec3(v.x, v.y, v.z); }
 
-// The inertia of one URDF link, validated, as a SpatialInertia about the link frame.
-SpatialInertia link_inertia(const urdf::Link& link) {
+// The inertia of one URDF link, validated, as a SpatialInertia about the link frame; a sentence
+// in `warnings` if it violates the triangle inequality.
+SpatialInertia link_inertia(const urdf::Link& link, std::vector<std::string>* warnings) {
   if (!link.inertial) return SpatialInertia();
   const urdf::Inertial& in = *link.inertial;
   Mat3 Ic;
   Ic << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
   check_inertia("link '" + link.name + "'", in.mass, Ic);
+  const std::string violation = triangle_inequality_violation(Ic);
+  if (!violation.empty() && warnings)
+    warnings->push_back("link '" + link.name + "': rotational inertia violates the triangle inequality: " + violation +
+                        " (no rigid body has such an inertia); loaded as given");
   const SE3 X = to_se3(in.origin);  // inertial frame in the link frame
   return SpatialInertia::AtCom(in.mass, Ic).transformed(X);
 }
@@ -214,8 +219,9 @@ std::vector<Visual> link_visuals(const urdf::Link& link, int body, const SE3& X,
 
 class TreeBuilder {
  public:
-  TreeBuilder(const urdf::ModelInterface& urdf, const UrdfOptions& opt, std::string urdf_dir)
-      : urdf_(urdf), opt_(opt), urdf_dir_(std::move(urdf_dir)) {}
+  TreeBuilder(const urdf::ModelInterface& urdf, const UrdfOptions& opt, std::string urdf_dir,
+              std::vector<std::string>* warnings)
+      : urdf_(urdf), opt_(opt), urdf_dir_(std::move(urdf_dir)), warnings_(warnings) {}
 
   Model build() {
     const urdf::LinkConstSharedPtr root = urdf_.getRoot();
@@ -242,7 +248,7 @@ class TreeBuilder {
       s.com = I.m > 0 ? Vec3(I.h / I.m) : Vec3::Zero();
       s.inertia = I.m > 0 ? Mat3(I.I + I.m * hat(s.com) * hat(s.com)) : Mat3::Zero();
       s.inertia = 0.5 * (s.inertia + s.inertia.transpose()).eval();
-      model.add_body(s);
+      model.add_body(s, TriangleInequality::Accept);  // each link's inertia was checked (and warned about)
     }
     for (const Visual& v : visuals_) model.add_visual(v);
     return model;
@@ -264,8 +270,8 @@ class TreeBuilder {
 
   // Adds `link` (whose frame is X in the frame of body `body`, -1 = world) and its subtree.
   void visit(const urdf::Link& link, int body, const SE3& X) {
-    if (body >= 0) inertia_[body] += link_inertia(link).transformed(X);
-    else link_inertia(link);  // still validated when welded to the world
+    if (body >= 0) inertia_[body] += link_inertia(link, warnings_).transformed(X);
+    else link_inertia(link, warnings_);  // still validated when welded to the world
     for (Visual& v : link_visuals(link, body, X, urdf_dir_)) visuals_.push_back(std::move(v));
     for (const urdf::JointSharedPtr& joint : link.child_joints) {
       const urdf::LinkConstSharedPtr child = urdf_.getLink(joint->child_link_name);
@@ -349,6 +355,7 @@ class TreeBuilder {
   const urdf::ModelInterface& urdf_;
   const UrdfOptions& opt_;
   const std::string urdf_dir_;  // directory of the URDF file, empty for XML text
+  std::vector<std::string>* warnings_;
   std::vector<Visual> visuals_;
   std::vector<BodySpec> specs_;
   std::vector<SpatialInertia> inertia_;  // lumped inertia of each body about its joint frame
@@ -375,7 +382,7 @@ std::string read_source(const std::string& source) {
 
 }  // namespace
 
-Model model_from_urdf(const std::string& source, const UrdfOptions& options) {
+Model model_from_urdf(const std::string& source, const UrdfOptions& options, std::vector<std::string>* warnings) {
   const std::string xml = read_source(source);
   check_numbers(xml);
   urdf::ModelInterfaceSharedPtr urdf;
@@ -391,7 +398,7 @@ Model model_from_urdf(const std::string& source, const UrdfOptions& options) {
   }
   if (!urdf) throw UrdfError("malformed or invalid URDF: " + (messages.empty() ? "urdfdom could not parse it" : messages));
   try {
-    return TreeBuilder(*urdf, options, is_xml(source) ? std::string() : source_directory(source)).build();
+    return TreeBuilder(*urdf, options, is_xml(source) ? std::string() : source_directory(source), warnings).build();
   } catch (const UrdfError&) {
     throw;
   } catch (const ModelError& e) {  // what the model refuses (an inertia, a lumped overflow, a visual) is the URDF's fault

@@ -8,7 +8,7 @@ import numpy.typing
 import os
 import typing
 from . import trajopt
-__all__: list[str] = ['Integrator', 'Linearizer', 'Model', 'ModelError', 'URDFError', 'body_point_kinematics', 'lagrange_basis', 'march', 'pendulum', 'trajopt']
+__all__: list[str] = ['Integrator', 'Linearizer', 'Model', 'ModelError', 'URDFError', 'body_point_kinematics', 'lagrange_basis', 'march', 'pendulum', 'real_array', 'trajopt']
 class ModelError(ValueError):
     """
     An invalid model or model input (a ValueError): a bad body, joint, force or constraint, an unknown joint or body name, or a call on an Integrator or Linearizer whose model changed after it was made.
@@ -36,7 +36,9 @@ class Model:
         planar_normal (3,), default the x-z plane). expand_joints: expand URDF floating/planar joints the
         same way instead of raising. Fixed joints are merged (inertia lumped into the parent);
         continuous joints become revolute joints without limits; mimic joints are kept as metadata
-        (integrated as independent joints). Raises hovi.URDFError naming the link or joint at fault.
+        (integrated as independent joints). Raises hovi.URDFError naming the link or joint at fault. A link
+        whose rotational inertia violates the triangle inequality (no rigid body has it; add_body refuses it)
+        is loaded as given with a UserWarning naming the link (URDF files in use carry such inertias).
         """
     def __copy__(self) -> Model:
         """
@@ -65,7 +67,9 @@ class Model:
         Append a body; returns its index. parent: index or body name, None for the world.
         placement: (4, 4) pose of the joint frame in the parent's joint frame at q = 0 (default identity).
         axis: (3,) joint axis in the joint frame. com: (3,) centre of mass in the joint frame. inertia:
-        (3, 3) rotational inertia about the COM (joint-frame axes). lower, upper: joint position limits. Raises hovi.ModelError naming the body on invalid input.
+        (3, 3) rotational inertia about the COM (joint-frame axes): symmetric, no negative principal moment, and
+        none above the sum of the other two (the triangle inequality, e.g. izz <= ixx + iyy). lower, upper: joint
+        position limits. Raises hovi.ModelError naming the body on invalid input.
         """
     def add_control(self) -> int:
         """
@@ -73,11 +77,11 @@ class Model:
         """
     def add_damper(self, joint: int | str, damping: typing.SupportsFloat | typing.SupportsIndex) -> None:
         """
-        Linear joint damper Q = -damping q̇ on a joint (index or name).
+        Linear joint damper Q = -damping q̇ on a joint (index or name); ModelError naming the joint unless damping is finite and non-negative.
         """
     def add_drag(self, body: int | str, linear: typing.SupportsFloat | typing.SupportsIndex, angular: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
         """
-        Linear drag on a body (index or name) at its centre of mass, in the body frame: F = -(angular w, linear v_com).
+        Linear drag on a body (index or name) at its centre of mass, in the body frame: F = -(angular w, linear v_com); ModelError unless both coefficients are finite and non-negative.
         """
     def add_joint_coupling(self, coefficients: numpy.typing.ArrayLike, offset: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
         """
@@ -104,7 +108,7 @@ class Model:
         """
     def add_spring(self, joint: int | str, stiffness: typing.SupportsFloat | typing.SupportsIndex, rest: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
         """
-        Linear joint spring Q = -stiffness (q - rest) on a joint (index or name); adds 1/2 k (q - rest)^2 to V.
+        Linear joint spring Q = -stiffness (q - rest) on a joint (index or name); adds 1/2 k (q - rest)^2 to V. stiffness and rest finite (a negative stiffness is allowed: still conservative); ModelError otherwise.
         """
     def add_visual(self, body: int | str | None, shape: str, size: numpy.typing.ArrayLike | None = None, origin: numpy.typing.ArrayLike | None = None, rgba: numpy.typing.ArrayLike | None = None, filename: str = '', scale: numpy.typing.ArrayLike = (1.0, 1.0, 1.0), link: str = '') -> None:
         """
@@ -517,5 +521,9 @@ def lagrange_basis(s: typing.SupportsInt | typing.SupportsIndex, x: numpy.typing
 def pendulum(n: typing.SupportsInt | typing.SupportsIndex, length: typing.SupportsFloat | typing.SupportsIndex = 0.5, mass: typing.SupportsFloat | typing.SupportsIndex = 1.0, radius: typing.SupportsFloat | typing.SupportsIndex = 0.02) -> Model:
     """
     The paper's n-link 3D pendulum (see hovi.models.pendulum).
+    """
+def real_array(x: numpy.typing.ArrayLike, name: str) -> numpy.typing.NDArray[numpy.float64]:
+    """
+    x as a float64 array of any shape, as every array argument of hovi._core is read: ValueError naming `name` for complex numbers (never cast to real), text, Python objects (None is not NaN), booleans, None or a ragged list. The values are not checked (NaN passes).
     """
 march: str = ''

@@ -55,20 +55,35 @@ struct BodySpec {
 // zero inertia.
 void check_inertia(const std::string& what, double mass, const Mat3& inertia);
 
+// Empty if the principal moments of the rotational inertia satisfy the triangle inequality (each at
+// most the sum of the other two, as every rigid body's do: Ixx = ∫(y² + z²) dm <= Iyy + Izz; up to a
+// relative 1e-9 of their sum, for round-off on thin rods and flat plates), else a sentence saying
+// which moment exceeds the others (e.g. "izz = 0.3 exceeds ixx + iyy = 0.2").
+std::string triangle_inequality_violation(const Mat3& inertia);
+
+// What Model::add_body does with an inertia that violates the triangle inequality: refuse it
+// (ModelError naming the body; the default), or accept it: the URDF reader accepts and warns
+// (URDF files in use carry such inertias, e.g. example-robot-data's go1, b1, anymal and hyq bases),
+// and a deserialised model keeps the inertias it was built with.
+enum class TriangleInequality { Refuse, Accept };
+
 class Model {
  public:
   Model() = default;
   // Appends a body; returns its index. Throws ModelError naming the body on invalid input.
-  int add_body(const BodySpec& spec);
+  int add_body(const BodySpec& spec, TriangleInequality triangle = TriangleInequality::Refuse);
 
   int n() const { return static_cast<int>(parent.size()); }
   double total_mass() const;
   int body_index(const std::string& link_name) const;  // -1 if absent
   int joint_index(const std::string& joint_name) const;  // -1 if absent
 
-  // Force elements (Assumption 1). Each throws ModelError on an unknown joint/body or bad value.
+  // Force elements (Assumption 1). Each throws ModelError on an unknown joint/body or bad value,
+  // naming the joint and the value: every parameter finite; a damper's coefficient non-negative (a
+  // negative one would feed energy in). A spring's stiffness may be negative (still conservative:
+  // V = 1/2 k (q - rest)^2 with k < 0, e.g. to cancel another spring).
   void add_spring(int joint, double stiffness, double rest);  // Q -= k (q - rest)
-  void add_damper(int joint, double damping);                 // Q -= c q̇
+  void add_damper(int joint, double damping);                 // Q -= c q̇, c >= 0
   int add_control();                                          // a new input u[m], no actuation yet
   int add_actuator(int joint, double gear = 1.0);             // new input u[m], Q_joint += gear u[m]
   void add_wrench(std::shared_ptr<const BodyWrench> wrench);

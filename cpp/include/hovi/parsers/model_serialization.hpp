@@ -10,9 +10,13 @@
 namespace hovi {
 
 std::string serialize(const Model& model);
+// The bytes: a header (magic, format version, byte order, length and FNV-1a checksum of the
+// payload) and the payload (every field in order).
 // Throws ModelError if the bytes are not a serialised model of this format (or were written on a
-// machine of the other byte order), are truncated, or describe an invalid model (the model is
-// rebuilt through add_body, add_wrench, add_constraint and add_visual, which check it).
+// machine of the other byte order), are truncated, do not match their checksum ("model bytes are
+// corrupted (checksum mismatch)": a changed byte is never read as another model), or describe an
+// invalid model (the model is rebuilt through add_body, add_wrench, add_constraint and add_visual,
+// which check it).
 Model deserialize(const std::string& bytes);
 
 }  // namespace hovi

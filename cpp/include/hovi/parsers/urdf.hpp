@@ -13,6 +13,7 @@
 // Errors raise UrdfError naming the link or joint at fault.
 #pragma once
 #include <string>
+#include <vector>
 
 #include "hovi/model/model.hpp"
 
@@ -26,7 +27,11 @@ struct UrdfOptions {
   bool expand_joints = false;         // expand URDF floating/planar joints instead of failing
 };
 
-// `source` is either URDF XML (first non-blank character '<') or a file path.
-Model model_from_urdf(const std::string& source, const UrdfOptions& options = {});
+// `source` is either URDF XML (first non-blank character '<') or a file path. A link whose inertia
+// violates the triangle inequality (triangle_inequality_violation; no rigid body has it, but URDF
+// files in use carry such inertias, e.g. example-robot-data's go1, b1, anymal and hyq bases) is loaded
+// as given, with a sentence naming the link appended to `warnings` (if given).
+Model model_from_urdf(const std::string& source, const UrdfOptions& options = {},
+                      std::vector<std::string>* warnings = nullptr);
 
 }  // namespace hovi

@@ -66,6 +66,7 @@ class ByteReader {
     return m;
   }
   bool at_end() const { return pos_ == bytes_.size(); }
+  std::size_t position() const { return pos_; }  // bytes read so far
   [[noreturn]] static void corrupt() { throw ModelError("the serialised model is truncated or corrupt"); }
 
  private:
