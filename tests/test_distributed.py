@@ -100,6 +100,11 @@ def test_chunks_and_bad_input(client, setup):
         distributed.step_batch(integ, Q, u=np.zeros((3, 1)), client=client)
     with pytest.raises(TypeError, match="client must be"):
         distributed.step_batch(integ, Q, client=42)
+    for bad in (Q + 1j, Q.astype(object), Q.astype(str)):  # refused before anything is sent, never cast
+        with pytest.raises(ValueError, match="q0s must be an array of real numbers"):
+            distributed.rollout_batch(integ, bad, 3, client=client)
+        with pytest.raises(ValueError, match="q0 must be an array of real numbers"):
+            distributed.one_step_batch(integ.model, 0.05, bad, V, "newton", client=client)
     # the default chunks: SOLVES_PER_TASK solves a task, at most as many items as give every worker one
     assert [s.stop - s.start for s in distributed._chunks(B, 30, client, None)] == [50, 50]
     assert [s.stop - s.start for s in distributed._chunks(10_000, 1, client, None)] == [4000, 4000, 2000]

@@ -147,7 +147,7 @@ def one_step_batch(model: _core.Model, dt: float, q0: npt.ArrayLike, qdot0: npt.
     """``hovi.baselines.one_step_batch`` (the one-step study of bench/fig2_quasi_newton.py) on a Dask
     cluster: one trapezoidal step from every state, q0 and qdot0 (N, n); the same dict of per-state
     arrays (N,) and lists, bit for bit (the times per solve are those measured on the workers)."""
-    Q, QD = np.asarray(q0, dtype=float), np.asarray(qdot0, dtype=float)
+    Q, QD = _core.real_array(q0, "q0"), _core.real_array(qdot0, "qdot0")  # complex, text, object refused
     if Q.ndim != 2 or Q.shape[1] != model.n or QD.shape != Q.shape:
         raise ValueError(f"q0 and qdot0 must be two arrays of shape (N, {model.n}), got {Q.shape} and {QD.shape}")
     with _connect(client) as c:
