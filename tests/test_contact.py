@@ -163,6 +163,15 @@ def test_time_limit_stops_the_homotopy_between_solves():
     assert not trajopt.solve_contact(prob, VI1, time_limit=600.0).contact["out_of_time"]
 
 
+def test_no_exact_solve_is_no_success():
+    """IPOPT stopped after 2 iterations every time: no exact solve, so no success, whatever the last
+    relaxed solve reported, and the status says so."""
+    contacts, prob = contact_problem(planar_point_mass(), [0.0, 0.3], [0.0, 0.0], 0.5, 25, mu=0.5)
+    result = trajopt.solve_contact(prob, VI1, options={"max_iter": 2})
+    assert not result.contact["finished"] and not result.success
+    assert result.status.startswith("no exact solve succeeded; the last relaxed solve (epsilon = 1e-06)")
+
+
 def test_checkpoint_resumes_the_homotopy_where_it_stopped(tmp_path):
     """A solve stopped after its first relaxed solve, resumed from its checkpoint: the same solves and
     the same solution as one uninterrupted solve; a checkpoint of another solve, a file that is no

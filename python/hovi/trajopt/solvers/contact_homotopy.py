@@ -144,6 +144,10 @@ class ContactHomotopy(Solver):
                 result, success=False,
                 status=f"stopped by time_limit = {self.time_limit:g} s before {before}; the last relaxed "
                        f"solve (epsilon = {last:g}) ended: {result.status}")
+        elif exact is None and finish_below > 0:  # every exact attempt failed: only a relaxed answer
+            result = dataclasses.replace(
+                result, success=False,
+                status=f"no exact solve succeeded; the last relaxed solve (epsilon = {last:g}) ended: {result.status}")
         rows = ContactRows(problem.contacts, result.transcription, 0.0)
         result.contact = {**rows.violations(result.x), "epsilon": 0.0 if exact else last,
                           "finished": exact is not None, "solves": solves,
@@ -187,8 +191,8 @@ def solve_contact(problem: Problem, transcription: TranscriptionMethod = DEFAULT
     (from its start, close to the answer, the large relaxations are not needed). On the robot
     examples this finishes where the homotopy from the example's guess is far slower (bench/README.md).
 
-    Returns the exact Result (or the last relaxed one; when ``time_limit`` stopped the homotopy
-    before the exact solve, that one with ``success=False`` and a status that says so) with
+    Returns the exact Result, or the last relaxed one with ``success=False`` and a status that says
+    why (``time_limit`` stopped the homotopy, or no exact solve succeeded), with
     ``result.contact`` = {'penetration',
     'cone', 'complementarity' (largest product), 'epsilon' (0 after the exact solve), 'finished',
     'solves' ([(epsilon, iterations, success), ...], epsilon 0 for an exact attempt),
