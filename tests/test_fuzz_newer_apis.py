@@ -317,3 +317,41 @@ def test_step_batch_refuses_complex_and_object_input(argument, make):
             INTEG.step_batch(make((2, N)), None, np.zeros((2, 1)), threads=1)
         else:
             INTEG.step_batch(qs, None, make((2, 1)), threads=1)
+
+
+# --- serialised models: pickled bytes with any change are refused, never loaded as another model ---
+
+import pickle  # noqa: E402
+
+MODEL_BYTES = pickle.dumps(hovi.examples.models.acrobot())
+# what pickle itself raises on damaged framing (opcodes, lengths, the names of globals)
+PICKLE_ERRORS = (pickle.UnpicklingError, EOFError, ValueError, TypeError, AttributeError, KeyError, IndexError,
+                 ImportError, UnicodeDecodeError, OverflowError)
+
+
+@SETTINGS
+@given(st.data())
+def test_changed_model_bytes_are_refused(data):
+    """Bytes written by pickle with one to three bytes changed, a cut or an insertion somewhere in
+    them: unpickling raises (hovi.ModelError for a damaged payload, pickle's own error when the
+    pickle framing itself is broken), or, if the change fell outside the payload, gives the same
+    model."""
+    raw = bytearray(MODEL_BYTES)
+    kind = data.draw(st.sampled_from(["change", "cut", "insert"]))
+    at = data.draw(st.integers(0, len(raw) - 1))
+    if kind == "change":
+        for k in range(data.draw(st.integers(1, 3))):
+            i = (at + 7 * k) % len(raw)
+            raw[i] = (raw[i] + data.draw(st.integers(1, 255))) % 256
+    elif kind == "cut":
+        del raw[at:at + data.draw(st.integers(1, 16))]
+    else:
+        raw[at:at] = data.draw(st.binary(min_size=1, max_size=8))
+    try:
+        loaded = pickle.loads(bytes(raw))
+    except hovi.ModelError as e:  # the payload reached hovi and was refused with a message
+        assert "model" in str(e)
+        return
+    except PICKLE_ERRORS:         # the pickle framing around it was broken: pickle's own refusal
+        return
+    assert isinstance(loaded, hovi.Model) and pickle.dumps(loaded) == MODEL_BYTES
