@@ -48,6 +48,8 @@ def test_atlas_reaches_the_ball_on_one_foot(tmp_path, capsys):
     assert s["stance_foot_motion"] <= 1e-6 and s["wrench_cone_margin"] >= -1e-8 and s["cop_margin"] >= 0
     assert s["replay_stage_residual"] <= 1e-8                 # each stage is the integrator's step
     assert s["replay_steps_elsewhere"] == 0 and s["replay_failed_steps"] == 0   # and the one its Newton solve finds
+    assert "replay: 6 of 6 stages reproduced" in out
+    assert s["between_knot_penetration"] <= 1e-3 and s["between_knot_contact"].startswith(("l_", "r_"))
     data = np.load(tmp_path / "atlas.npz")
     assert data["q"].shape == (build("atlas", quick=True).problem.N + 1, 36)
     assert np.all(data["contact_forces"][:-1, 2] > 0)
@@ -94,22 +96,106 @@ def test_contact_figures_refuse_a_trajectory_without_controls_at_every_point():
         contact_figures(None, result)
 
 
-def test_flamingo_jumps_the_obstacle(tmp_path, capsys):
-    checkpoint = tmp_path / "homotopy.npz"
-    assert main(["example", "flamingo", "--quick", "--quiet", "--no-animate", "--output", str(tmp_path),
-                 "--checkpoint", str(checkpoint)]) == 0
-    assert not checkpoint.exists()                      # written after each relaxed solve, removed when finished
+@pytest.fixture(scope="module")
+def flamingo_run(tmp_path_factory):
+    """The quick Spring Flamingo solved once through the command line: (output directory, stdout, exit code)."""
+    import contextlib
+    import io
+    out = tmp_path_factory.mktemp("flamingo")
+    checkpoint = out / "homotopy.npz"
+    text = io.StringIO()
+    with contextlib.redirect_stdout(text):
+        code = main(["example", "flamingo", "--quick", "--quiet", "--no-animate", "--no-progress", "--output", str(out),
+                     "--checkpoint", str(checkpoint)])
+    return out, text.getvalue(), code
+
+
+@pytest.mark.xfail(strict=True, reason="issue 30: the quick Spring Flamingo solution dips 61.4 mm into the ground "
+                   "between its knots and the integrator reproduces 9 of its 11 stages; with the between-knot "
+                   "clearance (/tmp patch, not committed) the quick solve did not finish in 1583 iterations")
+def test_flamingo_jumps_the_obstacle(flamingo_run):
+    tmp_path, out, code = flamingo_run
+    assert code == 0, out
+    assert not (tmp_path / "homotopy.npz").exists()     # written after each relaxed solve, removed when finished
     s = json.loads((tmp_path / "flamingo.json").read_text())
     assert s["success"] and s["feasible"], s["failures"]
     assert s["constraint_violation"] <= 1e-6 and s["exact_solve"] == 1.0
     assert s["complementarity"] <= 1e-6 and s["normal_complementarity"] <= 1e-6 and s["penetration"] <= 1e-6
     assert s["obstacle_clearance"] >= 0 and s["feet_beyond_obstacle"] >= 0   # over the box all along, both feet past it
     assert s["replay_stage_residual"] <= 1e-6   # each stage is the integrator's step, to IPOPT's constr_viol_tol 1e-8
-    # stepped from its own start, Newton may find another root of the quick problem's DEL equations
-    # (dt = 0.1 s, joints turning up to 1.7 rad a stage): counted in replay_steps_elsewhere; none may fail
-    assert s["replay_failed_steps"] == 0
+    # and the step the integrator's Newton solve finds from its own start: every stage reproduced
+    assert s["replay_failed_steps"] == 0 and s["replay_steps_elsewhere"] == 0
+    assert s["replay_stages_reproduced"] == s["replay_stages"] == 11
+    assert "replay: 11 of 11 stages reproduced" in out
+    assert s["between_knot_penetration"] <= 1e-3                # the feet stay above the ground between the knots
+    assert "between the configuration points:" in out
     forces = np.load(tmp_path / "flamingo.npz")["contact_forces"]
     assert np.any(forces[:-1].sum(1) == 0)                                   # a flight phase: no contact force
+
+
+def test_between_knot_penetration_matches_a_dense_evaluation_of_the_solution(flamingo_run):
+    """The figure of the quick Spring Flamingo's solution against the contact points evaluated on its
+    trapezoidal VI's polynomial (linear in q between the points, s = 1) at 2000 times a stage."""
+    from hovi import _core
+    tmp_path, _, _ = flamingo_run
+    s = json.loads((tmp_path / "flamingo.json").read_text())
+    data = np.load(tmp_path / "flamingo.npz")
+    t, q = data["t"], data["q"]
+    tau = np.linspace(0.0, 1.0, 2001)[1:-1]
+    dense_t = (t[:-1, None] + tau[None, :] * np.diff(t)[:, None]).ravel()
+    dense_q = (q[:-1, None, :] * (1 - tau)[None, :, None] + q[1:, None, :] * tau[None, :, None]).reshape(-1, q.shape[1])
+    robot = spring_flamingo()
+    X, _ = _core.body_point_kinematics(robot.model, dense_q, [robot.model.body_index(c.body) for c in robot.contacts],
+                                       np.array([c.point for c in robot.contacts]))
+    z = X[..., 2]                                                            # the ground at z = 0
+    k, c = np.unravel_index(np.argmin(z), z.shape)
+    assert s["between_knot_penetration"] == pytest.approx(max(0.0, -z[k, c]), abs=1e-4)  # 19+ samples a stage: 0.1 mm
+    if z[k, c] < -1e-5:                                                                  # the same dip, if any
+        assert s["between_knot_contact"] == robot.contacts[c].name
+        assert s["between_knot_time"] == pytest.approx(dense_t[k], abs=0.006)
+
+
+def test_between_knot_penetration_sees_a_dip_that_the_points_do_not():
+    """A trajectory whose points are all on the ground and whose polynomial dips between them (a
+    foot swung through the ground): found, measured and placed (contact, time) as a dense sampling
+    of the same polynomial finds it; bounded by BETWEEN_TOLERANCE in the example's bounds."""
+    from hovi import trajopt
+    from hovi.examples.paper.contact_figures import (BETWEEN_TOLERANCE, CONTACT_BOUNDS, between_knot_penetration,
+                                                     contact_gaps)
+    from hovi.contact import Contacts, Terrain
+    robot = spring_flamingo()
+    contacts = Contacts(robot.model, robot.contact_points, Terrain(), mu=0.8, plane="xz")
+    prob = trajopt.Problem(contacts.model, N=4, T=0.4)
+    q0 = JumpPlan(robot).configurations(0.0)[0]                   # both soles level on the ground
+    prob.initial_state(q0)
+    prob.add_cost(trajopt.ControlEffort())
+    for method in (trajopt.VI(s=1), trajopt.VI(s=2)):
+        tc = method.transcribe(prob)
+        x = tc.initial_guess((lambda t: np.tile(q0, (len(t), 1)), lambda t: np.zeros((len(t), prob.model.n)),
+                              lambda t: np.zeros((len(t), prob.model.n_controls))))
+        r = tc.at(x, "guess", False)
+        P = len(r.trajectory["q"])
+        assert P == 4 * method.s + 1
+        # the whole robot pitched by +-0.3 rad at alternate points and lowered there until its lowest
+        # contact point touches the ground: on the ground at every configuration point, while the
+        # pitch passing through 0 between them swings the soles through it
+        gaps = contact_gaps(contacts)
+        q = np.tile(q0, (P, 1))
+        q[:, 2] = 0.3 * (-1.0) ** np.arange(P)
+        q[:, 1] -= gaps(q).min(1)
+        assert np.abs(gaps(q).min(1)).max() < 1e-12
+        x = x.copy()
+        x[tc.q_off:tc.q_off + q.size] = q.ravel()
+        r = tc.at(x, "guess", False)
+        f = between_knot_penetration(r, gaps, [c.name for c in robot.contacts])
+        dense = np.linspace(0.0, prob.T, 40001)
+        phi = gaps(tc.interpolants(x)[0](dense))                    # the transcription's interpolant, densely
+        k, c = np.unravel_index(np.argmin(phi), phi.shape)
+        assert -phi[k, c] > 0.01                                    # a dip of centimetres
+        assert f["between_knot_penetration"] == pytest.approx(-phi[k, c], rel=0.01)
+        assert f["between_knot_contact"][2:] == robot.contacts[c].name[2:]   # a toe or a heel (either side: the same)
+        assert np.abs(r.trajectory["t"] - f["between_knot_time"]).min() > 1e-3    # between the points
+    assert CONTACT_BOUNDS["between_knot_penetration"] == ("<=", BETWEEN_TOLERANCE) and BETWEEN_TOLERANCE == 1e-3
 
 
 def test_unknown_example_is_refused():
@@ -164,6 +250,8 @@ def test_littledog_walks_over_a_gap(tmp_path, capsys):
     assert s["average_speed"] >= littledog_example.SPEED - 1e-6
     assert s["replay_stage_residual"] <= 1e-8                 # each stage is the integrator's step
     assert s["replay_steps_elsewhere"] == 0 and s["replay_failed_steps"] == 0   # and the one its Newton solve finds
+    assert f"replay: {littledog_example.QUICK.N} of {littledog_example.QUICK.N} stages reproduced" in out
+    assert s["between_knot_penetration"] <= 1e-3            # the feet above the ground between the points too
     data = np.load(tmp_path / "littledog.npz")
     assert data["q"].shape == (littledog_example.QUICK.N + 1, 18)
     assert data["contact_forces"].shape == (littledog_example.QUICK.N + 1, 4)
@@ -192,3 +280,32 @@ def test_replay_figures_measure_how_far_the_stages_are_from_integrator_steps(mak
     bad = replay_figures(example, dataclasses.replace(r, x=x, trajectory=tc.trajectory(x)))
     assert 1e-4 <= bad["replay_stage_residual"] <= 1e-2
     assert bad["replay_one_step_drift"] >= 1e-6 and bad["replay_steps_elsewhere"] >= 1
+
+
+def test_replay_verdict_calls_a_solution_with_one_unreproduced_stage_infeasible():
+    """report.check: the replay is part of the verdict. A solution whose stages the integrator
+    reproduces passes; the same solution doctored at one stage (its momentum off) is infeasible,
+    and the report says which stage, which coordinate and by how much, with units."""
+    import dataclasses
+    from types import SimpleNamespace
+    from hovi import trajopt
+    from hovi.examples import swingups as examples
+    from hovi.examples.paper import report
+    prob = examples.EXAMPLES["pendulum"](N=10)
+    r = trajopt.solve(prob, trajopt.VI(s=1), verbose=False)
+    example = SimpleNamespace(problem=prob, checks=lambda result: {}, failures=lambda figures: [])
+    figures, replay, failures = report.check(example, r)
+    assert r.success and failures == [], failures
+    assert replay["replay_stages_reproduced"] == replay["replay_stages"] == 10
+    assert report.replay_text(replay).startswith("replay: 10 of 10 stages reproduced to ")
+    tc = r.transcription
+    x = r.x.copy()
+    x[tc.p_off + 7 * prob.model.n] += 0.05                    # p^7 off: stage 7 (from q^7, p^7) lands elsewhere
+    bad = dataclasses.replace(r, x=x, trajectory=tc.trajectory(x))
+    _, replay, failures = report.check(example, bad)
+    assert replay["replay_steps_elsewhere"] >= 1 and 8 in replay["replay_elsewhere_stages"]
+    assert len(failures) == 1 and failures[0].startswith("replay: ") and "not reproduced" in failures[0]
+    text = report.replay_text(replay)
+    assert "of 10 stages reproduced" in text and f"stage {replay['replay_worst_stage']} converged to another point" in text
+    assert f"{prob.model.joint_names[0]} differs by" in text and text.count(" rad") >= 1
+    assert report.replay_failures(replay) == failures
