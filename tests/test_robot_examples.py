@@ -112,7 +112,7 @@ def flamingo_run(tmp_path_factory):
 
 @pytest.mark.xfail(strict=True, reason="issue 30: the quick Spring Flamingo solution dips 61.4 mm into the ground "
                    "between its knots and the integrator reproduces 9 of its 11 stages; with the between-knot "
-                   "clearance (/tmp patch, not committed) the quick solve did not finish in 1583 iterations")
+                   "clearance (toes and heels above the ground every 10 ms) the quick solve did not finish in 1583 iterations")
 def test_flamingo_jumps_the_obstacle(flamingo_run):
     tmp_path, out, code = flamingo_run
     assert code == 0, out
