@@ -134,7 +134,7 @@ def actuated(n=2):
     ({"q_bounds": (np.nan, 1.0)}, ValueError, r"q_bounds \(lower\) holds NaN"),
     ({"q_bounds": ("low", 1.0)}, ValueError, r"q_bounds \(lower\) must be an array of real numbers"),
     ({"q_bounds": (np.inf, np.inf)}, ValueError, "q_bounds: a lower bound of \\+inf"),
-    ({"u_bounds": (1j, 2.0)}, ValueError, r"u_bounds \(lower\) must be an array of real numbers, got complex"),
+    ({"u_bounds": (1j, 2.0)}, ValueError, r"u_bounds \(lower\) must be real, got a complex number"),
     ({"N": True}, ValueError, "N must be a whole number"),
     ({"N": 2.5}, ValueError, "N must be a whole number"),
     ({"N": "10"}, ValueError, "N must be a whole number"),

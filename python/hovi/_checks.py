@@ -9,33 +9,16 @@ from typing import Any, Optional, Sequence
 
 import numpy as np
 
+from . import _core
+
 
 def real_array(value: Any, name: str, shape: Optional[Sequence[Optional[int]]] = None, *,
                finite: bool = True) -> np.ndarray:
-    """``value`` as a float64 array. ValueError for something that is not an array of real numbers
-    (strings, objects, complex, booleans, None), a shape other than ``shape`` (None entries match
-    any length) or, with ``finite``, NaN or infinity; every message names ``name``."""
-    if value is None:
-        raise ValueError(f"{name} must be an array of real numbers, got None")
-    try:
-        a = np.asarray(value)
-    except (TypeError, ValueError) as e:          # ragged nested lists
-        raise ValueError(f"{name} must be a rectangular array of real numbers ({e})") from None
-    if a.dtype == object:
-        try:
-            a = np.asarray(a.tolist(), dtype=float) if a.size else a.astype(float)
-        except (TypeError, ValueError):
-            raise ValueError(f"{name} must be an array of real numbers, got an object array "
-                            f"(e.g. {a.ravel()[0]!r})") from None
-    if a.dtype.kind in "USV":
-        raise ValueError(f"{name} must be an array of real numbers, got text ({a.dtype})")
-    if a.dtype.kind == "c":
-        raise ValueError(f"{name} must be an array of real numbers, got complex ({a.dtype})")
-    if a.dtype.kind == "b":
-        raise ValueError(f"{name} must be an array of real numbers, got booleans")
-    if a.dtype.kind not in "iuf":
-        raise ValueError(f"{name} must be an array of real numbers, got {a.dtype}")
-    a = np.array(a, dtype=np.float64)
+    """``value`` as a new float64 array. ValueError for something that is not an array of real
+    numbers (strings, objects, complex, booleans, None: ``_core.real_array``, the core's one test),
+    a shape other than ``shape`` (None entries match any length) or, with ``finite``, NaN or
+    infinity; every message names ``name``."""
+    a = np.array(_core.real_array(value, name), dtype=np.float64)  # a copy: the caller's array is never shared
     if shape is not None and (a.ndim != len(shape)
                               or any(w is not None and w != g for w, g in zip(shape, a.shape))):
         wanted = "(" + ", ".join("any" if w is None else str(w) for w in shape) + ("," if len(shape) == 1 else "") + ")"
