@@ -355,26 +355,13 @@ def most_violated(result) -> dict:
                     where = f" of stage {k} (t = {k * T / N:.3g}..{(k + 1) * T / N:.3g} s)"
                 return {"violation": float(rows[r]), "what": what + where, "relax": relax, "row": r}
             start += count
-    blocks = sorted((getattr(tr, f"{name}_off"), name) for name in ("q", "p", "v", "a", "u", "l")
-                    if isinstance(getattr(tr, f"{name}_off", None), (int, np.integer)))
-    name, off = "variable", 0
-    for o, nm in blocks:
-        if o <= b:
-            name, off = nm, o
-    model = tr.problem.model
-    width = model.n_controls if name == "u" else model.n_constraints if name == "l" else model.n
-    label = {"q": "the bound on q", "p": "the bound on p", "v": "the bound on v", "a": "the bound on the acceleration",
-             "u": "the bound on u", "l": "the bound on a multiplier"}.get(name, "a variable bound")
-    where = ""
-    if width:
-        point, j = divmod(b - off, width)
-        joint = model.joint_names[j] if name in ("q", "p", "v", "a") else f"input {j}"
-        where = f" of {joint} at point {point}"
+    name, _, _ = tr.locate_variable(b)
     fixed = nlp.lower[b] == nlp.upper[b]
     relax = ("a boundary state is fixed there: relax the boundary conditions or give a longer --T" if fixed else
              "widen the control limits or give a longer --T" if name == "u" else
              "widen the joint limits or give a longer --T")
-    return {"violation": float(bounds[b]), "what": label + where + (" (a fixed boundary value)" if fixed else ""),
+    return {"violation": float(bounds[b]),
+            "what": f"the bound on {tr.describe_variable(b)}" + (" (a fixed boundary value)" if fixed else ""),
             "relax": relax, "variable": b}
 
 

@@ -150,8 +150,10 @@ class Transcription:
             return out
         return checked
 
-    def describe_variable(self, i: int) -> str:
-        """Which variable x[i] is: its block (q, p, v, a, u or a multiplier), joint or input and point."""
+    def locate_variable(self, i: int) -> Tuple[str, int, int]:
+        """(block, point, component) of x[i]: its block ('q', 'p', 'v', 'a', 'u', or 'l' for the
+        multipliers), the configuration or control point and the joint, input or row within it;
+        ('variable', -1, i) outside the blocks."""
         blocks = sorted((getattr(self, f"{name}_off"), name) for name in ("q", "p", "v", "a", "u", "l")
                         if isinstance(getattr(self, f"{name}_off", None), (int, np.integer)))
         name, off = "variable", 0
@@ -160,8 +162,15 @@ class Transcription:
                 name, off = nm, o
         width = self.m if name == "u" else self.mc if name == "l" else self.n
         if name == "variable" or not width:
-            return f"variable {i}"
+            return "variable", -1, i
         point, j = divmod(i - off, width)
+        return name, point, j
+
+    def describe_variable(self, i: int) -> str:
+        """Which variable x[i] is: its block (q, p, v, a, u or a multiplier), joint or input and point."""
+        name, point, j = self.locate_variable(i)
+        if name == "variable":
+            return f"variable {i}"
         what = {"l": "multiplier", "u": "u"}.get(name, name)
         who = self.model.joint_names[j] if name in ("q", "p", "v", "a") else f"{'input' if name == 'u' else 'row'} {j}"
         return f"{what} of {who} at point {point}"
