@@ -324,9 +324,10 @@ def test_step_batch_refuses_complex_and_object_input(argument, make):
 import pickle  # noqa: E402
 
 MODEL_BYTES = pickle.dumps(hovi.examples.models.acrobot())
-# what pickle itself raises on damaged framing (opcodes, lengths, the names of globals)
+# what pickle itself raises on damaged framing (opcodes, lengths, the names of globals; a changed
+# frame length can ask for more memory than there is)
 PICKLE_ERRORS = (pickle.UnpicklingError, EOFError, ValueError, TypeError, AttributeError, KeyError, IndexError,
-                 ImportError, UnicodeDecodeError, OverflowError)
+                 ImportError, UnicodeDecodeError, OverflowError, MemoryError)
 
 
 @SETTINGS
@@ -335,7 +336,7 @@ def test_changed_model_bytes_are_refused(data):
     """Bytes written by pickle with one to three bytes changed, a cut or an insertion somewhere in
     them: unpickling raises (hovi.ModelError for a damaged payload, pickle's own error when the
     pickle framing itself is broken), or, if the change fell outside the payload, gives the same
-    model."""
+    model (or, where the change rewrote pickle's own opcodes, an object that is no model at all)."""
     raw = bytearray(MODEL_BYTES)
     kind = data.draw(st.sampled_from(["change", "cut", "insert"]))
     at = data.draw(st.integers(0, len(raw) - 1))
@@ -354,4 +355,5 @@ def test_changed_model_bytes_are_refused(data):
         return
     except PICKLE_ERRORS:         # the pickle framing around it was broken: pickle's own refusal
         return
-    assert isinstance(loaded, hovi.Model) and pickle.dumps(loaded) == MODEL_BYTES
+    if isinstance(loaded, hovi.Model):  # never another model (pickle's framing, broken, may give another object)
+        assert pickle.dumps(loaded) == MODEL_BYTES

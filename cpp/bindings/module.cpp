@@ -27,7 +27,8 @@ PYBIND11_MODULE(_core, m) {
   m.def("real_array", [](const hovi::py_bind::ArrayLike& x, const std::string& name) {
         return hovi::py_bind::real_array(x, name.c_str());
       }, py::arg("x"), py::arg("name"),
-      "x as a float64 array of any shape, as every array argument of hovi._core is read: ValueError naming `name` "
+      "x: an array of any shape, e.g. (n,) or (B, n); returns it as float64 (the same shape), as every array "
+      "argument of hovi._core is read: ValueError naming `name` "
       "for complex numbers (never cast to real), text, Python objects (None is not NaN), booleans, None or a ragged "
       "list. The values are not checked (NaN passes).");
   hovi::py_bind::bind_model(m);

@@ -524,6 +524,6 @@ def pendulum(n: typing.SupportsInt | typing.SupportsIndex, length: typing.Suppor
     """
 def real_array(x: numpy.typing.ArrayLike, name: str) -> numpy.typing.NDArray[numpy.float64]:
     """
-    x as a float64 array of any shape, as every array argument of hovi._core is read: ValueError naming `name` for complex numbers (never cast to real), text, Python objects (None is not NaN), booleans, None or a ragged list. The values are not checked (NaN passes).
+    x: an array of any shape, e.g. (n,) or (B, n); returns it as float64 (the same shape), as every array argument of hovi._core is read: ValueError naming `name` for complex numbers (never cast to real), text, Python objects (None is not NaN), booleans, None or a ragged list. The values are not checked (NaN passes).
     """
 march: str = ''
