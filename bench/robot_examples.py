@@ -4,12 +4,13 @@ collocation of the same problem and contact model, all by IPOPT with the Lagrang
 (trajopt.hessian): iterations, solve time, the feasibility figures and, for the VIs, the replay
 figures (report.replay_figures).
 
-    python bench/robot_examples.py [--quick] [--only NAME ...] [--methods vi1 vi2 hs] [--time-limit S]
+    python bench/robot_examples.py [--quick [--readme]] [--only NAME ...] [--methods vi1 vi2 hs] [--time-limit S]
                                    [--checkpoints DIR] [--verbose]
 
 Writes bench/results/robot_examples.json (robot_examples_quick.json) after each run, the row run
 replacing its (example, method) and the others kept as the file has them then (two runs with
-different --only or --methods can share the file), and the table in bench/README.md. With
+different --only or --methods can share the file), and the table in bench/README.md (--quick: only
+with --readme, so the test suite's quick run changes no tracked file). With
 --checkpoints, each contact-implicit solve keeps its homotopy's state in DIR/<example>_<method>.npz
 and a run started again resumes from it (a solve of hours can span several processes; the row's
 iterations and time are then those of all of them, the time in IPOPT); a finished solve removes it.
@@ -72,6 +73,8 @@ def main() -> None:
     ap.add_argument("--checkpoints", default=None, metavar="DIR",
                     help="keep each contact-implicit solve's homotopy state in DIR and resume from it")
     ap.add_argument("--verbose", action="store_true", help="IPOPT's progress, one line per iteration")
+    ap.add_argument("--readme", action="store_true",
+                    help="with --quick: also write the quick table into bench/README.md (a full run always does)")
     args = ap.parse_args()
     name = "robot_examples_quick.json" if args.quick else "robot_examples.json"
     methods = [METHODS["vi1"]] if args.quick else [METHODS[m] for m in args.methods]
@@ -79,7 +82,8 @@ def main() -> None:
     for example, method, s in runs:
         rows = merge(name, run_one(example, args.quick, method, s, args.time_limit, args.verbose,
                                     args.checkpoints))
-    write_table(rows, quick=args.quick)
+    if args.readme or not args.quick:  # the test suite's quick run leaves the committed README alone
+        write_table(rows, quick=args.quick)
 
 
 def merge(name: str, row: dict) -> list:
