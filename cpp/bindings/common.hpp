@@ -60,6 +60,7 @@ void bind_model(py::module_& m);
 void bind_integrator(py::module_& m);
 void bind_linearizer(py::module_& m);
 void bind_trajopt(py::module_& m);
+void bind_contact(py::module_& m);
 
 }  // namespace hovi::py_bind
 

@@ -35,4 +35,5 @@ PYBIND11_MODULE(_core, m) {
   hovi::py_bind::bind_integrator(m);
   hovi::py_bind::bind_linearizer(m);
   hovi::py_bind::bind_trajopt(m);
+  hovi::py_bind::bind_contact(m);
 }

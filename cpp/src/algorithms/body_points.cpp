@@ -7,6 +7,15 @@
 
 namespace hovi {
 
+void body_point_jacobian(const KinematicsView& kin, int body, const Vec3& r, Vec3& x, Eigen::Ref<MatX> J) {
+  x = kin.pose(body).act(r);  // x = g_b r
+  // dx/dq_j = v_j + ω_j × x for S̄_j = (ω_j, v_j), j on the path from b to the root.
+  for (int j = body; j >= 0; j = kin.model.parent[j]) {
+    const Twist& S = kin.twist(j);
+    J.col(j) = S.tail<3>() + S.head<3>().cross(x);
+  }
+}
+
 void body_point_kinematics(const Model& model, Data& data, const Eigen::Ref<const MatX>& Q,
                            const std::vector<int>& bodies, const Eigen::Ref<const MatX>& points, MatX& X, MatX& J) {
   const int n = model.n(), P = static_cast<int>(Q.cols()), m = static_cast<int>(bodies.size());
@@ -16,17 +25,13 @@ void body_point_kinematics(const Model& model, Data& data, const Eigen::Ref<cons
     if (b < 0 || b >= n) throw ModelError("body_point_kinematics: body index " + std::to_string(b) + " out of range");
   X.resize(3, m * P);
   J.setZero(3, n * m * P);
+  const KinematicsView kin{model, data.g.data(), data.Sbar.data(), 1};
   for (int p = 0; p < P; ++p) {
     forward_kinematics(model, data, Q.col(p));
     for (int i = 0; i < m; ++i) {
-      const Vec3 x = data.g[bodies[i]].act(points.col(i));  // x = g_b r
+      Vec3 x;
+      body_point_jacobian(kin, bodies[i], points.col(i), x, J.middleCols((p * m + i) * n, n));
       X.col(p * m + i) = x;
-      auto Ji = J.middleCols((p * m + i) * n, n);
-      // dx/dq_j = v_j + ω_j × x for S̄_j = (ω_j, v_j), j on the path from b to the root.
-      for (int j = bodies[i]; j >= 0; j = model.parent[j]) {
-        const Twist& S = data.Sbar[j];
-        Ji.col(j) = S.tail<3>() + S.head<3>().cross(x);
-      }
     }
   }
 }

@@ -187,6 +187,16 @@ SolveInfo GalerkinIntegrator::robust_step(const Eigen::Ref<const VecX>& p, const
   return info;
 }
 
+SolveInfo GalerkinIntegrator::robust_step(const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u,
+                                          const Eigen::Ref<const MatX>& before_previous,
+                                          const Eigen::Ref<const MatX>& previous, Eigen::Ref<MatX> qc,
+                                          Eigen::Ref<VecX> p_next) const {
+  if (model_.n_constraints()) throw InputError("robust_step from a history: the model has constraints");
+  MatX lam = lambda_guess(nullptr);
+  auto ws = pool_.acquire();
+  return robust_step(*ws, p, u, before_previous, previous, qc, p_next, lam);
+}
+
 void GalerkinIntegrator::guess_from_velocity(const VecX& qdot, Eigen::Ref<MatX> qc) const {
   for (int a = 1; a <= quad_.s; ++a) qc.col(a) = qc.col(0) + (quad_.c[a] * dt_) * qdot;
 }

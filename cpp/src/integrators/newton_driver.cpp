@@ -14,6 +14,7 @@ const char* to_string(SolveStatus status) {
     case SolveStatus::SingularJacobian: return "singular_jacobian";
     case SolveStatus::NonFinite: return "non_finite";
     case SolveStatus::ContinuationStalled: return "continuation_stalled";
+    case SolveStatus::LcpFailed: return "lcp_failed";
   }
   return "unknown";
 }

@@ -83,6 +83,11 @@ class GalerkinIntegrator {
   SolveInfo robust_step(const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u,
                         const Eigen::Ref<const MatX>& previous, Eigen::Ref<MatX> qc, Eigen::Ref<VecX> p_next,
                         MatX* lambda = nullptr) const;
+  // The same, first from the rollouts' predictor of the last two steps' control points (either may
+  // be empty: before_previous empty extrapolates `previous` alone). Models without constraints.
+  SolveInfo robust_step(const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u,
+                        const Eigen::Ref<const MatX>& before_previous, const Eigen::Ref<const MatX>& previous,
+                        Eigen::Ref<MatX> qc, Eigen::Ref<VecX> p_next) const;
 
   // Initial guesses for columns 1..s of qc (column 0 = q^k already set): from a velocity
   // estimate, q^k + c^a dt q̇; or by extrapolating the previous step's polynomial.

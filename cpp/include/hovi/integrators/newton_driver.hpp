@@ -29,7 +29,9 @@ namespace hovi {
 
 // ContinuationStalled: step_continuation (step_continuation.hpp) found no solution at dt on the
 // branch continuously connected to q^k (the branch turns back in the step length before dt).
-enum class SolveStatus { Converged, MaxIterations, LineSearchFailed, SingularJacobian, NonFinite, ContinuationStalled };
+// LcpFailed: the contact step's linear complementarity subproblem found no solution.
+enum class SolveStatus { Converged, MaxIterations, LineSearchFailed, SingularJacobian, NonFinite, ContinuationStalled,
+                         LcpFailed };
 const char* to_string(SolveStatus status);
 
 struct SolveInfo {
@@ -88,7 +90,8 @@ struct NewtonLoop {
   bool estimate_from_contraction = true;  // the θ test of StoppingRule
 };
 
-enum class Factor { Ok, Singular, NonFinite };
+// NoLcpSolution: the contact step's complementarity subproblem has none (contact/contact_solver.hpp).
+enum class Factor { Ok, Singular, NonFinite, NoLcpSolution };
 
 template <class Problem>
 SolveInfo newton_iterate(Problem& pb, const StoppingRule& rule, const NewtonLoop& loop) {
@@ -111,7 +114,10 @@ SolveInfo newton_iterate(Problem& pb, const StoppingRule& rule, const NewtonLoop
     const bool fresh = !(reuse && pb.has_factor());
     if (fresh) {
       const Factor f = pb.factor();
-      if (f != Factor::Ok) return finish(f == Factor::Singular ? SolveStatus::SingularJacobian : SolveStatus::NonFinite);
+      if (f != Factor::Ok)
+        return finish(f == Factor::Singular        ? SolveStatus::SingularJacobian
+                      : f == Factor::NoLcpSolution ? SolveStatus::LcpFailed
+                                                   : SolveStatus::NonFinite);
       ++info.factorizations;
     }
     pb.direction();

@@ -1,0 +1,153 @@
+// Bindings of the contact simulator (hovi._core.ContactIntegrator). The Pythonic layer (the
+// contacts as hovi.contact.Contacts, Trajectory, exceptions) is python/hovi/integrator.py.
+#include <chrono>
+
+#include "hovi/contact/contact_integrator.hpp"
+#include "hovi/errors.hpp"
+#include "py_integrator.hpp"
+
+namespace hovi::py_bind {
+
+namespace {
+
+// The contact simulator over the model, s, dt and options of an Integrator; every call goes
+// through core(), which raises once the Integrator's model has changed.
+class PyContactIntegrator {
+ public:
+  PyContactIntegrator(py::object integrator, ContactModel contacts, double tol)
+      : owner_(std::move(integrator)), py_(owner_.cast<const PyIntegrator&>()),
+        core_(py_.integ().model(), std::move(contacts), py_.s(), py_.dt(), py_.integ().options, tol) {}
+  const ContactIntegrator& core() const {
+    py_.integ();  // the model watch
+    return core_;
+  }
+  const PyIntegrator& py() const { return py_; }
+
+ private:
+  py::object owner_;
+  const PyIntegrator& py_;
+  ContactIntegrator core_;
+};
+
+ContactModel contact_model(const Model& model, const std::vector<int>& bodies, const ArrayLike& points,
+                           double ground, const ArrayLike& gaps, const ArrayLike& boxes, double mu,
+                           const ArrayLike& directions) {
+  ContactModel cm;
+  const MatX P = as_matrix(points, "points", static_cast<long>(bodies.size()), 3);
+  for (std::size_t i = 0; i < bodies.size(); ++i) cm.points.push_back({bodies[i], P.row(i).transpose()});
+  cm.terrain.ground = ground;
+  const RealArray g = real_array(gaps, "gaps");
+  if (g.size()) {
+    const MatX G = as_matrix(gaps, "gaps (x0, x1, depth)", -1, 3);
+    for (Eigen::Index i = 0; i < G.rows(); ++i) cm.terrain.gaps.push_back({G(i, 0), G(i, 1), G(i, 2)});
+  }
+  const RealArray b = real_array(boxes, "boxes");
+  if (b.size()) {  // y0, y1 may be infinite: read without as_matrix's finiteness check
+    if (b.ndim() != 2 || b.shape(1) != 5) throw InputError("boxes must have shape (B, 5): x0, x1, top, y0, y1");
+    auto r = b.unchecked<2>();
+    for (py::ssize_t i = 0; i < b.shape(0); ++i) cm.terrain.boxes.push_back({r(i, 0), r(i, 1), r(i, 2), r(i, 3), r(i, 4)});
+  }
+  cm.mu = mu;
+  cm.D = as_matrix(directions, "friction directions", -1, 3);
+  (void)model;
+  return cm;
+}
+
+}  // namespace
+
+void bind_contact(py::module_& m) {
+  py::class_<PyContactIntegrator>(m, "ContactIntegrator", R"doc(
+The variational integrator of an Integrator (its model, s, dt and Newton options) with hard point
+contacts and Coulomb friction (cpp/include/hovi/contact/contact_solver.hpp). hovi.Integrator(...,
+contacts=...) makes and uses it; the arguments are hovi.contact.Contacts' (bodies, points in the
+joint frames, the terrain's ground, gaps (G, 3) and boxes (B, 5), mu, friction directions (d, 3)).
+)doc")
+      .def(py::init([](py::object integrator, const std::vector<int>& bodies, const ArrayLike& points, double ground,
+                       const ArrayLike& gaps, const ArrayLike& boxes, double mu, const ArrayLike& directions,
+                       double contact_tol) {
+             const PyIntegrator& pi = integrator.cast<const PyIntegrator&>();
+             ContactModel cm = contact_model(pi.integ().model(), bodies, points, ground, gaps, boxes, mu, directions);
+             return std::make_unique<PyContactIntegrator>(integrator, std::move(cm), contact_tol);
+           }),
+           py::arg("integrator"), py::arg("bodies"), py::arg("points"), py::arg("ground"), py::arg("gaps"),
+           py::arg("boxes"), py::arg("mu"), py::arg("directions"), py::arg("contact_tol") = 1e-10)
+      .def_property_readonly("n_contacts", [](const PyContactIntegrator& c) { return c.core().contacts().size(); })
+      .def_property_readonly("per_contact", [](const PyContactIntegrator& c) { return c.core().contacts().per_contact(); })
+      .def("gap_heights", [](const PyContactIntegrator& c, const ArrayLike& xy) {
+            const MatX X = as_matrix(xy, "xy", -1, 2);
+            VecX h(X.rows());
+            for (Eigen::Index i = 0; i < X.rows(); ++i) h[i] = c.core().contacts().terrain.height(X(i, 0), X(i, 1));
+            return h;
+          }, py::arg("xy"), "The terrain's height below the points xy (P, 2), as the simulator reads it.")
+      .def("step", [](const PyContactIntegrator& c, const ArrayLike& q, const ArrayLike& mom, const OptArrayLike& u,
+                      const OptArrayLike& impulses) {
+            const ContactIntegrator& core = c.core();
+            const PyIntegrator& pi = c.py();
+            const int n = pi.n(), s = pi.s(), nz = core.contacts().unknowns();
+            const VecX qk = as_vector(q, "q", n), pk = as_vector(mom, "p", n);
+            const MatX uk = pi.controls(u);
+            VecX z = impulses.is_none() ? VecX::Zero(nz) : as_vector(impulses, "impulses", nz);
+            MatX qc(n, s + 1);
+            qc.col(0) = qk;
+            VecX p_next(n), phi(core.contacts().size());
+            int pivots = 0;
+            SolveInfo info;
+            {
+              py::gil_scoped_release release;
+              info = core.step(pk, uk, MatX(), qc, p_next, z, phi, &pivots);
+            }
+            StrDict d;
+            d["status"] = to_string(info.status);
+            d["converged"] = info.converged();
+            d["iterations"] = info.iterations;
+            d["factorizations"] = info.factorizations;
+            d["residual_evaluations"] = info.residual_evaluations;
+            d["residual"] = info.residual;
+            d["pivots"] = pivots;
+            return py::make_tuple(MatX(qc.transpose()), p_next, z, phi, d);
+          }, py::arg("q"), py::arg("p"), py::arg("u") = py::none(), py::arg("impulses") = py::none(), R"doc(
+One contact step from q, p (n,) (GIL released); impulses: the first guess (C (2 + d),), default none
+active. Returns (control points (s+1, n), p_next (n,), impulses (C (2 + d),), gaps at the end (C,),
+info dict).
+)doc")
+      .def("rollout", [](const PyContactIntegrator& c, const ArrayLike& q0, const ArrayLike& p0, int steps,
+                         const OptArrayLike& u) {
+            const ContactIntegrator& core = c.core();
+            const PyIntegrator& pi = c.py();
+            const VecX q = as_vector(q0, "q0", pi.n()), mom = as_vector(p0, "p0", pi.n());
+            MatX U(0, 0);
+            if (!u.is_none()) U = as_matrix(u, "u", steps, (pi.s() + 1) * pi.m());
+            else if (pi.m() > 0) U = MatX::Zero(steps, (pi.s() + 1) * pi.m());
+            ContactRollout r;
+            double seconds;
+            {
+              py::gil_scoped_release release;
+              const auto t0 = std::chrono::steady_clock::now();
+              r = core.rollout(q, mom, steps, U);
+              seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            }
+            StrDict d;
+            const int attempted = static_cast<int>(r.status.size());
+            d["q"] = MatX(r.q.topRows(r.steps + 1));
+            d["p"] = MatX(r.p.topRows(r.steps + 1));
+            d["control_points"] = MatX(r.control_points.topRows(r.steps));
+            d["iterations"] = Eigen::VectorXi(r.iterations.head(attempted));
+            d["factorizations"] = Eigen::VectorXi(r.factorizations.head(attempted));
+            d["residual"] = VecX(r.residual.head(attempted));
+            d["pivots"] = Eigen::VectorXi(r.pivots.head(attempted));
+            py::list st;
+            for (SolveStatus x : r.status) st.append(to_string(x));
+            d["status"] = st;
+            d["impulses"] = MatX(r.impulses.topRows(r.steps));
+            d["gaps"] = MatX(r.gaps.topRows(r.steps));
+            d["steps"] = r.steps;
+            d["seconds"] = seconds;
+            return d;
+          }, py::arg("q0"), py::arg("p0"), py::arg("steps"), py::arg("u") = py::none(), R"doc(
+`steps` contact steps from q0, p0 (n,) in C++ (GIL released); u (steps, (s+1) m). Returns a dict:
+q, p (K+1, n), control_points (K, (s+1) n), iterations, factorizations, residual, pivots, status
+(per attempted step), impulses (K, C (2 + d)), gaps (K, C), steps K, seconds.
+)doc");
+}
+
+}  // namespace hovi::py_bind

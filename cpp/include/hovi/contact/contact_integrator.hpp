@@ -1,0 +1,68 @@
+// The Galerkin variational integrator with hard point contacts (contact_solver.hpp): steps and
+// rollouts in C++. A step whose contacts were all inactive in the step before is first solved
+// without contact (the integrator's own step, nothing of the contacts computed but the gaps at
+// its end); if no contact point ends below the terrain, that is the step (zero impulses solve
+// its complementarity conditions). Otherwise, and whenever a contact was active, the contact
+// step is solved, warm-started from the previous step's impulses and LCP active set.
+#pragma once
+#include <vector>
+
+#include "hovi/contact/contact_solver.hpp"
+#include "hovi/integrators/galerkin_integrator.hpp"
+
+namespace hovi {
+
+struct ContactRollout : Rollout {
+  MatX impulses;           // N x unknowns(): row k = per contact (λ, β_1..d, γ) of step k
+  MatX gaps;               // N x C: φ_c(q^{k+1})
+  Eigen::VectorXi pivots;  // LCP pivots of step k (0: solved without contact, or on the guessed active set)
+};
+
+class ContactIntegrator {
+ public:
+  // Throws ModelError / InputError for contacts that do not fit the model (ContactModel::check), a
+  // model with holonomic constraints (not supported with contacts) or bad options; tol: the
+  // complementarity tolerance, |min(z_i, w_i)| <= tol (m and N s), in (0, 1e-3].
+  ContactIntegrator(Model model, ContactModel contacts, int s, double dt, SolverOptions options = {},
+                    double tol = 1e-10);
+  ContactIntegrator(const ContactIntegrator&) = delete;
+  ContactIntegrator& operator=(const ContactIntegrator&) = delete;
+
+  const GalerkinIntegrator& integrator() const { return free_; }
+  const ContactModel& contacts() const { return contacts_; }
+  double tol() const { return tol_; }
+
+  // One step from q^k = qc.col(0) with momentum p and controls u (m x (s+1)); z: the first guess of
+  // the impulses (zeros: none active) and, on exit, the solution; phi gets φ_c(q^{k+1}); qc the
+  // control points; pivots (if given) the LCP pivots. previous: the control points of the step
+  // before (or empty).
+  SolveInfo step(const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u, const Eigen::Ref<const MatX>& previous,
+                 Eigen::Ref<MatX> qc, Eigen::Ref<VecX> p_next, Eigen::Ref<VecX> z, Eigen::Ref<VecX> phi,
+                 int* pivots = nullptr) const;
+
+  // N steps from (q0, p0); u: N x ((s+1) m) as GalerkinIntegrator::rollout. Stops at the first failed step.
+  ContactRollout rollout(const VecX& q0, const VecX& p0, int N, const MatX& u) const;
+
+ private:
+  struct Workspace {
+    Workspace(const Model& model, const Quadrature& quad, const ContactModel& contacts)
+        : solver(model, quad, contacts), data(model) {}
+    ContactSolver solver;
+    Data data;
+    std::vector<char> basis;
+  };
+  SolveInfo step(Workspace& ws, const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u,
+                 const Eigen::Ref<const MatX>& before_previous, const Eigen::Ref<const MatX>& previous,
+                 Eigen::Ref<MatX> qc, Eigen::Ref<VecX> p_next, Eigen::Ref<VecX> z, Eigen::Ref<VecX> phi,
+                 int& pivots) const;
+  // Without contact: the gaps at q^{k+1} = qc.col(s); true (and z = the inactive solution) if none is negative.
+  bool free_step_holds(Workspace& ws, const Eigen::Ref<const MatX>& qc, Eigen::Ref<VecX> z, Eigen::Ref<VecX> phi) const;
+
+  GalerkinIntegrator free_;
+  ContactModel contacts_;
+  double tol_;
+  MatX r_com_;  // 3 x C: the points in their body's COM frame
+  mutable WorkspacePool<Workspace> pool_;
+};
+
+}  // namespace hovi

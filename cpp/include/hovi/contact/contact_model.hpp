@@ -1,0 +1,52 @@
+// Point contacts of a model with a terrain, as the simulator's contact step reads them: the same
+// contact model as the trajectory optimiser's (python/hovi/contact): points of bodies, a terrain
+// with horizontal faces (normal +z), Coulomb friction mu on a polyhedral cone of d directions.
+#pragma once
+#include <vector>
+
+#include "hovi/model/model.hpp"
+
+namespace hovi {
+
+// A ground plane at `ground` with gaps (no ground for x0 < x < x1, down to ground - depth) and
+// boxes (top faces at `top` over x0 < x < x1, y0 < y < y1; boxes stand above gaps).
+struct Terrain {
+  struct Gap {
+    double x0, x1, depth;
+  };
+  struct Box {
+    double x0, x1, top, y0, y1;
+  };
+  double ground = 0;
+  std::vector<Gap> gaps;
+  std::vector<Box> boxes;
+  // h(x, y), the height of the surface below (x, y) (piecewise constant: its gradient is zero).
+  double height(double x, double y) const;
+  // InputError naming the field unless every number is finite (y0, y1 may be infinite), x0 < x1,
+  // y0 < y1 and depth > 0.
+  void check() const;
+};
+
+struct ContactPoint {
+  int body;
+  Vec3 point;  // in the body's joint frame
+};
+
+struct ContactModel {
+  std::vector<ContactPoint> points;
+  Terrain terrain;
+  double mu = 0;  // friction coefficient
+  MatX D;         // d x 3: the friction directions (horizontal unit vectors, +-x, +-y or +-x)
+
+  int size() const { return static_cast<int>(points.size()); }
+  int d() const { return static_cast<int>(D.rows()); }
+  // The unknowns of contact c in a step: normal impulse λ_c, friction impulses β_c,1..d and the
+  // sliding displacement γ_c (Stewart-Trinkle's slack), at c * per_contact() + 0, 1..d, d+1.
+  int per_contact() const { return d() + 2; }
+  int unknowns() const { return size() * per_contact(); }
+  // ModelError / InputError naming the problem unless every point is on an existing body with mass,
+  // finite, mu is finite in [0, 1e3], D holds horizontal unit vectors and the terrain is valid.
+  void check(const Model& model) const;
+};
+
+}  // namespace hovi

@@ -1,0 +1,171 @@
+#include "hovi/contact/contact_integrator.hpp"
+
+#include <cmath>
+#include <string>
+
+#include "hovi/algorithms/kinematics.hpp"
+#include "hovi/errors.hpp"
+
+namespace hovi {
+
+namespace {
+ContactModel checked(const Model& model, ContactModel contacts) {
+  if (model.n_constraints())
+    throw InputError("contacts with holonomic constraints are not supported: simulate the model without its "
+                     "constraints, or without contacts");
+  contacts.check(model);
+  return contacts;
+}
+}  // namespace
+
+ContactIntegrator::ContactIntegrator(Model model, ContactModel contacts, int s, double dt, SolverOptions options,
+                                     double tol)
+    : free_(std::move(model), s, dt, options), contacts_(checked(free_.model(), std::move(contacts))), tol_(tol),
+      pool_([this] { return std::make_unique<Workspace>(free_.model(), free_.quadrature(), contacts_); }) {
+  if (!(tol > 0 && tol <= 1e-3)) throw InputError("contact_tol must lie in (0, 1e-3], got " + std::to_string(tol));
+  r_com_.resize(3, contacts_.size());
+  for (int c = 0; c < contacts_.size(); ++c)
+    r_com_.col(c) = contacts_.points[c].point - free_.model().spec[contacts_.points[c].body].com;
+  pool_.acquire();
+}
+
+bool ContactIntegrator::free_step_holds(Workspace& ws, const Eigen::Ref<const MatX>& qc, Eigen::Ref<VecX> z,
+                                        Eigen::Ref<VecX> phi) const {
+  const int C = contacts_.size(), d = contacts_.d(), pc = contacts_.per_contact(), s = free_.quadrature().s;
+  const Model& model = free_.model();
+  MatX X0(3, C);
+  forward_kinematics(model, ws.data, qc.col(0));
+  for (int c = 0; c < C; ++c) X0.col(c) = ws.data.g[contacts_.points[c].body].act(r_com_.col(c));
+  forward_kinematics(model, ws.data, qc.col(s));
+  bool holds = true;
+  for (int c = 0; c < C; ++c) {
+    const Vec3 x = ws.data.g[contacts_.points[c].body].act(r_com_.col(c));
+    phi[c] = x[2] - contacts_.terrain.height(x[0], x[1]);
+    holds = holds && phi[c] >= 0;
+    // λ = β = 0; γ the least slack that keeps γ + D_i . disp >= 0 (its cone row μλ - Σβ is 0).
+    z.segment(c * pc, pc).setZero();
+    z[c * pc + d + 1] = std::max(0.0, (-(contacts_.D * (x - X0.col(c)))).maxCoeff());
+  }
+  return holds;
+}
+
+SolveInfo ContactIntegrator::step(Workspace& ws, const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u,
+                                  const Eigen::Ref<const MatX>& before_previous, const Eigen::Ref<const MatX>& previous,
+                                  Eigen::Ref<MatX> qc, Eigen::Ref<VecX> p_next, Eigen::Ref<VecX> z,
+                                  Eigen::Ref<VecX> phi, int& pivots) const {
+  const int C = contacts_.size(), d = contacts_.d(), pc = contacts_.per_contact(), s = free_.quadrature().s;
+  pivots = 0;
+  SolveInfo total;
+  auto add = [&](const SolveInfo& info) {
+    total.status = info.status;
+    total.iterations += info.iterations;
+    total.factorizations += info.factorizations;
+    total.residual_evaluations += info.residual_evaluations;
+    total.residual = info.residual;
+  };
+  bool active = false;  // a contact pushed or rubbed in the step before
+  for (int c = 0; c < C; ++c) active = active || z.segment(c * pc, d + 1).cwiseAbs().maxCoeff() > 0;
+  bool guessed = false;
+  if (!active) {
+    add(free_.robust_step(p, u, before_previous, previous, qc, p_next));
+    if (total.converged() && free_step_holds(ws, qc, z, phi)) return total;
+    guessed = total.converged();  // the free step, through the terrain, is the contact solve's guess
+    ws.basis.clear();
+  }
+  for (int attempt = 0; attempt < 3; ++attempt) {
+    if (attempt == 0 && !guessed) {
+      if (previous.size() && before_previous.size()) free_.guess_from_history(before_previous, previous, qc);
+      else if (previous.size()) free_.guess_from_previous(previous, qc);
+      else free_.guess_from_velocity(free_.velocity(qc.col(0), p), qc);
+    } else if (attempt > 0) {
+      z.setZero();
+      ws.basis.clear();
+      if (attempt == 1) free_.guess_from_velocity(free_.velocity(qc.col(0), p), qc);
+      else qc.rightCols(s).colwise() = VecX(qc.col(0));
+    }
+    const SolveInfo info = ws.solver.solve(free_.options, tol_, p, u, free_.dt(), qc, z, ws.basis, p_next);
+    pivots += ws.solver.lcp_pivots();
+    add(info);
+    if (info.converged()) {
+      phi = ws.solver.gaps();
+      return total;
+    }
+  }
+  return total;
+}
+
+SolveInfo ContactIntegrator::step(const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u,
+                                  const Eigen::Ref<const MatX>& previous, Eigen::Ref<MatX> qc,
+                                  Eigen::Ref<VecX> p_next, Eigen::Ref<VecX> z, Eigen::Ref<VecX> phi,
+                                  int* pivots) const {
+  const int n = free_.model().n(), s = free_.quadrature().s;
+  check_vector("q", qc.col(0), n);
+  check_vector("p", p, n);
+  if (z.size() != contacts_.unknowns() || phi.size() != contacts_.size())
+    throw InputError("contact step: impulses and gaps of the wrong size");
+  if (!z.allFinite()) throw InputError("the impulse guess contains NaN or infinity");
+  if (previous.size() && (previous.rows() != n || previous.cols() != s + 1))
+    throw InputError("previous control points must have shape (n, s+1)");
+  auto ws = pool_.acquire();
+  ws->basis.clear();
+  int count = 0;
+  const SolveInfo info = step(*ws, p, u, MatX(), previous, qc, p_next, z, phi, count);
+  if (pivots) *pivots = count;
+  return info;
+}
+
+ContactRollout ContactIntegrator::rollout(const VecX& q0, const VecX& p0, int N, const MatX& u) const {
+  const Model& model = free_.model();
+  const int n = model.n(), s = free_.quadrature().s, S1 = s + 1, m = model.n_controls();
+  const int C = contacts_.size(), nz = contacts_.unknowns();
+  check_vector("q0", q0, n);
+  check_vector("p0", p0, n);
+  if (N < 0) throw InputError("the number of steps must be non-negative");
+  if (m > 0 && (u.rows() != N || u.cols() != S1 * m))
+    throw InputError("controls must have shape (steps, s+1, m) = (" + std::to_string(N) + ", " + std::to_string(S1) +
+                     ", " + std::to_string(m) + ")");
+  if (m > 0 && !u.allFinite()) throw InputError("controls contain NaN or infinity");
+  ContactRollout out;
+  out.q.resize(N + 1, n);
+  out.p.resize(N + 1, n);
+  out.control_points.resize(N, S1 * n);
+  out.iterations.resize(N);
+  out.factorizations.resize(N);
+  out.residual.resize(N);
+  out.impulses.resize(N, nz);
+  out.gaps.resize(N, C);
+  out.pivots.resize(N);
+  out.status.reserve(N);
+  out.q.row(0) = q0.transpose();
+  out.p.row(0) = p0.transpose();
+  auto ws = pool_.acquire();
+  ws->basis.clear();
+  MatX qc(n, S1), prev, prev2, uk(m, S1);
+  VecX p = p0, p_next(n), z = VecX::Zero(nz), phi(C);
+  for (int k = 0; k < N; ++k) {
+    qc.col(0) = out.q.row(k).transpose();
+    if (m > 0)
+      for (int a = 0; a < S1; ++a)
+        for (int j = 0; j < m; ++j) uk(j, a) = u(k, a * m + j);
+    int pivots = 0;
+    const SolveInfo info = step(*ws, p, uk, prev2, prev, qc, p_next, z, phi, pivots);
+    out.status.push_back(info.status);
+    out.iterations[k] = info.iterations;
+    out.factorizations[k] = info.factorizations;
+    out.residual[k] = info.residual;
+    out.pivots[k] = pivots;
+    if (!info.converged()) break;
+    out.q.row(k + 1) = qc.col(s).transpose();
+    out.p.row(k + 1) = p_next.transpose();
+    out.control_points.row(k) = Eigen::Map<const VecX>(qc.data(), S1 * n).transpose();
+    out.impulses.row(k) = z.transpose();
+    out.gaps.row(k) = phi.transpose();
+    p = p_next;
+    if (prev.size()) prev2.swap(prev);
+    prev = qc;
+    out.steps = k + 1;
+  }
+  return out;
+}
+
+}  // namespace hovi

@@ -1,0 +1,193 @@
+#include "hovi/contact/contact_solver.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "hovi/algorithms/body_points.hpp"
+#include "hovi/algorithms/kinematics.hpp"
+
+namespace hovi {
+
+ContactSolver::ContactSolver(const Model& model, const Quadrature& quad, const ContactModel& contacts)
+    : model_(model), quad_(quad), contacts_(contacts), n_(model.n()), s_(quad.s), C_(contacts.size()),
+      d_(contacts.d()), nz_(contacts.unknowns()), data_(model), del_(model, quad), newton_(model, quad) {
+  r_com_.resize(3, C_);
+  for (int c = 0; c < C_; ++c) r_com_.col(c) = contacts.points[c].point - model.spec[contacts.points[c].body].com;
+  J0_.setZero(3 * C_, n_);
+}
+
+void ContactSolver::start(const Eigen::Ref<const VecX>& q0) {
+  forward_kinematics(model_, data_, q0);
+  const KinematicsView kin{model_, data_.g.data(), data_.Sbar.data(), 1};
+  X0_.resize(3, C_);
+  J0_.setZero();
+  for (int c = 0; c < C_; ++c) {
+    Vec3 x;
+    body_point_jacobian(kin, contacts_.points[c].body, r_com_.col(c), x, J0_.middleRows(3 * c, 3));
+    X0_.col(c) = x;
+  }
+}
+
+void ContactSolver::evaluate(const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u, double dt,
+                             const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const VecX>& z, State& st) {
+  const int pc = contacts_.per_contact();
+  st.R0.resize(n_, s_);
+  st.p_next.resize(n_);
+  del_residual(model_, quad_, del_, qc, p, u, dt, st.R0, st.p_next);
+  st.R = st.R0;
+  const KinematicsView end{model_, del_.g.data() + s_, del_.Sbar.data() + s_, s_ + 1};  // q^{k,s}
+  st.Xe.resize(3, C_);
+  st.Je.setZero(3 * C_, n_);
+  st.h.resize(C_);
+  st.phi.resize(C_);
+  st.w.resize(nz_);
+  for (int c = 0; c < C_; ++c) {
+    Vec3 x;
+    body_point_jacobian(end, contacts_.points[c].body, r_com_.col(c), x, st.Je.middleRows(3 * c, 3));
+    st.Xe.col(c) = x;
+    const auto zc = z.segment(c * pc, pc);
+    const Vec3 F = zc[0] * Vec3::UnitZ() + contacts_.D.transpose() * zc.segment(1, d_);
+    st.R.col(0).noalias() += J0_.middleRows(3 * c, 3).transpose() * F;  // the impulse at q^k
+    st.h[c] = contacts_.terrain.height(x[0], x[1]);
+    st.phi[c] = x[2] - st.h[c];
+    const Vec3 disp = x - X0_.col(c);
+    st.w[c * pc] = st.phi[c];
+    for (int i = 0; i < d_; ++i) st.w[c * pc + 1 + i] = zc[d_ + 1] + contacts_.D.row(i).dot(disp);
+    st.w[c * pc + d_ + 1] = contacts_.mu * zc[0] - zc.segment(1, d_).sum();
+  }
+  st.nu = z.cwiseMin(st.w);
+}
+
+void ContactSolver::evaluate(const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u, double dt,
+                             const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const VecX>& z, MatX& r, VecX& phi,
+                             VecX& w, Eigen::Ref<VecX> p_next) {
+  start(qc.col(0));
+  evaluate(p, u, dt, qc, z, cur_);
+  r = cur_.R;
+  phi = cur_.phi;
+  w = cur_.w;
+  p_next = cur_.p_next;
+}
+
+bool ContactSolver::linearize_and_solve(const Eigen::Ref<const VecX>& z, std::vector<char>& basis) {
+  const int pc = contacts_.per_contact(), ns = n_ * s_;
+  // dy = -J^{-1} (R0 + G F) = d0 + W3 F, F (3C) the world impulses, G F = e_0 (x) Σ_c J0_c^T F_c.
+  d0_.resize(n_, s_);
+  newton_solve(model_, quad_, del_, newton_, cur_.R0, d0_);
+  W3_.resize(ns, 3 * C_);
+  rhs_.setZero(n_, s_);
+  for (int j = 0; j < 3 * C_; ++j) {
+    rhs_.col(0) = J0_.row(j).transpose();
+    Eigen::Map<MatX> wj(W3_.col(j).data(), n_, s_);
+    newton_solve(model_, quad_, del_, newton_, rhs_, wj);
+  }
+  // The contact points at q^{k+1} + dy_end: a + K F (3C), K = Je W3_end.
+  const auto W3e = W3_.middleRows((s_ - 1) * n_, n_);
+  K_.noalias() = cur_.Je * W3e;
+  a_ = Eigen::Map<const VecX>(cur_.Xe.data(), 3 * C_) + cur_.Je * d0_.col(s_ - 1);
+  // KE (3C x nz): K times the impulse map F = E z (λ along +z, β along D_i, γ none).
+  MatX KE = MatX::Zero(3 * C_, nz_);
+  for (int c = 0; c < C_; ++c) {
+    KE.col(c * pc) = K_.col(3 * c + 2);
+    KE.middleCols(c * pc + 1, d_).noalias() = K_.middleCols(3 * c, 3) * contacts_.D.transpose();
+  }
+  // The LCP w = M z + b of the linearised complements (contact_solver.hpp's rows).
+  M_.setZero(nz_, nz_);
+  b_.setZero(nz_);
+  for (int c = 0; c < C_; ++c) {
+    const int base = c * pc;
+    M_.row(base) = KE.row(3 * c + 2);
+    b_[base] = a_[3 * c + 2] - cur_.h[c];
+    for (int i = 0; i < d_; ++i) {
+      const Eigen::RowVector3d Di = contacts_.D.row(i);
+      M_.row(base + 1 + i).noalias() = Di * KE.middleRows(3 * c, 3);
+      M_(base + 1 + i, base + d_ + 1) += 1;
+      b_[base + 1 + i] = Di.dot(a_.segment<3>(3 * c) - X0_.col(c));
+    }
+    M_(base + d_ + 1, base) = contacts_.mu;
+    M_.row(base + d_ + 1).segment(base + 1, d_).setConstant(-1);
+  }
+  if (!M_.allFinite() || !b_.allFinite()) return false;
+  z_new_.resize(nz_);
+  const bool ok = lcp_.solve(M_, b_, z_new_, basis);
+  pivots_ += lcp_.pivots();
+  if (!ok) return false;
+  F_.resize(3 * C_);
+  for (int c = 0; c < C_; ++c)
+    F_.segment<3>(3 * c) = z_new_[c * pc] * Vec3::UnitZ() + contacts_.D.transpose() * z_new_.segment(c * pc + 1, d_);
+  dy_ = d0_;
+  Eigen::Map<VecX>(dy_.data(), ns).noalias() += W3_ * F_;
+  dz_ = z_new_ - z;
+  return true;
+}
+
+// The contact step as a Problem of newton_iterate (newton_driver.hpp): the iterate is (q^{k,1..s},
+// z); every iteration refactors and solves its LCP; a damped step is accepted on Armijo's test on
+// ||(r, min(z, w))||_2; the convergence tests apply once every |min(z_i, w_i)| is within tol.
+struct ContactSolver::Step {
+  ContactSolver& sv;
+  double tol;
+  const Eigen::Ref<const VecX>& p;
+  const Eigen::Ref<const MatX>& u;
+  double dt;
+  Eigen::Ref<MatX>& qc;
+  Eigen::Ref<VecX>& z;
+  std::vector<char>& basis;
+  double phi_merit = 0;
+
+  static double merit(const State& st) { return std::sqrt(st.R.squaredNorm() + st.nu.squaredNorm()); }
+  double complementarity() const { return sv.cur_.nu.size() ? sv.cur_.nu.cwiseAbs().maxCoeff() : 0.0; }
+  double residual_norm() const { return std::max(stationarity(), complementarity()); }
+  double stationarity() const { return sv.cur_.R.cwiseAbs().maxCoeff(); }
+  bool finite() const { return std::isfinite(phi_merit) && sv.cur_.p_next.allFinite(); }
+  bool feasible() const { return complementarity() <= tol; }
+  double iterate_norm() const { return qc.rightCols(sv.s_).cwiseAbs().maxCoeff(); }
+  bool has_factor() const { return false; }
+  Factor factor() {
+    if (!newton_factor(sv.model_, sv.quad_, sv.del_, sv.newton_)) return Factor::Singular;
+    if (!sv.linearize_and_solve(z, basis)) return Factor::NoLcpSolution;
+    return sv.dy_.allFinite() && sv.dz_.allFinite() ? Factor::Ok : Factor::NonFinite;
+  }
+  void direction() const {}  // factor() solved the linearisation
+  bool direction_finite() const { return true; }
+  double correction_norm() const { return sv.dy_.cwiseAbs().maxCoeff(); }
+  bool accept_direction(double, double) const { return true; }
+  void trial(double step) {
+    sv.q_trial_ = qc;
+    sv.q_trial_.rightCols(sv.s_) += step * sv.dy_;
+    sv.z_trial_ = z + step * sv.dz_;
+    sv.evaluate(p, u, dt, sv.q_trial_, sv.z_trial_, sv.trial_);
+  }
+  bool sufficient_decrease(double step) const {
+    const double t = merit(sv.trial_);
+    return std::isfinite(t) && t <= (1 - 1e-4 * step) * phi_merit;
+  }
+  void commit() {
+    qc = sv.q_trial_;
+    z = sv.z_trial_;
+    std::swap(sv.cur_, sv.trial_);
+    phi_merit = merit(sv.cur_);
+  }
+  int restore() {  // the workspace back at the iterate
+    sv.evaluate(p, u, dt, qc, z, sv.cur_);
+    return 1;
+  }
+};
+
+SolveInfo ContactSolver::solve(const SolverOptions& opt, double tol, const Eigen::Ref<const VecX>& p,
+                               const Eigen::Ref<const MatX>& u, double dt, Eigen::Ref<MatX> qc, Eigen::Ref<VecX> z,
+                               std::vector<char>& basis, Eigen::Ref<VecX> p_next) {
+  pivots_ = 0;
+  start(qc.col(0));
+  evaluate(p, u, dt, qc, z, cur_);
+  Step step{*this, tol, p, u, dt, qc, z, basis};
+  step.phi_merit = Step::merit(cur_);
+  NewtonLoop loop = newton_loop(opt);
+  loop.reuse = false;                      // every iteration refactors (its LCP changes with the iterate)
+  loop.estimate_from_contraction = false;  // nor is the contraction of one active set that of the next
+  const SolveInfo info = newton_iterate(step, stopping_rule(opt, p), loop);
+  p_next = cur_.p_next;
+  return info;
+}
+
+}  // namespace hovi
