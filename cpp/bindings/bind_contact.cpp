@@ -111,19 +111,20 @@ active. Returns (control points (s+1, n), p_next (n,), impulses (C (2 + d),), ga
 info dict).
 )doc")
       .def("rollout", [](const PyContactIntegrator& c, const ArrayLike& q0, const ArrayLike& p0, int steps,
-                         const OptArrayLike& u) {
+                         const OptArrayLike& u, const OptArrayLike& impulses) {
             const ContactIntegrator& core = c.core();
             const PyIntegrator& pi = c.py();
             const VecX q = as_vector(q0, "q0", pi.n()), mom = as_vector(p0, "p0", pi.n());
             MatX U(0, 0);
             if (!u.is_none()) U = as_matrix(u, "u", steps, (pi.s() + 1) * pi.m());
             else if (pi.m() > 0) U = MatX::Zero(steps, (pi.s() + 1) * pi.m());
+            const VecX z0 = impulses.is_none() ? VecX() : as_vector(impulses, "impulses", core.contacts().unknowns());
             ContactRollout r;
             double seconds;
             {
               py::gil_scoped_release release;
               const auto t0 = std::chrono::steady_clock::now();
-              r = core.rollout(q, mom, steps, U);
+              r = core.rollout(q, mom, steps, U, z0);
               seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
             }
             StrDict d;
@@ -143,8 +144,10 @@ info dict).
             d["steps"] = r.steps;
             d["seconds"] = seconds;
             return d;
-          }, py::arg("q0"), py::arg("p0"), py::arg("steps"), py::arg("u") = py::none(), R"doc(
-`steps` contact steps from q0, p0 (n,) in C++ (GIL released); u (steps, (s+1) m). Returns a dict:
+          }, py::arg("q0"), py::arg("p0"), py::arg("steps"), py::arg("u") = py::none(),
+          py::arg("impulses") = py::none(), R"doc(
+`steps` contact steps from q0, p0 (n,) in C++ (GIL released); u (steps, (s+1) m); impulses: those of
+the step before (C (2 + d),), default none active. Returns a dict:
 q, p (K+1, n), control_points (K, (s+1) n), iterations, factorizations, residual, pivots, status
 (per attempted step), impulses (K, C (2 + d)), gaps (K, C), steps K, seconds.
 )doc");

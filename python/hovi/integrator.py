@@ -10,7 +10,9 @@ import numpy.typing as npt
 from . import _core
 from ._typing import FloatArray
 from .batch import StepBatch, TrajectoryBatch
-from .trajectory import Discretization, StepInfo, Trajectory
+from .contact.contacts import Contacts
+from ._checks import real_number
+from .trajectory import ContactRecord, Discretization, StepInfo, Trajectory
 
 __all__ = ["ConvergenceError", "Integrator", "StepInfo", "Trajectory"]
 
@@ -88,12 +90,22 @@ class Integrator:
     Controls ``u`` are given per control point, shape (s+1, m), or held constant over a step,
     shape (m,). Samples of a smooth u(t) keep order 2s; a zero-order hold is first-order
     accurate with respect to a smooth u(t).
+
+    Contacts: ``contacts`` (a ``hovi.contact.Contacts`` built on this model: points, terrain,
+    friction) makes every step a contact step, the trajectory optimiser's contact model solved in
+    C++ (cpp/include/hovi/contact/contact_solver.hpp): hard contact, no penetration of the
+    terrain at the configuration points and Coulomb friction on the polyhedral cone, each
+    complementarity condition to ``contact_tol`` (m and N s). A step whose contacts were all
+    inactive before is first solved without them, so flight costs what it costs without contacts.
+    Contacts need s = 1 (an impact inside a stage of a higher-order polynomial rebounds:
+    hovi.contact.contacts). Rollouts record the impulses and gaps (``Trajectory.contact``).
     """
 
     def __init__(self, model: _core.Model, *, s: Optional[int] = None, order: Optional[int] = None, dt: float = 0.01,
                  tol: float = 0.0, step_tol: float = 1e-15, max_iterations: int = 30, max_backtracks: int = 12,
                  line_search: bool = True, direction: str = "auto", reuse_jacobian: bool = True,
-                 reuse_contraction: float = 0.1, predictor: str = "auto") -> None:
+                 reuse_contraction: float = 0.1, predictor: str = "auto", contacts: Optional[Contacts] = None,
+                 contact_tol: float = 1e-10) -> None:
         if s is None and order is None:
             s = 2
         elif s is not None and order is not None and order != 2 * s:
@@ -111,17 +123,42 @@ class Integrator:
             reuse_jacobian=bool(reuse_jacobian), reuse_contraction=float(reuse_contraction), predictor=predictor)
         self._core = _core.Integrator(model, **self._options)
         self.model = model
+        self.contacts = contacts
+        self.contact_tol = contact_tol
+        self._contact = None if contacts is None else self._contact_core(model, contacts, contact_tol)
         self.discretization = Discretization(model, self._options, self._core)
         """What this integrator's trajectories carry: the model, s and dt, velocity and energies."""
 
-    # Pickling (to other processes, cluster workers): the model (which pickles in full) and the
-    # options; the copy is made anew from them and computes exactly what this one does.
+    def _contact_core(self, model: _core.Model, contacts: Any, tol: Any) -> _core.ContactIntegrator:
+        """The C++ contact simulator of ``contacts`` on this integrator; errors naming the argument."""
+        if not isinstance(contacts, Contacts):
+            raise TypeError(f"contacts must be a hovi.contact.Contacts, got {type(contacts).__name__}")
+        contacts.check_model(model)
+        if self.s != 1:
+            raise ValueError(f"contacts need s = 1 (order 2), got s = {self.s}: the contact step pairs the impulses "
+                             "with the gaps at the step's end, and the polynomial of a higher-order stage that lands "
+                             "inside the stage turns upwards at its end, so an impact rebounds (hovi.contact.contacts, "
+                             "bench/README.md 'Contact simulation')")
+        tol = real_number(tol, "contact_tol", minimum=0.0, strict_minimum=True)
+        t = contacts.terrain
+        gaps = np.array([[g.x0, g.x1, g.depth] for g in t.gaps], dtype=np.float64).reshape(-1, 3)
+        boxes = np.array([[b.x0, b.x1, b.top, b.y0, b.y1] for b in t.boxes], dtype=np.float64).reshape(-1, 5)
+        return _core.ContactIntegrator(self._core, [c.body for c in contacts.points],
+                                       np.array([c.point for c in contacts.points]), float(t.ground), gaps, boxes,
+                                       contacts.mu, contacts.D, tol)
+
+    # Pickling (to other processes, cluster workers): the model (which pickles in full), the
+    # options and the contacts; the copy is made anew from them and computes exactly what this one does.
     def __getstate__(self) -> Dict[str, Any]:
         self._core.direction_path  # any call of the core raises ModelError once the model has changed
-        return {"model": self.model, "options": self._options}
+        state: Dict[str, Any] = {"model": self.model, "options": self._options}
+        if self.contacts is not None:
+            state.update(contacts=self.contacts, contact_tol=self.contact_tol)
+        return state
 
     def __setstate__(self, state: Dict[str, Any]) -> None:
-        self.__init__(state["model"], **state["options"])  # type: ignore[misc]
+        extra = {k: state[k] for k in ("contacts", "contact_tol") if k in state}
+        self.__init__(state["model"], **state["options"], **extra)  # type: ignore[misc]
 
     # --- properties -------------------------------------------------------------------------
     @property
@@ -261,6 +298,8 @@ class Integrator:
         multipliers: the first guess of λ^{k,0..s-1} of a constrained model (default zero).
         Raises ConvergenceError if the solve fails and raise_on_failure (else check info.converged).
         """
+        if self._contact is not None:
+            return self._contact_step(q, p, u, guess, multipliers, raise_on_failure)
         qc, p_next, raw = self._core.step(q, p, u, guess, multipliers)
         lam = raw.pop("multipliers")
         info = StepInfo(**raw)
@@ -270,6 +309,22 @@ class Integrator:
         info.control_points = qc
         if self.n_constraints:
             info.multipliers = lam
+        return qc[-1].copy(), p_next, info
+
+    def _contact_step(self, q: npt.ArrayLike, p: npt.ArrayLike, u: Optional[npt.ArrayLike], guess: Any,
+                      multipliers: Any, raise_on_failure: bool) -> Tuple[FloatArray, FloatArray, StepInfo]:
+        """``step`` with contacts: info.impulses (C, 2 + d), info.gaps (C,), info.pivots."""
+        if guess is not None or multipliers is not None:
+            raise ValueError("guess and multipliers are not taken with contacts (the contact step makes its own guesses)")
+        assert self._contact is not None
+        qc, p_next, z, phi, raw = self._contact.step(q, p, u)
+        pivots = raw.pop("pivots")
+        info = StepInfo(**raw)
+        info.control_points, info.pivots = qc, int(pivots)
+        info.impulses, info.gaps = z.reshape(-1, self._contact.per_contact), phi
+        if not info.converged and raise_on_failure:
+            raise ConvergenceError(f"contact step did not converge ({info.status}) after {info.iterations} iterations, "
+                                   f"residual {info.residual:.3e}; try a smaller dt", info=info)
         return qc[-1].copy(), p_next, info
 
     def rollout(self, q0: npt.ArrayLike, steps: int, *, p0: Optional[npt.ArrayLike] = None,
@@ -305,6 +360,8 @@ class Integrator:
         if progress:
             from tqdm import tqdm  # type: ignore[import-untyped, unused-ignore]
             bar = tqdm(total=steps, unit="step", desc="simulating")
+        if self._contact is not None:
+            return self._contact_rollout(q0, p0, steps, U, bar, chunk, raise_on_failure)
         parts: List[Dict[str, Any]] = []
         previous: Optional[FloatArray] = None
         lam: Optional[FloatArray] = None
@@ -328,6 +385,37 @@ class Integrator:
         if not traj.converged and raise_on_failure:
             k = traj.steps
             raise ConvergenceError(f"Newton solve did not converge at step {k} (t = {k * self.dt:.6g} s): "
+                                   f"{traj.status[-1]}, residual {traj.residuals[-1]:.3e}; try a smaller dt",
+                                   trajectory=traj)
+        return traj
+
+    def _contact_rollout(self, q0: FloatArray, p0: FloatArray, steps: int, U: Optional[FloatArray], bar: Any,
+                         chunk: int, raise_on_failure: bool) -> Trajectory:
+        """``rollout`` with contacts (in chunks of ``chunk`` steps when a progress ``bar`` is shown)."""
+        assert self._contact is not None
+        parts: List[Dict[str, Any]] = []
+        q, p, done, z = q0, p0, 0, None
+        while True:
+            n_chunk = min(chunk, steps - done) if bar is not None else steps - done
+            res = self._contact.rollout(q, p, n_chunk, None if U is None else U[done:done + n_chunk], z)
+            parts.append(res)
+            done += res["steps"]
+            if bar is not None:
+                bar.update(res["steps"])
+            if res["steps"] < n_chunk or done >= steps:
+                break
+            q, p, z = res["q"][-1], res["p"][-1], res["impulses"][-1]
+        if bar is not None:
+            bar.close()
+        traj = self._join(parts)
+        C, pc = self._contact.n_contacts, self._contact.per_contact
+        traj.contact = ContactRecord(
+            impulses=np.vstack([r["impulses"] for r in parts]).reshape(-1, C, pc),
+            gaps=np.vstack([r["gaps"] for r in parts]).reshape(-1, C), directions=self.contacts.D.copy(),
+            pivots=np.concatenate([r["pivots"] for r in parts]))
+        if not traj.converged and raise_on_failure:
+            k = traj.steps
+            raise ConvergenceError(f"contact step did not converge at step {k} (t = {k * self.dt:.6g} s): "
                                    f"{traj.status[-1]}, residual {traj.residuals[-1]:.3e}; try a smaller dt",
                                    trajectory=traj)
         return traj
@@ -409,7 +497,8 @@ class Integrator:
 
     def _join(self, parts: List[Dict[str, Any]]) -> Trajectory:
         q = np.vstack([parts[0]["q"]] + [r["q"][1:] for r in parts[1:]])
-        p = np.vstack([parts[0]["p"]] + [r["p"][1:] for r in parts[1:]])
+        # each part's last momentum is its state (with contacts, before its knot's impulse): the next part's first row
+        p = np.vstack([r["p"][:-1] for r in parts[:-1]] + [parts[-1]["p"]])
         cp = np.vstack([r["control_points"] for r in parts]).reshape(-1, self.s + 1, self.n)
         mult = None
         if self.n_constraints:

@@ -23,7 +23,7 @@ import numpy as np
 import numpy.typing as npt
 
 from . import _core
-from ._typing import FloatArray, IntArray
+from ._typing import BoolArray, FloatArray, IntArray
 
 FORMAT_VERSION = 1
 
@@ -77,6 +77,45 @@ class HasDiscretization(Protocol):
 
 
 @dataclass
+class ContactRecord:
+    """The contacts of a rollout with contacts (``Integrator(..., contacts=...)``), per step k and
+    contact c (in the order of the Contacts' points), as the contact step solves them
+    (cpp/include/hovi/contact/contact_solver.hpp): the impulses act at q^k and decide q^{k+1}."""
+    impulses: FloatArray    # (K, C, 2 + d): the normal impulse λ (N s), friction impulses β_1..d, sliding γ (m)
+    gaps: FloatArray        # (K, C): φ_c(q^{k+1}), the height of each point above the terrain (m)
+    directions: FloatArray  # (d, 3): the friction directions D_i
+    pivots: IntArray        # (attempted,) LCP pivots per step (0: no contact solve, or the guessed active set held)
+
+    @property
+    def normal(self) -> FloatArray:
+        """(K, C) normal impulses λ (N s, >= 0)."""
+        return self.impulses[..., 0]
+
+    @property
+    def friction(self) -> FloatArray:
+        """(K, C, 3) world friction impulses sum_i β_i D_i (N s)."""
+        d = len(self.directions)
+        return np.asarray(self.impulses[..., 1:1 + d] @ self.directions, dtype=np.float64)
+
+    @property
+    def sliding(self) -> FloatArray:
+        """(K, C) the sliding displacement γ of each point over the step (m; 0 when it sticks)."""
+        return self.impulses[..., -1]
+
+    @property
+    def active(self) -> BoolArray:
+        """(K, C) whether the contact pushed in step k (normal impulse > 0)."""
+        return np.asarray(self.normal > 0)
+
+    @property
+    def world_impulses(self) -> FloatArray:
+        """(K, C, 3) the total world impulse of each contact, λ e_z + friction (N s)."""
+        out = self.friction.copy()
+        out[..., 2] += self.normal
+        return out
+
+
+@dataclass
 class StepInfo:
     """How the Newton solve of one step went (``Integrator.step``); ``control_points`` (s+1, n) holds
     q^{k,0..s} of the step and, for a constrained model, ``multipliers`` (s, n_constraints)
@@ -90,6 +129,9 @@ class StepInfo:
     residual: float        # ||r||_inf at exit
     control_points: Optional[FloatArray] = field(default=None, repr=False)  # (s+1, n), set by Integrator.step
     multipliers: Optional[FloatArray] = field(default=None, repr=False)     # (s, n_constraints), constrained models
+    impulses: Optional[FloatArray] = field(default=None, repr=False)  # (C, 2 + d): with contacts, λ, β, γ per contact
+    gaps: Optional[FloatArray] = field(default=None, repr=False)      # (C,): with contacts, φ_c(q_next)
+    pivots: int = 0                                                   # with contacts: LCP pivots
 
 
 @dataclass
@@ -108,6 +150,7 @@ class Trajectory:
     factorizations: Optional[IntArray] = None  # (attempted,) Jacobian factorisations per step
     status: List[str] = field(default_factory=list)
     multipliers: Optional[FloatArray] = None  # (K, s, n_constraints): λ^{k,0..s-1} of constrained steps
+    contact: Optional[ContactRecord] = None  # impulses and gaps of a rollout with contacts
     solve_seconds: float = 0.0  # time spent in the C++ loop
     discretization: Optional[Discretization] = field(default=None, repr=False)
 
@@ -179,6 +222,10 @@ def save_trajectory(trajectory: Trajectory, path: str | os.PathLike[str]) -> Non
         arrays["factorizations"] = trajectory.factorizations
     if trajectory.multipliers is not None:
         arrays["multipliers"] = trajectory.multipliers
+    if trajectory.contact is not None:
+        c = trajectory.contact
+        arrays.update(contact_impulses=c.impulses, contact_gaps=c.gaps, contact_directions=c.directions,
+                      contact_pivots=c.pivots)
     try:
         arrays = check_arrays(arrays, d.model.n_constraints)
     except ValueError as e:
@@ -189,6 +236,7 @@ def save_trajectory(trajectory: Trajectory, path: str | os.PathLike[str]) -> Non
 REQUIRED = ("format_version", "joint_names", "s", "dt", "t", "q", "p", "control_points", "iterations", "residuals",
             "status", "solve_seconds")
 OPTIONAL = ("factorizations", "multipliers")
+CONTACT = ("contact_impulses", "contact_gaps", "contact_directions", "contact_pivots")  # all or none
 
 
 def _scalar(a: np.ndarray, name: str, kinds: str, what: str) -> np.ndarray:
@@ -219,9 +267,9 @@ def check_arrays(arrays: Dict[str, Any], n_constraints: Optional[int] = None) ->
     missing = [k for k in REQUIRED if k not in arrays]
     if missing:
         raise ValueError(f"not a hovi trajectory (missing {', '.join(missing)})")
-    unknown = sorted(set(arrays) - set(REQUIRED) - set(OPTIONAL))
+    unknown = sorted(set(arrays) - set(REQUIRED) - set(OPTIONAL) - set(CONTACT))
     if unknown:
-        raise ValueError(f"unknown entries {unknown} (a trajectory file holds {', '.join(REQUIRED + OPTIONAL)})")
+        raise ValueError(f"unknown entries {unknown} (a trajectory file holds {', '.join(REQUIRED + OPTIONAL + CONTACT)})")
     a: Dict[str, Any] = {k: np.asarray(v) for k, v in arrays.items()}
     version = a["format_version"]
     if version.shape != () or version.dtype.kind not in "iu" or not 1 <= int(version) <= FORMAT_VERSION:
@@ -284,6 +332,21 @@ def check_arrays(arrays: Dict[str, Any], n_constraints: Optional[int] = None) ->
         _numbers(mult, "multipliers", (K, s, mult.shape[2] if n_constraints is None else n_constraints))
     elif n_constraints:
         raise ValueError(f"multipliers (K, s, {n_constraints}) are missing for a model with {n_constraints} constraints")
+    given = [k for k in CONTACT if k in a]
+    if given and len(given) != len(CONTACT):
+        raise ValueError(f"a trajectory with contacts holds all of {', '.join(CONTACT)}; got only {', '.join(given)}")
+    if given:
+        D = a["contact_directions"]
+        if D.ndim != 2 or D.shape[1] != 3 or len(D) == 0:
+            raise ValueError(f"contact_directions must have shape (d, 3), got {D.shape}")
+        _numbers(D, "contact_directions", D.shape)
+        gaps = a["contact_gaps"]
+        if gaps.ndim != 2 or gaps.shape[1] == 0:
+            raise ValueError(f"contact_gaps must have shape (K, C) with K = {K}, got {gaps.shape}")
+        C = gaps.shape[1]
+        _numbers(gaps, "contact_gaps", (K, C))
+        _numbers(a["contact_impulses"], "contact_impulses", (K, C, len(D) + 2))
+        _numbers(a["contact_pivots"], "contact_pivots", (attempted,), "iu")
     return a
 
 
@@ -339,6 +402,9 @@ def load_trajectory(path: str | os.PathLike[str], integrator: Optional[HasDiscre
         if d.s != s or d.dt != dt:
             raise ValueError(f"{where}: s = {s}, dt = {dt} differ from the integrator's s = {d.s}, dt = {d.dt}")
     optional = {k: arrays[k] for k in OPTIONAL if k in arrays}
+    if "contact_impulses" in arrays:
+        optional["contact"] = ContactRecord(arrays["contact_impulses"], arrays["contact_gaps"],
+                                            arrays["contact_directions"], arrays["contact_pivots"])
     return Trajectory(t=arrays["t"], q=arrays["q"], p=arrays["p"], control_points=arrays["control_points"],
                       iterations=arrays["iterations"], residuals=arrays["residuals"],
                       status=[str(x) for x in arrays["status"]], solve_seconds=float(arrays["solve_seconds"]),

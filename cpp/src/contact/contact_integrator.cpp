@@ -114,7 +114,7 @@ SolveInfo ContactIntegrator::step(const Eigen::Ref<const VecX>& p, const Eigen::
   return info;
 }
 
-ContactRollout ContactIntegrator::rollout(const VecX& q0, const VecX& p0, int N, const MatX& u) const {
+ContactRollout ContactIntegrator::rollout(const VecX& q0, const VecX& p0, int N, const MatX& u, const VecX& z0) const {
   const Model& model = free_.model();
   const int n = model.n(), s = free_.quadrature().s, S1 = s + 1, m = model.n_controls();
   const int C = contacts_.size(), nz = contacts_.unknowns();
@@ -125,6 +125,8 @@ ContactRollout ContactIntegrator::rollout(const VecX& q0, const VecX& p0, int N,
     throw InputError("controls must have shape (steps, s+1, m) = (" + std::to_string(N) + ", " + std::to_string(S1) +
                      ", " + std::to_string(m) + ")");
   if (m > 0 && !u.allFinite()) throw InputError("controls contain NaN or infinity");
+  if (z0.size() && (z0.size() != nz || !z0.allFinite() || z0.minCoeff() < 0))
+    throw InputError("impulses must be " + std::to_string(nz) + " finite numbers >= 0");
   ContactRollout out;
   out.q.resize(N + 1, n);
   out.p.resize(N + 1, n);
@@ -141,7 +143,7 @@ ContactRollout ContactIntegrator::rollout(const VecX& q0, const VecX& p0, int N,
   auto ws = pool_.acquire();
   ws->basis.clear();
   MatX qc(n, S1), prev, prev2, uk(m, S1);
-  VecX p = p0, p_next(n), z = VecX::Zero(nz), phi(C);
+  VecX p = p0, p_next(n), z = z0.size() ? z0 : VecX::Zero(nz), phi(C);
   for (int k = 0; k < N; ++k) {
     qc.col(0) = out.q.row(k).transpose();
     if (m > 0)
@@ -159,6 +161,7 @@ ContactRollout ContactIntegrator::rollout(const VecX& q0, const VecX& p0, int N,
     out.p.row(k + 1) = p_next.transpose();
     out.control_points.row(k) = Eigen::Map<const VecX>(qc.data(), S1 * n).transpose();
     out.impulses.row(k) = z.transpose();
+    if (k > 0) out.p.row(k) += 0.5 * ws->solver.knot_impulse(z).transpose();  // ContactRollout: half the knot impulse
     out.gaps.row(k) = phi.transpose();
     p = p_next;
     if (prev.size()) prev2.swap(prev);

@@ -69,6 +69,16 @@ void ContactSolver::evaluate(const Eigen::Ref<const VecX>& p, const Eigen::Ref<c
   p_next = cur_.p_next;
 }
 
+VecX ContactSolver::knot_impulse(const Eigen::Ref<const VecX>& z) const {
+  const int pc = contacts_.per_contact();
+  VecX out = VecX::Zero(n_);
+  for (int c = 0; c < C_; ++c) {
+    const Vec3 F = z[c * pc] * Vec3::UnitZ() + contacts_.D.transpose() * z.segment(c * pc + 1, d_);
+    out.noalias() += J0_.middleRows(3 * c, 3).transpose() * F;
+  }
+  return out;
+}
+
 bool ContactSolver::linearize_and_solve(const Eigen::Ref<const VecX>& z, std::vector<char>& basis) {
   const int pc = contacts_.per_contact(), ns = n_ * s_;
   // dy = -J^{-1} (R0 + G F) = d0 + W3 F, F (3C) the world impulses, G F = e_0 (x) Σ_c J0_c^T F_c.
@@ -134,6 +144,7 @@ struct ContactSolver::Step {
   Eigen::Ref<VecX>& z;
   std::vector<char>& basis;
   double phi_merit = 0;
+  bool fresh_lcp = false;  // z_new_ solves the LCP at the current iterate (no step committed since)
 
   static double merit(const State& st) { return std::sqrt(st.R.squaredNorm() + st.nu.squaredNorm()); }
   double complementarity() const { return sv.cur_.nu.size() ? sv.cur_.nu.cwiseAbs().maxCoeff() : 0.0; }
@@ -146,6 +157,7 @@ struct ContactSolver::Step {
   Factor factor() {
     if (!newton_factor(sv.model_, sv.quad_, sv.del_, sv.newton_)) return Factor::Singular;
     if (!sv.linearize_and_solve(z, basis)) return Factor::NoLcpSolution;
+    fresh_lcp = true;
     return sv.dy_.allFinite() && sv.dz_.allFinite() ? Factor::Ok : Factor::NonFinite;
   }
   void direction() const {}  // factor() solved the linearisation
@@ -167,6 +179,7 @@ struct ContactSolver::Step {
     z = sv.z_trial_;
     std::swap(sv.cur_, sv.trial_);
     phi_merit = merit(sv.cur_);
+    fresh_lcp = false;
   }
   int restore() {  // the workspace back at the iterate
     sv.evaluate(p, u, dt, qc, z, sv.cur_);
@@ -185,7 +198,16 @@ SolveInfo ContactSolver::solve(const SolverOptions& opt, double tol, const Eigen
   NewtonLoop loop = newton_loop(opt);
   loop.reuse = false;                      // every iteration refactors (its LCP changes with the iterate)
   loop.estimate_from_contraction = false;  // nor is the contraction of one active set that of the next
-  const SolveInfo info = newton_iterate(step, stopping_rule(opt, p), loop);
+  SolveInfo info = newton_iterate(step, stopping_rule(opt, p), loop);
+  if (info.converged() && step.fresh_lcp) {
+    // Stopped on the DEL correction: the impulses are those of the last LCP, which balance the
+    // DEL equations at this iterate (R0 + G z_new = -J dy, at round-off); their complements checked again.
+    z = z_new_;
+    evaluate(p, u, dt, qc, z, cur_);
+    ++info.residual_evaluations;
+    info.residual = step.residual_norm();
+    if (!step.feasible()) info.status = SolveStatus::LcpFailed;
+  }
   p_next = cur_.p_next;
   return info;
 }

@@ -122,6 +122,7 @@ class Contacts:
                                  f"{point!r:.60}") from None
             self.points.append(ContactPoint(b, p))
         self.m_user = model.n_controls
+        self.robot = (tuple(model.body_names), tuple(model.joint_names), model.n_controls)
         self.model = model.copy()
         self.first_input = self.model.n_controls
         for c in self.points:
@@ -131,6 +132,18 @@ class Contacts:
                 beta = self.model.add_control()
                 self.model.add_point_wrench(c.body, force=direction, point=c.point, control=beta)
             self.model.add_control()  # gamma: a slack, no force
+
+    def check_model(self, model: Model) -> None:
+        """ValueError unless ``model`` is the robot these contacts were built on (its bodies, joints and
+        controls; not ``self.model``, which adds the trajectory optimiser's contact inputs)."""
+        got = (tuple(model.body_names), tuple(model.joint_names), model.n_controls)
+        if got == self.robot:
+            return
+        if got[:2] == self.robot[:2] and model.n_controls == self.model.n_controls:
+            raise ValueError("contacts: give the robot's own model, not Contacts.model (which adds the trajectory "
+                             f"optimiser's {self.model.n_controls - self.m_user} contact inputs as controls)")
+        raise ValueError(f"contacts were built for another model (bodies {list(self.robot[0])[:6]}..., "
+                         f"{self.robot[2]} controls), not this one (bodies {list(got[0])[:6]}..., {got[2]} controls)")
 
     def gaps(self, q: np.ndarray) -> np.ndarray:
         """The signed gaps (C,) of the contact points to the terrain at configuration q (n,)."""

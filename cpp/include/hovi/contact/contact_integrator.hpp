@@ -12,6 +12,9 @@
 
 namespace hovi {
 
+// The momenta of a contact rollout: p^k for 0 < k < K includes half the impulse at q^k (the share
+// w^s/(w^0 + w^s) of the trajectory optimiser's knot momentum: a body at rest has p = 0); p^0 is the
+// given state and p^K the state the next step starts from, both before their knot's impulse.
 struct ContactRollout : Rollout {
   MatX impulses;           // N x unknowns(): row k = per contact (λ, β_1..d, γ) of step k
   MatX gaps;               // N x C: φ_c(q^{k+1})
@@ -40,8 +43,9 @@ class ContactIntegrator {
                  Eigen::Ref<MatX> qc, Eigen::Ref<VecX> p_next, Eigen::Ref<VecX> z, Eigen::Ref<VecX> phi,
                  int* pivots = nullptr) const;
 
-  // N steps from (q0, p0); u: N x ((s+1) m) as GalerkinIntegrator::rollout. Stops at the first failed step.
-  ContactRollout rollout(const VecX& q0, const VecX& p0, int N, const MatX& u) const;
+  // N steps from (q0, p0); u: N x ((s+1) m) as GalerkinIntegrator::rollout; z0: the impulses of the step
+  // before (empty: none active). Stops at the first failed step.
+  ContactRollout rollout(const VecX& q0, const VecX& p0, int N, const MatX& u, const VecX& z0 = VecX()) const;
 
  private:
   struct Workspace {

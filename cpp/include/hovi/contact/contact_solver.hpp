@@ -40,6 +40,9 @@ class ContactSolver {
   const VecX& gaps() const { return cur_.phi; }
   const VecX& complements() const { return cur_.w; }
   int lcp_pivots() const { return pivots_; }  // LCP pivots over the last solve
+  // J(q^k)^T (λ_c e_z + D^T β_c) summed over the contacts: the generalized impulse of z at the q^k of
+  // the last solve.
+  VecX knot_impulse(const Eigen::Ref<const VecX>& z) const;
 
   // The step's equations at (qc, z) without solving: r (n x s, with the impulses), the gaps and
   // complements, p^{k+1}.

@@ -29,7 +29,8 @@ namespace hovi {
 
 // ContinuationStalled: step_continuation (step_continuation.hpp) found no solution at dt on the
 // branch continuously connected to q^k (the branch turns back in the step length before dt).
-// LcpFailed: the contact step's linear complementarity subproblem found no solution.
+// LcpFailed: the contact step's linear complementarity subproblem found no solution, or its solution
+// missed the complementarity tolerance at the converged step.
 enum class SolveStatus { Converged, MaxIterations, LineSearchFailed, SingularJacobian, NonFinite, ContinuationStalled,
                          LcpFailed };
 const char* to_string(SolveStatus status);
