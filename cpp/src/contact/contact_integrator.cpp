@@ -161,7 +161,7 @@ ContactRollout ContactIntegrator::rollout(const VecX& q0, const VecX& p0, int N,
     out.p.row(k + 1) = p_next.transpose();
     out.control_points.row(k) = Eigen::Map<const VecX>(qc.data(), S1 * n).transpose();
     out.impulses.row(k) = z.transpose();
-    if (k > 0) out.p.row(k) += 0.5 * ws->solver.knot_impulse(z).transpose();  // ContactRollout: half the knot impulse
+    if (k > 0 || z0.size()) out.p.row(k) += 0.5 * ws->solver.knot_impulse(z).transpose();  // ContactRollout's p^k
     out.gaps.row(k) = phi.transpose();
     p = p_next;
     if (prev.size()) prev2.swap(prev);

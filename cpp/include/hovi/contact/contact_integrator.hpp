@@ -14,7 +14,8 @@ namespace hovi {
 
 // The momenta of a contact rollout: p^k for 0 < k < K includes half the impulse at q^k (the share
 // w^s/(w^0 + w^s) of the trajectory optimiser's knot momentum: a body at rest has p = 0); p^0 is the
-// given state and p^K the state the next step starts from, both before their knot's impulse.
+// given state (and likewise includes half its knot's impulse when the rollout continues another,
+// z0 given) and p^K the state the next step starts from, before its knot's impulse.
 struct ContactRollout : Rollout {
   MatX impulses;           // N x unknowns(): row k = per contact (λ, β_1..d, γ) of step k
   MatX gaps;               // N x C: φ_c(q^{k+1})
