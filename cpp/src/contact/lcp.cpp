@@ -7,10 +7,13 @@
 namespace hovi {
 
 namespace {
-constexpr double kRoundOff = 1e-11;  // relative: what z < 0 or w < 0 may be and still count as zero
+// Relative: what z < 0 or w < 0 may be and still count as zero; looser for the bases of a regularised
+// problem, ill-conditioned (1e9 and more) by the redundant contacts that called for it (the caller
+// checks the complements of the nonlinear step).
+constexpr double kRoundOff = 1e-11, kRegularisedRoundOff = 1e-9;
 }
 
-bool LcpSolver::solve_basis(const MatX& M, const VecX& b, const std::vector<char>& basis, VecX& z) {
+bool LcpSolver::solve_basis(const MatX& M, const VecX& b, const std::vector<char>& basis, VecX& z, double tol) {
   const int n = static_cast<int>(b.size());
   rows_.clear();
   for (int i = 0; i < n; ++i)
@@ -32,7 +35,7 @@ bool LcpSolver::solve_basis(const MatX& M, const VecX& b, const std::vector<char
   }
   w_.noalias() = M * z;
   w_ += b;
-  const double zs = kRoundOff * (1 + z.cwiseAbs().maxCoeff()), ws = kRoundOff * (1 + b.cwiseAbs().maxCoeff());
+  const double zs = tol * (1 + z.cwiseAbs().maxCoeff()), ws = tol * (1 + b.cwiseAbs().maxCoeff());
   for (int i = 0; i < n; ++i) {
     if (z[i] < -zs || (!basis[i] && w_[i] < -ws)) return false;
     z[i] = std::max(z[i], 0.0);
@@ -103,10 +106,22 @@ bool LcpSolver::solve(const MatX& M, const VecX& b, VecX& z, std::vector<char>& 
     std::fill(basis.begin(), basis.end(), 0);
     return b.allFinite();
   }
-  if (std::any_of(basis.begin(), basis.end(), [](char c) { return c != 0; }) && solve_basis(M, b, basis, z))
+  if (std::any_of(basis.begin(), basis.end(), [](char c) { return c != 0; }) && solve_basis(M, b, basis, z, kRoundOff))
     return true;
-  if (!lemke(M, b, basis)) return false;
-  return solve_basis(M, b, basis, z);
+  if (lemke(M, b, basis) && solve_basis(M, b, basis, z, kRoundOff)) return true;
+  // Redundant contacts (the corners of two flat feet: M of rank 28 in 48) can end Lemke on a ray of
+  // a feasible LCP, or on a basis too near singular to re-solve; M + eps I is solved instead (eps
+  // relative to M's largest diagonal entry, itself of the order dt / mass: the complements move by
+  // eps z, far below the caller's tolerance, which checks them), its basis re-solved on M if M allows.
+  for (const double eps : {1e-9, 1e-6}) {
+    pivots_ = 0;
+    Mreg_ = M;
+    Mreg_.diagonal().array() += eps * (M.diagonal().cwiseAbs().maxCoeff() + 1e-300);
+    if (lemke(Mreg_, b, basis) &&
+        (solve_basis(M, b, basis, z, kRoundOff) || solve_basis(Mreg_, b, basis, z, kRegularisedRoundOff)))
+      return true;
+  }
+  return false;
 }
 
 }  // namespace hovi

@@ -3,7 +3,8 @@
 // step's active set: one dense solve, and in a steady contact the only one), then by Lemke's
 // complementary pivoting (Cottle, Pang and Stone, The Linear Complementarity Problem, 4.4), which
 // solves the Stewart-Trinkle LCP of a time step (Stewart and Trinkle 1996). The basis found is
-// re-solved densely, so the nonbasic z and the basic w are exactly zero.
+// re-solved densely, so the nonbasic z and the basic w are exactly zero. Where Lemke ends on a ray of
+// a feasible problem (redundant contacts), it is run again on M + eps I with a tiny eps (lcp.cpp).
 #pragma once
 #include <vector>
 
@@ -19,10 +20,10 @@ class LcpSolver {
   int pivots() const { return pivots_; }  // of the last solve (0: the guess or z = 0 held)
 
  private:
-  // z from the basis by a dense solve; true if z >= 0 and w >= 0 to round-off.
-  bool solve_basis(const MatX& M, const VecX& b, const std::vector<char>& basis, VecX& z);
+  // z from the basis by a dense solve; true if z >= 0 and w >= 0 to the relative round-off tol.
+  bool solve_basis(const MatX& M, const VecX& b, const std::vector<char>& basis, VecX& z, double tol);
   bool lemke(const MatX& M, const VecX& b, std::vector<char>& basis);
-  MatX T_, Mbb_;
+  MatX T_, Mbb_, Mreg_;
   VecX rhs_, w_;
   std::vector<int> rows_, var_;
   int pivots_ = 0;
