@@ -3,6 +3,7 @@
 #include <chrono>
 
 #include "hovi/contact/contact_integrator.hpp"
+#include "hovi/contact/contact_linearizer.hpp"
 #include "hovi/errors.hpp"
 #include "py_integrator.hpp"
 
@@ -16,10 +17,15 @@ class PyContactIntegrator {
  public:
   PyContactIntegrator(py::object integrator, ContactModel contacts, double tol)
       : owner_(std::move(integrator)), py_(owner_.cast<const PyIntegrator&>()),
-        core_(py_.integ().model(), std::move(contacts), py_.s(), py_.dt(), py_.integ().options, tol) {}
+        core_(py_.integ().model(), std::move(contacts), py_.s(), py_.dt(), py_.integ().options, tol),
+        lin_(core_.integrator().model(), core_.integrator().quadrature(), core_.integrator().dt(), core_.contacts()) {}
   const ContactIntegrator& core() const {
     py_.integ();  // the model watch
     return core_;
+  }
+  const ContactLinearizer& lin() const {
+    py_.integ();
+    return lin_;
   }
   const PyIntegrator& py() const { return py_; }
 
@@ -27,6 +33,7 @@ class PyContactIntegrator {
   py::object owner_;
   const PyIntegrator& py_;
   ContactIntegrator core_;
+  ContactLinearizer lin_;
 };
 
 ContactModel contact_model(const Model& model, const std::vector<int>& bodies, const ArrayLike& points,
@@ -150,6 +157,35 @@ info dict).
 the step before (C (2 + d),), default none active. Returns a dict:
 q, p (K+1, n), control_points (K, (s+1) n), iterations, factorizations, residual, pivots, status
 (per attempted step), impulses (K, C (2 + d)), gaps (K, C), steps K, seconds.
+)doc")
+      .def("rollout_jacobians", [](const PyContactIntegrator& c, const ArrayLike& cps, const OptArrayLike& u,
+                                   const ArrayLike& impulses, bool want_A, bool want_B)
+                                   -> Tuple<Optional<py::array_t<double>>, Optional<py::array_t<double>>> {
+            const ContactLinearizer& lin = c.lin();
+            const PyIntegrator& pi = c.py();
+            const int n = pi.n(), S1 = pi.s() + 1, m = pi.m(), nz = c.core().contacts().unknowns();
+            const MatX C = as_matrix(cps, "control_points (steps, (s+1) n)", -1, S1 * n);
+            const int N = static_cast<int>(C.rows());
+            const MatX U = u.is_none() ? MatX::Zero(N, S1 * m) : as_matrix(u, "u (steps, (s+1) m)", N, S1 * m);
+            const MatX Z = as_matrix(impulses, "impulses (steps, C (2 + d))", N, nz);
+            py::array_t<double> As(std::vector<py::ssize_t>{want_A ? N : 0, 2 * n, 2 * n});
+            py::array_t<double> Bs(std::vector<py::ssize_t>{want_B ? N : 0, 2 * n, S1 * m});
+            double* a = want_A ? As.mutable_data() : nullptr;
+            double* b = want_B ? Bs.mutable_data() : nullptr;
+            int failed;
+            {
+              py::gil_scoped_release release;
+              failed = lin.trajectory_jacobians(C, U, Z, a, b);
+            }
+            if (failed >= 0)
+              throw InputError("the contact step's Jacobian is singular at step " + std::to_string(failed) +
+                               " (redundant contacts held: the impulses do not determine the step's linearisation)");
+            return py::make_tuple(want_A ? py::object(As) : py::none(), want_B ? py::object(Bs) : py::none());
+          }, py::arg("control_points"), py::arg("u"), py::arg("impulses"), py::arg("want_A") = true,
+          py::arg("want_B") = true, R"doc(
+The step Jacobians of K converged contact steps (contact_linearizer.hpp): control_points (K, (s+1) n),
+u (K, (s+1) m) or None, impulses (K, C (2 + d)); returns (A (K, 2n, 2n) or None, B (K, 2n, (s+1) m)
+or None), in C++ (GIL released).
 )doc");
 }
 

@@ -65,6 +65,11 @@ class Linearizer:
     D^2 L_d is assembled in O(s^2 n^2) from Algorithms 2 and 3 at each control point; the step
     Jacobians A, B follow by the implicit function theorem with one LU factorisation of the
     (sn x sn) DEL Jacobian serving every right-hand side. Asking only for A does no work for B.
+
+    With contacts (``Integrator(..., contacts=...)``): ``step_jacobians`` and ``rollout_jacobians``
+    linearise the contact step with its contact state held (each contact in flight, sticking or
+    sliding as in the step: cpp/include/hovi/contact/contact_linearizer.hpp), exact away from
+    contact switches; the momentum is the step's state, before the next knot's impulse.
     """
 
     def __init__(self, integrator: Integrator) -> None:
@@ -106,7 +111,15 @@ class Linearizer:
         B (2n, (s+1) m) or (2n, m) with hold=True (see StepLinearization)."""
         q_next, p_next, info = self.integrator.step(q, p, u, guess=guess)
         assert info.control_points is not None
-        Am, Bm = self._core.step_jacobians(info.control_points, u, A, B, info.multipliers)
+        if self.integrator._contact is not None:  # through the contact step, its contact state held
+            assert info.impulses is not None
+            U = self.integrator.controls_per_point(u, 1)
+            As, Bs = self.integrator._contact.rollout_jacobians(info.control_points.reshape(1, -1),
+                                                                None if U is None else U.reshape(1, -1),
+                                                                info.impulses.reshape(1, -1), A, B)
+            Am, Bm = (None if As is None else As[0]), (None if Bs is None else Bs[0])
+        else:
+            Am, Bm = self._core.step_jacobians(info.control_points, u, A, B, info.multipliers)
         if Bm is not None and hold:
             Bm = _hold(Bm, self.integrator.model.n_controls)
         return StepLinearization(q_next, p_next, info.control_points, Am, Bm)
@@ -133,6 +146,14 @@ class Linearizer:
         if U is not None:
             U = np.ascontiguousarray(U.reshape(K, -1))
         cps = np.ascontiguousarray(trajectory.control_points.reshape(K, -1))
+        if integ._contact is not None:
+            if trajectory.contact is None:
+                raise ValueError("the integrator has contacts: give a trajectory it computed (with its contact impulses)")
+            As, Bs = integ._contact.rollout_jacobians(cps, U, np.ascontiguousarray(
+                trajectory.contact.impulses.reshape(K, -1)), A, B)
+            if Bs is not None and hold:
+                Bs = _hold(Bs, integ.model.n_controls)
+            return As, Bs
         mult = None
         if trajectory.multipliers is not None:
             mult = np.ascontiguousarray(trajectory.multipliers.reshape(K, -1))

@@ -16,6 +16,25 @@ void body_point_jacobian(const KinematicsView& kin, int body, const Vec3& r, Vec
   }
 }
 
+void body_point_force_derivative(const KinematicsView& kin, int body, const Vec3& r, const Vec3& F, Eigen::Ref<MatX> H) {
+  const Vec3 x = kin.pose(body).act(r);
+  for (int j = body; j >= 0; j = kin.model.parent[j]) {
+    const Twist& Sj = kin.twist(j);
+    const Vec3 wj = Sj.head<3>(), vj = Sj.tail<3>();
+    for (int k = body; k >= 0; k = kin.model.parent[k]) {
+      const Twist& Sk = kin.twist(k);
+      const Vec3 wk = Sk.head<3>(), vk = Sk.tail<3>();
+      const Vec3 Jk = vk + wk.cross(x);  // dx/dq_k
+      double d = F.dot(wj.cross(Jk));
+      if (k < j) {  // both on one path to the root: k is a strict ancestor of j
+        const Vec3 dw = wk.cross(wj), dv = wk.cross(vj) + vk.cross(wj);
+        d += F.dot(dv + dw.cross(x));
+      }
+      H(j, k) += d;
+    }
+  }
+}
+
 void body_point_kinematics(const Model& model, Data& data, const Eigen::Ref<const MatX>& Q,
                            const std::vector<int>& bodies, const Eigen::Ref<const MatX>& points, MatX& X, MatX& J) {
   const int n = model.n(), P = static_cast<int>(Q.cols()), m = static_cast<int>(bodies.size());

@@ -18,4 +18,9 @@ void body_point_kinematics(const Model& model, Data& data, const Eigen::Ref<cons
 // Jacobian dx/dq into J (3 x n; only the columns of the joints from `body` to the root are written).
 void body_point_jacobian(const KinematicsView& kin, int body, const Vec3& r, Vec3& x, Eigen::Ref<MatX> J);
 
+// H += d(J(q)^T F)/dq for a constant world force F at that point (n x n): with S̄_j = (ω_j, v_j) and
+// J_j = v_j + ω_j × x, d(F . J_j)/dq_k = F . (dv_j + dω_j × x + ω_j × J_k) over the joints j, k from
+// `body` to the root, where (dω_j, dv_j) = [S̄_k, S̄_j] for k a strict ancestor of j and 0 otherwise.
+void body_point_force_derivative(const KinematicsView& kin, int body, const Vec3& r, const Vec3& F, Eigen::Ref<MatX> H);
+
 }  // namespace hovi

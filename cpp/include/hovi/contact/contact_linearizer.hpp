@@ -1,0 +1,51 @@
+// The linearisation of one converged contact step (contact_solver.hpp) by the implicit function
+// theorem with its contact state held: the step map (q^k, p^k, u^k) -> (q^{k+1}, p^{k+1}) with
+// p^{k+1} the state the next step starts from. Per contact with a normal impulse λ_c > 0:
+//   stick (γ_c = 0, to 1e-12 m): φ_c(q^{k+1}) = 0 and T (x_c(q^{k+1}) - x_c(q^k)) = 0 (T: the tangent axes the
+//     friction directions span), the impulse λ_c e_z + T^T f_c with λ_c, f_c unknowns;
+//   slide (γ_c > 0): φ_c(q^{k+1}) = 0, the impulse λ_c (e_z + μ t_c) along the friction
+//     direction t_c = D^T β_c / Σ β_c of the solution, λ_c unknown;
+// a contact without normal impulse adds nothing. With y = q^{k,1..s} and those impulses as the
+// unknowns of R = 0 (the DEL equations with J_c(q^k)^T F_c in r^{k,0}, whose q^k-derivative is
+// body_point_force_derivative), dy/dx = -(dR/dy)^{-1} dR/dx, as linearizer.hpp. Exact away from
+// contact switches (a contact landing, lifting off, starting or stopping to slide within the
+// perturbation), where the step map is not differentiable.
+#pragma once
+#include "hovi/algorithms/del_jacobian.hpp"
+#include "hovi/contact/contact_model.hpp"
+#include "hovi/util/workspace_pool.hpp"
+
+namespace hovi {
+
+class ContactLinearizer {
+ public:
+  // model, quad and contacts must outlive it.
+  ContactLinearizer(const Model& model, const Quadrature& quad, double dt, const ContactModel& contacts);
+
+  // A (2n x 2n) and/or B (2n x (s+1) m) at converged control points qc (n x (s+1)) with controls u
+  // (m x (s+1)) and impulses z (unknowns(), the step's solution). Redundant contacts held: the
+  // least-norm impulses and the one motion. False if the rows are inconsistent or dR/dy singular
+  // in the motion.
+  bool step_jacobians(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u,
+                      const Eigen::Ref<const VecX>& z, MatX* A, MatX* B) const;
+  // step_jacobians along K steps (rows of C, U, Z as Linearizer::trajectory_jacobians, Z: K x
+  // unknowns()); -1, or the first step whose dR/dy is singular.
+  int trajectory_jacobians(const Eigen::Ref<const MatX>& C, const Eigen::Ref<const MatX>& U,
+                           const Eigen::Ref<const MatX>& Z, double* As, double* Bs) const;
+
+ private:
+  struct Workspace {
+    Workspace(const Model& model, const Quadrature& quad) : ws(model, quad), data(model) {}
+    DelJacobianWorkspace ws;
+    Data data;
+    MatX Jq, Ju, K, rhs, sol, J0, Je, H;
+  };
+  const Model& model_;
+  const Quadrature& quad_;
+  double dt_;
+  const ContactModel& contacts_;
+  MatX r_com_, T_;  // 3 x C points in their COM frames; the tangent axes (rows) the directions span
+  mutable WorkspacePool<Workspace> pool_;
+};
+
+}  // namespace hovi

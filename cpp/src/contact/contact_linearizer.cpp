@@ -1,0 +1,145 @@
+#include "hovi/contact/contact_linearizer.hpp"
+
+#include <Eigen/LU>
+#include <Eigen/QR>
+
+#include "hovi/algorithms/body_points.hpp"
+#include "hovi/algorithms/kinematics.hpp"
+
+namespace hovi {
+
+namespace {
+constexpr double kStickTol = 1e-12;  // m: a sliding displacement γ this small over the step is a stick (round-off)
+}
+
+ContactLinearizer::ContactLinearizer(const Model& model, const Quadrature& quad, double dt, const ContactModel& contacts)
+    : model_(model), quad_(quad), dt_(dt), contacts_(contacts),
+      pool_([this] { return std::make_unique<Workspace>(model_, quad_); }) {
+  r_com_.resize(3, contacts.size());
+  for (int c = 0; c < contacts.size(); ++c)
+    r_com_.col(c) = contacts.points[c].point - model.spec[contacts.points[c].body].com;
+  // The tangent axes: x and/or y, those the friction directions (horizontal) reach.
+  const bool x = contacts.D.col(0).cwiseAbs().maxCoeff() > 0, y = contacts.D.col(1).cwiseAbs().maxCoeff() > 0;
+  T_.setZero(int(x) + int(y), 3);
+  if (x) T_(0, 0) = 1;
+  if (y) T_(int(x), 1) = 1;
+}
+
+bool ContactLinearizer::step_jacobians(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u,
+                                       const Eigen::Ref<const VecX>& z, MatX* A, MatX* B) const {
+  auto w = pool_.acquire();
+  const int n = model_.n(), s = quad_.s, S1 = s + 1, m = model_.n_controls(), sn = s * n;
+  const int C = contacts_.size(), d = contacts_.d(), pc = contacts_.per_contact(), nt = static_cast<int>(T_.rows());
+  const bool want_u = B != nullptr && m > 0;
+  MatX &Jq = w->Jq, &Ju = w->Ju, &K = w->K, &rhs = w->rhs, &sol = w->sol, &J0 = w->J0, &Je = w->Je, &H = w->H;
+  Jq.resize(S1 * n, S1 * n);
+  del_jacobian(model_, quad_, w->ws, qc, u, dt_, Jq, want_u ? &Ju : nullptr);
+  // The contact points' Jacobians at q^k and q^{k+1}, and d(Σ J_c(q^k)^T F_c)/dq^k.
+  J0.setZero(3 * C, n);
+  Je.setZero(3 * C, n);
+  H.setZero(n, n);
+  const KinematicsView kin{model_, w->data.g.data(), w->data.Sbar.data(), 1};
+  int ny = sn;
+  std::vector<int> column(C, -1);  // the first unknown of each contact with a normal impulse
+  std::vector<char> stick(C, 0);
+  forward_kinematics(model_, w->data, qc.col(0));
+  for (int c = 0; c < C; ++c) {
+    Vec3 x;
+    body_point_jacobian(kin, contacts_.points[c].body, r_com_.col(c), x, J0.middleRows(3 * c, 3));
+    const auto zc = z.segment(c * pc, pc);
+    const Vec3 F = zc[0] * Vec3::UnitZ() + contacts_.D.transpose() * zc.segment(1, d);
+    body_point_force_derivative(kin, contacts_.points[c].body, r_com_.col(c), F, H);
+    if (zc[0] > 0) {
+      column[c] = ny;
+      stick[c] = zc[d + 1] <= kStickTol;
+      ny += stick[c] ? 1 + nt : 1;
+    }
+  }
+  forward_kinematics(model_, w->data, qc.col(s));
+  for (int c = 0; c < C; ++c) {
+    Vec3 x;
+    body_point_jacobian(kin, contacts_.points[c].body, r_com_.col(c), x, Je.middleRows(3 * c, 3));
+  }
+  // dR/dy: the DEL rows with the impulses' columns, then per contact its gap and stick rows.
+  K.setZero(ny, ny);
+  K.topLeftCorner(sn, sn) = Jq.topRightCorner(sn, sn);
+  for (int c = 0, row = sn; c < C; ++c) {
+    if (column[c] < 0) continue;
+    const auto zc = z.segment(c * pc, pc);
+    const auto J0c = J0.middleRows(3 * c, 3), Jec = Je.middleRows(3 * c, 3);
+    Vec3 normal = Vec3::UnitZ();
+    if (!stick[c]) normal += contacts_.mu * contacts_.D.transpose() * zc.segment(1, d) / zc.segment(1, d).sum();
+    K.block(0, column[c], n, 1) = J0c.transpose() * normal;
+    K.block(row, sn - n, 1, n) = Jec.row(2);  // dφ_c/dq^{k+1}
+    ++row;
+    if (stick[c]) {
+      K.block(0, column[c] + 1, n, nt) = J0c.transpose() * T_.transpose();
+      K.block(row, sn - n, nt, n) = T_ * Jec;  // d(T x_c(q^{k+1}))/dq^{k+1}
+      row += nt;
+    }
+  }
+  // Redundant contacts held (three or four corners of a sole, 9 rows on a foot's 6 freedoms) leave
+  // the impulses undetermined but not the motion: then the least-norm solution, whose y part is
+  // the unique one if the rows are consistent (checked on the residual).
+  const Eigen::PartialPivLU<MatX> lu(K);
+  const double scale = K.cwiseAbs().maxCoeff();
+  const bool regular = lu.matrixLU().diagonal().cwiseAbs().minCoeff() > 1e-12 * scale;
+  Eigen::CompleteOrthogonalDecomposition<MatX> cod;
+  if (!regular) {
+    cod.setThreshold(1e-12);
+    cod.compute(K);
+  }
+  auto solve = [&](const MatX& b, MatX& x) {
+    x = regular ? MatX(-lu.solve(b)) : MatX(-cod.solve(b));
+    return (K * x + b).cwiseAbs().maxCoeff() <= 1e-9 * (1 + b.cwiseAbs().maxCoeff()) * (1 + scale);
+  };
+  const auto P_y = Jq.bottomRightCorner(n, sn);  // dp^{k+1}/dy; p^{k+1} carries no impulse
+  if (A) {
+    rhs.setZero(ny, 2 * n);
+    rhs.topLeftCorner(sn, n) = Jq.topLeftCorner(sn, n);
+    rhs.topLeftCorner(n, n) += H;
+    rhs.block(0, n, n, n).setIdentity();
+    for (int c = 0, row = sn; c < C; ++c) {  // the stick rows' -T dx_c(q^k)/dq^k
+      if (column[c] < 0) continue;
+      ++row;
+      if (stick[c]) {
+        rhs.block(row, 0, nt, n) = -T_ * J0.middleRows(3 * c, 3);
+        row += nt;
+      }
+    }
+    if (!solve(rhs, sol)) return false;
+    A->resize(2 * n, 2 * n);
+    A->topRows(n) = sol.middleRows(sn - n, n);
+    A->bottomRows(n).noalias() = P_y * sol.topRows(sn);
+    A->bottomLeftCorner(n, n) += Jq.bottomLeftCorner(n, n);
+  }
+  if (B) {
+    B->setZero(2 * n, S1 * m);
+    if (want_u) {
+      rhs.setZero(ny, S1 * m);
+      for (int a = 0; a < S1; ++a) rhs.block(0, a * m, sn, m) = Ju.block(0, a * m, sn, m);
+      if (!solve(rhs, sol)) return false;
+      B->topRows(n) = sol.middleRows(sn - n, n);
+      B->bottomRows(n).noalias() = P_y * sol.topRows(sn);
+      for (int a = 0; a < S1; ++a) B->block(n, a * m, n, m) += Ju.block(sn, a * m, n, m);
+    }
+  }
+  return true;
+}
+
+int ContactLinearizer::trajectory_jacobians(const Eigen::Ref<const MatX>& C, const Eigen::Ref<const MatX>& U,
+                                            const Eigen::Ref<const MatX>& Z, double* As, double* Bs) const {
+  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  const int n = model_.n(), s = quad_.s, S1 = s + 1, m = model_.n_controls();
+  MatX A, B, qc(n, S1), uk(m, S1);
+  for (int k = 0; k < C.rows(); ++k) {
+    for (int c = 0; c < S1; ++c) qc.col(c) = C.row(k).segment(c * n, n).transpose();
+    for (int c = 0; c < S1; ++c) uk.col(c) = U.row(k).segment(c * m, m).transpose();
+    if (!step_jacobians(qc, uk, Z.row(k).transpose(), As ? &A : nullptr, Bs ? &B : nullptr)) return k;
+    if (As) Eigen::Map<RowMajor>(As + std::size_t(k) * 4 * n * n, 2 * n, 2 * n) = A;
+    if (Bs) Eigen::Map<RowMajor>(Bs + std::size_t(k) * 2 * n * S1 * m, 2 * n, S1 * m) = B;
+  }
+  return -1;
+}
+
+}  // namespace hovi

@@ -1,0 +1,101 @@
+"""Step Jacobians through contact (hovi.Linearizer of an Integrator with contacts; the C++
+ContactLinearizer) against central differences of the contact step, away from contact switches:
+a planar body on two contact points in stance (four rows on three freedoms: the friction
+impulses undetermined, the motion not), sliding and flight, and a box sliding. A box flat on four
+corners is at a switch (the LCP loads two, a tilt loads the others), as a flat sole is: not
+differentiable there. Open: a box resting on a tripod of three sticking points agrees with central
+differences only to O(h) (2e-6 at h = 1e-6, 2e-7 at 1e-7 on entries of 10), a kink not understood yet."""
+import numpy as np
+import pytest
+
+import hovi
+from hovi.contact import Contacts, Terrain
+from test_contact_simulation import box_model
+
+
+def planar_body():
+    m = hovi.Model()
+    m.add_body("x", None, "prismatic", axis=(1, 0, 0))
+    m.add_body("z", "x", "prismatic", axis=(0, 0, 1))
+    m.add_body("body", "z", "revolute", axis=(0, 1, 0), mass=1.0, inertia=np.diag([0.02, 0.02, 0.01]))
+    m.add_actuator(2)
+    contacts = Contacts(m, [("body", (0.1, 0, -0.05)), ("body", (-0.1, 0, -0.05))], Terrain(), mu=0.5, plane="xz")
+    return hovi.Integrator(m, s=1, dt=0.01, contacts=contacts)
+
+
+def central_differences(integ, q, p, u, h=1e-6):
+    """(A, B_held) of the step map (q, p, u) -> (q', p') by central differences (u held over the step)."""
+    n, m = len(q), len(u)
+
+    def f(x, uu):
+        qn, pn, _ = integ.step(x[:n], x[n:], uu)
+        return np.r_[qn, pn]
+    x = np.r_[q, p]
+    A = np.column_stack([(f(x + h * e, u) - f(x - h * e, u)) / (2 * h) for e in np.eye(2 * n)])
+    B = np.column_stack([(f(x, u + h * e) - f(x, u - h * e)) / (2 * h) for e in np.eye(m)])
+    return A, B
+
+
+def check(integ, q, qdot, u, state):
+    p = integ.momentum(q, qdot)
+    lin = hovi.Linearizer(integ)
+    L = lin.step_jacobians(q, p, u, hold=True)
+    _, _, info = integ.step(q, p, u)
+    lam, gamma = info.impulses[:, 0], info.impulses[:, -1]
+    assert state(lam, gamma), (lam, gamma)  # the contact state the case is about
+    A, B = central_differences(integ, q, p, u)
+    assert np.abs(L.A - A).max() <= 1e-8 * max(1.0, np.abs(A).max())
+    assert np.abs(L.B - B).max() <= 1e-8 * max(1.0, np.abs(B).max())
+
+
+def test_planar_body_in_stance():
+    check(planar_body(), np.array([0.0, 0.05, 0.0]), np.zeros(3), np.array([0.1]),
+          lambda lam, gamma: np.all(lam > 0) and np.all(gamma <= 1e-12))
+
+
+def test_planar_body_sliding():
+    check(planar_body(), np.array([0.0, 0.05, 0.0]), np.array([0.5, 0.0, 0.0]), np.array([0.1]),
+          lambda lam, gamma: np.all(lam > 0) and np.all(gamma > 0))
+
+
+def test_planar_body_in_flight():
+    check(planar_body(), np.array([0.0, 0.15, 0.0]), np.array([0.0, 1.0, 0.0]), np.array([0.1]),
+          lambda lam, gamma: np.all(lam == 0))
+
+
+def box_integrator(points=None):
+    model, corners = box_model()
+    model.add_actuator(3)
+    return hovi.Integrator(model, s=1, dt=0.005, contacts=Contacts(model, points or corners, Terrain(), mu=0.6))
+
+
+def test_box_sliding():
+    check(box_integrator(), np.array([0.0, 0.0, 0.05, 0.1, 0.0, 0.0]), np.array([0.5, 0.2, 0.0, 0.3, 0.0, 0.0]),
+          np.array([0.01]), lambda lam, gamma: np.all(gamma[lam > 0] > 0))
+
+
+def test_rollout_jacobians_are_the_step_jacobians_along_a_landing():
+    integ = planar_body()
+    u = np.array([0.1])
+    traj = integ.rollout(np.array([0.0, 0.06, 0.1]), 30, qdot0=np.array([0.3, 0.0, 0.0]), u=u)
+    assert traj.contact.active.any() and not traj.contact.active.all()   # flight, landing, stance
+    lin = hovi.Linearizer(integ)
+    As, Bs = lin.rollout_jacobians(traj, u, hold=True)
+    for k in (0, 10, 29):
+        L = lin.step_jacobians(traj.q[k], traj.p[k] if k == 0 else traj_state_momentum(integ, traj, k), u, hold=True)
+        np.testing.assert_allclose(As[k], L.A, rtol=0, atol=1e-10 * np.abs(L.A).max())
+
+
+def traj_state_momentum(integ, traj, k):
+    """The momentum the step k starts from (Trajectory.p carries half the knot impulse for 0 < k < K)."""
+    _, p, _ = integ.step(traj.q[k - 1], traj_state_momentum(integ, traj, k - 1) if k > 1 else traj.p[0],
+                         np.array([0.1]))
+    return p
+
+
+def test_rollout_jacobians_need_the_contact_record():
+    integ = planar_body()
+    traj = integ.rollout(np.array([0.0, 0.05, 0.0]), 3, u=np.array([0.1]))
+    traj.contact = None
+    with pytest.raises(ValueError, match="contact impulses"):
+        hovi.Linearizer(integ).rollout_jacobians(traj, np.array([0.1]))
