@@ -228,3 +228,31 @@ def test_bad_contacts_are_refused_with_the_argument_named():
         Terrain(ground=float("nan"))
     with pytest.raises(ValueError):
         Contacts(model, [("nope", (0, 0, 0))], Terrain(), mu=0.5)
+
+
+def test_rollout_batch_with_contacts_is_each_rollout():
+    integ = integrator(block(actuated=True), dt=0.01)
+    q0s = np.array([[0.0, 0.05], [0.0, 0.0], [0.1, 0.2]])
+    qdot0s = np.array([[0.5, 0.0], [1.0, 0.0], [0.0, -1.0]])
+    u = np.array([[1.0], [0.0], [-2.0]])
+    batch = integ.rollout_batch(q0s, 40, qdot0s=qdot0s, u=u, threads=2)
+    for b in range(3):
+        one = integ.rollout(q0s[b], 40, qdot0=qdot0s[b], u=u[b])
+        item = batch.trajectory(b)
+        np.testing.assert_array_equal(item.q, one.q)
+        np.testing.assert_array_equal(item.p, one.p)
+        np.testing.assert_array_equal(item.contact.impulses, one.contact.impulses)
+        np.testing.assert_array_equal(item.contact.gaps, one.contact.gaps)
+
+
+def test_step_batch_with_contacts_is_each_step():
+    integ = integrator(block(), dt=0.01)
+    qs = np.array([[0.0, 0.001], [0.0, 0.0], [0.0, 0.3]])
+    ps = np.array([[0.5, -0.5], [0.2, 0.0], [0.0, 0.0]])
+    batch = integ.step_batch(qs, ps, threads=2)
+    for b in range(3):
+        q, p, info = integ.step(qs[b], ps[b])
+        np.testing.assert_array_equal(batch.q_next[b], q)
+        np.testing.assert_array_equal(batch.p_next[b], p)
+        np.testing.assert_array_equal(batch.info(b).impulses, info.impulses)
+    assert batch.impulses[0, 0, 0] > 0 and batch.impulses[2, 0, 0] == 0   # one lands, one flies

@@ -1,10 +1,13 @@
 // Bindings of the contact simulator (hovi._core.ContactIntegrator). The Pythonic layer (the
 // contacts as hovi.contact.Contacts, Trajectory, exceptions) is python/hovi/integrator.py.
 #include <chrono>
+#include <string>
+#include <vector>
 
 #include "hovi/contact/contact_integrator.hpp"
 #include "hovi/contact/contact_linearizer.hpp"
 #include "hovi/errors.hpp"
+#include "hovi/parallel/parallel_for.hpp"
 #include "py_integrator.hpp"
 
 namespace hovi::py_bind {
@@ -58,6 +61,26 @@ ContactModel contact_model(const Model& model, const std::vector<int>& bodies, c
   cm.D = as_matrix(directions, "friction directions", -1, 3);
   (void)model;
   return cm;
+}
+
+StrDict rollout_dict(const ContactRollout& r, double seconds) {
+  StrDict d;
+  const int attempted = static_cast<int>(r.status.size());
+  d["q"] = MatX(r.q.topRows(r.steps + 1));
+  d["p"] = MatX(r.p.topRows(r.steps + 1));
+  d["control_points"] = MatX(r.control_points.topRows(r.steps));
+  d["iterations"] = Eigen::VectorXi(r.iterations.head(attempted));
+  d["factorizations"] = Eigen::VectorXi(r.factorizations.head(attempted));
+  d["residual"] = VecX(r.residual.head(attempted));
+  d["pivots"] = Eigen::VectorXi(r.pivots.head(attempted));
+  py::list st;
+  for (SolveStatus x : r.status) st.append(to_string(x));
+  d["status"] = st;
+  d["impulses"] = MatX(r.impulses.topRows(r.steps));
+  d["gaps"] = MatX(r.gaps.topRows(r.steps));
+  d["steps"] = r.steps;
+  d["seconds"] = seconds;
+  return d;
 }
 
 }  // namespace
@@ -134,23 +157,7 @@ info dict).
               r = core.rollout(q, mom, steps, U, z0);
               seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
             }
-            StrDict d;
-            const int attempted = static_cast<int>(r.status.size());
-            d["q"] = MatX(r.q.topRows(r.steps + 1));
-            d["p"] = MatX(r.p.topRows(r.steps + 1));
-            d["control_points"] = MatX(r.control_points.topRows(r.steps));
-            d["iterations"] = Eigen::VectorXi(r.iterations.head(attempted));
-            d["factorizations"] = Eigen::VectorXi(r.factorizations.head(attempted));
-            d["residual"] = VecX(r.residual.head(attempted));
-            d["pivots"] = Eigen::VectorXi(r.pivots.head(attempted));
-            py::list st;
-            for (SolveStatus x : r.status) st.append(to_string(x));
-            d["status"] = st;
-            d["impulses"] = MatX(r.impulses.topRows(r.steps));
-            d["gaps"] = MatX(r.gaps.topRows(r.steps));
-            d["steps"] = r.steps;
-            d["seconds"] = seconds;
-            return d;
+            return rollout_dict(r, seconds);
           }, py::arg("q0"), py::arg("p0"), py::arg("steps"), py::arg("u") = py::none(),
           py::arg("impulses") = py::none(), R"doc(
 `steps` contact steps from q0, p0 (n,) in C++ (GIL released); u (steps, (s+1) m); impulses: those of
@@ -186,6 +193,92 @@ q, p (K+1, n), control_points (K, (s+1) n), iterations, factorizations, residual
 The step Jacobians of K converged contact steps (contact_linearizer.hpp): control_points (K, (s+1) n),
 u (K, (s+1) m) or None, impulses (K, C (2 + d)); returns (A (K, 2n, 2n) or None, B (K, 2n, (s+1) m)
 or None), in C++ (GIL released).
+)doc")
+      .def("rollout_batch", [](const PyContactIntegrator& c, const ArrayLike& q0s, const ArrayLike& p0s, int steps,
+                               const OptArrayLike& u, const OptInt& threads) {
+            const ContactIntegrator& core = c.core();
+            const PyIntegrator& pi = c.py();
+            const int n = pi.n(), S1 = pi.s() + 1, m = pi.m();
+            const MatX Q = as_matrix(q0s, "q0s", -1, n), P = as_matrix(p0s, "p0s", Q.rows(), n);
+            if (steps < 0) throw InputError("steps must be non-negative");
+            const long B = Q.rows();
+            const MatX U = u.is_none() ? MatX::Zero(B * steps, S1 * m) : as_matrix(u, "u (B steps, (s+1) m)", B * steps, S1 * m);
+            const int nthreads = thread_count(threads_arg(threads));
+            std::vector<ContactRollout> items(B);
+            std::vector<double> seconds(B, 0.0);
+            std::vector<std::string> errors;
+            {
+              py::gil_scoped_release release;
+              errors = parallel_for(static_cast<int>(B), nthreads, [&](int b, int) {
+                const auto t0 = std::chrono::steady_clock::now();
+                items[b] = core.rollout(Q.row(b).transpose(), P.row(b).transpose(), steps,
+                                        m ? MatX(U.middleRows(static_cast<Eigen::Index>(b) * steps, steps)) : MatX(0, 0));
+                seconds[b] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+              });
+            }
+            py::list out;
+            for (long b = 0; b < B; ++b) out.append(errors[b].empty() ? py::object(rollout_dict(items[b], seconds[b])) : py::none());
+            return py::make_tuple(out, error_list(errors));
+          }, py::arg("q0s"), py::arg("p0s"), py::arg("steps"), py::arg("u") = py::none(), py::arg("threads") = py::none(),
+          R"doc(
+rollout from each of B states q0s, p0s (B, n) on `threads` C++ threads (GIL released); u (B steps,
+(s+1) m). Returns (items: B rollout dicts, or None for an item that raised, errors (B,)).
+)doc")
+      .def("step_batch", [](const PyContactIntegrator& c, const ArrayLike& qs, const ArrayLike& ps,
+                            const OptArrayLike& u, const OptInt& threads) {
+            const ContactIntegrator& core = c.core();
+            const PyIntegrator& pi = c.py();
+            const int n = pi.n(), s = pi.s(), S1 = s + 1, m = pi.m(), nz = core.contacts().unknowns();
+            const MatX Q = as_matrix(qs, "qs", -1, n), P = as_matrix(ps, "ps", Q.rows(), n);
+            const long B = Q.rows();
+            const MatX U = u.is_none() ? MatX::Zero(B, S1 * m) : as_matrix(u, "u (B, (s+1) m)", B, S1 * m);
+            const int nthreads = thread_count(threads_arg(threads));
+            std::vector<MatX> qcs(B, MatX(n, S1));
+            MatX p_next(B, n), Z = MatX::Zero(B, nz), phi(B, core.contacts().size());
+            std::vector<SolveInfo> infos(B);
+            std::vector<int> pivots(B, 0);
+            std::vector<double> seconds(B, 0.0);
+            std::vector<std::string> errors;
+            {
+              py::gil_scoped_release release;
+              errors = parallel_for(static_cast<int>(B), nthreads, [&](int b, int) {
+                const auto t0 = std::chrono::steady_clock::now();
+                qcs[b].col(0) = Q.row(b).transpose();
+                VecX pn(n), z = VecX::Zero(nz), ph(core.contacts().size());
+                MatX ub = Eigen::Map<const MatX>(U.row(b).eval().data(), m, S1);
+                infos[b] = core.step(P.row(b).transpose(), ub, MatX(), qcs[b], pn, z, ph, &pivots[b]);
+                p_next.row(b) = pn.transpose();
+                Z.row(b) = z.transpose();
+                phi.row(b) = ph.transpose();
+                seconds[b] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+              });
+            }
+            py::list items;
+            for (long b = 0; b < B; ++b) {
+              if (!errors[b].empty()) {
+                items.append(py::none());
+                continue;
+              }
+              StrDict d;
+              d["status"] = to_string(infos[b].status);
+              d["converged"] = infos[b].converged();
+              d["iterations"] = infos[b].iterations;
+              d["factorizations"] = infos[b].factorizations;
+              d["residual_evaluations"] = infos[b].residual_evaluations;
+              d["residual"] = infos[b].residual;
+              d["pivots"] = pivots[b];
+              d["control_points"] = MatX(qcs[b].transpose());
+              d["p_next"] = VecX(p_next.row(b).transpose());
+              d["impulses"] = VecX(Z.row(b).transpose());
+              d["gaps"] = VecX(phi.row(b).transpose());
+              d["seconds"] = seconds[b];
+              items.append(d);
+            }
+            return py::make_tuple(items, error_list(errors));
+          }, py::arg("qs"), py::arg("ps"), py::arg("u") = py::none(), py::arg("threads") = py::none(), R"doc(
+One contact step from each of B states qs, ps (B, n) on `threads` C++ threads (GIL released); u (B,
+(s+1) m). Returns (items: B dicts as step's info with control_points, p_next, impulses, gaps,
+seconds, or None for an item that raised, errors (B,)).
 )doc");
 }
 

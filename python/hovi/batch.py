@@ -12,7 +12,7 @@ from typing import Any, List, Optional, Sequence, Type, TypeVar
 import numpy as np
 
 from ._typing import BoolArray, FloatArray, IntArray
-from .trajectory import Discretization, StepInfo, Trajectory
+from .trajectory import ContactRecord, Discretization, StepInfo, Trajectory
 
 _Batch = TypeVar("_Batch", "TrajectoryBatch", "StepBatch", "JacobianBatch")
 
@@ -29,6 +29,10 @@ def _concatenate(cls: Type[_Batch], parts: Sequence[_Batch], shared: tuple[str, 
             joined[f.name] = values[0]
         elif isinstance(values[0], list):
             joined[f.name] = sum(values, [])
+        elif isinstance(values[0], ContactRecord):
+            joined[f.name] = ContactRecord(np.concatenate([v.impulses for v in values]),
+                                           np.concatenate([v.gaps for v in values]), values[0].directions,
+                                           np.concatenate([v.pivots for v in values]))
         else:
             joined[f.name] = np.concatenate(values)
     return cls(**joined)
@@ -56,6 +60,8 @@ class TrajectoryBatch:
     multipliers: Optional[FloatArray] = None  # (B, K, s, n_constraints), constrained models
     solve_seconds: Optional[FloatArray] = None  # (B,) time of each item's rollout in C++
     discretization: Optional[Discretization] = field(default=None, repr=False)  # the integrator's model, s and dt
+    contact: Optional[ContactRecord] = None  # with contacts: impulses (B, K, C, 2+d) and gaps (B, K, C), NaN
+                                             # where not reached; pivots (B, K), -1 there
 
     def __len__(self) -> int:
         return len(self.status)
@@ -86,7 +92,10 @@ class TrajectoryBatch:
                           status=["converged"] * k + ([self.status[b]] if attempted > k else []),
                           multipliers=None if self.multipliers is None else self.multipliers[b, :k].copy(),
                           solve_seconds=float(self.solve_seconds[b]) if self.solve_seconds is not None else 0.0,
-                          discretization=self.discretization)
+                          discretization=self.discretization,
+                          contact=None if self.contact is None else ContactRecord(
+                              self.contact.impulses[b, :k].copy(), self.contact.gaps[b, :k].copy(),
+                              self.contact.directions, self.contact.pivots[b, :attempted].copy()))
 
     @classmethod
     def concatenate(cls, parts: Sequence[TrajectoryBatch]) -> TrajectoryBatch:
@@ -113,6 +122,9 @@ class StepBatch:
     errors: List[Optional[str]] = field(default_factory=list)  # (B,) the message of an exception an item raised, or None
     multipliers: Optional[FloatArray] = None  # (B, s, n_constraints), constrained models
     solve_seconds: Optional[FloatArray] = None  # (B,) time of each item's step in C++
+    impulses: Optional[FloatArray] = None  # (B, C, 2 + d) with contacts
+    gaps: Optional[FloatArray] = None      # (B, C) with contacts
+    pivots: Optional[IntArray] = None      # (B,) with contacts
 
     def __len__(self) -> int:
         return len(self.status)
@@ -126,7 +138,10 @@ class StepBatch:
                         factorizations=int(self.factorizations[b]),
                         residual_evaluations=int(self.residual_evaluations[b]), residual=float(self.residuals[b]),
                         control_points=self.control_points[b].copy(),
-                        multipliers=None if self.multipliers is None else self.multipliers[b].copy())
+                        multipliers=None if self.multipliers is None else self.multipliers[b].copy(),
+                        impulses=None if self.impulses is None else self.impulses[b].copy(),
+                        gaps=None if self.gaps is None else self.gaps[b].copy(),
+                        pivots=0 if self.pivots is None else int(self.pivots[b]))
 
     @classmethod
     def concatenate(cls, parts: Sequence[StepBatch]) -> StepBatch:

@@ -464,6 +464,8 @@ class Integrator:
         Q, second, velocities = self._batch_states(q0s, p0s, qdot0s, ("q0s", "p0s", "qdot0s"))
         _check_trajectory_memory(steps, self.s, self.n, 2 * len(Q))  # the C++ results and the stacked arrays
         U = self._core.rollout_controls(u, steps, len(Q))
+        if self._contact is not None:
+            return self._contact_rollout_batch(Q, second, velocities, steps, U, threads)
         raw = self._core.rollout_batch(Q, second, velocities, steps, None if U is None else U.reshape(-1, U.shape[-1]),
                                        threads)
         B, S1 = len(Q), self.s + 1
@@ -487,6 +489,8 @@ class Integrator:
         """
         Q, second, velocities = self._batch_states(qs, ps, qdots, ("qs", "ps", "qdots"))
         U = self._core.step_controls(u, len(Q))
+        if self._contact is not None:
+            return self._contact_step_batch(Q, second, velocities, U, threads)
         raw = self._core.step_batch(Q, second, velocities, U, threads)
         cp = raw["control_points"]
         return StepBatch(q_next=cp[:, -1].copy(), p_next=raw["p_next"], control_points=cp, converged=raw["converged"],
@@ -494,6 +498,65 @@ class Integrator:
                          residual_evaluations=raw["residual_evaluations"], residuals=raw["residual"],
                          status=raw["status"], errors=raw["errors"], solve_seconds=raw["seconds"],
                          multipliers=raw["multipliers"] if self.n_constraints else None)
+
+    def _momenta(self, Q: FloatArray, second: FloatArray, velocities: bool) -> FloatArray:
+        """The momenta of a batch of states given with velocities or momenta."""
+        return np.array([self.momentum(q, v) for q, v in zip(Q, second)]) if velocities else second
+
+    def _contact_rollout_batch(self, Q: FloatArray, second: FloatArray, velocities: bool, steps: int,
+                               U: Optional[FloatArray], threads: Optional[int]) -> TrajectoryBatch:
+        """``rollout_batch`` with contacts: the C++ rollouts on threads, stacked (NaN where not reached)."""
+        assert self._contact is not None and self.contacts is not None
+        B, S1, n = len(Q), self.s + 1, self.n
+        C, pc = self._contact.n_contacts, self._contact.per_contact
+        items, errors = self._contact.rollout_batch(Q, self._momenta(Q, second, velocities), steps,
+                                                    None if U is None else U.reshape(-1, U.shape[-1]), threads)
+        nan = np.nan
+        q, p = np.full((B, steps + 1, n), nan), np.full((B, steps + 1, n), nan)
+        cp, res = np.full((B, steps, S1 * n), nan), np.full((B, steps), nan)
+        its, facs, piv = (np.full((B, steps), -1, dtype=np.int32) for _ in range(3))
+        z, gaps = np.full((B, steps, C, pc), nan), np.full((B, steps, C), nan)
+        done, status, seconds = np.zeros(B, dtype=np.int32), [], np.zeros(B)
+        for b, r in enumerate(items):
+            if r is None:
+                status.append("error")
+                continue
+            k, a = r["steps"], len(r["status"])
+            q[b, :k + 1], p[b, :k + 1], cp[b, :k] = r["q"], r["p"], r["control_points"]
+            res[b, :a], its[b, :a], facs[b, :a], piv[b, :a] = r["residual"], r["iterations"], r["factorizations"], r["pivots"]
+            z[b, :k], gaps[b, :k] = r["impulses"].reshape(k, C, pc), r["gaps"]
+            done[b], seconds[b] = k, r["seconds"]
+            status.append(r["status"][-1] if a > k else "converged")
+        return TrajectoryBatch(
+            t=np.arange(steps + 1, dtype=np.float64) * self.dt, q=q, p=p, control_points=cp.reshape(B, steps, S1, n),
+            iterations=its, residuals=res, factorizations=facs, steps=done, status=status, errors=list(errors),
+            solve_seconds=seconds, discretization=self.discretization,
+            contact=ContactRecord(z, gaps, self.contacts.D.copy(), piv))
+
+    def _contact_step_batch(self, Q: FloatArray, second: FloatArray, velocities: bool, U: Optional[FloatArray],
+                            threads: Optional[int]) -> StepBatch:
+        """``step_batch`` with contacts: the C++ steps on threads, stacked (NaN for an item that raised)."""
+        assert self._contact is not None
+        B, S1, n = len(Q), self.s + 1, self.n
+        C, pc = self._contact.n_contacts, self._contact.per_contact
+        items, errors = self._contact.step_batch(Q, self._momenta(Q, second, velocities), U, threads)
+        cp, p_next = np.full((B, S1, n), np.nan), np.full((B, n), np.nan)
+        z, gaps = np.full((B, C, pc), np.nan), np.full((B, C), np.nan)
+        ints = {k: np.full(B, -1, dtype=np.int32) for k in ("iterations", "factorizations", "residual_evaluations", "pivots")}
+        res, seconds, conv, status = np.full(B, np.nan), np.zeros(B), np.zeros(B, dtype=bool), []
+        for b, r in enumerate(items):
+            if r is None:
+                status.append("error")
+                continue
+            cp[b], p_next[b], z[b], gaps[b] = r["control_points"], r["p_next"], r["impulses"].reshape(C, pc), r["gaps"]
+            for k in ints:
+                ints[k][b] = r[k]
+            res[b], seconds[b], conv[b] = r["residual"], r["seconds"], r["converged"]
+            status.append(r["status"])
+        return StepBatch(q_next=cp[:, -1].copy(), p_next=p_next, control_points=cp, converged=conv,
+                         iterations=ints["iterations"], factorizations=ints["factorizations"],
+                         residual_evaluations=ints["residual_evaluations"], residuals=res, status=status,
+                         errors=list(errors), solve_seconds=seconds, impulses=z, gaps=gaps, pivots=ints["pivots"])
 
     def _join(self, parts: List[Dict[str, Any]]) -> Trajectory:
         q = np.vstack([parts[0]["q"]] + [r["q"][1:] for r in parts[1:]])
