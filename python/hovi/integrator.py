@@ -499,6 +499,17 @@ class Integrator:
                          status=raw["status"], errors=raw["errors"], solve_seconds=raw["seconds"],
                          multipliers=raw["multipliers"] if self.n_constraints else None)
 
+    def contact_jacobians(self, control_points: FloatArray, u: Optional[FloatArray], impulses: FloatArray, *,
+                          A: bool = True, B: bool = True) -> Tuple[Optional[FloatArray], Optional[FloatArray]]:
+        """The step Jacobians of K converged contact steps (``hovi.Linearizer`` calls it): control
+        points (K, (s+1) n), u (K, (s+1) m) or None, impulses (K, C (2 + d)); (A (K, 2n, 2n), B (K,
+        2n, (s+1) m)), None for what was not asked for. ValueError without contacts."""
+        if self._contact is None:
+            raise ValueError("this integrator has no contacts")
+        result: Tuple[Optional[FloatArray], Optional[FloatArray]] = self._contact.rollout_jacobians(
+            control_points, u, impulses, A, B)
+        return result
+
     def _momenta(self, Q: FloatArray, second: FloatArray, velocities: bool) -> FloatArray:
         """The momenta of a batch of states given with velocities or momenta."""
         return np.array([self.momentum(q, v) for q, v in zip(Q, second)]) if velocities else second

@@ -111,12 +111,12 @@ class Linearizer:
         B (2n, (s+1) m) or (2n, m) with hold=True (see StepLinearization)."""
         q_next, p_next, info = self.integrator.step(q, p, u, guess=guess)
         assert info.control_points is not None
-        if self.integrator._contact is not None:  # through the contact step, its contact state held
+        if self.integrator.contacts is not None:  # through the contact step, its contact state held
             assert info.impulses is not None
             U = self.integrator.controls_per_point(u, 1)
-            As, Bs = self.integrator._contact.rollout_jacobians(info.control_points.reshape(1, -1),
-                                                                None if U is None else U.reshape(1, -1),
-                                                                info.impulses.reshape(1, -1), A, B)
+            As, Bs = self.integrator.contact_jacobians(info.control_points.reshape(1, -1),
+                                                       None if U is None else U.reshape(1, -1),
+                                                       info.impulses.reshape(1, -1), A=A, B=B)
             Am, Bm = (None if As is None else As[0]), (None if Bs is None else Bs[0])
         else:
             Am, Bm = self._core.step_jacobians(info.control_points, u, A, B, info.multipliers)
@@ -146,11 +146,11 @@ class Linearizer:
         if U is not None:
             U = np.ascontiguousarray(U.reshape(K, -1))
         cps = np.ascontiguousarray(trajectory.control_points.reshape(K, -1))
-        if integ._contact is not None:
+        if integ.contacts is not None:
             if trajectory.contact is None:
                 raise ValueError("the integrator has contacts: give a trajectory it computed (with its contact impulses)")
-            As, Bs = integ._contact.rollout_jacobians(cps, U, np.ascontiguousarray(
-                trajectory.contact.impulses.reshape(K, -1)), A, B)
+            As, Bs = integ.contact_jacobians(cps, U, np.ascontiguousarray(trajectory.contact.impulses.reshape(K, -1)),
+                                             A=A, B=B)
             if Bs is not None and hold:
                 Bs = _hold(Bs, integ.model.n_controls)
             return As, Bs

@@ -10,7 +10,7 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from ... import _core, trajopt
-from ...contact import FlatFoot, wrench_cone
+from ...contact import Contacts, FlatFoot, Terrain, wrench_cone
 from ..robots import Robot, atlas
 from ...trajopt import Problem, Result
 from .contact_figures import BETWEEN_TOLERANCE, between_knot_penetration
@@ -127,4 +127,5 @@ def build(quick: bool = False) -> Example:
     scenery.add("box", (2.0, 2.0, 0.02), (0.0, 0.0, -0.01), (0.55, 0.6, 0.55, 1.0))
     labels = ["f_x", "f_y", "f_z"]
     return Example("atlas", "picks a ball with its left hand while balancing on its right foot", robot, prob, guess,
-                   options, checks, bounds, lambda u: foot.wrench(u)[:, :3], labels, scenery)
+                   options, checks, bounds, lambda u: foot.wrench(u)[:, :3], labels, scenery,
+                   simulation=Contacts(robot.model, robot.contact_points, Terrain(), mu=MU))  # both soles' corners

@@ -7,6 +7,7 @@ from typing import Any, Callable, Dict, List, Optional, Tuple
 
 import numpy as np
 
+from ...contact import Contacts
 from ..robots import Robot
 from ...trajopt import Guess, Problem, Result
 
@@ -50,6 +51,7 @@ class Example:
     scenery: Scenery = field(default_factory=Scenery)
     epsilons: Optional[Tuple[float, ...]] = None
     sides_from_trapezoidal: bool = False
+    simulation: Optional[Contacts] = None  # the contacts (on robot.model) the contact simulator executes it with
 
     def failures(self, figures: Dict[str, float]) -> List[str]:
         """The figures that miss their bounds, as readable sentences (empty: feasible)."""

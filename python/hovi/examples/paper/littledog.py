@@ -337,4 +337,4 @@ def build(quick: bool = False) -> Example:
                    lambda result: figures(robot, contacts, course, result), BOUNDS,
                    lambda u: contacts.forces(u)[:, :, 2], labels,
                    scenery(robot, ground, (-0.2, course.distance + 0.25)), QUICK_EPSILONS if quick else None,
-                   sides_from_trapezoidal=True)
+                   sides_from_trapezoidal=True, simulation=contacts)

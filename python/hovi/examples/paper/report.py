@@ -15,6 +15,7 @@ from ... import trajopt
 from ...trajopt import Result
 from ...trajopt.transcriptions import from_name
 from .contact_figures import between_knot_text
+from .contact_replay import simulated_figures, simulated_text
 from .example import Example
 
 
@@ -224,7 +225,8 @@ def run(example: Example, output: str, *, animation: bool = True, plots: bool = 
         progress: bool | None = False) -> Dict[str, Any]:
     """Solve ``example`` (``method``, ``checkpoint`` as in ``solve``: the VI of order 2s by default),
     check it, replay it (VI only: the replay figures put the solution into the integrator's
-    equations) and write its files into ``output``; returns the summary (also written as <name>.json) with 'feasible' and, if not,
+    equations), execute it open loop in the contact simulator (VI with s = 1: contact_replay.py) and
+    write its files into ``output``; returns the summary (also written as <name>.json) with 'feasible' and, if not,
     'failures'. ``progress``: the video's progress bar (True, False, None: on a terminal)."""
     os.makedirs(output, exist_ok=True)
     t0 = time.perf_counter()
@@ -240,8 +242,10 @@ def run(example: Example, output: str, *, animation: bool = True, plots: bool = 
         "constraint_violation": float(result.constraint_violation), **result.sizes, **figures,
         "contact_solves": result.contact.get("solves", []),
         **replay, "feasible": not failures, "failures": failures}
+    sim = simulated_figures(example, result) if method == "vi" and s == 1 else {}
+    summary.update(sim)
     summary["report"] = ([between_knot_text(figures)] if "between_knot_penetration" in figures else []) + (
-        [replay_text(replay)] if replay else [])
+        [replay_text(replay)] if replay else []) + ([simulated_text(sim)] if sim else [])
     base = os.path.join(output, example.name)
     tr = result.trajectory
     np.savez(base + ".npz", t=tr["t"], q=tr["q"], u=tr["u"], contact_forces=example.contact_forces(tr["u"]),
