@@ -18,8 +18,8 @@ namespace {
 // through core(), which raises once the Integrator's model has changed.
 class PyContactIntegrator {
  public:
-  PyContactIntegrator(py::object integrator, ContactModel contacts, double tol)
-      : owner_(std::move(integrator)), py_(owner_.cast<const PyIntegrator&>()),
+  PyContactIntegrator(const PyIntegrator& integrator, ContactModel contacts, double tol)
+      : py_(integrator),
         core_(py_.integ().model(), std::move(contacts), py_.s(), py_.dt(), py_.integ().options, tol),
         lin_(core_.integrator().model(), core_.integrator().quadrature(), core_.integrator().dt(), core_.contacts()) {}
   const ContactIntegrator& core() const {
@@ -33,8 +33,7 @@ class PyContactIntegrator {
   const PyIntegrator& py() const { return py_; }
 
  private:
-  py::object owner_;
-  const PyIntegrator& py_;
+  const PyIntegrator& py_;  // kept alive by the binding (keep_alive)
   ContactIntegrator core_;
   ContactLinearizer lin_;
 };
@@ -92,17 +91,25 @@ contacts and Coulomb friction (cpp/include/hovi/contact/contact_solver.hpp). hov
 contacts=...) makes and uses it; the arguments are hovi.contact.Contacts' (bodies, points in the
 joint frames, the terrain's ground, gaps (G, 3) and boxes (B, 5), mu, friction directions (d, 3)).
 )doc")
-      .def(py::init([](py::object integrator, const std::vector<int>& bodies, const ArrayLike& points, double ground,
-                       const ArrayLike& gaps, const ArrayLike& boxes, double mu, const ArrayLike& directions,
-                       double contact_tol) {
-             const PyIntegrator& pi = integrator.cast<const PyIntegrator&>();
-             ContactModel cm = contact_model(pi.integ().model(), bodies, points, ground, gaps, boxes, mu, directions);
+      .def(py::init([](const PyIntegrator& integrator, const std::vector<int>& bodies, const ArrayLike& points,
+                       double ground, const ArrayLike& gaps, const ArrayLike& boxes, double mu,
+                       const ArrayLike& directions, double contact_tol) {
+             ContactModel cm =
+                 contact_model(integrator.integ().model(), bodies, points, ground, gaps, boxes, mu, directions);
              return std::make_unique<PyContactIntegrator>(integrator, std::move(cm), contact_tol);
            }),
+           py::keep_alive<1, 2>(),
            py::arg("integrator"), py::arg("bodies"), py::arg("points"), py::arg("ground"), py::arg("gaps"),
-           py::arg("boxes"), py::arg("mu"), py::arg("directions"), py::arg("contact_tol") = 1e-10)
-      .def_property_readonly("n_contacts", [](const PyContactIntegrator& c) { return c.core().contacts().size(); })
-      .def_property_readonly("per_contact", [](const PyContactIntegrator& c) { return c.core().contacts().per_contact(); })
+           py::arg("boxes"), py::arg("mu"), py::arg("directions"), py::arg("contact_tol") = 1e-10, R"doc(
+The contact simulator over `integrator` (a hovi._core.Integrator) with C contact points: bodies (C,)
+indices, points (C, 3) in the bodies' joint frames; the terrain's ground height, gaps (G, 3) rows
+(x0, x1, depth), boxes (B, 5) rows (x0, x1, top, y0, y1); friction mu; directions (d, 3) horizontal
+unit vectors; contact_tol the complementarity tolerance (m and N s).
+)doc")
+      .def_property_readonly("n_contacts", [](const PyContactIntegrator& c) { return c.core().contacts().size(); },
+                             "The number of contact points C.")
+      .def_property_readonly("per_contact", [](const PyContactIntegrator& c) { return c.core().contacts().per_contact(); },
+                             "The unknowns per contact, 2 + d: the normal impulse, d friction impulses, the sliding slack.")
       .def("gap_heights", [](const PyContactIntegrator& c, const ArrayLike& xy) {
             const MatX X = as_matrix(xy, "xy", -1, 2);
             VecX h(X.rows());

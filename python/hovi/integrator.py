@@ -392,7 +392,7 @@ class Integrator:
     def _contact_rollout(self, q0: FloatArray, p0: FloatArray, steps: int, U: Optional[FloatArray], bar: Any,
                          chunk: int, raise_on_failure: bool) -> Trajectory:
         """``rollout`` with contacts (in chunks of ``chunk`` steps when a progress ``bar`` is shown)."""
-        assert self._contact is not None
+        assert self._contact is not None and self.contacts is not None
         parts: List[Dict[str, Any]] = []
         q, p, done, z = q0, p0, 0, None
         while True:

@@ -401,7 +401,7 @@ def load_trajectory(path: str | os.PathLike[str], integrator: Optional[HasDiscre
                              f"{list(d.model.joint_names)}")
         if d.s != s or d.dt != dt:
             raise ValueError(f"{where}: s = {s}, dt = {dt} differ from the integrator's s = {d.s}, dt = {d.dt}")
-    optional = {k: arrays[k] for k in OPTIONAL if k in arrays}
+    optional: Dict[str, Any] = {k: arrays[k] for k in OPTIONAL if k in arrays}
     if "contact_impulses" in arrays:
         optional["contact"] = ContactRecord(arrays["contact_impulses"], arrays["contact_gaps"],
                                             arrays["contact_directions"], arrays["contact_pivots"])

@@ -8,7 +8,7 @@ import numpy.typing
 import os
 import typing
 from . import trajopt
-__all__: list[str] = ['Integrator', 'Linearizer', 'Model', 'ModelError', 'URDFError', 'body_point_kinematics', 'lagrange_basis', 'march', 'pendulum', 'real_array', 'trajopt']
+__all__: list[str] = ['ContactIntegrator', 'Integrator', 'Linearizer', 'Model', 'ModelError', 'URDFError', 'body_point_kinematics', 'lagrange_basis', 'march', 'pendulum', 'real_array', 'trajopt']
 class ModelError(ValueError):
     """
     An invalid model or model input (a ValueError): a bad body, joint, force or constraint, an unknown joint or body name, or a call on an Integrator or Linearizer whose model changed after it was made.
@@ -507,6 +507,64 @@ class Linearizer:
         """
         At a converged step's control points (s+1, n) (and multipliers (s, m_c)): returns (A (2n, 2n) or
         None, B (2n, (s+1) m) or None), the Jacobians of (q^{k+1}, p^{k+1}) by (q^k, p^k) and u^{k,0..s}.
+        """
+class ContactIntegrator:
+    """
+    The variational integrator of an Integrator (its model, s, dt and Newton options) with hard point
+    contacts and Coulomb friction (cpp/include/hovi/contact/contact_solver.hpp). hovi.Integrator(...,
+    contacts=...) makes and uses it; the arguments are hovi.contact.Contacts' (bodies, points in the
+    joint frames, the terrain's ground, gaps (G, 3) and boxes (B, 5), mu, friction directions (d, 3)).
+    """
+    def __init__(self, integrator: Integrator, bodies: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], points: numpy.typing.ArrayLike, ground: typing.SupportsFloat | typing.SupportsIndex, gaps: numpy.typing.ArrayLike, boxes: numpy.typing.ArrayLike, mu: typing.SupportsFloat | typing.SupportsIndex, directions: numpy.typing.ArrayLike, contact_tol: typing.SupportsFloat | typing.SupportsIndex = 1e-10) -> None:
+        """
+        The contact simulator over `integrator` (a hovi._core.Integrator) with C contact points: bodies (C,)
+        indices, points (C, 3) in the bodies' joint frames; the terrain's ground height, gaps (G, 3) rows
+        (x0, x1, depth), boxes (B, 5) rows (x0, x1, top, y0, y1); friction mu; directions (d, 3) horizontal
+        unit vectors; contact_tol the complementarity tolerance (m and N s).
+        """
+    def gap_heights(self, xy: numpy.typing.ArrayLike) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        The terrain's height below the points xy (P, 2), as the simulator reads it.
+        """
+    def rollout(self, q0: numpy.typing.ArrayLike, p0: numpy.typing.ArrayLike, steps: typing.SupportsInt | typing.SupportsIndex, u: numpy.typing.ArrayLike | None = None, impulses: numpy.typing.ArrayLike | None = None) -> dict[str, typing.Any]:
+        """
+        `steps` contact steps from q0, p0 (n,) in C++ (GIL released); u (steps, (s+1) m); impulses: those of
+        the step before (C (2 + d),), default none active. Returns a dict:
+        q, p (K+1, n), control_points (K, (s+1) n), iterations, factorizations, residual, pivots, status
+        (per attempted step), impulses (K, C (2 + d)), gaps (K, C), steps K, seconds.
+        """
+    def rollout_batch(self, q0s: numpy.typing.ArrayLike, p0s: numpy.typing.ArrayLike, steps: typing.SupportsInt | typing.SupportsIndex, u: numpy.typing.ArrayLike | None = None, threads: int | None = None) -> tuple[list, list]:
+        """
+        rollout from each of B states q0s, p0s (B, n) on `threads` C++ threads (GIL released); u (B steps,
+        (s+1) m). Returns (items: B rollout dicts, or None for an item that raised, errors (B,)).
+        """
+    def rollout_jacobians(self, control_points: numpy.typing.ArrayLike, u: numpy.typing.ArrayLike | None, impulses: numpy.typing.ArrayLike, want_A: bool = True, want_B: bool = True) -> tuple[numpy.typing.NDArray[numpy.float64] | None, numpy.typing.NDArray[numpy.float64] | None]:
+        """
+        The step Jacobians of K converged contact steps (contact_linearizer.hpp): control_points (K, (s+1) n),
+        u (K, (s+1) m) or None, impulses (K, C (2 + d)); returns (A (K, 2n, 2n) or None, B (K, 2n, (s+1) m)
+        or None), in C++ (GIL released).
+        """
+    def step(self, q: numpy.typing.ArrayLike, p: numpy.typing.ArrayLike, u: numpy.typing.ArrayLike | None = None, impulses: numpy.typing.ArrayLike | None = None) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], dict[str, typing.Any]]:
+        """
+        One contact step from q, p (n,) (GIL released); impulses: the first guess (C (2 + d),), default none
+        active. Returns (control points (s+1, n), p_next (n,), impulses (C (2 + d),), gaps at the end (C,),
+        info dict).
+        """
+    def step_batch(self, qs: numpy.typing.ArrayLike, ps: numpy.typing.ArrayLike, u: numpy.typing.ArrayLike | None = None, threads: int | None = None) -> tuple[list, list]:
+        """
+        One contact step from each of B states qs, ps (B, n) on `threads` C++ threads (GIL released); u (B,
+        (s+1) m). Returns (items: B dicts as step's info with control_points, p_next, impulses, gaps,
+        seconds, or None for an item that raised, errors (B,)).
+        """
+    @property
+    def n_contacts(self) -> int:
+        """
+        The number of contact points C.
+        """
+    @property
+    def per_contact(self) -> int:
+        """
+        The unknowns per contact, 2 + d: the normal impulse, d friction impulses, the sliding slack.
         """
 def body_point_kinematics(model: Model, q: numpy.typing.ArrayLike, bodies: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], points: numpy.typing.ArrayLike) -> tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64]]:
     """
