@@ -40,7 +40,8 @@ def test_simulate_animate_writes_html_and_video(tmp_path, capsys):
 def test_help_explains_every_option():
     out = subprocess.run([sys.executable, "-m", "hovi", "simulate", "--help"], capture_output=True, text=True).stdout
     for opt in ("--order", "--dt", "--duration", "--spread", "--tol", "--output", "--no-plot", "--base", "--seed",
-                "--animate", "--fps", "--package-dir"):
+                "--animate", "--fps", "--package-dir", "--ground", "--no-ground", "--contact", "--mu", "--drop",
+                "--ground-height"):
         assert opt in out
 
 
@@ -181,6 +182,16 @@ def test_version(capsys):
     (["optimize", "pendulum", "--T", "-1"], "argument --T: must be a finite number > 0, got '-1'"),
     (["optimize", "pendulum", "--T", "0"], "argument --T: must be a finite number > 0, got '0'"),
     (["optimize", "pendulum", "--order", "3"], "argument --order: must be an even number >= 2"),
+    (["simulate", "--mu", "-0.5"], "argument --mu: must be a finite number >= 0, got '-0.5'"),
+    (["simulate", "--mu", "high"], "argument --mu: 'high' is not a number"),
+    (["simulate", "--mu", "2e3"], "argument --mu: must be a friction coefficient from 0 to 1000"),
+    (["simulate", "--drop", "-0.1"], "argument --drop: must be a finite number >= 0"),
+    (["simulate", "--ground-height", "inf"], "argument --ground-height: must be a finite number, got 'inf'"),
+    (["simulate", "--contact", "foot:0,0"], "argument --contact: 'foot:0,0' is not LINK:x,y,z"),
+    (["simulate", "--contact", "foot:0,0,x"], "argument --contact: 'foot:0,0,x' is not LINK:x,y,z"),
+    (["simulate", "--contact", ":0,0,0"], "argument --contact: ':0,0,0' is not LINK:x,y,z"),
+    (["simulate", "--contact", "foot:0,nan,0"], "argument --contact: 'foot:0,nan,0': the point must be 3 finite"),
+    (["simulate", "littledog", "--ground", "--no-ground"], "argument --no-ground: not allowed with argument --ground"),
 ])
 def test_bad_numbers_are_refused_naming_the_flag(argv, says, capsys):
     with pytest.raises(SystemExit) as e:
@@ -199,17 +210,114 @@ def test_the_speed_figure_is_the_integrators_own_time(tmp_path, capsys):
 
 
 def test_a_floating_base_is_said_to_free_fall(tmp_path, capsys):
-    assert main(["simulate", "littledog", "--duration", "0.05", "--no-progress", "--no-plot",
+    """Without the ground (--no-ground for the robots, which stand on it by default): the note, the free fall."""
+    assert main(["simulate", "littledog", "--no-ground", "--duration", "0.05", "--no-progress", "--no-plot",
                  "--output", str(tmp_path)]) == 0
     out = capsys.readouterr().out
-    assert "floating base" in out and "no ground" in out and "free-falls" in out and "0.0123 m in 0.05 s" in out
+    assert "floating base" in out and "no ground (--no-ground" in out and "free-falls" in out
+    assert "0.0123 m in 0.05 s" in out and "order 4" in out and "landed" not in out
+    summary = json.loads((tmp_path / "simulate.json").read_text())
+    assert summary["ground"] is False and summary["energy_error_max_relative"] < 1e-8
     (tmp_path / "arm.urdf").write_text(URDF_2DOF)
     assert main(["simulate", str(tmp_path / "arm.urdf"), "--duration", "0.05", "--no-progress", "--no-plot",
                  "--output", str(tmp_path)]) == 0
     assert "free-falls" not in capsys.readouterr().out
     assert main(["simulate", str(tmp_path / "arm.urdf"), "--base", "floating", "--duration", "0.05", "--no-progress",
                  "--no-plot", "--output", str(tmp_path)]) == 0
-    assert "floating base" in capsys.readouterr().out
+    out = capsys.readouterr().out
+    assert "floating base" in out and "free-falls" in out and "--ground with --contact LINK:x,y,z" in out
+
+
+def test_a_robot_lands_and_stands_on_the_ground_by_default(tmp_path, capsys):
+    """hovi simulate littledog: the standing scene dropped from 3 cm lands, stands and carries its weight."""
+    assert main(["simulate", "littledog", "--duration", "1", "--no-progress", "--output", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "order 2 (s = 1), dt = 0.005 s, 200 steps; standing on the ground" in out and "free-falls" not in out
+    assert "landed at t = " in out and "of the weight" in out and "steps/s" in out and "on 4 of 4 contacts" in out
+    s = json.loads((tmp_path / "simulate.json").read_text())
+    assert s["ground"] and s["converged"] and s["order"] == 2 and s["contacts"] == 4
+    # dropped from 0.03 m: about sqrt(2 0.03 / 9.81) = 0.078 s of fall (in 0.005 s steps)
+    assert 0.06 <= s["landing_time"] <= 0.09
+    assert s["max_penetration"] <= 1e-9 and s["gap_min"] >= -1e-9
+    assert s["weight"] == pytest.approx(2.7464 * 9.81, rel=1e-4)
+    assert s["weight_carried"] == pytest.approx(1.0, abs=1e-4) and s["active_contacts_end"] == 4
+    assert s["base_height_end"] == pytest.approx(0.146, abs=2e-3) and s["base_moved_end"] < 1e-4
+    assert (tmp_path / "contact_forces.png").stat().st_size > 1000 and not (tmp_path / "energy_error.png").exists()
+    assert "wrote " + str(tmp_path) + "/contact_forces.png" in out
+
+
+def test_a_urdf_on_the_ground_with_contact_points(tmp_path, capsys):
+    """--contact LINK:x,y,z (repeatable) and --mu put any model on the ground; a floating base starts --drop
+    above it; a fixed base is not moved."""
+    (tmp_path / "arm.urdf").write_text(URDF_2DOF)
+    arm = str(tmp_path / "arm.urdf")
+    assert main(["simulate", arm, "--base", "floating", "--contact", "c:0,0,-0.2", "--contact", "b:0,0,0",
+                 "--contact", "a", "--mu", "0.5", "--drop", "0.05", "--duration", "1", "--no-progress", "--no-plot",
+                 "--output", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "on the ground with 3 contact point(s), mu = 0.5, dropped from 0.05 m" in out and "free-falls" not in out
+    s = json.loads((tmp_path / "simulate.json").read_text())
+    assert s["ground"] and s["contacts"] == 3 and s["order"] == 2 and s["dt"] == 0.005
+    assert 0.09 <= s["landing_time"] <= 0.11  # sqrt(2 0.05 / 9.81) = 0.101 s
+    assert s["max_penetration"] <= 1e-9 and s["active_contacts_end"] >= 1
+    # a fixed base whose contact point hangs below the ground: refused, naming what to change
+    assert main(["simulate", arm, "--contact", "c:0,0,0", "--no-progress", "--no-plot", "--output", str(tmp_path)]) == 2
+    err = capsys.readouterr().err
+    assert "argument --contact: the contact points start below the ground" in err and "--ground-height" in err
+    assert main(["simulate", arm, "--contact", "c:0,0,0", "--ground-height", "-1.5", "--duration", "0.1",
+                 "--no-progress", "--no-plot", "--output", str(tmp_path)]) == 0
+    capsys.readouterr()
+
+
+@pytest.mark.parametrize("argv, says", [
+    (["--base", "floating", "--ground"], "the ground needs contact points: give --contact LINK:x,y,z"),
+    (["--base", "floating", "--contact", "foot:0,0,0"], "argument --contact: no link 'foot' in this model; its links:"),
+    (["--contact", "a:0,0,0"], "(the root link of a fixed base is the world)"),
+    (["--base", "floating", "--contact", "c", "--no-ground"], "argument --contact: contact needs the ground"),
+    (["--base", "floating", "--mu", "0", "--no-ground"], "argument --mu: contact needs the ground"),
+    (["--mu", "0.5"], "the ground needs contact points: give --contact LINK:x,y,z"),
+    (["--base", "floating", "--contact", "c", "--order", "4"], "argument --order: the contact simulation"),
+])
+def test_the_ground_without_what_it_needs_is_refused_naming_the_flag(argv, says, tmp_path, capsys):
+    (tmp_path / "arm.urdf").write_text(URDF_2DOF)
+    assert main(["simulate", str(tmp_path / "arm.urdf")] + argv + ["--no-progress", "--no-plot",
+                                                                   "--output", str(tmp_path)]) == 2
+    err = capsys.readouterr().err
+    assert says in err and len(err.strip().splitlines()) == 1 and "Traceback" not in err
+
+
+@pytest.mark.parametrize("argv, says", [
+    (["--no-ground", "--mu", "0.5"], "argument --mu: contact needs the ground"),
+    (["--contact", "body:0,0,0"], "argument --contact: the built-in robot 'littledog' has its feet"),
+    (["--order", "4"], "argument --order: the contact simulation (on the ground) is of order 2"),
+])
+def test_a_robot_on_the_ground_refuses_what_does_not_apply(argv, says, tmp_path, capsys):
+    assert main(["simulate", "littledog"] + argv + ["--no-progress", "--no-plot", "--output", str(tmp_path)]) == 2
+    err = capsys.readouterr().err
+    assert says in err and "Traceback" not in err
+
+
+def test_the_ground_animation_draws_the_terrain_and_contact_force_arrows(tmp_path, capsys):
+    """animation.html holds an arrow (shaft and head) per contact, animated (scaled to nothing before the
+    landing), and the ground grid; the video shows red arrows once the robot stands."""
+    pytest.importorskip("hovi.viewer", reason="hovi[viewer] is not installed")
+    import imageio.v3 as iio
+    import test_viewer
+    assert main(["simulate", "littledog", "--duration", "0.4", "--no-progress", "--no-plot", "--animate", "--fps", "10",
+                 "--output", str(tmp_path)]) == 0
+    html = tmp_path / "animation.html"
+    objects = test_viewer.scene_objects(html)
+    assert objects.get("/meshcat/hovi/ground/grid") == "LineSegments"
+    for c, name in enumerate(("fl_foot", "fr_foot", "bl_foot", "br_foot")):
+        for part in ("shaft", "head"):
+            assert objects.get(f"/meshcat/hovi/forces/{c:02d}_{name}/{part}") == "Mesh"
+    tracks = test_viewer.animation_tracks(html)
+    scale = tracks["/meshcat/hovi/forces/00_fl_foot/shaft"][".scale"]
+    assert scale[0][1][1] < 1e-5 and scale[-1][1][1] > 1e-3  # hidden in the air at t = 0, shown standing at t = 0.4
+    frames = iio.imread(tmp_path / "animation.mp4", index=None)
+    assert frames.shape[0] == 5
+    red = [int(((f[..., 0] > 170) & (f[..., 1] < 80) & (f[..., 2] < 80)).sum()) for f in frames]
+    assert red[0] < 20 and red[-1] > 100, red
 
 
 def test_optimize_writes_a_trajectory_file(tmp_path, capsys):

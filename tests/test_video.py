@@ -112,3 +112,64 @@ def test_bad_arguments_raise(tmp_path):
         video.render_video(model, np.zeros((2, 2)), tmp_path / "a.avi")
     with pytest.raises(ValueError, match="multiples of 16"):
         video.render_video(model, np.zeros((2, 2)), tmp_path / "a.mp4", size=(100, 100))
+
+
+def test_terrain_scene_cuts_the_gaps_and_clips_the_boxes():
+    from hovi.contact import Box, Gap, Terrain
+    terrain = Terrain(ground=0.1, gaps=[Gap(0.2, 0.4, 0.5), Gap(30.0, 31.0)], boxes=[Box(-0.3, -0.1, 0.3), Box(20, 21, 1)])
+    lines, shapes = video.terrain_scene(terrain, np.array([[0.0, 0.0, 0.0], [1.0, 0.5, 0.5]]))
+    assert np.all(lines[..., 2] == 0.1)
+    xs = lines[..., 0]
+    inside = (xs > 0.2 + 1e-12) & (xs < 0.4 - 1e-12)
+    assert not inside.any()  # no line end in the gap, and no line along x crosses it:
+    assert not ((xs.min(axis=1) < 0.3) & (xs.max(axis=1) > 0.3)).any()
+    assert len(lines) > 20
+    lo, hi = lines[..., :2].reshape(-1, 2).min(axis=0), lines[..., :2].reshape(-1, 2).max(axis=0)
+    names = {s.name: s for s in shapes}
+    assert set(names) == {"terrain_gap_0", "terrain_box_0"}  # the far gap and box are out of view
+    gap, box = names["terrain_gap_0"], names["terrain_box_0"]
+    assert all(s.body == -1 and s.kind == "box" for s in shapes)
+    assert gap.size[0] == pytest.approx(0.2) and gap.size[1] == pytest.approx(hi[1] - lo[1])
+    assert gap.origin[2, 3] + gap.size[2] / 2 < 0.1  # just under the ground
+    assert box.size[:2] == pytest.approx([0.2, hi[1] - lo[1]])  # infinite in y: cut at the grid
+    assert box.origin[2, 3] + box.size[2] / 2 == pytest.approx(0.3) and box.origin[2, 3] - box.size[2] / 2 < 0.1
+
+
+def test_contact_force_arrows(tmp_path):
+    """ForceArrows of a landing: none in the air, the mean force of the frame's steps (an impact's
+    impulse over the frame), at the end the weight's length over the four feet; the video draws
+    them red, with the terrain."""
+    import imageio.v3 as iio
+    from hovi.contact import Terrain
+    from hovi.geometry import sample_configurations
+    from test_viewer import littledog_landing
+    st, traj, arrows = littledog_landing()
+    assert arrows.forces.shape == (60, 4, 3) and arrows.times[1] == pytest.approx(0.005)
+    frame_t, frames_q = sample_configurations(traj.q, traj.t, 20)
+    origins, vectors, shown = arrows.frames(st.model, frame_t, frames_q, 1 / 20)
+    assert not shown[0].any() and shown[-1].all()
+    unit = arrows.scale(st.model, traj.q[0]) * arrows.weight
+    assert vectors[-1].sum(axis=0)[2] == pytest.approx(unit, rel=1e-3)
+    c = traj.contact
+    k = np.flatnonzero(c.active.any(axis=1))[0]  # the landing step; frames are 10 steps apart
+    f = int(round(traj.t[k] * 20))
+    window = (traj.t[:60] >= frame_t[f] - 0.025 - 1e-12) & (traj.t[:60] < frame_t[f] + 0.025 - 1e-12)  # half a frame
+    assert window.sum() == 10
+    mean = (c.world_impulses[window] / 0.005).mean(axis=0)
+    np.testing.assert_allclose(vectors[f], mean * unit / arrows.weight, rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(origins[-1, :, 2], 0.0, atol=2e-3)  # where the feet touch the ground
+    frames = iio.imread(video.render_video(st.model, traj, tmp_path / "ld.gif", fps=20, size=(320, 240),
+                                           terrain=Terrain(), arrows=arrows, time_stamp=False), index=None)
+    red = [int(((f[..., 0] > 170) & (f[..., 1] < 80) & (f[..., 2] < 80)).sum()) for f in frames]
+    assert red[0] < 5 and red[-1] > 30, red
+    with pytest.raises(ValueError, match="ground or terrain, not both"):
+        video.render_video(st.model, traj, tmp_path / "x.gif", ground=0.0, terrain=Terrain())
+    with pytest.raises(TypeError, match="arrows must be a hovi.video.ForceArrows"):
+        video.render_video(st.model, traj, tmp_path / "x.gif", arrows=np.zeros(3))
+    with pytest.raises(ValueError, match="forces must be"):
+        video.ForceArrows([1], np.zeros((1, 3)), np.zeros(2), np.zeros((3, 1, 3)), 1.0)
+    with pytest.raises(ValueError, match="weight must be"):
+        video.ForceArrows([1], np.zeros((1, 3)), np.zeros(2), np.zeros((2, 1, 3)), 0.0)
+    with pytest.raises(ValueError, match="no contact record"):
+        video.ForceArrows.from_contacts(hovi.Integrator(hovi.examples.models.pendulum(1), s=1, dt=0.1).rollout(
+            np.zeros(1), 2), st.contacts)

@@ -30,6 +30,16 @@ def scene_objects(html):
     return {c["path"]: c["object"]["object"]["type"] for c in commands if c["type"] == "set_object"}
 
 
+def animation_tracks(html):
+    """{path: {track name: [(frame, value), ...]}} of the set_animation command of an exported HTML file."""
+    import umsgpack
+    blobs = re.search(r"for \(const blob of \[(.*?)\]\)", Path(html).read_text(), re.S).group(1)
+    commands = [umsgpack.unpackb(base64.b64decode(b)) for b in re.findall(r'"([A-Za-z0-9+/=]+)"', blobs)]
+    animation = next(c for c in commands if c["type"] == "set_animation")
+    return {a["path"]: {t["name"]: [(k["time"], k["value"]) for k in t["keys"]] for t in a["clip"]["tracks"]}
+            for a in animation["animations"]}
+
+
 def drawn_box(image, background, threshold=40):
     """(width, height) fractions of the frame spanned by the pixels that differ from background."""
     rows, cols = np.nonzero(np.abs(image.astype(int) - background.astype(int)).max(axis=2) > threshold)
@@ -114,6 +124,56 @@ def test_markers_and_arrows_are_drawn(tmp_path):
     marked.delete_markers()
     c = screenshot(marked.export_html(tmp_path / "cleared.html"), tmp_path / "cleared.png")
     assert changed_fraction(a, c) < 0.0005
+
+
+def littledog_landing(steps=60):
+    """LittleDog's standing scene dropped from 2 cm, 0.3 s, and its contact forces as arrows."""
+    from hovi.examples.standing import standing
+    from hovi.video import ForceArrows
+    st = standing("littledog")
+    q0 = st.q0.copy()
+    q0[2] += 0.02
+    traj = st.integrator.rollout(q0, steps, u=st.u)
+    arrows = ForceArrows.from_contacts(traj, st.contacts, radius=st.robot.contact_radius,
+                                       names=[c.name for c in st.robot.contacts])
+    return st, traj, arrows
+
+
+def test_terrain_and_contact_force_arrows(tmp_path):
+    """A contact simulation's animation: the terrain's gap and box as world shapes, an arrow per contact
+    (shaft and head) animated with the motion, hidden in the air, as long as the force over the weight
+    times the model's size when it stands; drawn over the model (a screenshot differs from one without)."""
+    from hovi.contact import Box, Gap, Terrain
+    st, traj, arrows = littledog_landing()
+    terrain = Terrain(gaps=[Gap(0.25, 0.4, 0.3)], boxes=[Box(-0.5, -0.3, 0.05, y0=-0.1)])
+    html = viewer.animation_html(st.model, traj, tmp_path / "ld.html", fps=20, terrain=terrain, arrows=arrows)
+    objects = scene_objects(html)
+    assert objects.get("/meshcat/hovi/ground/grid") == "LineSegments"
+    assert objects.get("/meshcat/hovi/world/terrain_gap_0") == objects.get("/meshcat/hovi/world/terrain_box_0") == "Mesh"
+    tracks = animation_tracks(html)
+    shafts = [f"/meshcat/hovi/forces/{c:02d}_{name}/shaft" for c, name in enumerate(arrows.names)]
+    frames = len(tracks["/meshcat/hovi/bodies/000_body_x"][".position"])
+    assert frames == 7  # 0.3 s at 20 frames per second
+    for path in shafts + [p.replace("shaft", "head") for p in shafts]:
+        assert {".position", ".quaternion", ".scale"} <= set(tracks[path]) and len(tracks[path][".scale"]) == frames
+        assert tracks[path][".scale"][0][1] == pytest.approx([1e-6] * 3)  # in the air at t = 0
+    unit = arrows.scale(st.model, traj.q[0]) * arrows.weight  # the weight's length
+    head = 6 * 0.012 * unit
+    standing = sum(tracks[p][".scale"][-1][1][1] + head for p in shafts)
+    assert standing == pytest.approx(unit, rel=1e-2)  # the four forces carry the weight
+    # on flat ground (the camera on the robot): the arrows show, over the legs
+    plain = viewer.animation_html(st.model, traj, tmp_path / "plain.html", fps=20, terrain=Terrain())
+    assert not any(p.startswith("/meshcat/hovi/forces") for p in scene_objects(plain))
+    flat = viewer.animation_html(st.model, traj, tmp_path / "flat.html", fps=20, terrain=Terrain(), arrows=arrows)
+    a = screenshot(plain, tmp_path / "plain.png", "t=0.3")
+    b = screenshot(flat, tmp_path / "arrows.png", "t=0.3")
+    assert changed_fraction(a, b) * a.shape[0] * a.shape[1] > 500
+    with pytest.raises(ValueError, match="ground or terrain, not both"):
+        viewer.animation_html(st.model, traj, tmp_path / "x.html", ground=0.0, terrain=terrain)
+    with pytest.raises(TypeError, match="arrows must be a hovi.video.ForceArrows"):
+        viewer.Viewer(st.model, server=False).play(traj, arrows="forces")
+    with pytest.raises(TypeError, match="terrain must be a hovi.contact.Terrain"):
+        viewer.Viewer(st.model, server=False).add_terrain(0.0)
 
 
 def test_html_is_standalone():

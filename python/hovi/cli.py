@@ -8,11 +8,13 @@ import sys
 import threading
 import time
 import warnings
-from typing import Optional, Tuple
+from dataclasses import dataclass
+from typing import List, Optional, Tuple
 
 import numpy as np
 
 from . import Model, __version__
+from .contact import Contacts
 from .examples import MODEL, OPTIMIZATION, ROBOT, ROBOT_EXAMPLE, entries, get, names
 from .integrator import ConvergenceError, Integrator
 
@@ -92,18 +94,137 @@ def initial_state(model: Model, spread: float, seed: int):
     return np.clip(q0, np.where(np.isfinite(lo), lo, -np.inf), np.where(np.isfinite(hi), hi, np.inf))
 
 
+#: The built-in robots that stand on their terrain in ``hovi simulate`` unless --no-ground
+#: (``hovi.examples.standing``: joint PD about the nominal pose and static feed-forward torques).
+STANDING = ("spring_flamingo", "littledog", "atlas")
+DROP = 0.03      # m: how far above the ground the lowest contact point starts (--drop)
+MU = 0.8         # the friction coefficient of --contact points without --mu (the robot examples' ground)
+GROUND_DT = 0.005  # s: the time step with the ground without --dt (the standing scenes')
+
+
+@dataclass
+class GroundScene:
+    """What ``hovi simulate`` runs on the ground: the integrator with its contacts, the initial
+    state, the controls, and what the report and the animation need."""
+    model: Model           # the simulated model (a robot's: with its PD springs and dampers)
+    integrator: Integrator
+    contacts: Contacts
+    q0: np.ndarray
+    u: Optional[np.ndarray]
+    radius: float          # contact points at the centres of foot spheres of this radius (0: points)
+    names: List[str]       # of the contacts
+    what: str              # one line: what is simulated
+
+
+def base_coordinates(base: str) -> Tuple[int, int]:
+    """(number of base coordinates, index of the base's height z) of a 'floating' (x, y, z, yaw,
+    pitch, roll) or 'planar' (x, z, pitch) base; (0, -1) for 'fixed'."""
+    return {"floating": (6, 2), "planar": (3, 1)}.get(base, (0, -1))
+
+
+def wants_ground(args, spec_is_robot: bool) -> bool:
+    """Whether to simulate on the ground: --ground, --no-ground, else for the built-in robots and
+    when --contact or --mu is given. ValueError naming the flag for --contact or --mu with --no-ground."""
+    given = {"--contact": bool(args.contact), "--mu": args.mu is not None}
+    if args.ground is False:
+        for flag, value in given.items():
+            if value:
+                raise ValueError(f"argument {flag}: contact needs the ground; leave out --no-ground (or {flag})")
+        return False
+    return bool(args.ground) or spec_is_robot or any(given.values())
+
+
+def lift(contacts: Contacts, q0: np.ndarray, base: str, drop: float) -> np.ndarray:
+    """q0 with the base's height set so that the lowest contact point is ``drop`` m above the
+    terrain; a fixed base cannot be lifted: ValueError if a contact point starts below it."""
+    q0 = q0.copy()
+    gaps = contacts.gaps(q0)
+    _, z = base_coordinates(base)
+    if z >= 0:
+        q0[z] += drop - float(gaps.min())
+    elif gaps.min() < 0:
+        raise ValueError(f"argument --contact: the contact points start below the ground (the lowest "
+                         f"{-gaps.min():.3g} m under it) and a fixed base cannot be lifted; give a lower "
+                         f"--ground-height, or another --seed or --spread")
+    return q0
+
+
+def ground_scene(args, model: Model, base: str, robot_name: Optional[str]) -> GroundScene:
+    """The contact simulation of ``hovi simulate`` with the ground: a built-in robot's standing
+    scene (``hovi.examples.standing``) dropped from --drop, or the model with the --contact points,
+    its joints at random (--spread, --seed) and its base lifted to --drop above the ground.
+    ValueError naming the flag for what is missing or wrong."""
+    from .contact import Terrain
+    from .contact.contacts import friction_coefficient
+    if args.order not in (None, 2):
+        raise ValueError(f"argument --order: the contact simulation (on the ground) is of order 2 (s = 1, inelastic "
+                         f"impacts), got {args.order}; leave out --order, or give --no-ground for the free fall")
+    mu = MU if args.mu is None else friction_coefficient(args.mu, "--mu")
+    plane = "xz" if base == "planar" else ""
+    rng = np.random.default_rng(args.seed)
+    nb, _ = base_coordinates(base)
+    if robot_name is not None:
+        from .examples.standing import MU as STANDING_MU, standing
+        if args.contact:
+            raise ValueError(f"argument --contact: the built-in robot '{robot_name}' has its feet as its contact "
+                             f"points; --contact is for a URDF file or another model")
+        st = standing(robot_name, dt=args.dt)
+        mu = STANDING_MU if args.mu is None else mu
+        radius = float(st.robot.contact_radius)
+        integ, contacts = st.integrator, st.contacts
+        if args.mu is not None or args.ground_height != 0.0:
+            contacts = Contacts(st.model, st.robot.contact_points, Terrain(ground=args.ground_height + radius), mu=mu,
+                                plane=plane)
+            integ = Integrator(st.model, s=1, dt=st.integrator.dt, contacts=contacts)
+        q0 = st.q0.copy()
+        spread = 0.0 if args.spread is None else args.spread
+        q0[nb:] += rng.uniform(-spread, spread, model.n - nb)
+        return GroundScene(st.model, integ, contacts, lift(contacts, q0, base, args.drop), st.u, radius,
+                           [c.name for c in st.robot.contacts],
+                           f"standing on the ground (joint PD about its standing pose and static feed-forward "
+                           f"torques, hovi.examples.standing), dropped from {args.drop:g} m; mu = {mu:g}")
+    if not args.contact:
+        raise ValueError(f"the ground needs contact points: give --contact LINK:x,y,z (repeatable; a point of a link "
+                         f"in the link's frame, m) and optionally --mu (default {MU:g}); the model's links: "
+                         f"{', '.join(model.body_names)}")
+    for link, _ in args.contact:
+        if link not in model.body_names:
+            raise ValueError(f"argument --contact: no link '{link}' in this model; its links: "
+                             f"{', '.join(model.body_names)}" + (" (the root link of a fixed base is the world)"
+                                                                 if base == "fixed" else ""))
+    contacts = Contacts(model, list(args.contact), Terrain(ground=args.ground_height), mu=mu, plane=plane)
+    dt = GROUND_DT if args.dt is None else args.dt
+    integ = Integrator(model, s=1, dt=dt, tol=args.tol, contacts=contacts)
+    q0 = initial_state(model, np.pi / 12 if args.spread is None else args.spread, args.seed)
+    q0[:nb] = 0.0
+    return GroundScene(model, integ, contacts, lift(contacts, q0, base, args.drop), None, 0.0,
+                       [f"{link}_{i}" for i, (link, _) in enumerate(args.contact)],
+                       f"on the ground with {len(args.contact)} contact point(s), mu = {mu:g}"
+                       + (f", dropped from {args.drop:g} m" if base != "fixed" else ""))
+
+
 def cmd_simulate(args) -> int:
     model, base = resolve_model(args.model, args.base)
-    integ = Integrator(model, order=args.order, dt=args.dt, tol=args.tol)
-    steps = int(round(args.duration / args.dt))
-    q0 = initial_state(model, args.spread, args.seed)
+    robot_name = args.model if not os.path.isfile(args.model) and args.model in STANDING else None
+    scene = ground_scene(args, model, base, robot_name) if wants_ground(args, robot_name is not None) else None
+    if scene is None:
+        if args.order is None:
+            args.order = 4
+        dt = 0.01 if args.dt is None else args.dt
+        integ = Integrator(model, order=args.order, dt=dt, tol=args.tol)
+        q0 = initial_state(model, np.pi / 12 if args.spread is None else args.spread, args.seed)
+        u = None
+    else:
+        model, integ, q0, u = scene.model, scene.integrator, scene.q0, scene.u
+        dt = integ.dt
+    steps = int(round(args.duration / dt))
     print(f"{args.model}: {model.n} DoF, {model.total_mass:.4g} kg; order {integ.order} (s = {integ.s}), "
-          f"dt = {args.dt} s, {steps} steps")
-    if base != "fixed":
-        print(free_fall_note(model, base, steps * args.dt))
+          f"dt = {dt} s, {steps} steps" + ("" if scene is None else f"; {scene.what}"))
+    if base != "fixed" and scene is None:
+        print(free_fall_note(model, base, steps * dt, robot_name is not None))
     t0 = time.perf_counter()
     try:
-        traj = integ.rollout(q0, steps, progress=not args.no_progress)
+        traj = integ.rollout(q0, steps, u=u, progress=not args.no_progress)
     except ConvergenceError as e:
         print(f"error: {e}", file=sys.stderr)
         traj = e.trajectory
@@ -116,40 +237,105 @@ def cmd_simulate(args) -> int:
     energy = traj.energy
     rel = np.abs(energy - energy[0]) / max(abs(energy[0]), 1e-300)
     summary = {
-        "model": args.model, "dof": model.n, "order": integ.order, "dt": args.dt, "steps": traj.steps,
+        "model": args.model, "dof": model.n, "order": integ.order, "dt": dt, "steps": traj.steps,
         "solve_seconds": solve, "wall_time_s": wall, "steps_per_second": traj.steps / solve,
         "newton_iterations_mean": float(traj.iterations.mean()), "newton_iterations_max": int(traj.iterations.max()),
         "factorizations_mean": float(traj.factorizations.mean()),
-        "energy_initial": float(energy[0]), "energy_error_max_relative": float(rel.max()),
-        "energy_error_final_relative": float(rel[-1]), "converged": traj.converged,
+        "energy_initial": float(energy[0]), "energy_final": float(energy[-1]),
+        "energy_error_max_relative": float(rel.max()),
+        "energy_error_final_relative": float(rel[-1]), "converged": traj.converged, "ground": scene is not None,
     }
     print(f"{summary['steps_per_second']:.0f} steps/s ({solve:.3g} s in the integrator; {wall:.3g} s wall"
           f"{'' if args.no_progress else ' with the progress bar'}), Newton iterations per step: "
           f"mean {summary['newton_iterations_mean']:.2f}, max {summary['newton_iterations_max']} "
           f"(Jacobian factorisations per step: mean {summary['factorizations_mean']:.2f})")
-    print(f"energy E0 = {energy[0]:.6g} J, max relative error {rel.max():.2e}, final {rel[-1]:.2e}")
+    if scene is None:
+        print(f"energy E0 = {energy[0]:.6g} J, max relative error {rel.max():.2e}, final {rel[-1]:.2e}")
+    else:
+        print(f"energy E0 = {energy[0]:.6g} J, final {energy[-1]:.6g} J (not conserved on the ground: impacts, "
+              f"friction and any dampers dissipate it)")
+        summary.update(contact_report(scene, traj, base))
     os.makedirs(args.output, exist_ok=True)
     with open(os.path.join(args.output, "simulate.json"), "w") as f:
         json.dump(summary, f, indent=2)
     if not args.no_plot:
-        from .plotting import plot_configuration, plot_energy_error
+        from .plotting import plot_configuration, plot_contact_forces, plot_energy_error
         name = os.path.basename(args.model)
-        plot_energy_error(traj.t, energy, os.path.join(args.output, "energy_error.png"),
-                          f"{name}, order {integ.order}, dt = {args.dt} s")
+        if scene is None:
+            first = "energy_error.png"
+            plot_energy_error(traj.t, energy, os.path.join(args.output, first),
+                              f"{name}, order {integ.order}, dt = {dt} s")
+        else:
+            first = "contact_forces.png"
+            c = traj.contact
+            plot_contact_forces(traj.t[:c.normal.shape[0]], c.world_impulses[..., 2] / dt, summary["weight"],
+                                os.path.join(args.output, first), scene.names, f"{name} on the ground, dt = {dt} s")
         plot_configuration(model, traj.q[-1], os.path.join(args.output, "final_configuration.png"),
                            f"{name} at t = {traj.t[-1]:.3g} s")
-        print(f"wrote {args.output}/energy_error.png, final_configuration.png, simulate.json")
+        print(f"wrote {args.output}/{first}, final_configuration.png, simulate.json")
     if args.animate:
-        write_animation(model, traj, args, ground=None if base == "fixed" else 0.0)
+        if scene is None:
+            write_animation(model, traj, args, ground=None if base == "fixed" else 0.0)
+        else:
+            from .video import ForceArrows
+            arrows = ForceArrows.from_contacts(traj, scene.contacts, summary["weight"], scene.radius,
+                                               names=scene.names)
+            write_animation(model, traj, args, terrain=visible_terrain(scene.contacts.terrain, scene.radius),
+                            arrows=arrows)
     return 0 if traj.converged else 1
 
 
-def free_fall_note(model: Model, base: str, duration: float) -> str:
-    """The note for a model whose root is not welded to the world: no ground yet, so it falls."""
+def visible_terrain(terrain, radius: float):
+    """The terrain as drawn: the surface that foot spheres of ``radius`` touch, ``radius`` below the
+    one their centres (the contact points) meet."""
+    from .contact import Box, Terrain
+    if radius == 0:
+        return terrain
+    return Terrain(ground=terrain.ground - radius, gaps=list(terrain.gaps),
+                   boxes=[Box(b.x0, b.x1, b.top - radius, b.y0, b.y1) for b in terrain.boxes])
+
+
+def contact_report(scene: GroundScene, traj, base: str) -> dict:
+    """Print and return the contact figures of a rollout on the ground: the landing time (the first
+    step with a contact impulse), the deepest penetration (min of the gaps), the contact force at
+    the end against the weight, and how far the base moved in the last second (or half, if shorter)."""
+    c, dt = traj.contact, traj.t[1] - traj.t[0]
+    model = scene.model
+    weight = float(model.total_mass * np.linalg.norm(np.asarray(model.gravity, dtype=float)))
+    touched = np.flatnonzero(c.active.any(axis=1))
+    landing = float(traj.t[touched[0]]) if len(touched) else None
+    gap_min = float(c.gaps.min())
+    force = c.world_impulses[-1].sum(axis=0) / dt
+    active = int(c.active[-1].sum())
+    out = {"contacts": len(scene.names), "landing_time": landing, "gap_min": gap_min,
+           "max_penetration": max(0.0, -gap_min), "contact_force_end": force.tolist(), "weight": weight,
+           "weight_carried": float(force[2] / weight), "active_contacts_end": active}
+    if landing is None:
+        print(f"no contact in {traj.t[-1]:.3g} s: the lowest contact point stays {gap_min:.3g} m or more above the ground")
+    else:
+        print(f"landed at t = {landing:.4g} s; deepest penetration {max(0.0, -gap_min):.2e} m (smallest gap "
+              f"{gap_min:.2e} m)")
+    print(f"at the end: contact force {force[2]:.6g} N up ({force[2] / weight:.6f} of the weight, {weight:.6g} N) on "
+          f"{active} of {len(scene.names)} contacts; horizontal {np.hypot(force[0], force[1]):.3g} N")
+    nb, z = base_coordinates(base)
+    if nb:
+        position = [0, 1, 2] if base == "floating" else [0, 1]
+        k0 = max(0, traj.steps - int(round(min(1.0, traj.t[-1] / 2) / dt)))  # the last second, or half
+        moved = float(np.linalg.norm(traj.q[-1, position] - traj.q[k0, position]))
+        out.update({"base_height_end": float(traj.q[-1, z]), "base_moved_end": moved,
+                    "base_moved_window": float(traj.t[-1] - traj.t[k0])})
+        print(f"the base ends at z = {traj.q[-1, z]:.6g} m and moved {moved:.2e} m in the last "
+              f"{traj.t[-1] - traj.t[k0]:.3g} s")
+    return out
+
+
+def free_fall_note(model: Model, base: str, duration: float, robot: bool = False) -> str:
+    """The note for a model whose root is not welded to the world, simulated without the ground: it falls."""
     g = float(np.linalg.norm(np.asarray(model.gravity, dtype=float)))
-    return (f"note: this model has a {base} base and hovi simulate has no ground or contact (not yet): the robot "
-            f"free-falls under gravity, about {0.5 * g * duration ** 2:.3g} m in {duration:.3g} s; for a robot that "
-            f"stands and walks, see 'hovi example' (contact-implicit trajectory optimisation)")
+    how = ("--no-ground: leave it out for the robot standing on the ground" if robot else
+           "--ground with --contact LINK:x,y,z (points of its links) simulates it on the ground")
+    return (f"note: this model has a {base} base and no ground ({how}): the robot free-falls under gravity, about "
+            f"{0.5 * g * duration ** 2:.3g} m in {duration:.3g} s")
 
 
 def warn_missing_meshes(model: Model, package_dirs) -> None:
@@ -166,10 +352,11 @@ def warn_missing_meshes(model: Model, package_dirs) -> None:
             warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
 
 
-def write_animation(model: Model, traj, args, ground: Optional[float] = None) -> None:
+def write_animation(model: Model, traj, args, ground: Optional[float] = None, terrain=None, arrows=None) -> None:
     """animation.html (meshcat, standalone) and animation.mp4 (offline render, with a progress bar on
     a terminal unless --no-progress) in args.output; ``ground``: the height of a ground grid (a
-    floating or planar base), None for none."""
+    floating or planar base), None for none; ``terrain`` (a hovi.contact.Terrain) its ground, gaps
+    and boxes instead; ``arrows`` (hovi.video.ForceArrows): contact forces as arrows."""
     from .geometry import MeshNotFoundWarning
     from .video import render_video
     from .viewer import animation_html
@@ -178,11 +365,11 @@ def write_animation(model: Model, traj, args, ground: Optional[float] = None) ->
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", MeshNotFoundWarning)  # said once above
         html = animation_html(model, traj, os.path.join(args.output, "animation.html"), fps=args.fps,
-                              package_dirs=args.package_dir, ground=ground)
+                              package_dirs=args.package_dir, ground=ground, terrain=terrain, arrows=arrows)
         print(f"wrote {html} (open it in a browser: play, pause and scrub under Open Controls > Animations)")
         t0 = time.perf_counter()
         video = render_video(model, traj, os.path.join(args.output, "animation.mp4"), fps=args.fps,
-                             package_dirs=args.package_dir, ground=ground,
+                             package_dirs=args.package_dir, ground=ground, terrain=terrain, arrows=arrows,
                              progress=False if getattr(args, "no_progress", False) else None)
     print(f"wrote {video} ({time.perf_counter() - t0:.1f} s to render)")
 
@@ -424,6 +611,46 @@ count = number(int, ">= 1")
 seed = number(int, ">= 0")
 
 
+def finite(text: str) -> float:
+    """An argparse type: a finite number."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a number") from None
+    if not np.isfinite(value):
+        raise argparse.ArgumentTypeError(f"must be a finite number, got '{text}'")
+    return value
+
+
+def friction(text: str) -> float:
+    """An argparse type: a friction coefficient, a finite number >= 0 and at most MAX_FRICTION."""
+    from .contact.contacts import MAX_FRICTION
+    value = non_negative(text)
+    if value > MAX_FRICTION:
+        raise argparse.ArgumentTypeError(f"must be a friction coefficient from 0 to {MAX_FRICTION:g} (real ones are "
+                                         f"below about 2), got '{text}'")
+    return value
+
+
+def contact_point(text: str) -> Tuple[str, Tuple[float, float, float]]:
+    """An argparse type: LINK:x,y,z (a point of a link, in the link's frame, m), or LINK (its origin)."""
+    link, colon, xyz = text.rpartition(":")
+    if not colon:
+        link, xyz = text, "0,0,0"
+    shape = ("is not LINK:x,y,z (a link's name, a colon and 3 numbers: the point in the link's frame, in m), "
+             "e.g. foot:0,0,-0.05")
+    parts = xyz.split(",")
+    if not link.strip() or len(parts) != 3:
+        raise argparse.ArgumentTypeError(f"'{text}' {shape}")
+    try:
+        point = tuple(float(p) for p in parts)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' {shape}") from None
+    if not all(np.isfinite(point)):
+        raise argparse.ArgumentTypeError(f"'{text}': the point must be 3 finite numbers")
+    return link.strip(), point  # type: ignore[return-value]
+
+
 def add_model_args(p):
     p.add_argument("model", nargs="?", default="pendulum:32", help=model_listing() + " (default: pendulum:32)")
     p.add_argument("--base", default="fixed", choices=["fixed", "floating", "planar"],
@@ -445,18 +672,42 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="hovi", description="Higher-order variational integrators for robots.")
     parser.add_argument("--version", action="version", version=f"hovi {__version__}")
     sub = parser.add_subparsers(dest="command", required=True)
-    sim = sub.add_parser("simulate", help="simulate a model and report speed and energy error",
+    sim = sub.add_parser("simulate", help="simulate a model and report speed and energy error (robots: on the ground)",
                          description="Simulate from a random configuration at rest with the Galerkin variational "
                                      "integrator; print steps per second, Newton iterations per step and the "
-                                     "energy error; write plots and a JSON summary.")
+                                     "energy error; write plots and a JSON summary. The built-in robots "
+                                     f"({', '.join(STANDING)}) stand on the ground by default: dropped from a few cm, "
+                                     "they land and stand (joint PD and feed-forward torques; hard contact with "
+                                     "friction, order 2); the summary gives the landing time, the deepest "
+                                     "penetration and the contact force against the weight. Any other model goes on "
+                                     "the ground with --ground and its contact points (--contact).")
     add_model_args(sim)
-    sim.add_argument("--order", type=count, default=4, help="order of accuracy 2s: 2 trapezoidal, 4 Simpson, "
-                                                          "6, 8, ... (default: 4)")
-    sim.add_argument("--dt", type=positive, default=0.01, help="time step in seconds (default: 0.01)")
+    sim.add_argument("--order", type=count, default=None, help="order of accuracy 2s: 2 trapezoidal, 4 Simpson, "
+                                                             "6, 8, ... (default: 4; on the ground 2, the only one)")
+    sim.add_argument("--dt", type=positive, default=None,
+                     help=f"time step in seconds (default: 0.01; on the ground {GROUND_DT})")
     sim.add_argument("--duration", type=positive, default=10.0, help="simulated time in seconds (default: 10)")
-    sim.add_argument("--spread", type=non_negative, default=np.pi / 12,
+    sim.add_argument("--spread", type=non_negative, default=None,
                      help="initial joint positions uniform in [-spread, spread] rad or m (default: pi/12, the "
-                          "paper's Fig. 4 range; larger values make a long chain whip and need a smaller dt)")
+                          "paper's Fig. 4 range; larger values make a long chain whip and need a smaller dt); a "
+                          "built-in robot on the ground: offsets from its standing pose (default: 0)")
+    ground = sim.add_mutually_exclusive_group()
+    ground.add_argument("--ground", dest="ground", action="store_true", default=None,
+                        help="simulate on the ground with hard contact and Coulomb friction (the default for the "
+                             f"built-in robots {', '.join(STANDING)}; other models need --contact)")
+    ground.add_argument("--no-ground", dest="ground", action="store_false",
+                        help="no ground (for a built-in robot too): a floating or planar base free-falls, as "
+                             "before hovi had contact")
+    sim.add_argument("--contact", type=contact_point, action="append", default=[], metavar="LINK:x,y,z",
+                     help="a contact point of a link, in the link's frame (m) (repeatable; implies --ground): e.g. "
+                          "--contact foot:0,0,-0.05; the built-in robots have theirs")
+    sim.add_argument("--mu", type=friction, default=None,
+                     help=f"friction coefficient of the ground (default: {MU:g}; implies --ground)")
+    sim.add_argument("--drop", type=non_negative, default=DROP,
+                     help=f"on the ground, the lowest contact point starts this high above it, m (default: {DROP:g}); "
+                          "a fixed base is not moved")
+    sim.add_argument("--ground-height", type=finite, default=0.0,
+                     help="height of the ground plane, m (default: 0)")
     sim.add_argument("--tol", type=non_negative, default=0.0,
                      help="optional residual tolerance ||r|| <= tol (1 + ||p||) (default 0: converge to round-off)")
     sim.add_argument("--output", default="results", help="folder for the plots and JSON (default: results)")

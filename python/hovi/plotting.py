@@ -1,7 +1,7 @@
 """hovi.plotting: figures of simulations and optimisations as image files (matplotlib, Agg backend).
 
-What ``hovi simulate`` and ``hovi optimize`` write (``energy_error.png``, ``final_configuration.png``,
-``optimize_NAME.png``); each function takes arrays or a result and a path and draws without a
+What ``hovi simulate`` and ``hovi optimize`` write (``energy_error.png``, ``contact_forces.png``,
+``final_configuration.png``, ``optimize_NAME.png``); each function takes arrays or a result and a path and draws without a
 window. Curves per joint carry the joint's name in a legend; a configuration in space is drawn with
 equal axes (a metre is as long along x, y and z).
 """
@@ -38,6 +38,33 @@ def plot_energy_error(t, energy, path, title=""):
     ax.set_ylabel("|E - E0| / |E0|")
     ax.set_title(title or "energy error")
     ax.grid(True, which="both", alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def plot_contact_forces(t, forces, weight, path, labels=None, title=""):
+    """Vertical contact forces over time: each contact's (t (K,), forces (K, C) in N), their sum and
+    the weight (N) it carries when the robot stands; an impact's spike is cut at 3 times the weight
+    (its peak in the legend)."""
+    plt = pyplot()
+    t, forces = np.asarray(t, dtype=float), np.asarray(forces, dtype=float).reshape(len(t), -1)
+    labels = list(labels) if labels is not None else [f"contact {c}" for c in range(forces.shape[1])]
+    total = forces.sum(axis=1)
+    fig, ax = plt.subplots(figsize=(7, 3.5))
+    for c in range(forces.shape[1]):
+        ax.step(t, forces[:, c], where="post", lw=0.8, label=labels[c])
+    ax.step(t, total, where="post", lw=1.6, color="k",
+            label=f"sum (peak {total.max():.4g} N)" if len(total) else "sum")
+    ax.axhline(weight, color="tab:red", ls="--", lw=1, label=f"weight {weight:.4g} N")
+    top = max(3 * weight, 1e-9)
+    ax.set_ylim(min(0.0, float(forces.min(initial=0.0))) - 0.05 * top, min(top, max(1.2 * float(total.max(initial=0.0)),
+                                                                              1.2 * weight)))
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel("vertical contact force [N]")
+    ax.set_title(title or "contact forces")
+    ax.legend(fontsize=7, ncol=2, loc="upper right")
+    ax.grid(True, alpha=0.3)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)

@@ -5,13 +5,18 @@ browser, GPU or window is needed (``pip install hovi[viewer]``). Mesh files are 
 trimesh (STL, OBJ; DAE through pycollada) and, above ``max_faces`` triangles, simplified by
 vertex clustering. The camera looks at the whole motion from the side, as the HTML export does,
 and fits it to the frame; the axes are equal (a metre is as long along x, y and z). A frame shows
-its time (``t = 1.23 s``) and, with ``ground``, a ground grid; a progress bar (tqdm, on stderr)
-follows long renders.
+its time (``t = 1.23 s``) and, with ``ground``, a ground grid; with ``terrain`` (a
+``hovi.contact.Terrain``) its ground grid with the gaps left open and drawn as dark strips, and its boxes;
+with ``arrows`` (``ForceArrows``, e.g. a contact simulation's forces) an arrow per active contact;
+a progress bar (tqdm, on stderr) follows long renders.
+
+``terrain_scene`` and ``ForceArrows`` are shared with ``hovi.viewer`` (the HTML animation).
 """
 from __future__ import annotations
 
 import os
 import sys
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Dict, Iterable, List, Optional, Sequence, Tuple, Union
 
@@ -19,10 +24,181 @@ import numpy as np
 
 from ._core import Model
 from .geometry import (Motion, Shape, body_frames, ground_lines, model_shapes, motion_arrays, sample_configurations,
-                       transform_points)
+                       transform_points, translation)
 
 __all__ = ["render_video", "shape_triangles", "box_triangles", "cylinder_triangles", "sphere_triangles",
-           "cluster_vertices", "subdivide"]
+           "cluster_vertices", "subdivide", "terrain_scene", "ForceArrows"]
+
+#: Colours of the terrain's boxes and gaps and of force arrows.
+TERRAIN_BOX_RGBA = np.array([0.55, 0.6, 0.55, 1.0])
+TERRAIN_GAP_RGBA = np.array([0.22, 0.24, 0.27, 1.0])
+ARROW_RGBA = np.array([0.85, 0.1, 0.1, 1.0])
+
+
+def _terrain_check(terrain: Any) -> None:
+    from .contact.terrain import Terrain
+    if not isinstance(terrain, Terrain):
+        raise TypeError(f"terrain must be a hovi.contact.Terrain, got {type(terrain).__name__}")
+
+
+def terrain_scene(terrain: Any, points: np.ndarray, margin: float = 0.5,
+                  spacing: Optional[float] = None) -> Tuple[np.ndarray, List[Shape]]:
+    """What draws a ``hovi.contact.Terrain`` under a motion: (grid lines (L, 2, 3) on the ground
+    plane z = terrain.ground under ``points`` (K, 3) widened by ``margin`` m, as
+    ``hovi.geometry.ground_lines``, with the gaps cut out; world shapes (body -1): a dark strip per
+    gap just under the ground (a hole in the grid; seen from the side, a box as deep as the gap
+    would stand out as a wall), and a box per terrain box, from below the ground to its top), over the
+    grid's extent (infinite box sides and gaps are cut there; pieces outside it are left out).
+    The heights are the terrain's: for foot spheres, whose centres the terrain holds, pass the
+    terrain lowered by the radius."""
+    _terrain_check(terrain)
+    g = float(terrain.ground)
+    lines = ground_lines(points, g, margin, spacing)
+    lo, hi = lines[..., :2].reshape(-1, 2).min(axis=0), lines[..., :2].reshape(-1, 2).max(axis=0)
+    gaps = [(max(gap.x0, lo[0]), min(gap.x1, hi[0]), float(gap.depth)) for gap in terrain.gaps
+            if gap.x1 > lo[0] and gap.x0 < hi[0]]
+    kept = []
+    for a, b in lines:
+        if a[0] == b[0]:  # a line along y at x = a[0]: gone inside a gap
+            if not any(x0 < a[0] < x1 for x0, x1, _ in gaps):
+                kept.append((a, b))
+            continue
+        pieces = [(a[0], b[0])]  # a line along x: the pieces outside the gaps
+        for x0, x1, _ in gaps:
+            pieces = [p for u, v in pieces for p in ((u, min(v, x0)), (max(u, x1), v)) if p[1] - p[0] > 1e-12]
+        kept += [((u, a[1], g), (v, a[1], g)) for u, v in pieces]
+    shapes: List[Shape] = []
+
+    def box(name: str, x0: float, x1: float, y0: float, y1: float, z0: float, z1: float, rgba: np.ndarray) -> None:
+        size = np.array([x1 - x0, y1 - y0, z1 - z0])
+        shapes.append(Shape(-1, name, "box", size, translation(np.array([x0 + x1, y0 + y1, z0 + z1]) / 2), rgba))
+
+    for k, (x0, x1, depth) in enumerate(gaps):
+        box(f"terrain_gap_{k}", x0, x1, lo[1], hi[1], g - min(depth, 0.01), g - 1e-3, TERRAIN_GAP_RGBA)
+    for k, b in enumerate(terrain.boxes):
+        x0, x1 = max(b.x0, lo[0]), min(b.x1, hi[0])
+        y0, y1 = max(b.y0, lo[1]), min(b.y1, hi[1])
+        if x1 <= x0 or y1 <= y0:
+            continue
+        below = max([depth for gx0, gx1, depth in gaps if gx1 > x0 and gx0 < x1] + [0.02])
+        box(f"terrain_box_{k}", x0, x1, y0, y1, min(g, float(b.top)) - below, float(b.top), TERRAIN_BOX_RGBA)
+    return np.array(kept, dtype=float).reshape(-1, 2, 3), shapes
+
+
+@dataclass
+class ForceArrows:
+    """Forces at points of a model's bodies, drawn as arrows in ``render_video`` and
+    ``hovi.viewer`` (contact forces: ``from_contacts``).
+
+    bodies (C,) and points (C, 3): the points, each in its body's joint frame (as
+    ``hovi.contact.Contacts`` holds them); times (K,): when the forces (K, C, 3) (world, N) act,
+    e.g. a rollout's steps k dt; active (K, C): which to draw (default: the non-zero ones).
+    A force of ``weight`` N is drawn ``length`` m long (default: the size of the model, the largest
+    extent of its joint frames at the first frame); an arrow starts at its point moved by ``offset``
+    (3,) (e.g. down by a foot sphere's radius, to where it touches the ground). A frame draws the
+    mean force of the steps within half a frame (or a step) of its time, so that an impact's
+    impulse shows as the force it is over a frame, and an arrow where any of them was active."""
+    bodies: Sequence[int]
+    points: np.ndarray
+    times: np.ndarray
+    forces: np.ndarray
+    weight: float
+    active: Optional[np.ndarray] = None
+    length: Optional[float] = None
+    offset: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    names: Optional[Sequence[str]] = None
+
+    def __post_init__(self) -> None:
+        self.bodies = [int(b) for b in self.bodies]
+        self.points = np.asarray(self.points, dtype=float).reshape(len(self.bodies), 3)
+        self.times = np.asarray(self.times, dtype=float).ravel()
+        self.forces = np.asarray(self.forces, dtype=float)
+        C = len(self.bodies)
+        if self.forces.shape != (len(self.times), C, 3):
+            raise ValueError(f"forces must be (K, C, 3) = ({len(self.times)}, {C}, 3), got {self.forces.shape}")
+        if len(self.times) == 0 or not (np.all(np.isfinite(self.forces)) and np.all(np.isfinite(self.times))):
+            raise ValueError("ForceArrows needs at least one time and finite forces and times")
+        self.active = (np.linalg.norm(self.forces, axis=-1) > 0 if self.active is None
+                       else np.asarray(self.active, dtype=bool).reshape(len(self.times), C))
+        if not (np.isfinite(self.weight) and self.weight > 0):
+            raise ValueError(f"weight must be a finite force > 0 (N), got {self.weight!r}")
+        if self.length is not None and not (np.isfinite(self.length) and self.length > 0):
+            raise ValueError(f"length must be a finite length > 0 (m) or None, got {self.length!r}")
+        self.offset = np.asarray(self.offset, dtype=float).reshape(3)
+        if self.names is None:
+            self.names = [f"contact_{c}" for c in range(C)]
+
+    @classmethod
+    def from_contacts(cls, trajectory: Any, contacts: Any, weight: Optional[float] = None, radius: float = 0.0,
+                      length: Optional[float] = None, names: Optional[Sequence[str]] = None) -> "ForceArrows":
+        """The contact forces of a rollout with contacts: its ``contact`` record's world impulses
+        divided by dt, acting at t[k] (step k's impulses act at q[k]), drawn for the active contacts;
+        ``weight`` (default: the model's weight, total mass times gravity) is drawn ``length`` m long;
+        ``radius``: the contact points are the centres of foot spheres of this radius (the arrows
+        start where they touch the ground)."""
+        record = trajectory.contact
+        if record is None:
+            raise ValueError("this trajectory has no contact record (simulate with Integrator(..., contacts=...))")
+        t = np.asarray(trajectory.t, dtype=float)
+        K = record.normal.shape[0]
+        dt = float(t[1] - t[0]) if len(t) > 1 else 1.0
+        if weight is None:
+            model = contacts.model
+            weight = float(model.total_mass * np.linalg.norm(np.asarray(model.gravity, dtype=float)))
+        return cls([c.body for c in contacts.points], np.array([c.point for c in contacts.points]), t[:K],
+                   np.asarray(record.world_impulses) / dt, float(weight), np.asarray(record.active), length,
+                   np.array([0.0, 0.0, -float(radius)]), names)
+
+    def scale(self, model: Model, q: np.ndarray) -> float:
+        """Metres per newton: ``length`` (or the model's size at q) over ``weight``."""
+        if self.length is not None:
+            return self.length / self.weight
+        origins = body_frames(model, q)[:-1, :3, 3]
+        size = float(np.ptp(origins, axis=0).max()) if len(origins) else 0.0
+        return max(size, 0.05) / self.weight
+
+    def frames(self, model: Model, frame_t: np.ndarray, frames_q: np.ndarray,
+               period: float) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(origins (F, C, 3), vectors (F, C, 3) in m, shown (F, C)) of the arrows at the frames
+        (times (F,), configurations (F, n), ``period`` s apart)."""
+        K, C = len(self.times), len(self.bodies)
+        origins = np.empty((len(frame_t), C, 3))
+        for f, qk in enumerate(frames_q):
+            fr = body_frames(model, qk)
+            for c, (b, p) in enumerate(zip(self.bodies, self.points)):
+                origins[f, c] = transform_points(fr[b], p)
+        origins += self.offset
+        step = float(np.median(np.diff(self.times))) if K > 1 else period
+        half = max(float(period), step) / 2
+        lo = np.minimum(np.searchsorted(self.times, frame_t - half - 1e-12), K - 1)
+        hi = np.minimum(np.maximum(np.searchsorted(self.times, frame_t + half - 1e-12), lo + 1), K)
+        total = np.concatenate([np.zeros((1, C, 3)), np.cumsum(self.forces, axis=0)])
+        count = np.concatenate([np.zeros((1, C)), np.cumsum(self.active, axis=0)])
+        mean = (total[hi] - total[lo]) / (hi - lo)[:, None, None]
+        vectors = mean * self.scale(model, frames_q[0])
+        shown = ((count[hi] - count[lo]) > 0) & (np.linalg.norm(vectors, axis=-1) > 1e-9)
+        return origins, vectors, shown
+
+
+def arrow_segments(origins: np.ndarray, vectors: np.ndarray, shown: np.ndarray,
+                   head: float) -> Tuple[np.ndarray, np.ndarray]:
+    """(shafts (A, 2, 3), heads (4 A, 2, 3)) line segments of the shown arrows of one frame: a shaft
+    from each origin to its tip and a head of four lines from the tip back ``head`` m (at most half
+    the arrow) around its axis."""
+    o, v = origins[shown], vectors[shown]
+    if len(o) == 0:
+        return np.zeros((0, 2, 3)), np.zeros((0, 2, 3))
+    tip = o + v
+    length = np.linalg.norm(v, axis=-1, keepdims=True)
+    d = v / length
+    h = np.minimum(head, 0.5 * length)
+    helper = np.where(np.abs(d[:, :1]) < 0.9, np.array([[1.0, 0, 0]]), np.array([[0.0, 1.0, 0]]))
+    e1 = np.cross(helper, d)
+    e1 /= np.linalg.norm(e1, axis=-1, keepdims=True)
+    e2 = np.cross(d, e1)
+    base = tip - h * d
+    heads = [np.stack([tip, base + 0.4 * h * s * e], axis=1) for e in (e1, e2) for s in (1, -1)]
+    return np.stack([o, tip], axis=1), np.concatenate(heads)
 
 _LIGHT = np.array([0.3, -0.5, 0.8]) / np.linalg.norm([0.3, -0.5, 0.8])
 
@@ -161,16 +337,20 @@ def _fit_view(ax: Any, canvas: Any, points: np.ndarray, aspect: Tuple[float, flo
 def render_video(model: Model, motion: Motion, path: Union[str, os.PathLike[str]],
                  times: Optional[Sequence[float]] = None, fps: float = 30.0, size: Tuple[int, int] = (640, 480),
                  package_dirs: Iterable[Union[str, os.PathLike[str]]] = (), max_faces: int = 2000, *,
-                 ground: Optional[float] = None, time_stamp: bool = True, progress: Optional[bool] = False) -> Path:
+                 ground: Optional[float] = None, time_stamp: bool = True, progress: Optional[bool] = False,
+                 terrain: Any = None, arrows: Optional[ForceArrows] = None) -> Path:
     """Render a motion to an MP4 (``.mp4``) or GIF (``.gif``) file; returns its path.
 
     motion: a hovi.Trajectory or (N, n) configurations at ``times`` (N,) seconds (default 1/fps
     apart), sampled at ``fps`` (one frame per 1/fps s of motion). size: (width, height) pixels,
     multiples of 16 for MP4. max_faces: triangles per mesh file before simplification.
     ground: a height in m: a ground grid on that plane under the motion (None: none; world shapes
-    such as terrain boxes are the model's visuals). time_stamp: the time in the top left corner.
-    progress: a progress bar on stderr (tqdm): True, False, or None for only when stderr is a terminal.
-    The camera fits the bounding box of the motion's shapes (equal axes).
+    such as terrain boxes are the model's visuals). terrain: a ``hovi.contact.Terrain`` instead of
+    ``ground``: its ground grid with the gaps cut out, its gaps as dark strips and its boxes
+    (``terrain_scene``). arrows: forces drawn as red arrows (``ForceArrows``). time_stamp: the
+    time in the top left corner. progress: a progress bar on stderr (tqdm): True, False, or None
+    for only when stderr is a terminal. The camera fits the bounding box of the motion's shapes
+    (equal axes).
     """
     out = Path(path)
     suffix = out.suffix.lower()
@@ -181,12 +361,27 @@ def render_video(model: Model, motion: Motion, path: Union[str, os.PathLike[str]
         raise ValueError(f"size must be at least 16 x 16 pixels (multiples of 16 for MP4), got {size}")
     if ground is not None and not np.isfinite(ground):
         raise ValueError(f"ground must be a finite height in m or None, got {ground!r}")
+    if terrain is not None:
+        _terrain_check(terrain)
+        if ground is not None:
+            raise ValueError("give ground or terrain, not both (a terrain has its own ground height)")
+        ground = float(terrain.ground)
+    if arrows is not None and not isinstance(arrows, ForceArrows):
+        raise TypeError(f"arrows must be a hovi.video.ForceArrows, got {type(arrows).__name__}")
     t, q = motion_arrays(model, motion, times, fps)
     frame_t, frames_q = sample_configurations(q, t, fps)
     shapes = model_shapes(model, package_dirs)
     local: Dict[int, List[np.ndarray]] = {}
     colours: Dict[int, List[np.ndarray]] = {}
     shape_tris = [shape_triangles(s, max_faces) for s in shapes]
+    grid_lines = None
+    if terrain is not None:  # under the model's motion: its shapes at up to 40 frames
+        moving = np.concatenate([transform_points(frames[s.body], tris).reshape(-1, 3)
+                                 for frames in (body_frames(model, qk) for qk in frames_q[:: max(1, len(frames_q) // 40)])
+                                 for s, tris in zip(shapes, shape_tris)])
+        grid_lines, extra = terrain_scene(terrain, moving)
+        shapes = list(shapes) + extra
+        shape_tris += [shape_triangles(s) for s in extra]
     frames0 = body_frames(model, frames_q[0])
     scene = np.concatenate([transform_points(frames0[s.body], t.reshape(-1, 3)) for s, t in zip(shapes, shape_tris)])
     max_edge = max(float(np.ptp(scene, axis=0).max()), 1e-3) / 12
@@ -225,8 +420,8 @@ def render_video(model: Model, motion: Motion, path: Union[str, os.PathLike[str]
     ax.set_axis_off()
     ax.computed_zorder = False  # the grid under everything, the shapes sorted by depth among themselves
     if ground is not None:
-        grid = Line3DCollection(ground_lines(sample, float(ground)), colors=[(0.55, 0.57, 0.6, 1.0)], linewidths=0.6,
-                                zorder=0)
+        lines = ground_lines(sample, float(ground)) if grid_lines is None else grid_lines
+        grid = Line3DCollection(lines, colors=[(0.55, 0.57, 0.6, 1.0)], linewidths=0.6, zorder=0)
         ax.add_collection3d(grid, autolim=False)
         grid.set_clip_on(False)
     collection = Poly3DCollection(world_triangles(frames_q[0]), linewidths=0, zorder=1)
@@ -238,6 +433,16 @@ def render_video(model: Model, motion: Motion, path: Union[str, os.PathLike[str]
     _fit_view(ax, canvas, fit, aspect, width, height)
     clock = fig.text(0.015, 0.975, "", ha="left", va="top", family="monospace", fontsize=11, color="#222222",
                      bbox={"facecolor": "white", "alpha": 0.7, "edgecolor": "none", "pad": 2}) if time_stamp else None
+    shafts = heads = None
+    if arrows is not None:  # over the model (drawn last), so that a force on a foot behind a leg still shows
+        arrow_at = arrows.frames(model, frame_t, frames_q, 1.0 / fps)
+        head = 0.08 * arrows.scale(model, frames_q[0]) * arrows.weight
+        colour = [tuple(ARROW_RGBA)]
+        shafts = Line3DCollection([], colors=colour, linewidths=2.4, zorder=2)
+        heads = Line3DCollection([], colors=colour, linewidths=1.6, zorder=2)
+        for lines3d in (shafts, heads):
+            ax.add_collection3d(lines3d, autolim=False)
+            lines3d.set_clip_on(False)
 
     import imageio.v2 as imageio
 
@@ -253,10 +458,14 @@ def render_video(model: Model, motion: Motion, path: Union[str, os.PathLike[str]
                    disable=None if progress is None else False)
     try:
         with imageio.get_writer(str(out), **kwargs) as writer:
-            for tk, qk in zip(frame_t, frames_q):
+            for f, (tk, qk) in enumerate(zip(frame_t, frames_q)):
                 tris = world_triangles(qk)
                 collection.set_verts(tris)
                 collection.set_facecolor(_shade(tris, rgba))
+                if shafts is not None and heads is not None:
+                    shaft_lines, head_lines = arrow_segments(arrow_at[0][f], arrow_at[1][f], arrow_at[2][f], head)
+                    shafts.set_segments(list(shaft_lines))
+                    heads.set_segments(list(head_lines))
                 if clock is not None:
                     clock.set_text(f"t = {tk:.2f} s")
                 canvas.draw()

@@ -11,7 +11,10 @@ tests, the command line); ``animation_html`` does that in one call.
 ``add_ground(height)`` draws a ground grid under the motion (models with a floating or planar
 base, the robot examples; world shapes such as terrain boxes are the model's visuals on the
 world, ``Model.add_visual(None, ...)``); ``frame_model`` fits the camera to the bounding box of
-the motion. An exported animation shows its time (``t = 1.23 s``) in the top left corner, and
+the motion. ``add_terrain(terrain)`` draws a ``hovi.contact.Terrain`` (its ground grid with the
+gaps open and shown as dark strips, and its boxes), and ``play(motion, arrows=...)`` animates forces as
+arrows with the motion (``hovi.video.ForceArrows``: a contact simulation's forces at its active
+contacts). An exported animation shows its time (``t = 1.23 s``) in the top left corner, and
 an address ending in ``#t=1.5`` pauses it at 1.5 s.
 """
 from __future__ import annotations
@@ -27,6 +30,7 @@ import numpy as np
 from ._core import Model
 from .geometry import (Motion, Shape, body_frames, ground_lines, model_shapes, motion_arrays, sample_configurations,
                        segment_frame, shape_corners, transform_points, translation)
+from .video import ARROW_RGBA, ForceArrows, terrain_scene
 
 __all__ = ["Viewer", "animation_html"]
 
@@ -143,12 +147,16 @@ class Viewer:
             self._send(commands.SetTransform(frame, path))
 
     def play(self, motion: Motion, times: Optional[Sequence[float]] = None, fps: float = 30.0,
-             repetitions: int = 1) -> "Viewer":
+             repetitions: int = 1, arrows: Optional[ForceArrows] = None) -> "Viewer":
         """Animate a motion: a hovi.Trajectory, or (N, n) configurations at ``times`` (N,) seconds.
 
         The motion is sampled at ``fps`` frames per second (linear interpolation in q). meshcat's
-        controls play, pause, reset and scrub it. Returns the viewer.
+        controls play, pause, reset and scrub it. ``arrows`` (``hovi.video.ForceArrows``): forces
+        animated with it as red arrows (``/meshcat/hovi/forces/NAME/shaft`` and ``head``), shown
+        while active, drawn over the model. Returns the viewer.
         """
+        if arrows is not None and not isinstance(arrows, ForceArrows):
+            raise TypeError(f"arrows must be a hovi.video.ForceArrows, got {type(arrows).__name__}")
         t, q = motion_arrays(self.model, motion, times, fps)
         frame_t, frames_q = sample_configurations(q, t, fps)
         mc = _meshcat()
@@ -157,10 +165,60 @@ class Viewer:
             for path, frame in zip(self._body_paths[:-1], body_frames(self.model, qk)):
                 mc.animation.AnimationFrameVisualizer(anim, path, k).set_transform(frame)
         self.display(frames_q[0])
+        if arrows is not None:
+            self._animate_arrows(anim, arrows, frame_t, frames_q, fps)
         self._send(mc.commands.SetAnimation(anim, play=True, repetitions=int(repetitions)))
         self.duration = float(frame_t[-1] - frame_t[0])
         self._start_time = float(frame_t[0])
         return self
+
+    def _animate_arrows(self, anim: Any, arrows: ForceArrows, frame_t: np.ndarray, frames_q: np.ndarray,
+                        fps: float) -> None:
+        """The arrows' objects (a unit cylinder as the shaft, scaled to length, and a cone as the
+        head) and their tracks in the animation ``anim``: position, orientation and scale per frame,
+        scaled to nothing while a force is not shown."""
+        mc = _meshcat()
+        origins, vectors, shown = arrows.frames(self.model, frame_t, frames_q, 1.0 / fps)
+        unit = arrows.scale(self.model, frames_q[0]) * arrows.weight  # the weight's length (m)
+        radius = 0.012 * unit
+        head = 6 * radius
+        r, g, b = (ARROW_RGBA[:3] * 255).round().astype(int)
+        # drawn over the model (after the opaque shapes, without the depth test), as the video does: a
+        # vertical force on a foot otherwise hides inside a vertical shin
+        material = mc.geometry.MeshLambertMaterial(color=(int(r) << 16) | (int(g) << 8) | int(b), opacity=1.0,
+                                                   transparent=True, depthTest=False)
+        hidden = np.diag([1e-6, 1e-6, 1e-6, 1.0])
+        names = list(arrows.names or [])
+        for c in range(len(arrows.bodies)):
+            base = self._path("hovi", "forces", f"{c:02d}_{self._safe(str(names[c]))}")
+            parts = {"shaft": (base.append("shaft"), mc.geometry.Cylinder(1.0, radius)),
+                     "head": (base.append("head"),
+                              mc.geometry.Cylinder(head, 0.0, radiusTop=0.0, radiusBottom=2.5 * radius))}
+            for k in range(len(frame_t)):
+                poses = self._arrow_poses(origins[k, c], vectors[k, c], bool(shown[k, c]), head, hidden)
+                for part, (path, _) in parts.items():
+                    frame, scale = poses[part]
+                    visualizer = mc.animation.AnimationFrameVisualizer(anim, path, k)
+                    visualizer.set_transform(frame)
+                    visualizer.set_property("scale", "vector3", [float(x) for x in scale])
+                    if k == 0:
+                        self._send(mc.commands.SetObject(parts[part][1], material, path))
+                        self._send(mc.commands.SetTransform(frame @ np.diag(np.append(scale, 1.0)), path))
+
+    @staticmethod
+    def _arrow_poses(origin: np.ndarray, vector: np.ndarray, shown: bool, head: float,
+                     hidden: np.ndarray) -> dict:
+        """{part: (pose (4, 4) with meshcat's cylinder axis y along the vector, scale (3,))} of one
+        arrow's shaft (a unit cylinder) and head (a cone ``head`` long, shortened for a short arrow)."""
+        length = float(np.linalg.norm(vector))
+        if not shown or length <= 1e-9:
+            pose = translation(origin)
+            return {"shaft": (pose, np.diag(hidden)[:3]), "head": (pose, np.diag(hidden)[:3])}
+        h = min(head, 0.5 * length)
+        d = vector / length
+        tip_base = origin + (length - h) * d
+        return {"shaft": (segment_frame(origin, tip_base) @ _Y_TO_Z, np.array([1.0, length - h, 1.0])),
+                "head": (segment_frame(tip_base, origin + vector) @ _Y_TO_Z, np.full(3, h / head))}
 
     def add_ground(self, height: float = 0.0, q: Optional[np.ndarray] = None, margin: float = 0.5,
                    spacing: Optional[float] = None) -> None:
@@ -170,8 +228,28 @@ class Viewer:
         ``hovi.geometry.ground_lines``). Replaces meshcat's own grid (at z = 0, 20 m wide)."""
         if not np.isfinite(height):
             raise ValueError(f"height must be a finite number, got {height!r}")
+        self._grid(ground_lines(self._points(q), float(height), margin, spacing))
+
+    def add_terrain(self, terrain: Any, q: Optional[np.ndarray] = None, margin: float = 0.5,
+                    spacing: Optional[float] = None) -> None:
+        """A ``hovi.contact.Terrain`` under the model at configurations q ((n,) or (N, n); default
+        zeros): the ground grid (as ``add_ground`` at ``terrain.ground``) with its gaps left open,
+        each gap a dark strip, and its boxes (``hovi.video.terrain_scene``), as world shapes
+        (``/meshcat/hovi/world/terrain_*``) over the grid's extent. For foot spheres (contact points
+        at their centres) give the terrain lowered by the radius."""
+        lines, shapes = terrain_scene(terrain, self._points(q), margin, spacing)
+        self._grid(lines)
         mc = _meshcat()
-        lines = ground_lines(self._points(q), float(height), margin, spacing)
+        for shape in shapes:
+            path = self._body_paths[-1].append(self._safe(shape.name))
+            self._send(mc.commands.SetObject(_geometry(shape), _material(shape.rgba), path))
+            self._send(mc.commands.SetTransform(_local_transform(shape), path))
+        self.shapes = list(self.shapes) + shapes
+        self._corners = None
+
+    def _grid(self, lines: np.ndarray) -> None:
+        """Grid lines (L, 2, 3) as the ground (``/meshcat/hovi/ground/grid``), meshcat's own grid hidden."""
+        mc = _meshcat()
         geometry = mc.geometry.PointsGeometry(position=lines.reshape(-1, 3).astype(np.float32).T)
         grid = mc.geometry.LineSegments(geometry, mc.geometry.LineBasicMaterial(color=0x8a8f98))
         self._send(mc.commands.SetObject(grid, path=self._path("hovi", "ground", "grid")))
@@ -304,16 +382,23 @@ def _finite3(x: Sequence[float], name: str) -> np.ndarray:
 def animation_html(model: Model, motion: Motion, path: Union[str, os.PathLike[str]],
                    times: Optional[Sequence[float]] = None, fps: float = 30.0,
                    package_dirs: Iterable[Union[str, os.PathLike[str]]] = (), *,
-                   ground: Optional[float] = None) -> Path:
+                   ground: Optional[float] = None, terrain: Any = None,
+                   arrows: Optional[ForceArrows] = None) -> Path:
     """Write a standalone HTML animation of a motion (see Viewer.play) without starting a server:
     the camera fits the motion (``Viewer.frame_model``), the time shows in the top left corner, and
-    ``ground`` (a height in m; None: none) draws a ground grid under the motion (``Viewer.add_ground``)."""
+    ``ground`` (a height in m; None: none) draws a ground grid under the motion (``Viewer.add_ground``),
+    or ``terrain`` (a ``hovi.contact.Terrain``) its ground, gaps and boxes (``Viewer.add_terrain``);
+    ``arrows`` (``hovi.video.ForceArrows``): forces animated as arrows (e.g. contact forces)."""
+    if ground is not None and terrain is not None:
+        raise ValueError("give ground or terrain, not both (a terrain has its own ground height)")
     viewer = Viewer(model, package_dirs, server=False)
     q = motion_arrays(model, motion, times, fps)[1]
     if ground is not None:
         viewer.add_ground(ground, q)
+    if terrain is not None:
+        viewer.add_terrain(terrain, q)
     viewer.frame_model(q)
-    viewer.play(motion, times, fps)
+    viewer.play(motion, times, fps, arrows=arrows)
     return viewer.export_html(path)
 
 
