@@ -215,8 +215,10 @@ def test_bad_contacts_are_refused_with_the_argument_named():
         hovi.Integrator(contacts.model, s=1, contacts=contacts)
     with pytest.raises(hovi.ModelError, match="no mass"):
         hovi.Integrator(model, s=1, contacts=Contacts(model, [("slider", (0, 0, 0))], Terrain(), mu=0.5, plane="xz"))
-    with pytest.raises(ValueError, match="contacts need s = 1"):
-        hovi.Integrator(model, s=2, contacts=contacts)
+    with pytest.raises(ValueError, match="need locate_impacts"):
+        hovi.Integrator(model, s=2, contacts=contacts, locate_impacts=False)
+    with pytest.raises(ValueError, match="locate_impacts must be"):
+        hovi.Integrator(model, s=1, contacts=contacts, locate_impacts="yes")
     with pytest.raises(TypeError, match="contacts must be a hovi.contact.Contacts"):
         hovi.Integrator(model, s=1, contacts=[("mass", (0, 0, 0))])
     for tol in (0.0, -1.0, float("nan"), "1e-9"):
@@ -256,3 +258,41 @@ def test_step_batch_with_contacts_is_each_step():
         np.testing.assert_array_equal(batch.p_next[b], p)
         np.testing.assert_array_equal(batch.info(b).impulses, info.impulses)
     assert batch.impulses[0, 0, 0] > 0 and batch.impulses[2, 0, 0] == 0   # one lands, one flies
+
+
+@pytest.mark.parametrize("s", [2, 3])
+def test_higher_order_with_impact_location_lands_and_rests(s):
+    """s > 1 locates the impact on the step's polynomial (the default): the dropped block lands at its
+    time, inelastically, and rests with its weight; the contact conditions hold at every step."""
+    m, z0, dt = 2.0, 0.1, 0.01
+    model = block(m)
+    integ = hovi.Integrator(model, s=s, dt=dt, contacts=Contacts(model, [("mass", (0, 0, 0))], Terrain(), mu=0.5,
+                                                                  plane="xz"))
+    assert integ.locate_impacts is None and integ.s == s
+    traj = integ.rollout(np.array([0.0, z0]), 60)
+    check_complementarity(traj, 0.5)
+    k = int(np.argmax(traj.contact.active[:, 0]))
+    theta = traj.contact.impact[k]
+    assert 0 < theta < 1                                                       # the landing step was split
+    assert abs(traj.t[k] + theta * dt - np.sqrt(2 * z0 / G)) <= 1e-12          # at the closed-form impact time
+    assert np.abs(traj.q[k + 1:, 1]).max() <= 1e-15                             # no rebound (round-off)
+    np.testing.assert_allclose(traj.contact.normal[k + 2:, 0] / (m * G * dt), 1.0, rtol=1e-9)
+
+
+def test_impact_location_keeps_the_order_of_the_flight():
+    """bench/contact_order.py --quick: a rod tumbling onto frictionless ground; with s = 2 the flight
+    and the impact time are of order 4 (the closed form), with s = 1 of order 2; without location
+    the impact happens at the next knot (an error that does not shrink with dt at these steps)."""
+    import sys
+    from pathlib import Path
+    sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "bench"))
+    import contact_order
+    t = contact_order.exact_impact()
+    rows = {(s, loc, dt): contact_order.run(s, dt, loc, t) for s, loc in [(1, False), (1, True), (2, True)]
+            for dt in (0.02, 0.01)}
+    for (s, loc), order in [((1, True), 2), ((2, True), 4)]:
+        for field in ("flight_error", "impact_time_error"):
+            ratio = rows[(s, loc, 0.02)][field] / rows[(s, loc, 0.01)][field]
+            assert ratio > 0.7 * 2 ** order, (s, field, ratio)
+    assert rows[(1, False, 0.01)]["impact_time_error"] > 5 * rows[(1, True, 0.01)]["impact_time_error"]
+    assert all(r["px_after_error"] < 1e-11 for r in rows.values())             # frictionless: p_x kept

@@ -99,3 +99,11 @@ def test_rollout_jacobians_need_the_contact_record():
     traj.contact = None
     with pytest.raises(ValueError, match="contact impulses"):
         hovi.Linearizer(integ).rollout_jacobians(traj, np.array([0.1]))
+
+
+def test_steps_split_at_an_impact_are_refused():
+    integ = hovi.Integrator(planar_body().model, s=2, dt=0.01, contacts=planar_body().contacts)
+    traj = integ.rollout(np.array([0.0, 0.1, 0.0]), 20, u=np.array([0.1]))
+    assert np.any(traj.contact.impact > 0)
+    with pytest.raises(ValueError, match="split at an impact"):
+        hovi.Linearizer(integ).rollout_jacobians(traj, np.array([0.1]))

@@ -18,9 +18,9 @@ namespace {
 // through core(), which raises once the Integrator's model has changed.
 class PyContactIntegrator {
  public:
-  PyContactIntegrator(const PyIntegrator& integrator, ContactModel contacts, double tol)
+  PyContactIntegrator(const PyIntegrator& integrator, ContactModel contacts, double tol, bool locate_impacts)
       : py_(integrator),
-        core_(py_.integ().model(), std::move(contacts), py_.s(), py_.dt(), py_.integ().options, tol),
+        core_(py_.integ().model(), std::move(contacts), py_.s(), py_.dt(), py_.integ().options, tol, locate_impacts),
         lin_(core_.integrator().model(), core_.integrator().quadrature(), core_.integrator().dt(), core_.contacts()) {}
   const ContactIntegrator& core() const {
     py_.integ();  // the model watch
@@ -77,6 +77,7 @@ StrDict rollout_dict(const ContactRollout& r, double seconds) {
   d["status"] = st;
   d["impulses"] = MatX(r.impulses.topRows(r.steps));
   d["gaps"] = MatX(r.gaps.topRows(r.steps));
+  d["impact"] = VecX(r.impact.head(r.steps));
   d["steps"] = r.steps;
   d["seconds"] = seconds;
   return d;
@@ -93,18 +94,20 @@ joint frames, the terrain's ground, gaps (G, 3) and boxes (B, 5), mu, friction d
 )doc")
       .def(py::init([](const PyIntegrator& integrator, const std::vector<int>& bodies, const ArrayLike& points,
                        double ground, const ArrayLike& gaps, const ArrayLike& boxes, double mu,
-                       const ArrayLike& directions, double contact_tol) {
+                       const ArrayLike& directions, double contact_tol, bool locate_impacts) {
              ContactModel cm =
                  contact_model(integrator.integ().model(), bodies, points, ground, gaps, boxes, mu, directions);
-             return std::make_unique<PyContactIntegrator>(integrator, std::move(cm), contact_tol);
+             return std::make_unique<PyContactIntegrator>(integrator, std::move(cm), contact_tol, locate_impacts);
            }),
            py::keep_alive<1, 2>(),
            py::arg("integrator"), py::arg("bodies"), py::arg("points"), py::arg("ground"), py::arg("gaps"),
-           py::arg("boxes"), py::arg("mu"), py::arg("directions"), py::arg("contact_tol") = 1e-10, R"doc(
+           py::arg("boxes"), py::arg("mu"), py::arg("directions"), py::arg("contact_tol") = 1e-10,
+           py::arg("locate_impacts") = false, R"doc(
 The contact simulator over `integrator` (a hovi._core.Integrator) with C contact points: bodies (C,)
 indices, points (C, 3) in the bodies' joint frames; the terrain's ground height, gaps (G, 3) rows
 (x0, x1, depth), boxes (B, 5) rows (x0, x1, top, y0, y1); friction mu; directions (d, 3) horizontal
-unit vectors; contact_tol the complementarity tolerance (m and N s).
+unit vectors; contact_tol the complementarity tolerance (m and N s); locate_impacts: split a step
+at an impact found on its polynomial (contact_integrator.hpp).
 )doc")
       .def_property_readonly("n_contacts", [](const PyContactIntegrator& c) { return c.core().contacts().size(); },
                              "The number of contact points C.")
@@ -128,10 +131,11 @@ unit vectors; contact_tol the complementarity tolerance (m and N s).
             qc.col(0) = qk;
             VecX p_next(n), phi(core.contacts().size());
             int pivots = 0;
+            double impact = 0;
             SolveInfo info;
             {
               py::gil_scoped_release release;
-              info = core.step(pk, uk, MatX(), qc, p_next, z, phi, &pivots);
+              info = core.step(pk, uk, MatX(), qc, p_next, z, phi, &pivots, &impact);
             }
             StrDict d;
             d["status"] = to_string(info.status);
@@ -141,6 +145,7 @@ unit vectors; contact_tol the complementarity tolerance (m and N s).
             d["residual_evaluations"] = info.residual_evaluations;
             d["residual"] = info.residual;
             d["pivots"] = pivots;
+            d["impact"] = impact;
             return py::make_tuple(MatX(qc.transpose()), p_next, z, phi, d);
           }, py::arg("q"), py::arg("p"), py::arg("u") = py::none(), py::arg("impulses") = py::none(), R"doc(
 One contact step from q, p (n,) (GIL released); impulses: the first guess (C (2 + d),), default none

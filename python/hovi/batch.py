@@ -32,7 +32,9 @@ def _concatenate(cls: Type[_Batch], parts: Sequence[_Batch], shared: tuple[str, 
         elif isinstance(values[0], ContactRecord):
             joined[f.name] = ContactRecord(np.concatenate([v.impulses for v in values]),
                                            np.concatenate([v.gaps for v in values]), values[0].directions,
-                                           np.concatenate([v.pivots for v in values]))
+                                           np.concatenate([v.pivots for v in values]),
+                                           None if values[0].impact is None else
+                                           np.concatenate([v.impact for v in values]))
         else:
             joined[f.name] = np.concatenate(values)
     return cls(**joined)
@@ -60,8 +62,8 @@ class TrajectoryBatch:
     multipliers: Optional[FloatArray] = None  # (B, K, s, n_constraints), constrained models
     solve_seconds: Optional[FloatArray] = None  # (B,) time of each item's rollout in C++
     discretization: Optional[Discretization] = field(default=None, repr=False)  # the integrator's model, s and dt
-    contact: Optional[ContactRecord] = None  # with contacts: impulses (B, K, C, 2+d) and gaps (B, K, C), NaN
-                                             # where not reached; pivots (B, K), -1 there
+    contact: Optional[ContactRecord] = None  # with contacts: impulses (B, K, C, 2+d), gaps (B, K, C) and impact
+                                             # (B, K), NaN where not reached; pivots (B, K), -1 there
 
     def __len__(self) -> int:
         return len(self.status)
@@ -95,7 +97,8 @@ class TrajectoryBatch:
                           discretization=self.discretization,
                           contact=None if self.contact is None else ContactRecord(
                               self.contact.impulses[b, :k].copy(), self.contact.gaps[b, :k].copy(),
-                              self.contact.directions, self.contact.pivots[b, :attempted].copy()))
+                              self.contact.directions, self.contact.pivots[b, :attempted].copy(),
+                              None if self.contact.impact is None else self.contact.impact[b, :k].copy()))
 
     @classmethod
     def concatenate(cls, parts: Sequence[TrajectoryBatch]) -> TrajectoryBatch:

@@ -97,15 +97,17 @@ class Integrator:
     terrain at the configuration points and Coulomb friction on the polyhedral cone, each
     complementarity condition to ``contact_tol`` (m and N s). A step whose contacts were all
     inactive before is first solved without them, so flight costs what it costs without contacts.
-    Contacts need s = 1 (an impact inside a stage of a higher-order polynomial rebounds:
-    hovi.contact.contacts). Rollouts record the impulses and gaps (``Trajectory.contact``).
+    ``locate_impacts`` (default: for s > 1, which needs it) splits a step at an impact found on its
+    polynomial, so that flight keeps the order 2s and impacts happen at their time; with s = 1 and
+    without it the step is the trajectory optimiser's time-stepping (a ``solve_contact`` solution is
+    a rollout of it). Rollouts record the impulses and gaps (``Trajectory.contact``).
     """
 
     def __init__(self, model: _core.Model, *, s: Optional[int] = None, order: Optional[int] = None, dt: float = 0.01,
                  tol: float = 0.0, step_tol: float = 1e-15, max_iterations: int = 30, max_backtracks: int = 12,
                  line_search: bool = True, direction: str = "auto", reuse_jacobian: bool = True,
                  reuse_contraction: float = 0.1, predictor: str = "auto", contacts: Optional[Contacts] = None,
-                 contact_tol: float = 1e-10) -> None:
+                 contact_tol: float = 1e-10, locate_impacts: Optional[bool] = None) -> None:
         if s is None and order is None:
             s = 2
         elif s is not None and order is not None and order != 2 * s:
@@ -125,27 +127,31 @@ class Integrator:
         self.model = model
         self.contacts = contacts
         self.contact_tol = contact_tol
-        self._contact = None if contacts is None else self._contact_core(model, contacts, contact_tol)
+        self.locate_impacts = locate_impacts
+        self._contact = None if contacts is None else self._contact_core(model, contacts, contact_tol, locate_impacts)
         self.discretization = Discretization(model, self._options, self._core)
         """What this integrator's trajectories carry: the model, s and dt, velocity and energies."""
 
-    def _contact_core(self, model: _core.Model, contacts: Any, tol: Any) -> _core.ContactIntegrator:
+    def _contact_core(self, model: _core.Model, contacts: Any, tol: Any, locate: Any) -> _core.ContactIntegrator:
         """The C++ contact simulator of ``contacts`` on this integrator; errors naming the argument."""
         if not isinstance(contacts, Contacts):
             raise TypeError(f"contacts must be a hovi.contact.Contacts, got {type(contacts).__name__}")
         contacts.check_model(model)
-        if self.s != 1:
-            raise ValueError(f"contacts need s = 1 (order 2), got s = {self.s}: the contact step pairs the impulses "
-                             "with the gaps at the step's end, and the polynomial of a higher-order stage that lands "
-                             "inside the stage turns upwards at its end, so an impact rebounds (hovi.contact.contacts, "
-                             "bench/README.md 'Contact simulation')")
+        if locate is None:
+            locate = self.s > 1
+        if not isinstance(locate, (bool, np.bool_)):
+            raise ValueError(f"locate_impacts must be True, False or None, got {locate!r}")
+        if self.s > 1 and not locate:
+            raise ValueError(f"contacts with s = {self.s} need locate_impacts (the default for s > 1): without it an "
+                             "impact inside a step happens at its end, a first-order time-stepper that throws away "
+                             "the order 2s (bench/README.md 'Contact simulation')")
         tol = real_number(tol, "contact_tol", minimum=0.0, strict_minimum=True)
         t = contacts.terrain
         gaps = np.array([[g.x0, g.x1, g.depth] for g in t.gaps], dtype=np.float64).reshape(-1, 3)
         boxes = np.array([[b.x0, b.x1, b.top, b.y0, b.y1] for b in t.boxes], dtype=np.float64).reshape(-1, 5)
         return _core.ContactIntegrator(self._core, [c.body for c in contacts.points],
                                        np.array([c.point for c in contacts.points]), float(t.ground), gaps, boxes,
-                                       contacts.mu, contacts.D, tol)
+                                       contacts.mu, contacts.D, tol, bool(locate))
 
     # Pickling (to other processes, cluster workers): the model (which pickles in full), the
     # options and the contacts; the copy is made anew from them and computes exactly what this one does.
@@ -153,11 +159,11 @@ class Integrator:
         self._core.direction_path  # any call of the core raises ModelError once the model has changed
         state: Dict[str, Any] = {"model": self.model, "options": self._options}
         if self.contacts is not None:
-            state.update(contacts=self.contacts, contact_tol=self.contact_tol)
+            state.update(contacts=self.contacts, contact_tol=self.contact_tol, locate_impacts=self.locate_impacts)
         return state
 
     def __setstate__(self, state: Dict[str, Any]) -> None:
-        extra = {k: state[k] for k in ("contacts", "contact_tol") if k in state}
+        extra = {k: state[k] for k in ("contacts", "contact_tol", "locate_impacts") if k in state}
         self.__init__(state["model"], **state["options"], **extra)  # type: ignore[misc]
 
     # --- properties -------------------------------------------------------------------------
@@ -318,9 +324,9 @@ class Integrator:
             raise ValueError("guess and multipliers are not taken with contacts (the contact step makes its own guesses)")
         assert self._contact is not None
         qc, p_next, z, phi, raw = self._contact.step(q, p, u)
-        pivots = raw.pop("pivots")
+        pivots, impact = raw.pop("pivots"), raw.pop("impact")
         info = StepInfo(**raw)
-        info.control_points, info.pivots = qc, int(pivots)
+        info.control_points, info.pivots, info.impact = qc, int(pivots), float(impact)
         info.impulses, info.gaps = z.reshape(-1, self._contact.per_contact), phi
         if not info.converged and raise_on_failure:
             raise ConvergenceError(f"contact step did not converge ({info.status}) after {info.iterations} iterations, "
@@ -412,7 +418,7 @@ class Integrator:
         traj.contact = ContactRecord(
             impulses=np.vstack([r["impulses"] for r in parts]).reshape(-1, C, pc),
             gaps=np.vstack([r["gaps"] for r in parts]).reshape(-1, C), directions=self.contacts.D.copy(),
-            pivots=np.concatenate([r["pivots"] for r in parts]))
+            pivots=np.concatenate([r["pivots"] for r in parts]), impact=np.concatenate([r["impact"] for r in parts]))
         if not traj.converged and raise_on_failure:
             k = traj.steps
             raise ConvergenceError(f"contact step did not converge at step {k} (t = {k * self.dt:.6g} s): "
@@ -526,7 +532,7 @@ class Integrator:
         q, p = np.full((B, steps + 1, n), nan), np.full((B, steps + 1, n), nan)
         cp, res = np.full((B, steps, S1 * n), nan), np.full((B, steps), nan)
         its, facs, piv = (np.full((B, steps), -1, dtype=np.int32) for _ in range(3))
-        z, gaps = np.full((B, steps, C, pc), nan), np.full((B, steps, C), nan)
+        z, gaps, impact = np.full((B, steps, C, pc), nan), np.full((B, steps, C), nan), np.full((B, steps), nan)
         done, status, seconds = np.zeros(B, dtype=np.int32), [], np.zeros(B)
         for b, r in enumerate(items):
             if r is None:
@@ -535,14 +541,14 @@ class Integrator:
             k, a = r["steps"], len(r["status"])
             q[b, :k + 1], p[b, :k + 1], cp[b, :k] = r["q"], r["p"], r["control_points"]
             res[b, :a], its[b, :a], facs[b, :a], piv[b, :a] = r["residual"], r["iterations"], r["factorizations"], r["pivots"]
-            z[b, :k], gaps[b, :k] = r["impulses"].reshape(k, C, pc), r["gaps"]
+            z[b, :k], gaps[b, :k], impact[b, :k] = r["impulses"].reshape(k, C, pc), r["gaps"], r["impact"]
             done[b], seconds[b] = k, r["seconds"]
             status.append(r["status"][-1] if a > k else "converged")
         return TrajectoryBatch(
             t=np.arange(steps + 1, dtype=np.float64) * self.dt, q=q, p=p, control_points=cp.reshape(B, steps, S1, n),
             iterations=its, residuals=res, factorizations=facs, steps=done, status=status, errors=list(errors),
             solve_seconds=seconds, discretization=self.discretization,
-            contact=ContactRecord(z, gaps, self.contacts.D.copy(), piv))
+            contact=ContactRecord(z, gaps, self.contacts.D.copy(), piv, impact))
 
     def _contact_step_batch(self, Q: FloatArray, second: FloatArray, velocities: bool, U: Optional[FloatArray],
                             threads: Optional[int]) -> StepBatch:

@@ -113,6 +113,9 @@ class Linearizer:
         assert info.control_points is not None
         if self.integrator.contacts is not None:  # through the contact step, its contact state held
             assert info.impulses is not None
+            if info.impact:
+                raise ValueError(f"the step was split at an impact (at {info.impact:.3g} of the step, locate_impacts): "
+                                 "not differentiable there (a contact switch); linearise away from impacts")
             U = self.integrator.controls_per_point(u, 1)
             As, Bs = self.integrator.contact_jacobians(info.control_points.reshape(1, -1),
                                                        None if U is None else U.reshape(1, -1),
@@ -149,6 +152,12 @@ class Linearizer:
         if integ.contacts is not None:
             if trajectory.contact is None:
                 raise ValueError("the integrator has contacts: give a trajectory it computed (with its contact impulses)")
+            impact = trajectory.contact.impact
+            if impact is not None and np.any(impact[:K] > 0):
+                k = int(np.argmax(impact[:K] > 0))
+                raise ValueError(f"step {k} was split at an impact (locate_impacts): not differentiable there (a "
+                                 "contact switch); linearise the steps away from impacts, or simulate with s = 1 "
+                                 "without locate_impacts (the trajectory optimiser's time-stepping)")
             As, Bs = integ.contact_jacobians(cps, U, np.ascontiguousarray(trajectory.contact.impulses.reshape(K, -1)),
                                              A=A, B=B)
             if Bs is not None and hold:

@@ -85,6 +85,8 @@ class ContactRecord:
     gaps: FloatArray        # (K, C): φ_c(q^{k+1}), the height of each point above the terrain (m)
     directions: FloatArray  # (d, 3): the friction directions D_i
     pivots: IntArray        # (attempted,) LCP pivots per step (0: no contact solve, or the guessed active set held)
+    impact: Optional[FloatArray] = None  # (K,) θ of a step split at an impact at t^k + θ dt (its impulses act
+                                         # there; Integrator locate_impacts), else 0
 
     @property
     def normal(self) -> FloatArray:
@@ -132,6 +134,7 @@ class StepInfo:
     impulses: Optional[FloatArray] = field(default=None, repr=False)  # (C, 2 + d): with contacts, λ, β, γ per contact
     gaps: Optional[FloatArray] = field(default=None, repr=False)      # (C,): with contacts, φ_c(q_next)
     pivots: int = 0                                                   # with contacts: LCP pivots
+    impact: float = 0.0                                               # with contacts: θ of a step split at an impact
 
 
 @dataclass
@@ -226,6 +229,8 @@ def save_trajectory(trajectory: Trajectory, path: str | os.PathLike[str]) -> Non
         c = trajectory.contact
         arrays.update(contact_impulses=c.impulses, contact_gaps=c.gaps, contact_directions=c.directions,
                       contact_pivots=c.pivots)
+        if c.impact is not None:
+            arrays["contact_impact"] = c.impact
     try:
         arrays = check_arrays(arrays, d.model.n_constraints)
     except ValueError as e:
@@ -235,7 +240,7 @@ def save_trajectory(trajectory: Trajectory, path: str | os.PathLike[str]) -> Non
 
 REQUIRED = ("format_version", "joint_names", "s", "dt", "t", "q", "p", "control_points", "iterations", "residuals",
             "status", "solve_seconds")
-OPTIONAL = ("factorizations", "multipliers")
+OPTIONAL = ("factorizations", "multipliers", "contact_impact")
 CONTACT = ("contact_impulses", "contact_gaps", "contact_directions", "contact_pivots")  # all or none
 
 
@@ -347,6 +352,12 @@ def check_arrays(arrays: Dict[str, Any], n_constraints: Optional[int] = None) ->
         _numbers(gaps, "contact_gaps", (K, C))
         _numbers(a["contact_impulses"], "contact_impulses", (K, C, len(D) + 2))
         _numbers(a["contact_pivots"], "contact_pivots", (attempted,), "iu")
+    if "contact_impact" in a:
+        if not given:
+            raise ValueError("contact_impact given without the other contact arrays")
+        theta = _numbers(a["contact_impact"], "contact_impact", (K,))
+        if np.any((theta < 0) | (theta >= 1)):
+            raise ValueError("contact_impact must lie in [0, 1)")
     return a
 
 
@@ -401,10 +412,11 @@ def load_trajectory(path: str | os.PathLike[str], integrator: Optional[HasDiscre
                              f"{list(d.model.joint_names)}")
         if d.s != s or d.dt != dt:
             raise ValueError(f"{where}: s = {s}, dt = {dt} differ from the integrator's s = {d.s}, dt = {d.dt}")
-    optional: Dict[str, Any] = {k: arrays[k] for k in OPTIONAL if k in arrays}
+    optional: Dict[str, Any] = {k: arrays[k] for k in OPTIONAL if k in arrays and not k.startswith("contact_")}
     if "contact_impulses" in arrays:
         optional["contact"] = ContactRecord(arrays["contact_impulses"], arrays["contact_gaps"],
-                                            arrays["contact_directions"], arrays["contact_pivots"])
+                                            arrays["contact_directions"], arrays["contact_pivots"],
+                                            arrays.get("contact_impact"))
     return Trajectory(t=arrays["t"], q=arrays["q"], p=arrays["p"], control_points=arrays["control_points"],
                       iterations=arrays["iterations"], residuals=arrays["residuals"],
                       status=[str(x) for x in arrays["status"]], solve_seconds=float(arrays["solve_seconds"]),

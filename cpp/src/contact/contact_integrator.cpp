@@ -19,8 +19,9 @@ ContactModel checked(const Model& model, ContactModel contacts) {
 }  // namespace
 
 ContactIntegrator::ContactIntegrator(Model model, ContactModel contacts, int s, double dt, SolverOptions options,
-                                     double tol)
+                                     double tol, bool locate_impacts)
     : free_(std::move(model), s, dt, options), contacts_(checked(free_.model(), std::move(contacts))), tol_(tol),
+      locate_(locate_impacts),
       pool_([this] { return std::make_unique<Workspace>(free_.model(), free_.quadrature(), contacts_); }) {
   if (!(tol > 0 && tol <= 1e-3)) throw InputError("contact_tol must lie in (0, 1e-3], got " + std::to_string(tol));
   r_com_.resize(3, contacts_.size());
@@ -49,12 +50,117 @@ bool ContactIntegrator::free_step_holds(Workspace& ws, const Eigen::Ref<const Ma
   return holds;
 }
 
+double ContactIntegrator::smallest_gap(Workspace& ws, const Eigen::Ref<const VecX>& q) const {
+  forward_kinematics(free_.model(), ws.data, q);
+  double least = INFINITY;
+  for (int c = 0; c < contacts_.size(); ++c) {
+    const Vec3 x = ws.data.g[contacts_.points[c].body].act(r_com_.col(c));
+    least = std::min(least, x[2] - contacts_.terrain.height(x[0], x[1]));
+  }
+  return least;
+}
+
+double ContactIntegrator::impact_time(Workspace& ws, const Eigen::Ref<const MatX>& qc) const {
+  const Quadrature& quad = free_.quadrature();
+  auto gap = [&](double tau) { return smallest_gap(ws, qc * quad.basis(tau)); };
+  if (gap(0.0) < 0) return 0.0;
+  // Bracket the first sign change on a grid of the step (finer than any oscillation of a polynomial
+  // of degree s <= 16 that matters here), then bisect it to round-off.
+  constexpr int kGrid = 32;
+  double lo = 0, hi = 1;
+  for (int j = 1; j <= kGrid; ++j) {
+    const double tau = double(j) / kGrid;
+    if (gap(tau) < 0) {
+      hi = tau;
+      break;
+    }
+    lo = tau;
+  }
+  while (hi - lo > 1e-14) {
+    const double mid = 0.5 * (lo + hi);
+    (gap(mid) < 0 ? hi : lo) = mid;
+  }
+  return lo;
+}
+
+SolveInfo ContactIntegrator::split_step(Workspace& ws, double& theta, const Eigen::Ref<const VecX>& p,
+                                        const Eigen::Ref<const MatX>& u, Eigen::Ref<MatX> qc, Eigen::Ref<VecX> p_next,
+                                        Eigen::Ref<VecX> z, Eigen::Ref<VecX> phi, int& pivots) const {
+  const Quadrature& quad = free_.quadrature();
+  const int s = quad.s, n = free_.model().n(), m = free_.model().n_controls();
+  const double dt = free_.dt();
+  // Each piece's control points and controls from the step's polynomials at its nodes.
+  MatX q1(n, s + 1), q2(n, s + 1), u1(m, s + 1), u2(m, s + 1);
+  for (int a = 0; a <= s; ++a) {
+    const VecX l1 = quad.basis(theta * quad.c[a]), l2 = quad.basis(theta + (1 - theta) * quad.c[a]);
+    q1.col(a) = qc * l1;
+    q2.col(a) = qc * l2;
+    if (m) u1.col(a) = u * l1, u2.col(a) = u * l2;
+  }
+  q1.col(0) = qc.col(0);
+  VecX p_mid(n);
+  SolveInfo total = ws.newton.solve(free_.model(), quad, free_.options, p, u1, theta * dt, q1, p_mid);
+  if (!total.converged()) return total;
+  // The interpolant puts the impact within O(dt^{s+1}); the free piece's end is of order 2s. Newton
+  // on θ for the gap at that end (its slope from the interpolant) brings the impact to that order.
+  auto poly_gap = [&](double tau) { return smallest_gap(ws, qc * quad.basis(tau)); };
+  for (int it = 0; it < 4; ++it) {
+    const double g = smallest_gap(ws, q1.col(s));
+    const double h = 1e-6, slope = (poly_gap(theta + h) - poly_gap(theta - h)) / (2 * h);
+    if (!(slope < 0) || std::abs(g) <= 1e-14) break;
+    const double next = std::min(std::max(theta - g / slope, 0.5 * theta), std::min(1.0, theta + 0.5 * (1 - theta)));
+    if (!(next > 1e-9 && next < 1)) break;
+    MatX q_try(n, s + 1), u_try(m, s + 1);
+    for (int a = 0; a <= s; ++a) {
+      const VecX l = quad.basis(next * quad.c[a]);
+      q_try.col(a) = qc * l;
+      if (m) u_try.col(a) = u * l;
+    }
+    q_try.col(0) = qc.col(0);
+    VecX p_try(n);
+    const SolveInfo info = ws.newton.solve(free_.model(), quad, free_.options, p, u_try, next * dt, q_try, p_try);
+    total.iterations += info.iterations;
+    total.factorizations += info.factorizations;
+    total.residual_evaluations += info.residual_evaluations;
+    if (!info.converged()) break;
+    theta = next;
+    q1 = q_try;
+    u1 = u_try;
+    p_mid = p_try;
+  }
+  for (int a = 0; a <= s; ++a) {  // the contact piece from the final θ
+    const VecX l2 = quad.basis(theta + (1 - theta) * quad.c[a]);
+    q2.col(a) = qc * l2;
+    if (m) u2.col(a) = u * l2;
+  }
+  q2.col(0) = q1.col(s);
+  z.setZero();
+  ws.basis.clear();
+  const SolveInfo info = ws.solver.solve(free_.options, tol_, p_mid, u2, (1 - theta) * dt, q2, z, ws.basis, p_next);
+  pivots += ws.solver.lcp_pivots();
+  total.status = info.status;
+  total.iterations += info.iterations;
+  total.factorizations += info.factorizations;
+  total.residual_evaluations += info.residual_evaluations;
+  total.residual = info.residual;
+  if (!info.converged()) return total;
+  phi = ws.solver.gaps();
+  // The recorded control points: the two pieces' polynomials at the step's nodes.
+  for (int a = 1; a <= s; ++a) {
+    const double c = quad.c[a];
+    qc.col(a) = c <= theta ? VecX(q1 * quad.basis(c / theta)) : VecX(q2 * quad.basis((c - theta) / (1 - theta)));
+  }
+  qc.col(s) = q2.col(s);
+  return total;
+}
+
 SolveInfo ContactIntegrator::step(Workspace& ws, const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u,
                                   const Eigen::Ref<const MatX>& before_previous, const Eigen::Ref<const MatX>& previous,
                                   Eigen::Ref<MatX> qc, Eigen::Ref<VecX> p_next, Eigen::Ref<VecX> z,
-                                  Eigen::Ref<VecX> phi, int& pivots) const {
+                                  Eigen::Ref<VecX> phi, int& pivots, double& impact) const {
   const int C = contacts_.size(), d = contacts_.d(), pc = contacts_.per_contact(), s = free_.quadrature().s;
   pivots = 0;
+  impact = 0;
   SolveInfo total;
   auto add = [&](const SolveInfo& info) {
     total.status = info.status;
@@ -71,6 +177,23 @@ SolveInfo ContactIntegrator::step(Workspace& ws, const Eigen::Ref<const VecX>& p
     if (total.converged() && free_step_holds(ws, qc, z, phi)) return total;
     guessed = total.converged();  // the free step, through the terrain, is the contact solve's guess
     ws.basis.clear();
+    double theta = guessed && locate_ ? impact_time(ws, qc) : 0.0;
+    if (theta > 1e-9) {  // split at the impact; if that fails, the plain contact step below
+      const MatX free = qc;
+      const SolveInfo info = split_step(ws, theta, p, u, qc, p_next, z, phi, pivots);
+      total.iterations += info.iterations;
+      total.factorizations += info.factorizations;
+      total.residual_evaluations += info.residual_evaluations;
+      total.status = info.status;
+      total.residual = info.residual;
+      if (info.converged()) {
+        impact = theta;
+        return total;
+      }
+      qc = free;
+      z.setZero();
+      ws.basis.clear();
+    }
   }
   for (int attempt = 0; attempt < 3; ++attempt) {
     if (attempt == 0 && !guessed) {
@@ -97,7 +220,7 @@ SolveInfo ContactIntegrator::step(Workspace& ws, const Eigen::Ref<const VecX>& p
 SolveInfo ContactIntegrator::step(const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u,
                                   const Eigen::Ref<const MatX>& previous, Eigen::Ref<MatX> qc,
                                   Eigen::Ref<VecX> p_next, Eigen::Ref<VecX> z, Eigen::Ref<VecX> phi,
-                                  int* pivots) const {
+                                  int* pivots, double* impact) const {
   const int n = free_.model().n(), s = free_.quadrature().s;
   check_vector("q", qc.col(0), n);
   check_vector("p", p, n);
@@ -109,8 +232,10 @@ SolveInfo ContactIntegrator::step(const Eigen::Ref<const VecX>& p, const Eigen::
   auto ws = pool_.acquire();
   ws->basis.clear();
   int count = 0;
-  const SolveInfo info = step(*ws, p, u, MatX(), previous, qc, p_next, z, phi, count);
+  double theta = 0;
+  const SolveInfo info = step(*ws, p, u, MatX(), previous, qc, p_next, z, phi, count, theta);
   if (pivots) *pivots = count;
+  if (impact) *impact = theta;
   return info;
 }
 
@@ -137,6 +262,7 @@ ContactRollout ContactIntegrator::rollout(const VecX& q0, const VecX& p0, int N,
   out.impulses.resize(N, nz);
   out.gaps.resize(N, C);
   out.pivots.resize(N);
+  out.impact.setZero(N);
   out.status.reserve(N);
   out.q.row(0) = q0.transpose();
   out.p.row(0) = p0.transpose();
@@ -150,7 +276,9 @@ ContactRollout ContactIntegrator::rollout(const VecX& q0, const VecX& p0, int N,
       for (int a = 0; a < S1; ++a)
         for (int j = 0; j < m; ++j) uk(j, a) = u(k, a * m + j);
     int pivots = 0;
-    const SolveInfo info = step(*ws, p, uk, prev2, prev, qc, p_next, z, phi, pivots);
+    double theta = 0;
+    const SolveInfo info = step(*ws, p, uk, prev2, prev, qc, p_next, z, phi, pivots, theta);
+    out.impact[k] = theta;
     out.status.push_back(info.status);
     out.iterations[k] = info.iterations;
     out.factorizations[k] = info.factorizations;
@@ -161,7 +289,8 @@ ContactRollout ContactIntegrator::rollout(const VecX& q0, const VecX& p0, int N,
     out.p.row(k + 1) = p_next.transpose();
     out.control_points.row(k) = Eigen::Map<const VecX>(qc.data(), S1 * n).transpose();
     out.impulses.row(k) = z.transpose();
-    if (k > 0 || z0.size()) out.p.row(k) += 0.5 * ws->solver.knot_impulse(z).transpose();  // ContactRollout's p^k
+    if ((k > 0 || z0.size()) && theta == 0)  // ContactRollout's p^k (a split step's impulses act inside it)
+      out.p.row(k) += 0.5 * ws->solver.knot_impulse(z).transpose();
     out.gaps.row(k) = phi.transpose();
     p = p_next;
     if (prev.size()) prev2.swap(prev);
