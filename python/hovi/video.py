@@ -150,7 +150,7 @@ class ForceArrows:
                    np.array([0.0, 0.0, -float(radius)]), names)
 
     def scale(self, model: Model, q: np.ndarray) -> float:
-        """Metres per newton: ``length`` (or the model's size at q) over ``weight``."""
+        """Metres per newton: ``length`` (or the model's size at q (n,)) over ``weight``."""
         if self.length is not None:
             return self.length / self.weight
         origins = body_frames(model, q)[:-1, :3, 3]
