@@ -296,3 +296,21 @@ def test_impact_location_keeps_the_order_of_the_flight():
             assert ratio > 0.7 * 2 ** order, (s, field, ratio)
     assert rows[(1, False, 0.01)]["impact_time_error"] > 5 * rows[(1, True, 0.01)]["impact_time_error"]
     assert all(r["px_after_error"] < 1e-11 for r in rows.values())             # frictionless: p_x kept
+
+
+def test_flat_foot_is_simulated_as_its_sole_corners():
+    """A flat foot (hovi.contact.FlatFoot) in the simulator: its four sole corners, here a box's
+    bottom face as a sole; the box dropped flat rests on it with its weight."""
+    from hovi.contact import FlatFoot, flat_feet_contacts
+    model, _ = box_model()
+    q0 = np.array([0.0, 0.0, 0.06, 0.0, 0.0, 0.0])
+    foot = FlatFoot(model, "box", (0.0, 0.0, -0.05), 0.1, 0.075, mu=0.6, q0=q0)
+    contacts = flat_feet_contacts(model, [foot], Terrain())
+    assert len(contacts.points) == 4 and contacts.mu == 0.6
+    integ = hovi.Integrator(model, s=1, dt=0.005, contacts=contacts)
+    traj = integ.rollout(q0, 200)
+    check_complementarity(traj, 0.6)
+    assert abs(traj.q[-1, 2] - 0.05) < 1e-12
+    np.testing.assert_allclose(traj.contact.normal[-1].sum() / (model.total_mass * G * 0.005), 1.0, rtol=1e-9)
+    with pytest.raises(TypeError, match="FlatFoot"):
+        flat_feet_contacts(model, ["box"], Terrain())

@@ -27,7 +27,8 @@ import numpy as np
 
 from .._checks import real_array, real_number
 from .._core import Model
-from .contacts import contact_body, friction_coefficient
+from .contacts import Contacts, contact_body, friction_coefficient
+from .terrain import Terrain
 
 
 def wrench_cone(X: float, Y: float, mu: float) -> np.ndarray:
@@ -127,6 +128,13 @@ class FlatFoot:
         A[:, self.first_input:self.first_input + 6] = wrench_cone(self.X, self.Y, self.mu)
         return WrenchCone(A, lower=np.zeros(17), upper=np.full(17, np.inf))
 
+    def corners(self) -> list[Tuple[int, np.ndarray]]:
+        """The sole's four corners [(body, point (3,) in its joint frame), ...]: the contact points the
+        simulator takes for this foot (``Contacts.from_flat_feet``). The wrench cone is the set of sums
+        of forces at them, each in its friction pyramid, so the two models of the foot agree."""
+        return [(self.body, self.centre + np.array([sx * self.X, sy * self.Y, 0.0]))
+                for sx in (1.0, -1.0) for sy in (1.0, -1.0)]
+
     def wrench(self, u: np.ndarray) -> np.ndarray:
         """The wrenches (P, 6) (f, tau in the sole frame at its centre; N, N m) in the controls u (P, m)."""
         u = real_array(u, "u")
@@ -140,3 +148,18 @@ class FlatFoot:
         """The centre of pressure (P, 2) in the sole frame relative to its centre: (-tau_y, tau_x) / f_z."""
         w = self.wrench(u)
         return np.stack([-w[:, 4], w[:, 3]], axis=1) / w[:, 2:3]
+
+
+def flat_feet_contacts(model: Model, feet: Sequence[FlatFoot], terrain: Terrain, plane: str = "") -> Contacts:
+    """Point contacts at the sole corners of flat feet (``FlatFoot.corners``), with the feet's friction
+    coefficient: the contact simulator's model of a flat foot (``hovi.Integrator(..., contacts=...)``),
+    whose set of contact wrenches is the trajectory optimiser's wrench cone."""
+    if isinstance(feet, (str, bytes)) or not isinstance(feet, Sequence) or not feet:
+        raise ValueError("feet must be a non-empty list of hovi.contact.FlatFoot")
+    for i, foot in enumerate(feet):
+        if not isinstance(foot, FlatFoot):
+            raise TypeError(f"feet[{i}] must be a hovi.contact.FlatFoot, got {type(foot).__name__}")
+    mus = {foot.mu for foot in feet}
+    if len(mus) != 1:
+        raise ValueError(f"the feet have different friction coefficients {sorted(mus)}: give feet of one mu")
+    return Contacts(model, [corner for foot in feet for corner in foot.corners()], terrain, mu=mus.pop(), plane=plane)
