@@ -79,17 +79,30 @@ VecX ContactSolver::knot_impulse(const Eigen::Ref<const VecX>& z) const {
   return out;
 }
 
+bool ContactSolver::factor(const SolverOptions& opt, const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u,
+                           double dt) {
+  dense_path_ = uses_dense_direction(opt.direction, model_, s_);
+  if (!dense_path_) return newton_factor(model_, quad_, del_, newton_);
+  if (!dense_) dense_ = std::make_unique<DenseDirection>(model_, quad_);
+  return dense_->factor(model_, quad_, qc, u, dt, &del_);
+}
+
+void ContactSolver::solve_rhs(const Eigen::Ref<const MatX>& r, Eigen::Ref<MatX> out) {
+  if (dense_path_) dense_->solve(r, out);
+  else newton_solve(model_, quad_, del_, newton_, r, out);
+}
+
 bool ContactSolver::linearize_and_solve(const Eigen::Ref<const VecX>& z, std::vector<char>& basis) {
   const int pc = contacts_.per_contact(), ns = n_ * s_;
   // dy = -J^{-1} (R0 + G F) = d0 + W3 F, F (3C) the world impulses, G F = e_0 (x) Σ_c J0_c^T F_c.
   d0_.resize(n_, s_);
-  newton_solve(model_, quad_, del_, newton_, cur_.R0, d0_);
+  solve_rhs(cur_.R0, d0_);
   W3_.resize(ns, 3 * C_);
   rhs_.setZero(n_, s_);
   for (int j = 0; j < 3 * C_; ++j) {
     rhs_.col(0) = J0_.row(j).transpose();
     Eigen::Map<MatX> wj(W3_.col(j).data(), n_, s_);
-    newton_solve(model_, quad_, del_, newton_, rhs_, wj);
+    solve_rhs(rhs_, wj);
   }
   // The contact points at q^{k+1} + dy_end: a + K F (3C), K = Je W3_end.
   const auto W3e = W3_.middleRows((s_ - 1) * n_, n_);
@@ -154,8 +167,9 @@ struct ContactSolver::Step {
   bool feasible() const { return complementarity() <= tol; }
   double iterate_norm() const { return qc.rightCols(sv.s_).cwiseAbs().maxCoeff(); }
   bool has_factor() const { return false; }
+  const SolverOptions& opt;
   Factor factor() {
-    if (!newton_factor(sv.model_, sv.quad_, sv.del_, sv.newton_)) return Factor::Singular;
+    if (!sv.factor(opt, qc, u, dt)) return Factor::Singular;
     if (!sv.linearize_and_solve(z, basis)) return Factor::NoLcpSolution;
     fresh_lcp = true;
     return sv.dy_.allFinite() && sv.dz_.allFinite() ? Factor::Ok : Factor::NonFinite;
@@ -193,7 +207,7 @@ SolveInfo ContactSolver::solve(const SolverOptions& opt, double tol, const Eigen
   pivots_ = 0;
   start(qc.col(0));
   evaluate(p, u, dt, qc, z, cur_);
-  Step step{*this, tol, p, u, dt, qc, z, basis};
+  Step step{*this, tol, p, u, dt, qc, z, basis, 0.0, false, opt};
   step.phi_merit = Step::merit(cur_);
   NewtonLoop loop = newton_loop(opt);
   loop.reuse = false;                      // every iteration refactors (its LCP changes with the iterate)

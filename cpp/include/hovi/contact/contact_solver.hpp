@@ -15,12 +15,14 @@
 // a line search on ||(r, min(z, w))||_2. Converged when the DEL correction is at round-off and
 // every |min(z_i, w_i)| <= tol: no penetration and complementarity to that tol (m and N s).
 #pragma once
+#include <memory>
 #include <vector>
 
 #include "hovi/algorithms/del_residual.hpp"
 #include "hovi/algorithms/newton_direction.hpp"
 #include "hovi/contact/contact_model.hpp"
 #include "hovi/contact/lcp.hpp"
+#include "hovi/integrators/dense_direction.hpp"
 #include "hovi/integrators/newton_solver.hpp"
 
 namespace hovi {
@@ -64,6 +66,11 @@ class ContactSolver {
                 const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const VecX>& z, State& st);
   // The LCP of the linearisation at the current iterate and its solution: z_new_, dy_; false if none.
   bool linearize_and_solve(const Eigen::Ref<const VecX>& z, std::vector<char>& basis);
+  // Factors the DEL Jacobian at the current iterate on the path the options choose (the dense LU
+  // below the crossover in n, as the integrator's direction: each of the 3C + 1 solves of an
+  // iteration then costs O(s^2 n^2) instead of the recursion's large O(s^2 n)); false if singular.
+  bool factor(const SolverOptions& opt, const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u, double dt);
+  void solve_rhs(const Eigen::Ref<const MatX>& r, Eigen::Ref<MatX> out);  // out = -J^{-1} r
 
   const Model& model_;
   const Quadrature& quad_;
@@ -73,6 +80,8 @@ class ContactSolver {
   Data data_;         // forward kinematics at q^k
   DelWorkspace del_;
   NewtonWorkspace newton_;
+  std::unique_ptr<DenseDirection> dense_;  // made on first use of the dense path
+  bool dense_path_ = false;
   LcpSolver lcp_;
   MatX X0_, J0_;      // 3 x C, 3C x n at q^k
   State cur_, trial_;
