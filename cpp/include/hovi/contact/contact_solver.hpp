@@ -64,8 +64,11 @@ class ContactSolver {
   void start(const Eigen::Ref<const VecX>& q0);  // X0_, J0_ at q^k
   void evaluate(const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u, double dt,
                 const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const VecX>& z, State& st);
-  // The LCP of the linearisation at the current iterate and its solution: z_new_, dy_; false if none.
-  bool linearize_and_solve(const Eigen::Ref<const VecX>& z, std::vector<char>& basis);
+  // After factor(): W3_, K_ and the LCP's matrix M_ of the linearisation (false if not finite).
+  bool linearize();
+  // With them, the LCP's right-hand side at the current iterate and its solution: z_new_, dy_, dz_;
+  // false if it has none.
+  bool solve_linearization(const Eigen::Ref<const VecX>& z, std::vector<char>& basis);
   // Factors the DEL Jacobian at the current iterate on the path the options choose (the dense LU
   // below the crossover in n, as the integrator's direction: each of the 3C + 1 solves of an
   // iteration then costs O(s^2 n^2) instead of the recursion's large O(s^2 n)); false if singular.
