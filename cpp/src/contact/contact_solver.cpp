@@ -97,11 +97,17 @@ bool ContactSolver::linearize() {
   // W3 = -J^{-1} G: the motion of the step's control points per world impulse at each contact
   // (G F = e_0 (x) Σ_c J0_c^T F_c), so that dy = d0 + W3 F with d0 = -J^{-1} R0.
   W3_.resize(ns, 3 * C_);
-  rhs_.setZero(n_, s_);
-  for (int j = 0; j < 3 * C_; ++j) {
-    rhs_.col(0) = J0_.row(j).transpose();
-    Eigen::Map<MatX> wj(W3_.col(j).data(), n_, s_);
-    solve_rhs(rhs_, wj);
+  if (dense_path_) {  // the 3C right-hand sides [J0^T; 0] in one blocked solve
+    rhs_.setZero(ns, 3 * C_);
+    rhs_.topRows(n_) = J0_.transpose();
+    dense_->solve_many(rhs_, W3_);
+  } else {
+    rhs_.setZero(n_, s_);
+    for (int j = 0; j < 3 * C_; ++j) {
+      rhs_.col(0) = J0_.row(j).transpose();
+      Eigen::Map<MatX> wj(W3_.col(j).data(), n_, s_);
+      solve_rhs(rhs_, wj);
+    }
   }
   // The contact points at q^{k+1} + dy_end move by K F, K = Je W3_end; KE (3C x nz) = K E with the
   // impulse map F = E z (λ along +z, β along D_i, γ none).

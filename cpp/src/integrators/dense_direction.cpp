@@ -32,4 +32,9 @@ void DenseDirection::solve(const Eigen::Ref<const MatX>& r, Eigen::Ref<MatX> dq)
   for (int g = 0; g < dq.cols(); ++g) dq.col(g) = -y_.segment(g * dq.rows(), dq.rows());
 }
 
+void DenseDirection::solve_many(const Eigen::Ref<const MatX>& R, Eigen::Ref<MatX> X) {
+  X.noalias() = lu_.solve(R);
+  X = -X;
+}
+
 }  // namespace hovi

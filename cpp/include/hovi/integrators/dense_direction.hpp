@@ -29,6 +29,9 @@ class DenseDirection {
               const Eigen::Ref<const MatX>& u, double dt, const DelWorkspace* kinematics = nullptr);
   // dq = -J^{-1} r, r and dq n x s (column gamma-1 = δq^{k,gamma}).
   void solve(const Eigen::Ref<const MatX>& r, Eigen::Ref<MatX> dq);
+  // X = -J^{-1} R for k right-hand sides at once, R and X (s n) x k (each column a stacked r):
+  // one blocked triangular solve in place of k.
+  void solve_many(const Eigen::Ref<const MatX>& R, Eigen::Ref<MatX> X);
 
  private:
   DelJacobianWorkspace ws_;
