@@ -515,12 +515,13 @@ class ContactIntegrator:
     contacts=...) makes and uses it; the arguments are hovi.contact.Contacts' (bodies, points in the
     joint frames, the terrain's ground, gaps (G, 3) and boxes (B, 5), mu, friction directions (d, 3)).
     """
-    def __init__(self, integrator: Integrator, bodies: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], points: numpy.typing.ArrayLike, ground: typing.SupportsFloat | typing.SupportsIndex, gaps: numpy.typing.ArrayLike, boxes: numpy.typing.ArrayLike, mu: typing.SupportsFloat | typing.SupportsIndex, directions: numpy.typing.ArrayLike, contact_tol: typing.SupportsFloat | typing.SupportsIndex = 1e-10) -> None:
+    def __init__(self, integrator: Integrator, bodies: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], points: numpy.typing.ArrayLike, ground: typing.SupportsFloat | typing.SupportsIndex, gaps: numpy.typing.ArrayLike, boxes: numpy.typing.ArrayLike, mu: typing.SupportsFloat | typing.SupportsIndex, directions: numpy.typing.ArrayLike, contact_tol: typing.SupportsFloat | typing.SupportsIndex = 1e-10, locate_impacts: bool = False) -> None:
         """
         The contact simulator over `integrator` (a hovi._core.Integrator) with C contact points: bodies (C,)
         indices, points (C, 3) in the bodies' joint frames; the terrain's ground height, gaps (G, 3) rows
         (x0, x1, depth), boxes (B, 5) rows (x0, x1, top, y0, y1); friction mu; directions (d, 3) horizontal
-        unit vectors; contact_tol the complementarity tolerance (m and N s).
+        unit vectors; contact_tol the complementarity tolerance (m and N s); locate_impacts: split a step
+        at an impact found on its polynomial (contact_integrator.hpp).
         """
     def gap_heights(self, xy: numpy.typing.ArrayLike) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         """
