@@ -276,7 +276,6 @@ def test_a_urdf_on_the_ground_with_contact_points(tmp_path, capsys):
     (["--base", "floating", "--contact", "c", "--no-ground"], "argument --contact: contact needs the ground"),
     (["--base", "floating", "--mu", "0", "--no-ground"], "argument --mu: contact needs the ground"),
     (["--mu", "0.5"], "the ground needs contact points: give --contact LINK:x,y,z"),
-    (["--base", "floating", "--contact", "c", "--order", "4"], "argument --order: the contact simulation"),
 ])
 def test_the_ground_without_what_it_needs_is_refused_naming_the_flag(argv, says, tmp_path, capsys):
     (tmp_path / "arm.urdf").write_text(URDF_2DOF)
@@ -289,7 +288,6 @@ def test_the_ground_without_what_it_needs_is_refused_naming_the_flag(argv, says,
 @pytest.mark.parametrize("argv, says", [
     (["--no-ground", "--mu", "0.5"], "argument --mu: contact needs the ground"),
     (["--contact", "body:0,0,0"], "argument --contact: the built-in robot 'littledog' has its feet"),
-    (["--order", "4"], "argument --order: the contact simulation (on the ground) is of order 2"),
 ])
 def test_a_robot_on_the_ground_refuses_what_does_not_apply(argv, says, tmp_path, capsys):
     assert main(["simulate", "littledog"] + argv + ["--no-progress", "--no-plot", "--output", str(tmp_path)]) == 2
@@ -429,3 +427,11 @@ def test_plots_have_legends_and_equal_axes():
     assert aspect[0] == pytest.approx(aspect[1]) == pytest.approx(aspect[2])
     pyplot().close(fig)
     assert control_labels(model) == ["u[0] (elbow)"]
+
+
+def test_a_robot_on_the_ground_at_order_four_locates_its_impacts(tmp_path, capsys):
+    """--order 4 on the ground: s = 2 with the impacts located on the step's polynomial."""
+    assert main(["simulate", "littledog", "--order", "4", "--duration", "0.3", "--no-progress", "--no-plot",
+                 "--output", str(tmp_path)]) == 0
+    s = json.loads((tmp_path / "simulate.json").read_text())
+    assert s["ground"] and s["converged"] and s["order"] == 4

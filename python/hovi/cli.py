@@ -156,9 +156,7 @@ def ground_scene(args, model: Model, base: str, robot_name: Optional[str]) -> Gr
     ValueError naming the flag for what is missing or wrong."""
     from .contact import Terrain
     from .contact.contacts import friction_coefficient
-    if args.order not in (None, 2):
-        raise ValueError(f"argument --order: the contact simulation (on the ground) is of order 2 (s = 1, inelastic "
-                         f"impacts), got {args.order}; leave out --order, or give --no-ground for the free fall")
+    order = 2 if args.order is None else args.order  # above 2: impacts located on the step's polynomial
     mu = MU if args.mu is None else friction_coefficient(args.mu, "--mu")
     plane = "xz" if base == "planar" else ""
     rng = np.random.default_rng(args.seed)
@@ -172,10 +170,10 @@ def ground_scene(args, model: Model, base: str, robot_name: Optional[str]) -> Gr
         mu = STANDING_MU if args.mu is None else mu
         radius = float(st.robot.contact_radius)
         integ, contacts = st.integrator, st.contacts
-        if args.mu is not None or args.ground_height != 0.0:
+        if args.mu is not None or args.ground_height != 0.0 or order != 2:
             contacts = Contacts(st.model, st.robot.contact_points, Terrain(ground=args.ground_height + radius), mu=mu,
                                 plane=plane)
-            integ = Integrator(st.model, s=1, dt=st.integrator.dt, contacts=contacts)
+            integ = Integrator(st.model, order=order, dt=st.integrator.dt, contacts=contacts)
         q0 = st.q0.copy()
         spread = 0.0 if args.spread is None else args.spread
         q0[nb:] += rng.uniform(-spread, spread, model.n - nb)
@@ -194,7 +192,7 @@ def ground_scene(args, model: Model, base: str, robot_name: Optional[str]) -> Gr
                                                                  if base == "fixed" else ""))
     contacts = Contacts(model, list(args.contact), Terrain(ground=args.ground_height), mu=mu, plane=plane)
     dt = GROUND_DT if args.dt is None else args.dt
-    integ = Integrator(model, s=1, dt=dt, tol=args.tol, contacts=contacts)
+    integ = Integrator(model, order=order, dt=dt, tol=args.tol, contacts=contacts)
     q0 = initial_state(model, np.pi / 12 if args.spread is None else args.spread, args.seed)
     q0[:nb] = 0.0
     return GroundScene(model, integ, contacts, lift(contacts, q0, base, args.drop), None, 0.0,
