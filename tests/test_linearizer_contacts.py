@@ -107,3 +107,43 @@ def test_steps_split_at_an_impact_are_refused():
     assert np.any(traj.contact.impact > 0)
     with pytest.raises(ValueError, match="split at an impact"):
         hovi.Linearizer(integ).rollout_jacobians(traj, np.array([0.1]))
+
+
+def test_smoothed_jacobians_agree_away_from_switches():
+    """The central-path linearisation with a small kappa is the held-state one where each pair is far
+    from its switch (stance: 1e-12; sliding)."""
+    integ = planar_body()
+    lin = hovi.Linearizer(integ)
+    u = np.array([0.1])
+    for qdot in (np.zeros(3), np.array([0.5, 0.0, 0.0])):
+        q = np.array([0.0, 0.05, 0.0])
+        p = integ.momentum(q, qdot)
+        held = lin.step_jacobians(q, p, u, hold=True)
+        smooth = lin.step_jacobians(q, p, u, hold=True, smoothing=1e-14)
+        np.testing.assert_allclose(smooth.A, held.A, rtol=0, atol=1e-6 * np.abs(held.A).max())
+        np.testing.assert_allclose(smooth.B, held.B, rtol=0, atol=1e-6 * np.abs(held.B).max())
+
+
+def test_smoothed_jacobian_blends_the_sides_of_a_switch():
+    """A weightless block touching the ground (gap 0, no load): pushed down it stays, pulled up it
+    leaves: the height after a step has the one-sided derivatives 0 and dt/m in the vertical
+    momentum. Held, the step's state (no load: flight) gives dt/m; smoothed, half of it."""
+    model = hovi.Model()
+    model.add_body("slider", None, "prismatic", axis=(1, 0, 0))
+    model.add_body("mass", "slider", "prismatic", axis=(0, 0, 1), mass=2.0, inertia=np.eye(3) * 1e-3)
+    model.gravity = (0.0, 0.0, 0.0)
+    dt = 0.01
+    integ = hovi.Integrator(model, s=1, dt=dt, contacts=Contacts(model, [("mass", (0, 0, 0))], Terrain(), mu=0.5,
+                                                                  plane="xz"))
+    q, p = np.zeros(2), np.zeros(2)
+    h = 1e-6
+    up = (integ.step(q, p + [0, h])[0][1] - integ.step(q, p)[0][1]) / h
+    down = (integ.step(q, p)[0][1] - integ.step(q, p - [0, h])[0][1]) / h
+    assert abs(up - dt / 2.0) < 1e-9 and abs(down) < 1e-9                  # the two sides: dt/m and 0
+    lin = hovi.Linearizer(integ)
+    held = lin.step_jacobians(q, p).A[1, 3]
+    smooth = lin.step_jacobians(q, p, smoothing=1e-12).A[1, 3]
+    assert abs(held - dt / 2.0) < 1e-12                                    # held: the side of the step
+    assert abs(smooth - 0.5 * (up + down)) < 1e-6                          # smoothed: between the sides
+    with pytest.raises(ValueError, match="smoothing"):
+        lin.step_jacobians(q, p, smoothing=-1.0)

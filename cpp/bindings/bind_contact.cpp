@@ -178,7 +178,7 @@ q, p (K+1, n), control_points (K, (s+1) n), iterations, factorizations, residual
 (per attempted step), impulses (K, C (2 + d)), gaps (K, C), steps K, seconds.
 )doc")
       .def("rollout_jacobians", [](const PyContactIntegrator& c, const ArrayLike& cps, const OptArrayLike& u,
-                                   const ArrayLike& impulses, bool want_A, bool want_B)
+                                   const ArrayLike& impulses, bool want_A, bool want_B, double smoothing)
                                    -> Tuple<Optional<py::array_t<double>>, Optional<py::array_t<double>>> {
             const ContactLinearizer& lin = c.lin();
             const PyIntegrator& pi = c.py();
@@ -194,17 +194,18 @@ q, p (K+1, n), control_points (K, (s+1) n), iterations, factorizations, residual
             int failed;
             {
               py::gil_scoped_release release;
-              failed = lin.trajectory_jacobians(C, U, Z, a, b);
+              failed = lin.trajectory_jacobians(C, U, Z, a, b, smoothing);
             }
             if (failed >= 0)
               throw InputError("the contact step's Jacobian is singular at step " + std::to_string(failed) +
                                " (redundant contacts held: the impulses do not determine the step's linearisation)");
             return py::make_tuple(want_A ? py::object(As) : py::none(), want_B ? py::object(Bs) : py::none());
           }, py::arg("control_points"), py::arg("u"), py::arg("impulses"), py::arg("want_A") = true,
-          py::arg("want_B") = true, R"doc(
+          py::arg("want_B") = true, py::arg("smoothing") = 0.0, R"doc(
 The step Jacobians of K converged contact steps (contact_linearizer.hpp): control_points (K, (s+1) n),
-u (K, (s+1) m) or None, impulses (K, C (2 + d)); returns (A (K, 2n, 2n) or None, B (K, 2n, (s+1) m)
-or None), in C++ (GIL released).
+u (K, (s+1) m) or None, impulses (K, C (2 + d)); smoothing: the central-path parameter kappa ((N s)^2;
+0: the contact state held); returns (A (K, 2n, 2n) or None, B (K, 2n, (s+1) m) or None), in C++
+(GIL released).
 )doc")
       .def("rollout_batch", [](const PyContactIntegrator& c, const ArrayLike& q0s, const ArrayLike& p0s, int steps,
                                const OptArrayLike& u, const OptInt& threads) {

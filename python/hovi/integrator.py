@@ -506,14 +506,17 @@ class Integrator:
                          multipliers=raw["multipliers"] if self.n_constraints else None)
 
     def contact_jacobians(self, control_points: FloatArray, u: Optional[FloatArray], impulses: FloatArray, *,
-                          A: bool = True, B: bool = True) -> Tuple[Optional[FloatArray], Optional[FloatArray]]:
+                          A: bool = True, B: bool = True, smoothing: float = 0.0
+                          ) -> Tuple[Optional[FloatArray], Optional[FloatArray]]:
         """The step Jacobians of K converged contact steps (``hovi.Linearizer`` calls it): control
-        points (K, (s+1) n), u (K, (s+1) m) or None, impulses (K, C (2 + d)); (A (K, 2n, 2n), B (K,
-        2n, (s+1) m)), None for what was not asked for. ValueError without contacts."""
+        points (K, (s+1) n), u (K, (s+1) m) or None, impulses (K, C (2 + d)); smoothing: the central-path
+        parameter kappa ((N s)^2, >= 0; 0: each contact's state held); (A (K, 2n, 2n), B (K, 2n, (s+1) m)),
+        None for what was not asked for. ValueError without contacts."""
         if self._contact is None:
             raise ValueError("this integrator has no contacts")
+        kappa = real_number(smoothing, "smoothing", minimum=0.0)
         result: Tuple[Optional[FloatArray], Optional[FloatArray]] = self._contact.rollout_jacobians(
-            control_points, u, impulses, A, B)
+            control_points, u, impulses, A, B, kappa)
         return result
 
     def _momenta(self, Q: FloatArray, second: FloatArray, velocities: bool) -> FloatArray:

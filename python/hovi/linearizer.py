@@ -106,9 +106,12 @@ class Linearizer:
         return DelJacobian(dq=dq, du=du, s=s, n=n, dlambda=dlambda, dh=dh)
 
     def step_jacobians(self, q: npt.ArrayLike, p: npt.ArrayLike, u: Optional[npt.ArrayLike] = None, *, A: bool = True,
-                       B: bool = True, hold: bool = False, guess: Optional[npt.ArrayLike] = None) -> StepLinearization:
+                       B: bool = True, hold: bool = False, guess: Optional[npt.ArrayLike] = None,
+                       smoothing: float = 0.0) -> StepLinearization:
         """Take one step from (q, p) (n,) with controls u ((m,) or (s+1, m)) and linearise it: A (2n, 2n),
-        B (2n, (s+1) m) or (2n, m) with hold=True (see StepLinearization)."""
+        B (2n, (s+1) m) or (2n, m) with hold=True (see StepLinearization). With contacts, ``smoothing``
+        > 0 (kappa, (N s)^2) linearises the complementarity on the central path (across contact switches:
+        cpp/include/hovi/contact/contact_linearizer.hpp); 0 holds each contact's state."""
         q_next, p_next, info = self.integrator.step(q, p, u, guess=guess)
         assert info.control_points is not None
         if self.integrator.contacts is not None:  # through the contact step, its contact state held
@@ -119,9 +122,11 @@ class Linearizer:
             U = self.integrator.controls_per_point(u, 1)
             As, Bs = self.integrator.contact_jacobians(info.control_points.reshape(1, -1),
                                                        None if U is None else U.reshape(1, -1),
-                                                       info.impulses.reshape(1, -1), A=A, B=B)
+                                                       info.impulses.reshape(1, -1), A=A, B=B, smoothing=smoothing)
             Am, Bm = (None if As is None else As[0]), (None if Bs is None else Bs[0])
         else:
+            if smoothing:
+                raise ValueError("smoothing is for an integrator with contacts")
             Am, Bm = self._core.step_jacobians(info.control_points, u, A, B, info.multipliers)
         if Bm is not None and hold:
             Bm = _hold(Bm, self.integrator.model.n_controls)
@@ -138,9 +143,11 @@ class Linearizer:
         return Am, Bm
 
     def rollout_jacobians(self, trajectory: Trajectory, u: Optional[npt.ArrayLike] = None, *, A: bool = True,
-                          B: bool = True, hold: bool = False) -> Tuple[Optional[FloatArray], Optional[FloatArray]]:
+                          B: bool = True, hold: bool = False, smoothing: float = 0.0
+                          ) -> Tuple[Optional[FloatArray], Optional[FloatArray]]:
         """(A_k, B_k) along a trajectory, computed in C++: arrays (K, 2n, 2n) and (K, 2n, (s+1) m)
-        (or (K, 2n, m) with hold=True). u as given to Integrator.rollout."""
+        (or (K, 2n, m) with hold=True). u as given to Integrator.rollout; ``smoothing`` as for
+        ``step_jacobians``."""
         integ = self.integrator
         if not trajectory.converged:
             raise ConvergenceError("the trajectory has unconverged steps; linearise the converged part only")
@@ -159,10 +166,12 @@ class Linearizer:
                                  "contact switch); linearise the steps away from impacts, or simulate with s = 1 "
                                  "without locate_impacts (the trajectory optimiser's time-stepping)")
             As, Bs = integ.contact_jacobians(cps, U, np.ascontiguousarray(trajectory.contact.impulses.reshape(K, -1)),
-                                             A=A, B=B)
+                                             A=A, B=B, smoothing=smoothing)
             if Bs is not None and hold:
                 Bs = _hold(Bs, integ.model.n_controls)
             return As, Bs
+        if smoothing:
+            raise ValueError("smoothing is for an integrator with contacts")
         mult = None
         if trajectory.multipliers is not None:
             mult = np.ascontiguousarray(trajectory.multipliers.reshape(K, -1))

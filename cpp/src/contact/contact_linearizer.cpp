@@ -2,6 +2,8 @@
 
 #include <Eigen/LU>
 #include <Eigen/QR>
+#include <algorithm>
+#include <cmath>
 
 #include "hovi/algorithms/body_points.hpp"
 #include "hovi/algorithms/kinematics.hpp"
@@ -127,15 +129,143 @@ bool ContactLinearizer::step_jacobians(const Eigen::Ref<const MatX>& qc, const E
   return true;
 }
 
+bool ContactLinearizer::smoothed_jacobians(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u,
+                                           const Eigen::Ref<const VecX>& z, double kappa, MatX* A, MatX* B) const {
+  auto w = pool_.acquire();
+  const int n = model_.n(), s = quad_.s, S1 = s + 1, m = model_.n_controls(), sn = s * n;
+  const int C = contacts_.size(), d = contacts_.d(), pc = contacts_.per_contact(), nz = contacts_.unknowns();
+  const int ny = sn + nz;
+  const bool want_u = B != nullptr && m > 0;
+  MatX &Jq = w->Jq, &Ju = w->Ju, &K = w->K, &rhs = w->rhs, &sol = w->sol, &J0 = w->J0, &Je = w->Je, &H = w->H;
+  Jq.resize(S1 * n, S1 * n);
+  del_jacobian(model_, quad_, w->ws, qc, u, dt_, Jq, want_u ? &Ju : nullptr);
+  J0.setZero(3 * C, n);
+  Je.setZero(3 * C, n);
+  H.setZero(n, n);
+  const KinematicsView kin{model_, w->data.g.data(), w->data.Sbar.data(), 1};
+  MatX X0(3, C), Xe(3, C);
+  forward_kinematics(model_, w->data, qc.col(0));
+  for (int c = 0; c < C; ++c) {
+    Vec3 x;
+    body_point_jacobian(kin, contacts_.points[c].body, r_com_.col(c), x, J0.middleRows(3 * c, 3));
+    X0.col(c) = x;
+    const auto zc = z.segment(c * pc, pc);
+    const Vec3 F = zc[0] * Vec3::UnitZ() + contacts_.D.transpose() * zc.segment(1, d);
+    body_point_force_derivative(kin, contacts_.points[c].body, r_com_.col(c), F, H);
+  }
+  forward_kinematics(model_, w->data, qc.col(s));
+  for (int c = 0; c < C; ++c) {
+    Vec3 x;
+    body_point_jacobian(kin, contacts_.points[c].body, r_com_.col(c), x, Je.middleRows(3 * c, 3));
+    Xe.col(c) = x;
+  }
+  // Each pair in impulse units: a complement w_i (a gap or displacement, m) over its impulse's own
+  // mobility (m per N s: the displacement of the contact point along its direction per unit impulse
+  // there, through the step), so that the central path weighs both sides of a switch by their
+  // physics, not by their units; the cone pair's γ (m) likewise.
+  const Eigen::PartialPivLU<MatX> luy(Jq.topRightCorner(sn, sn));
+  MatX G = MatX::Zero(sn, 3 * C);
+  G.topRows(n) = J0.transpose();
+  const MatX W3e = (-luy.solve(G)).middleRows(sn - n, n);
+  VecX mobility(nz);
+  for (int c = 0; c < C; ++c) {
+    const Mat3 Kc = Je.middleRows(3 * c, 3) * W3e.middleCols(3 * c, 3);  // 3 x 3: point motion per impulse
+    mobility[c * pc] = Kc(2, 2);
+    double friction = 0;
+    for (int i = 0; i < d; ++i) {
+      const Vec3 Di = contacts_.D.row(i).transpose();
+      mobility[c * pc + 1 + i] = Di.dot(Kc * Di);
+      friction = std::max(friction, mobility[c * pc + 1 + i]);
+    }
+    mobility[c * pc + d + 1] = friction;  // the cone pair: γ (m) over the friction's mobility
+  }
+  for (int i = 0; i < nz; ++i)
+    if (!(mobility[i] > 0)) mobility[i] = mobility.cwiseAbs().maxCoeff() > 0 ? mobility.cwiseAbs().maxCoeff() : 1.0;
+  // dR/d(y, z): the DEL rows with every impulse's column, then one smoothed row per pair.
+  K.setZero(ny, ny);
+  K.topLeftCorner(sn, sn) = Jq.topRightCorner(sn, sn);
+  rhs.setZero(ny, 2 * n);  // d/d(q^k, p^k)
+  rhs.topLeftCorner(sn, n) = Jq.topLeftCorner(sn, n);
+  rhs.topLeftCorner(n, n) += H;
+  rhs.block(0, n, n, n).setIdentity();
+  for (int c = 0; c < C; ++c) {
+    const int base = c * pc, row = sn + base;
+    const auto zc = z.segment(base, pc);
+    const auto J0c = J0.middleRows(3 * c, 3), Jec = Je.middleRows(3 * c, 3);
+    K.block(0, sn + base, n, 1) = J0c.row(2).transpose();                          // λ along +z
+    K.block(0, sn + base + 1, n, d) = J0c.transpose() * contacts_.D.transpose();    // β along D_i
+    const double h = contacts_.terrain.height(Xe(0, c), Xe(1, c));
+    const Vec3 disp = Xe.col(c) - X0.col(c);
+    // the complements w and their derivatives: gap row, friction rows, cone row
+    for (int i = 0; i < pc; ++i) {
+      double wi;
+      Eigen::RowVectorXd dw_dyend = Eigen::RowVectorXd::Zero(n), dw_dq0 = Eigen::RowVectorXd::Zero(n);
+      Eigen::RowVectorXd dw_dz = Eigen::RowVectorXd::Zero(nz);
+      if (i == 0) {
+        wi = Xe(2, c) - h;
+        dw_dyend = Jec.row(2);
+      } else if (i <= d) {
+        const Eigen::RowVector3d Di = contacts_.D.row(i - 1);
+        wi = zc[d + 1] + Di.dot(disp);
+        dw_dyend = Di * Jec;
+        dw_dq0 = -Di * J0c;
+        dw_dz[base + d + 1] = 1;
+      } else {
+        wi = contacts_.mu * zc[0] - zc.segment(1, d).sum();
+        dw_dz[base] = contacts_.mu;
+        dw_dz.segment(base + 1, d).setConstant(-1);
+      }
+      // in impulse units (N s): the cone pair's z (γ, m) and the other pairs' w (m) over the mobility
+      const double mi = mobility[base + i], zs = i == d + 1 ? 1 / mi : 1.0, ws = i == d + 1 ? 1.0 : 1 / mi;
+      const double zi = zs * zc[i], wsc = ws * wi;
+      // the central path through (zi, w): (z + δ)(w + δ) = kappa, δ >= 0
+      const double delta = std::max(0.0, 0.5 * (-(zi + wsc) + std::sqrt((zi - wsc) * (zi - wsc) + 4 * kappa)));
+      const double zt = zi + delta, wt = wsc + delta;
+      // wt d(zs z_i) + zt d(ws w_i) = 0
+      K.block(row + i, sn - n, 1, n) = (zt * ws) * dw_dyend;
+      K.block(row + i, sn, 1, nz) = (zt * ws) * dw_dz;
+      K(row + i, sn + base + i) += wt * zs;
+      rhs.block(row + i, 0, 1, n) = (zt * ws) * dw_dq0;
+    }
+  }
+  const Eigen::PartialPivLU<MatX> lu(K);
+  const double scale = K.cwiseAbs().maxCoeff();
+  if (!(lu.matrixLU().diagonal().cwiseAbs().minCoeff() > 1e-14 * scale)) return false;
+  const auto P_y = Jq.bottomRightCorner(n, sn);
+  if (A) {
+    sol = -lu.solve(rhs);
+    A->resize(2 * n, 2 * n);
+    A->topRows(n) = sol.middleRows(sn - n, n);
+    A->bottomRows(n).noalias() = P_y * sol.topRows(sn);
+    A->bottomLeftCorner(n, n) += Jq.bottomLeftCorner(n, n);
+  }
+  if (B) {
+    B->setZero(2 * n, S1 * m);
+    if (want_u) {
+      MatX rhs_u = MatX::Zero(ny, S1 * m);
+      for (int a = 0; a < S1; ++a) rhs_u.block(0, a * m, sn, m) = Ju.block(0, a * m, sn, m);
+      sol = -lu.solve(rhs_u);
+      B->topRows(n) = sol.middleRows(sn - n, n);
+      B->bottomRows(n).noalias() = P_y * sol.topRows(sn);
+      for (int a = 0; a < S1; ++a) B->block(n, a * m, n, m) += Ju.block(sn, a * m, n, m);
+    }
+  }
+  return true;
+}
+
 int ContactLinearizer::trajectory_jacobians(const Eigen::Ref<const MatX>& C, const Eigen::Ref<const MatX>& U,
-                                            const Eigen::Ref<const MatX>& Z, double* As, double* Bs) const {
+                                            const Eigen::Ref<const MatX>& Z, double* As, double* Bs,
+                                            double kappa) const {
   using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
   const int n = model_.n(), s = quad_.s, S1 = s + 1, m = model_.n_controls();
   MatX A, B, qc(n, S1), uk(m, S1);
   for (int k = 0; k < C.rows(); ++k) {
     for (int c = 0; c < S1; ++c) qc.col(c) = C.row(k).segment(c * n, n).transpose();
     for (int c = 0; c < S1; ++c) uk.col(c) = U.row(k).segment(c * m, m).transpose();
-    if (!step_jacobians(qc, uk, Z.row(k).transpose(), As ? &A : nullptr, Bs ? &B : nullptr)) return k;
+    const bool ok = kappa > 0 ? smoothed_jacobians(qc, uk, Z.row(k).transpose(), kappa, As ? &A : nullptr,
+                                                   Bs ? &B : nullptr)
+                              : step_jacobians(qc, uk, Z.row(k).transpose(), As ? &A : nullptr, Bs ? &B : nullptr);
+    if (!ok) return k;
     if (As) Eigen::Map<RowMajor>(As + std::size_t(k) * 4 * n * n, 2 * n, 2 * n) = A;
     if (Bs) Eigen::Map<RowMajor>(Bs + std::size_t(k) * 2 * n * S1 * m, 2 * n, S1 * m) = B;
   }

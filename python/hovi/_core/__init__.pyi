@@ -539,11 +539,12 @@ class ContactIntegrator:
         rollout from each of B states q0s, p0s (B, n) on `threads` C++ threads (GIL released); u (B steps,
         (s+1) m). Returns (items: B rollout dicts, or None for an item that raised, errors (B,)).
         """
-    def rollout_jacobians(self, control_points: numpy.typing.ArrayLike, u: numpy.typing.ArrayLike | None, impulses: numpy.typing.ArrayLike, want_A: bool = True, want_B: bool = True) -> tuple[numpy.typing.NDArray[numpy.float64] | None, numpy.typing.NDArray[numpy.float64] | None]:
+    def rollout_jacobians(self, control_points: numpy.typing.ArrayLike, u: numpy.typing.ArrayLike | None, impulses: numpy.typing.ArrayLike, want_A: bool = True, want_B: bool = True, smoothing: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> tuple[numpy.typing.NDArray[numpy.float64] | None, numpy.typing.NDArray[numpy.float64] | None]:
         """
         The step Jacobians of K converged contact steps (contact_linearizer.hpp): control_points (K, (s+1) n),
-        u (K, (s+1) m) or None, impulses (K, C (2 + d)); returns (A (K, 2n, 2n) or None, B (K, 2n, (s+1) m)
-        or None), in C++ (GIL released).
+        u (K, (s+1) m) or None, impulses (K, C (2 + d)); smoothing: the central-path parameter kappa ((N s)^2;
+        0: the contact state held); returns (A (K, 2n, 2n) or None, B (K, 2n, (s+1) m) or None), in C++
+        (GIL released).
         """
     def step(self, q: numpy.typing.ArrayLike, p: numpy.typing.ArrayLike, u: numpy.typing.ArrayLike | None = None, impulses: numpy.typing.ArrayLike | None = None) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], dict[str, typing.Any]]:
         """

@@ -28,10 +28,19 @@ class ContactLinearizer {
   // in the motion.
   bool step_jacobians(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u,
                       const Eigen::Ref<const VecX>& z, MatX* A, MatX* B) const;
-  // step_jacobians along K steps (rows of C, U, Z as Linearizer::trajectory_jacobians, Z: K x
-  // unknowns()); -1, or the first step whose dR/dy is singular.
+  // Smoothed across contact switches (kappa > 0, in (N s)^2): every complementarity pair (z_i, w_i)
+  // of the step, in impulse units (a gap or displacement over its impulse's own mobility through the
+  // step), linearised on the central path z~_i w~_i = kappa through the solution (both moved by the
+  // same δ >= 0: z~ = z + δ, w~ = w + δ), w~_i dz_i + z~_i dw_i = 0, as the gradients of an
+  // interior-point step (Dojo's). A pair far from its switch (z_i w~_i >> kappa) keeps its side as
+  // in step_jacobians, to O(kappa); a pair at it (z = w = 0: a contact touching without load, a
+  // sticking contact at its friction limit) blends both sides. All of z's unknowns enter.
+  bool smoothed_jacobians(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u,
+                          const Eigen::Ref<const VecX>& z, double kappa, MatX* A, MatX* B) const;
+  // step_jacobians (kappa = 0) or smoothed_jacobians along K steps (rows of C, U, Z as
+  // Linearizer::trajectory_jacobians, Z: K x unknowns()); -1, or the first step whose dR/dy is singular.
   int trajectory_jacobians(const Eigen::Ref<const MatX>& C, const Eigen::Ref<const MatX>& U,
-                           const Eigen::Ref<const MatX>& Z, double* As, double* Bs) const;
+                           const Eigen::Ref<const MatX>& Z, double* As, double* Bs, double kappa = 0) const;
 
  private:
   struct Workspace {
