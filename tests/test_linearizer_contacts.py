@@ -3,8 +3,10 @@ ContactLinearizer) against central differences of the contact step, away from co
 a planar body on two contact points in stance (four rows on three freedoms: the friction
 impulses undetermined, the motion not), sliding and flight, and a box sliding. A box flat on four
 corners is at a switch (the LCP loads two, a tilt loads the others), as a flat sole is: not
-differentiable there. Open: a box resting on a tripod of three sticking points agrees with central
-differences only to O(h) (2e-6 at h = 1e-6, 2e-7 at 1e-7 on entries of 10), a kink not understood yet."""
+differentiable there. Nor is a box resting on a tripod of three sticking points, where central
+differences agree only to O(h) (2e-6 at h = 1e-6, 2e-7 at 1e-7 on entries of 10): tilted by h, the
+three points' horizontal distances shrink by O(h^2), so nine stick rows on six freedoms can no longer
+all hold, and which point slips (by O(h^2)) depends on the sign of h, a kink at second order."""
 import numpy as np
 import pytest
 
