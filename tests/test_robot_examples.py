@@ -110,9 +110,6 @@ def flamingo_run(tmp_path_factory):
     return out, text.getvalue(), code
 
 
-@pytest.mark.xfail(strict=True, reason="issue 30: the quick Spring Flamingo solution dips 61.4 mm into the ground "
-                   "between its knots and the integrator reproduces 9 of its 11 stages; with the between-knot "
-                   "clearance (toes and heels above the ground every 10 ms) the quick solve did not finish in 1583 iterations")
 def test_flamingo_jumps_the_obstacle(flamingo_run):
     tmp_path, out, code = flamingo_run
     assert code == 0, out
@@ -125,8 +122,8 @@ def test_flamingo_jumps_the_obstacle(flamingo_run):
     assert s["replay_stage_residual"] <= 1e-6   # each stage is the integrator's step, to IPOPT's constr_viol_tol 1e-8
     # and the step the integrator's Newton solve finds from its own start: every stage reproduced
     assert s["replay_failed_steps"] == 0 and s["replay_steps_elsewhere"] == 0
-    assert s["replay_stages_reproduced"] == s["replay_stages"] == 11
-    assert "replay: 11 of 11 stages reproduced" in out
+    assert s["replay_stages_reproduced"] == s["replay_stages"] == 22
+    assert "replay: 22 of 22 stages reproduced" in out
     assert s["between_knot_penetration"] <= 1e-3                # the feet stay above the ground between the knots
     assert "between the configuration points:" in out
     forces = np.load(tmp_path / "flamingo.npz")["contact_forces"]

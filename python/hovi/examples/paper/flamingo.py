@@ -12,9 +12,18 @@ SAMPLE_SPACING between the configuration points, where fewer samples let a toe c
 corner), and the contacts see flat ground. The check ``obstacle_clearance`` measures the real box against points all along both
 soles and shins, at the configuration points and 200 times between each two.
 
+The contact rows hold at the configuration points only. Between them the VI's polynomial (linear in
+q for s = 1) sags a leg whose foot stands still at both ends by about L cos(a) da^2 / 8 per link
+turning da, so a push-off done inside one stage with both feet flat at both of its points sank a
+toe 61 mm into the ground (N = 11) and a toe leaving the ground at a point could dip just after
+it. ``feet_above_ground`` keeps the toes and heels at most FEET_BELOW under the ground at the
+points and every SAMPLE_SPACING between them; ``contact_figures.between_knot_penetration`` checks
+them against BETWEEN_TOLERANCE far more densely.
+
 The guess is a kinematic two-footed jump (``JumpPlan``: hip and ankle paths, legs by inverse
 kinematics with the soles level); the posture cost pulls gently towards it, which picks the jump
-among the motions that clear the box."""
+among the motions that clear the box, and its velocity term keeps the hips and knees near the
+plan's speeds (the homotopy then finds the jump reliably: bench/README.md, "The paper's robots")."""
 from __future__ import annotations
 
 from typing import Dict, List, Tuple
@@ -27,7 +36,7 @@ from ...contact import Contacts, Terrain
 from ...contact.terrain import Box
 from ..robots import Robot, spring_flamingo
 from ...trajopt import Problem, Result
-from .contact_figures import CONTACT_BOUNDS, contact_figures, path_configurations
+from .contact_figures import BETWEEN_TOLERANCE, CONTACT_BOUNDS, contact_figures, path_configurations
 from .example import Example, Scenery, samples_between
 
 MU = 0.8                          # friction coefficient of the ground
@@ -39,7 +48,9 @@ THIGH = SHIN = 0.42               # hip-knee and knee-ankle lengths (models/spri
 SOLE = 0.035                      # the sole below the ankle axis
 HIP_HEIGHT = 0.6                  # the hip stays above this (m)
 KNEE_HEIGHT = 0.1                 # the knees stay above this (m)
-SAMPLE_SPACING = 0.01             # s: the obstacle circles hold at least this often between the points
+SAMPLE_SPACING = 0.01             # s: the obstacle circles and feet_above_ground hold this often between the points
+FEET_BELOW = BETWEEN_TOLERANCE / 2  # m: feet_above_ground lets a contact point this far below the ground
+JOINT_SPEED_WEIGHT = 0.15         # of the hip and knee velocities' distance from the plan's (posture cost)
 
 
 def leg_angles(hip: np.ndarray, ankle: np.ndarray) -> np.ndarray:
@@ -138,10 +149,24 @@ def leg_points(robot: Robot, q: np.ndarray) -> np.ndarray:
     return np.concatenate(out)
 
 
+def feet_above_ground(robot: Robot, dt: float) -> List[trajopt.BodyPoint]:
+    """Every contact point (toes and heels) no lower than FEET_BELOW under the ground (z = 0) at
+    every configuration point and every SAMPLE_SPACING between each two (on the trajectory's
+    polynomial, dt apart), LittleDog's mechanism (littledog.feet_above_ground). FEET_BELOW, half the
+    feasibility tolerance (contact_figures.BETWEEN_TOLERANCE), rather than 0: a standing leg that
+    bends between two points sags a little between them (it could not move at all with 0), and
+    between the samples the path may sag a little further."""
+    return [trajopt.BodyPoint(body, point, axes="z", lower=[-FEET_BELOW], window=(0.0, T),
+                              between=samples_between(dt, SAMPLE_SPACING))
+            for body, point in robot.contact_points]
+
+
 def build(quick: bool = False) -> Example:
-    """The jump with N = 22 stages (dt = 0.05 s) or, ``quick``, with N = 11 (dt = 0.1 s), same task."""
+    """The jump with N = 44 stages (dt = 0.025 s) or, ``quick``, with N = 22 (dt = 0.05 s), same task.
+    (N = 11, dt = 0.1 s, was the quick grid before ``feet_above_ground``: with it no solve finished
+    there in 300-780 s.)"""
     robot = spring_flamingo()
-    N = 11 if quick else 22
+    N = 22 if quick else 44
     plan = JumpPlan(robot)
     contacts = Contacts(robot.model, robot.contact_points, Terrain(), mu=MU, plane="xz")
     model = contacts.model
@@ -149,10 +174,14 @@ def build(quick: bool = False) -> Example:
     prob.initial_state(plan.configurations(0.0)[0], plan.velocities(0.0)[0])
     prob.add_cost(trajopt.ControlEffort(weight=contacts.effort_weights(1e-3)))
     # hip height, base pitch, joints (not the progress x); the light feet on their soft ankle springs would
-    # otherwise whirl in flight (over 10 rad/s at N = 11)
+    # otherwise whirl in flight (over 10 rad/s at N = 11). The hips and knees near the plan's velocities:
+    # without it the legs swung up to 40 rad/s and the homotopy with feet_above_ground was a lottery at
+    # N = 22 (velocity weight 0: 113 s but 3.75 mm between the knots; 0.08: out of time at 600 s; 0.1:
+    # 110 s; 0.115 to 0.2: all feasible in 67-94 s, bench/README.md)
     posture = np.r_[0.0, 1.0, 10.0, np.tile([0.1, 0.1, 1.0], 2)]
+    joint_speed = np.tile([JOINT_SPEED_WEIGHT, JOINT_SPEED_WEIGHT, 0.1], 2)
     prob.add_cost(trajopt.StateTracking(plan.configurations, weight=posture, v_ref=plan.velocities,
-                                        velocity_weight=np.r_[np.zeros(3), np.tile([0.0, 0.0, 0.1], 2)]))
+                                        velocity_weight=np.r_[np.zeros(3), joint_speed]))
     prob.add_cost(trajopt.TerminalCost(plan.configurations(T)[0], weight=10 * posture, velocity_weight=0.1))
     prob.add_constraint(trajopt.BodyPoint("base_link", target=GOAL, axes="x", at=T))
     prob.add_constraint(trajopt.BodyPoint("base_link", lower=HIP_HEIGHT, axes="z", window=(0.0, T)))
@@ -163,6 +192,8 @@ def build(quick: bool = False) -> Example:
         for body, point in robot.contact_points:
             prob.add_constraint(trajopt.Clearance(body, point, center=(cx, 0.0, cz), radius=CIRCLE_RADIUS, axes="xz",
                                                   window=(0.0, T), between=between))
+    for constraint in feet_above_ground(robot, prob.dt):
+        prob.add_constraint(constraint)
     prob.add_contacts(contacts)
 
     weight = robot.model.total_mass * 9.81
