@@ -137,13 +137,7 @@ at an impact found on its polynomial (contact_integrator.hpp).
               py::gil_scoped_release release;
               info = core.step(pk, uk, MatX(), qc, p_next, z, phi, &pivots, &impact);
             }
-            StrDict d;
-            d["status"] = to_string(info.status);
-            d["converged"] = info.converged();
-            d["iterations"] = info.iterations;
-            d["factorizations"] = info.factorizations;
-            d["residual_evaluations"] = info.residual_evaluations;
-            d["residual"] = info.residual;
+            StrDict d = info_dict(info);
             d["pivots"] = pivots;
             d["impact"] = impact;
             return py::make_tuple(MatX(qc.transpose()), p_next, z, phi, d);
@@ -272,13 +266,7 @@ rollout from each of B states q0s, p0s (B, n) on `threads` C++ threads (GIL rele
                 items.append(py::none());
                 continue;
               }
-              StrDict d;
-              d["status"] = to_string(infos[b].status);
-              d["converged"] = infos[b].converged();
-              d["iterations"] = infos[b].iterations;
-              d["factorizations"] = infos[b].factorizations;
-              d["residual_evaluations"] = infos[b].residual_evaluations;
-              d["residual"] = infos[b].residual;
+              StrDict d = info_dict(infos[b]);
               d["pivots"] = pivots[b];
               d["control_points"] = MatX(qcs[b].transpose());
               d["p_next"] = VecX(p_next.row(b).transpose());

@@ -15,17 +15,6 @@ namespace hovi::py_bind {
 
 namespace {
 
-StrDict info_dict(const SolveInfo& info) {
-  StrDict d;
-  d["status"] = to_string(info.status);
-  d["converged"] = info.converged();
-  d["iterations"] = info.iterations;
-  d["factorizations"] = info.factorizations;
-  d["residual_evaluations"] = info.residual_evaluations;
-  d["residual"] = info.residual;
-  return d;
-}
-
 // A new array of the given shape filled with `fill` (NaN or -1: the slots of a batch that no
 // item wrote).
 template <class T>

@@ -10,6 +10,19 @@
 
 namespace hovi::py_bind {
 
+// A solve's statistics as the Python StepInfo takes them (status, converged, iterations,
+// factorizations, residual_evaluations, residual).
+inline StrDict info_dict(const SolveInfo& info) {
+  StrDict d;
+  d["status"] = to_string(info.status);
+  d["converged"] = info.converged();
+  d["iterations"] = info.iterations;
+  d["factorizations"] = info.factorizations;
+  d["residual_evaluations"] = info.residual_evaluations;
+  d["residual"] = info.residual;
+  return d;
+}
+
 // The core integrator (safe for concurrent calls: each leases its own workspace) and a watch on
 // the model it copied: every call goes through integ(), which raises once the model has changed.
 class PyIntegrator {

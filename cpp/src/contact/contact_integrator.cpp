@@ -243,51 +243,28 @@ ContactRollout ContactIntegrator::rollout(const VecX& q0, const VecX& p0, int N,
   const Model& model = free_.model();
   const int n = model.n(), s = free_.quadrature().s, S1 = s + 1, m = model.n_controls();
   const int C = contacts_.size(), nz = contacts_.unknowns();
-  check_vector("q0", q0, n);
-  check_vector("p0", p0, n);
-  if (N < 0) throw InputError("the number of steps must be non-negative");
-  if (m > 0 && (u.rows() != N || u.cols() != S1 * m))
-    throw InputError("controls must have shape (steps, s+1, m) = (" + std::to_string(N) + ", " + std::to_string(S1) +
-                     ", " + std::to_string(m) + ")");
-  if (m > 0 && !u.allFinite()) throw InputError("controls contain NaN or infinity");
+  ContactRollout out;
+  free_.start_rollout(q0, p0, N, u, out);
   if (z0.size() && (z0.size() != nz || !z0.allFinite() || z0.minCoeff() < 0))
     throw InputError("impulses must be " + std::to_string(nz) + " finite numbers >= 0");
-  ContactRollout out;
-  out.q.resize(N + 1, n);
-  out.p.resize(N + 1, n);
-  out.control_points.resize(N, S1 * n);
-  out.iterations.resize(N);
-  out.factorizations.resize(N);
-  out.residual.resize(N);
   out.impulses.resize(N, nz);
   out.gaps.resize(N, C);
   out.pivots.resize(N);
   out.impact.setZero(N);
-  out.status.reserve(N);
-  out.q.row(0) = q0.transpose();
-  out.p.row(0) = p0.transpose();
   auto ws = pool_.acquire();
   ws->basis.clear();
   MatX qc(n, S1), prev, prev2, uk(m, S1);
   VecX p = p0, p_next(n), z = z0.size() ? z0 : VecX::Zero(nz), phi(C);
   for (int k = 0; k < N; ++k) {
     qc.col(0) = out.q.row(k).transpose();
-    if (m > 0)
-      for (int a = 0; a < S1; ++a)
-        for (int j = 0; j < m; ++j) uk(j, a) = u(k, a * m + j);
+    if (m > 0) free_.step_controls(u, k, uk);
     int pivots = 0;
     double theta = 0;
     const SolveInfo info = step(*ws, p, uk, prev2, prev, qc, p_next, z, phi, pivots, theta);
     out.impact[k] = theta;
-    out.status.push_back(info.status);
-    out.iterations[k] = info.iterations;
-    out.factorizations[k] = info.factorizations;
-    out.residual[k] = info.residual;
     out.pivots[k] = pivots;
+    free_.record_step(out, k, info, qc, p_next);
     if (!info.converged()) break;
-    out.q.row(k + 1) = qc.col(s).transpose();
-    out.p.row(k + 1) = p_next.transpose();
-    out.control_points.row(k) = Eigen::Map<const VecX>(qc.data(), S1 * n).transpose();
     out.impulses.row(k) = z.transpose();
     if ((k > 0 || z0.size()) && theta == 0)  // ContactRollout's p^k (a split step's impulses act inside it)
       out.p.row(k) += 0.5 * ws->solver.knot_impulse(z).transpose();
@@ -295,7 +272,6 @@ ContactRollout ContactIntegrator::rollout(const VecX& q0, const VecX& p0, int N,
     p = p_next;
     if (prev.size()) prev2.swap(prev);
     prev = qc;
-    out.steps = k + 1;
   }
   return out;
 }

@@ -4,6 +4,7 @@
 #include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 #include "hovi/algorithms/body_points.hpp"
 #include "hovi/algorithms/kinematics.hpp"
@@ -27,40 +28,78 @@ ContactLinearizer::ContactLinearizer(const Model& model, const Quadrature& quad,
   if (y) T_(int(x), 1) = 1;
 }
 
+void ContactLinearizer::point_kinematics(Workspace& w, const Eigen::Ref<const MatX>& qc,
+                                         const Eigen::Ref<const MatX>& u, const Eigen::Ref<const VecX>& z,
+                                         bool want_u) const {
+  const int n = model_.n(), s = quad_.s, C = contacts_.size(), d = contacts_.d(), pc = contacts_.per_contact();
+  w.Jq.resize((s + 1) * n, (s + 1) * n);
+  del_jacobian(model_, quad_, w.ws, qc, u, dt_, w.Jq, want_u ? &w.Ju : nullptr);
+  w.J0.setZero(3 * C, n);
+  w.Je.setZero(3 * C, n);
+  w.H.setZero(n, n);
+  w.X0.resize(3, C);
+  w.Xe.resize(3, C);
+  const KinematicsView kin{model_, w.data.g.data(), w.data.Sbar.data(), 1};
+  forward_kinematics(model_, w.data, qc.col(0));
+  for (int c = 0; c < C; ++c) {
+    Vec3 x;
+    body_point_jacobian(kin, contacts_.points[c].body, r_com_.col(c), x, w.J0.middleRows(3 * c, 3));
+    w.X0.col(c) = x;
+    const auto zc = z.segment(c * pc, pc);
+    const Vec3 F = zc[0] * Vec3::UnitZ() + contacts_.D.transpose() * zc.segment(1, d);
+    body_point_force_derivative(kin, contacts_.points[c].body, r_com_.col(c), F, w.H);
+  }
+  forward_kinematics(model_, w.data, qc.col(s));
+  for (int c = 0; c < C; ++c) {
+    Vec3 x;
+    body_point_jacobian(kin, contacts_.points[c].body, r_com_.col(c), x, w.Je.middleRows(3 * c, 3));
+    w.Xe.col(c) = x;
+  }
+}
+
+bool ContactLinearizer::step_maps(Workspace& w, int ny, const std::function<bool(const MatX&, MatX&)>& solve,
+                                  MatX* A, MatX* B) const {
+  const int n = model_.n(), s = quad_.s, S1 = s + 1, m = model_.n_controls(), sn = s * n;
+  const auto P_y = w.Jq.bottomRightCorner(n, sn);  // dp^{k+1}/dy; p^{k+1} carries no impulse
+  if (A) {
+    if (!solve(w.rhs, w.sol)) return false;
+    A->resize(2 * n, 2 * n);
+    A->topRows(n) = w.sol.middleRows(sn - n, n);
+    A->bottomRows(n).noalias() = P_y * w.sol.topRows(sn);
+    A->bottomLeftCorner(n, n) += w.Jq.bottomLeftCorner(n, n);
+  }
+  if (B) {
+    B->setZero(2 * n, S1 * m);
+    if (m > 0) {
+      MatX rhs_u = MatX::Zero(ny, S1 * m);
+      for (int a = 0; a < S1; ++a) rhs_u.block(0, a * m, sn, m) = w.Ju.block(0, a * m, sn, m);
+      if (!solve(rhs_u, w.sol)) return false;
+      B->topRows(n) = w.sol.middleRows(sn - n, n);
+      B->bottomRows(n).noalias() = P_y * w.sol.topRows(sn);
+      for (int a = 0; a < S1; ++a) B->block(n, a * m, n, m) += w.Ju.block(sn, a * m, n, m);
+    }
+  }
+  return true;
+}
+
 bool ContactLinearizer::step_jacobians(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u,
                                        const Eigen::Ref<const VecX>& z, MatX* A, MatX* B) const {
   auto w = pool_.acquire();
-  const int n = model_.n(), s = quad_.s, S1 = s + 1, m = model_.n_controls(), sn = s * n;
+  const int n = model_.n(), s = quad_.s, sn = s * n;
   const int C = contacts_.size(), d = contacts_.d(), pc = contacts_.per_contact(), nt = static_cast<int>(T_.rows());
-  const bool want_u = B != nullptr && m > 0;
-  MatX &Jq = w->Jq, &Ju = w->Ju, &K = w->K, &rhs = w->rhs, &sol = w->sol, &J0 = w->J0, &Je = w->Je, &H = w->H;
-  Jq.resize(S1 * n, S1 * n);
-  del_jacobian(model_, quad_, w->ws, qc, u, dt_, Jq, want_u ? &Ju : nullptr);
-  // The contact points' Jacobians at q^k and q^{k+1}, and d(Σ J_c(q^k)^T F_c)/dq^k.
-  J0.setZero(3 * C, n);
-  Je.setZero(3 * C, n);
-  H.setZero(n, n);
-  const KinematicsView kin{model_, w->data.g.data(), w->data.Sbar.data(), 1};
+  point_kinematics(*w, qc, u, z, B != nullptr && model_.n_controls() > 0);
+  const MatX &Jq = w->Jq, &J0 = w->J0, &Je = w->Je;
+  MatX &K = w->K, &rhs = w->rhs;
   int ny = sn;
   std::vector<int> column(C, -1);  // the first unknown of each contact with a normal impulse
   std::vector<char> stick(C, 0);
-  forward_kinematics(model_, w->data, qc.col(0));
   for (int c = 0; c < C; ++c) {
-    Vec3 x;
-    body_point_jacobian(kin, contacts_.points[c].body, r_com_.col(c), x, J0.middleRows(3 * c, 3));
     const auto zc = z.segment(c * pc, pc);
-    const Vec3 F = zc[0] * Vec3::UnitZ() + contacts_.D.transpose() * zc.segment(1, d);
-    body_point_force_derivative(kin, contacts_.points[c].body, r_com_.col(c), F, H);
     if (zc[0] > 0) {
       column[c] = ny;
       stick[c] = zc[d + 1] <= kStickTol;
       ny += stick[c] ? 1 + nt : 1;
     }
-  }
-  forward_kinematics(model_, w->data, qc.col(s));
-  for (int c = 0; c < C; ++c) {
-    Vec3 x;
-    body_point_jacobian(kin, contacts_.points[c].body, r_com_.col(c), x, Je.middleRows(3 * c, 3));
   }
   // dR/dy: the DEL rows with the impulses' columns, then per contact its gap and stick rows.
   K.setZero(ny, ny);
@@ -95,11 +134,10 @@ bool ContactLinearizer::step_jacobians(const Eigen::Ref<const MatX>& qc, const E
     x = regular ? MatX(-lu.solve(b)) : MatX(-cod.solve(b));
     return (K * x + b).cwiseAbs().maxCoeff() <= 1e-9 * (1 + b.cwiseAbs().maxCoeff()) * (1 + scale);
   };
-  const auto P_y = Jq.bottomRightCorner(n, sn);  // dp^{k+1}/dy; p^{k+1} carries no impulse
   if (A) {
     rhs.setZero(ny, 2 * n);
     rhs.topLeftCorner(sn, n) = Jq.topLeftCorner(sn, n);
-    rhs.topLeftCorner(n, n) += H;
+    rhs.topLeftCorner(n, n) += w->H;
     rhs.block(0, n, n, n).setIdentity();
     for (int c = 0, row = sn; c < C; ++c) {  // the stick rows' -T dx_c(q^k)/dq^k
       if (column[c] < 0) continue;
@@ -109,56 +147,19 @@ bool ContactLinearizer::step_jacobians(const Eigen::Ref<const MatX>& qc, const E
         row += nt;
       }
     }
-    if (!solve(rhs, sol)) return false;
-    A->resize(2 * n, 2 * n);
-    A->topRows(n) = sol.middleRows(sn - n, n);
-    A->bottomRows(n).noalias() = P_y * sol.topRows(sn);
-    A->bottomLeftCorner(n, n) += Jq.bottomLeftCorner(n, n);
   }
-  if (B) {
-    B->setZero(2 * n, S1 * m);
-    if (want_u) {
-      rhs.setZero(ny, S1 * m);
-      for (int a = 0; a < S1; ++a) rhs.block(0, a * m, sn, m) = Ju.block(0, a * m, sn, m);
-      if (!solve(rhs, sol)) return false;
-      B->topRows(n) = sol.middleRows(sn - n, n);
-      B->bottomRows(n).noalias() = P_y * sol.topRows(sn);
-      for (int a = 0; a < S1; ++a) B->block(n, a * m, n, m) += Ju.block(sn, a * m, n, m);
-    }
-  }
-  return true;
+  return step_maps(*w, ny, solve, A, B);
 }
 
 bool ContactLinearizer::smoothed_jacobians(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u,
                                            const Eigen::Ref<const VecX>& z, double kappa, MatX* A, MatX* B) const {
   auto w = pool_.acquire();
-  const int n = model_.n(), s = quad_.s, S1 = s + 1, m = model_.n_controls(), sn = s * n;
+  const int n = model_.n(), s = quad_.s, sn = s * n;
   const int C = contacts_.size(), d = contacts_.d(), pc = contacts_.per_contact(), nz = contacts_.unknowns();
   const int ny = sn + nz;
-  const bool want_u = B != nullptr && m > 0;
-  MatX &Jq = w->Jq, &Ju = w->Ju, &K = w->K, &rhs = w->rhs, &sol = w->sol, &J0 = w->J0, &Je = w->Je, &H = w->H;
-  Jq.resize(S1 * n, S1 * n);
-  del_jacobian(model_, quad_, w->ws, qc, u, dt_, Jq, want_u ? &Ju : nullptr);
-  J0.setZero(3 * C, n);
-  Je.setZero(3 * C, n);
-  H.setZero(n, n);
-  const KinematicsView kin{model_, w->data.g.data(), w->data.Sbar.data(), 1};
-  MatX X0(3, C), Xe(3, C);
-  forward_kinematics(model_, w->data, qc.col(0));
-  for (int c = 0; c < C; ++c) {
-    Vec3 x;
-    body_point_jacobian(kin, contacts_.points[c].body, r_com_.col(c), x, J0.middleRows(3 * c, 3));
-    X0.col(c) = x;
-    const auto zc = z.segment(c * pc, pc);
-    const Vec3 F = zc[0] * Vec3::UnitZ() + contacts_.D.transpose() * zc.segment(1, d);
-    body_point_force_derivative(kin, contacts_.points[c].body, r_com_.col(c), F, H);
-  }
-  forward_kinematics(model_, w->data, qc.col(s));
-  for (int c = 0; c < C; ++c) {
-    Vec3 x;
-    body_point_jacobian(kin, contacts_.points[c].body, r_com_.col(c), x, Je.middleRows(3 * c, 3));
-    Xe.col(c) = x;
-  }
+  point_kinematics(*w, qc, u, z, B != nullptr && model_.n_controls() > 0);
+  const MatX &Jq = w->Jq, &J0 = w->J0, &Je = w->Je, &H = w->H, &X0 = w->X0, &Xe = w->Xe;
+  MatX &K = w->K, &rhs = w->rhs;
   // Each pair in impulse units: a complement w_i (a gap or displacement, m) over its impulse's own
   // mobility (m per N s: the displacement of the contact point along its direction per unit impulse
   // there, through the step), so that the central path weighs both sides of a switch by their
@@ -231,26 +232,7 @@ bool ContactLinearizer::smoothed_jacobians(const Eigen::Ref<const MatX>& qc, con
   const Eigen::PartialPivLU<MatX> lu(K);
   const double scale = K.cwiseAbs().maxCoeff();
   if (!(lu.matrixLU().diagonal().cwiseAbs().minCoeff() > 1e-14 * scale)) return false;
-  const auto P_y = Jq.bottomRightCorner(n, sn);
-  if (A) {
-    sol = -lu.solve(rhs);
-    A->resize(2 * n, 2 * n);
-    A->topRows(n) = sol.middleRows(sn - n, n);
-    A->bottomRows(n).noalias() = P_y * sol.topRows(sn);
-    A->bottomLeftCorner(n, n) += Jq.bottomLeftCorner(n, n);
-  }
-  if (B) {
-    B->setZero(2 * n, S1 * m);
-    if (want_u) {
-      MatX rhs_u = MatX::Zero(ny, S1 * m);
-      for (int a = 0; a < S1; ++a) rhs_u.block(0, a * m, sn, m) = Ju.block(0, a * m, sn, m);
-      sol = -lu.solve(rhs_u);
-      B->topRows(n) = sol.middleRows(sn - n, n);
-      B->bottomRows(n).noalias() = P_y * sol.topRows(sn);
-      for (int a = 0; a < S1; ++a) B->block(n, a * m, n, m) += Ju.block(sn, a * m, n, m);
-    }
-  }
-  return true;
+  return step_maps(*w, ny, [&](const MatX& b, MatX& x) { x = -lu.solve(b); return true; }, A, B);
 }
 
 int ContactLinearizer::trajectory_jacobians(const Eigen::Ref<const MatX>& C, const Eigen::Ref<const MatX>& U,

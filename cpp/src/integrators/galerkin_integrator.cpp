@@ -215,9 +215,8 @@ void GalerkinIntegrator::guess_from_previous(const Eigen::Ref<const MatX>& previ
   qc.rightCols(quad_.s).colwise() += qc.col(0);
 }
 
-Rollout GalerkinIntegrator::rollout(const VecX& q0, const VecX& p0, int N, const MatX& u, const MatX& previous,
-                                    const MatX& lambda0) const {
-  const int n = model_.n(), s = quad_.s, S1 = s + 1, m = model_.n_controls(), mc = model_.n_constraints();
+void GalerkinIntegrator::start_rollout(const VecX& q0, const VecX& p0, int N, const MatX& u, Rollout& out) const {
+  const int n = model_.n(), S1 = quad_.s + 1, m = model_.n_controls();
   check_vector("q0", q0, n);
   check_vector("p0", p0, n);
   if (N < 0) throw InputError("the number of steps must be non-negative");
@@ -225,46 +224,63 @@ Rollout GalerkinIntegrator::rollout(const VecX& q0, const VecX& p0, int N, const
     throw InputError("controls must have shape (steps, s+1, m) = (" + std::to_string(N) + ", " + std::to_string(S1) +
                      ", " + std::to_string(m) + ")");
   if (m > 0 && !u.allFinite()) throw InputError("controls contain NaN or infinity");
-  if (previous.size() && (previous.rows() != n || previous.cols() != S1))
-    throw InputError("previous control points must have shape (n, s+1)");
-  MatX lambda = lambda_guess(lambda0.size() ? &lambda0 : nullptr);
-  Rollout out;
   out.q.resize(N + 1, n);
   out.p.resize(N + 1, n);
   out.control_points.resize(N, S1 * n);
   out.iterations.resize(N);
   out.factorizations.resize(N);
-  out.multipliers.resize(N, s * mc);
   out.residual.resize(N);
   out.status.reserve(N);
   out.q.row(0) = q0.transpose();
   out.p.row(0) = p0.transpose();
+}
+
+void GalerkinIntegrator::step_controls(const MatX& u, int k, MatX& uk) const {
+  const int S1 = quad_.s + 1, m = model_.n_controls();
+  uk.resize(m, S1);
+  for (int a = 0; a < S1; ++a)
+    for (int j = 0; j < m; ++j) uk(j, a) = u(k, a * m + j);
+}
+
+void GalerkinIntegrator::record_step(Rollout& out, int k, const SolveInfo& info, const Eigen::Ref<const MatX>& qc,
+                                     const Eigen::Ref<const VecX>& p_next) const {
+  out.status.push_back(info.status);
+  out.iterations[k] = info.iterations;
+  out.factorizations[k] = info.factorizations;
+  out.residual[k] = info.residual;
+  if (!info.converged()) return;
+  out.q.row(k + 1) = qc.col(quad_.s).transpose();
+  out.p.row(k + 1) = p_next.transpose();
+  out.control_points.row(k) = Eigen::Map<const VecX>(qc.data(), qc.size()).transpose();
+  out.steps = k + 1;
+}
+
+Rollout GalerkinIntegrator::rollout(const VecX& q0, const VecX& p0, int N, const MatX& u, const MatX& previous,
+                                    const MatX& lambda0) const {
+  const int n = model_.n(), s = quad_.s, S1 = s + 1, m = model_.n_controls(), mc = model_.n_constraints();
+  Rollout out;
+  start_rollout(q0, p0, N, u, out);
+  if (previous.size() && (previous.rows() != n || previous.cols() != S1))
+    throw InputError("previous control points must have shape (n, s+1)");
+  MatX lambda = lambda_guess(lambda0.size() ? &lambda0 : nullptr);
+  out.multipliers.resize(N, s * mc);
   auto ws = pool_.acquire();
   MatX qc(n, S1), prev = previous, prev2, uk(m, S1);
   VecX p = p0, p_next(n);
   PredictorChoice predictor(options.predictor, s, uses_dense_direction(options.direction, model_, s));
   for (int k = 0; k < N; ++k) {
     qc.col(0) = out.q.row(k).transpose();
-    if (m > 0)
-      for (int a = 0; a < S1; ++a)
-        for (int j = 0; j < m; ++j) uk(j, a) = u(k, a * m + j);
+    if (m > 0) step_controls(u, k, uk);
     const bool predicted = prev2.size() > 0;  // the history of two steps (before: robust_step's guesses)
     const bool flow = predicted && predictor.flow();
     const SolveInfo info = robust_step(*ws, p, uk, prev2, prev, qc, p_next, lambda, flow);
     if (predicted) predictor.observe(flow, info.iterations);
-    out.status.push_back(info.status);
-    out.iterations[k] = info.iterations;
-    out.factorizations[k] = info.factorizations;
-    out.residual[k] = info.residual;
+    record_step(out, k, info, qc, p_next);
     if (!info.converged()) break;
-    out.q.row(k + 1) = qc.col(s).transpose();
-    out.p.row(k + 1) = p_next.transpose();
-    out.control_points.row(k) = Eigen::Map<const VecX>(qc.data(), S1 * n).transpose();
     if (mc) out.multipliers.row(k) = Eigen::Map<const VecX>(lambda.data(), lambda.size()).transpose();
     p = p_next;
     if (prev.size()) prev2.swap(prev);
     prev = qc;
-    out.steps = k + 1;
   }
   return out;
 }

@@ -11,6 +11,8 @@
 // contact switches (a contact landing, lifting off, starting or stopping to slide within the
 // perturbation), where the step map is not differentiable.
 #pragma once
+#include <functional>
+
 #include "hovi/algorithms/del_jacobian.hpp"
 #include "hovi/contact/contact_model.hpp"
 #include "hovi/util/workspace_pool.hpp"
@@ -47,8 +49,16 @@ class ContactLinearizer {
     Workspace(const Model& model, const Quadrature& quad) : ws(model, quad), data(model) {}
     DelJacobianWorkspace ws;
     Data data;
-    MatX Jq, Ju, K, rhs, sol, J0, Je, H;
+    MatX Jq, Ju, K, rhs, sol, J0, Je, H, X0, Xe;
   };
+  // The step's DEL Jacobian (Jq, and Ju if want_u) and the contact points at q^k and q^{k+1} (X0, Xe,
+  // their Jacobians J0, Je) with d(Σ J_c(q^k)^T F_c)/dq^k (H) for the impulses z, into w.
+  void point_kinematics(Workspace& w, const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u,
+                        const Eigen::Ref<const VecX>& z, bool want_u) const;
+  // A and B from the implicit function theorem: solve(b, x) gives x = -(dR/dy)^{-1} b (false: failed)
+  // for the ny unknowns; A's right-hand side d/d(q^k, p^k) is w.rhs (ny x 2n), B's is built here.
+  bool step_maps(Workspace& w, int ny, const std::function<bool(const MatX&, MatX&)>& solve, MatX* A,
+                 MatX* B) const;
   const Model& model_;
   const Quadrature& quad_;
   double dt_;

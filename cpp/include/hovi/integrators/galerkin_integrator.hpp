@@ -107,6 +107,15 @@ class GalerkinIntegrator {
   Rollout rollout(const VecX& q0, const VecX& p0, int N, const MatX& u, const MatX& previous = MatX(),
                   const MatX& lambda0 = MatX()) const;
 
+  // What every rollout (this one's, the contact simulator's) does alike: start_rollout checks q0,
+  // p0, N and the controls u (N x ((s+1) m), InputError naming what does not fit) and sizes `out`
+  // for N steps with row 0 = (q0, p0); step_controls unpacks step k's u^{k,0..s} (m x (s+1));
+  // record_step stores step k's solve and, if it converged, q^{k+1}, p^{k+1} and its control points.
+  void start_rollout(const VecX& q0, const VecX& p0, int N, const MatX& u, Rollout& out) const;
+  void step_controls(const MatX& u, int k, MatX& uk) const;
+  void record_step(Rollout& out, int k, const SolveInfo& info, const Eigen::Ref<const MatX>& qc,
+                   const Eigen::Ref<const VecX>& p_next) const;
+
   // The DEL residual and Newton direction at given control points (for tests and tools).
   void residual(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const VecX>& p, const Eigen::Ref<const MatX>& u,
                 Eigen::Ref<MatX> r, Eigen::Ref<VecX> p_next) const;
