@@ -366,65 +366,51 @@ class Integrator:
         if progress:
             from tqdm import tqdm  # type: ignore[import-untyped, unused-ignore]
             bar = tqdm(total=steps, unit="step", desc="simulating")
-        if self._contact is not None:
-            return self._contact_rollout(q0, p0, steps, U, bar, chunk, raise_on_failure)
-        parts: List[Dict[str, Any]] = []
-        previous: Optional[FloatArray] = None
-        lam: Optional[FloatArray] = None
-        q, p, done = q0, p0, 0
-        while True:
-            n_chunk = min(chunk, steps - done) if progress else steps - done
-            res = self._core.rollout(q, p, n_chunk, None if U is None else U[done:done + n_chunk], previous, lam)
-            parts.append(res)
-            done += res["steps"]
-            if bar is not None:
-                bar.update(res["steps"])
-            if res["steps"] < n_chunk or done >= steps:
-                break
-            q, p = res["q"][-1], res["p"][-1]
-            previous = res["control_points"][-1].reshape(self.s + 1, self.n)
-            if self.n_constraints:
-                lam = res["multipliers"][-1].reshape(self.s, self.n_constraints)
-        if bar is not None:
-            bar.close()
+        parts = self._chunks(q0, p0, steps, U, bar, chunk)
         traj = self._join(parts)
+        if self._contact is not None:
+            assert self.contacts is not None
+            C, pc = self._contact.n_contacts, self._contact.per_contact
+            traj.contact = ContactRecord(
+                impulses=np.vstack([r["impulses"] for r in parts]).reshape(-1, C, pc),
+                gaps=np.vstack([r["gaps"] for r in parts]).reshape(-1, C), directions=self.contacts.D.copy(),
+                pivots=np.concatenate([r["pivots"] for r in parts]),
+                impact=np.concatenate([r["impact"] for r in parts]))
         if not traj.converged and raise_on_failure:
             k = traj.steps
-            raise ConvergenceError(f"Newton solve did not converge at step {k} (t = {k * self.dt:.6g} s): "
+            what = "contact step" if self._contact is not None else "Newton solve"
+            raise ConvergenceError(f"{what} did not converge at step {k} (t = {k * self.dt:.6g} s): "
                                    f"{traj.status[-1]}, residual {traj.residuals[-1]:.3e}; try a smaller dt",
                                    trajectory=traj)
         return traj
 
-    def _contact_rollout(self, q0: FloatArray, p0: FloatArray, steps: int, U: Optional[FloatArray], bar: Any,
-                         chunk: int, raise_on_failure: bool) -> Trajectory:
-        """``rollout`` with contacts (in chunks of ``chunk`` steps when a progress ``bar`` is shown)."""
-        assert self._contact is not None and self.contacts is not None
+    def _chunks(self, q0: FloatArray, p0: FloatArray, steps: int, U: Optional[FloatArray], bar: Any,
+                chunk: int) -> List[Dict[str, Any]]:
+        """The C++ rollouts of ``rollout``: one, or chunks of ``chunk`` steps when a progress ``bar`` is
+        shown, each continuing the last (its control points, multipliers or contact impulses)."""
         parts: List[Dict[str, Any]] = []
-        q, p, done, z = q0, p0, 0, None
+        q, p, done = q0, p0, 0
+        last: Optional[Dict[str, Any]] = None
         while True:
             n_chunk = min(chunk, steps - done) if bar is not None else steps - done
-            res = self._contact.rollout(q, p, n_chunk, None if U is None else U[done:done + n_chunk], z)
+            U_chunk = None if U is None else U[done:done + n_chunk]
+            if self._contact is not None:
+                res = self._contact.rollout(q, p, n_chunk, U_chunk, None if last is None else last["impulses"][-1])
+            else:
+                previous = None if last is None else last["control_points"][-1].reshape(self.s + 1, self.n)
+                lam = None if last is None or not self.n_constraints else \
+                    last["multipliers"][-1].reshape(self.s, self.n_constraints)
+                res = self._core.rollout(q, p, n_chunk, U_chunk, previous, lam)
             parts.append(res)
             done += res["steps"]
             if bar is not None:
                 bar.update(res["steps"])
             if res["steps"] < n_chunk or done >= steps:
                 break
-            q, p, z = res["q"][-1], res["p"][-1], res["impulses"][-1]
+            q, p, last = res["q"][-1], res["p"][-1], res
         if bar is not None:
             bar.close()
-        traj = self._join(parts)
-        C, pc = self._contact.n_contacts, self._contact.per_contact
-        traj.contact = ContactRecord(
-            impulses=np.vstack([r["impulses"] for r in parts]).reshape(-1, C, pc),
-            gaps=np.vstack([r["gaps"] for r in parts]).reshape(-1, C), directions=self.contacts.D.copy(),
-            pivots=np.concatenate([r["pivots"] for r in parts]), impact=np.concatenate([r["impact"] for r in parts]))
-        if not traj.converged and raise_on_failure:
-            k = traj.steps
-            raise ConvergenceError(f"contact step did not converge at step {k} (t = {k * self.dt:.6g} s): "
-                                   f"{traj.status[-1]}, residual {traj.residuals[-1]:.3e}; try a smaller dt",
-                                   trajectory=traj)
-        return traj
+        return parts
 
     def _batch_states(self, q: npt.ArrayLike, p: Optional[npt.ArrayLike], qdot: Optional[npt.ArrayLike],
                       names: Tuple[str, str, str]) -> Tuple[FloatArray, FloatArray, bool]:
