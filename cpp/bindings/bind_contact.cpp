@@ -113,12 +113,6 @@ at an impact found on its polynomial (contact_integrator.hpp).
                              "The number of contact points C.")
       .def_property_readonly("per_contact", [](const PyContactIntegrator& c) { return c.core().contacts().per_contact(); },
                              "The unknowns per contact, 2 + d: the normal impulse, d friction impulses, the sliding slack.")
-      .def("gap_heights", [](const PyContactIntegrator& c, const ArrayLike& xy) {
-            const MatX X = as_matrix(xy, "xy", -1, 2);
-            VecX h(X.rows());
-            for (Eigen::Index i = 0; i < X.rows(); ++i) h[i] = c.core().contacts().terrain.height(X(i, 0), X(i, 1));
-            return h;
-          }, py::arg("xy"), "The terrain's height below the points xy (P, 2), as the simulator reads it.")
       .def("step", [](const PyContactIntegrator& c, const ArrayLike& q, const ArrayLike& mom, const OptArrayLike& u,
                       const OptArrayLike& impulses) {
             const ContactIntegrator& core = c.core();

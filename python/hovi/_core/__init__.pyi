@@ -523,10 +523,6 @@ class ContactIntegrator:
         unit vectors; contact_tol the complementarity tolerance (m and N s); locate_impacts: split a step
         at an impact found on its polynomial (contact_integrator.hpp).
         """
-    def gap_heights(self, xy: numpy.typing.ArrayLike) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
-        """
-        The terrain's height below the points xy (P, 2), as the simulator reads it.
-        """
     def rollout(self, q0: numpy.typing.ArrayLike, p0: numpy.typing.ArrayLike, steps: typing.SupportsInt | typing.SupportsIndex, u: numpy.typing.ArrayLike | None = None, impulses: numpy.typing.ArrayLike | None = None) -> dict[str, typing.Any]:
         """
         `steps` contact steps from q0, p0 (n,) in C++ (GIL released); u (steps, (s+1) m); impulses: those of
