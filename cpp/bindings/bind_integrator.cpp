@@ -202,21 +202,7 @@ status, converged, iterations, factorizations, residual_evaluations, residual, m
               r = integ.rollout(q, mom, steps, U, prev, lambda0);
               seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
             }
-            StrDict d;
-            d["q"] = MatX(r.q.topRows(r.steps + 1));
-            d["p"] = MatX(r.p.topRows(r.steps + 1));
-            d["control_points"] = MatX(r.control_points.topRows(r.steps));
-            const int attempted = static_cast<int>(r.status.size());
-            d["iterations"] = Eigen::VectorXi(r.iterations.head(attempted));
-            d["factorizations"] = Eigen::VectorXi(r.factorizations.head(attempted));
-            d["residual"] = VecX(r.residual.head(attempted));
-            py::list st;
-            for (SolveStatus x : r.status) st.append(to_string(x));
-            d["status"] = st;
-            d["multipliers"] = MatX(r.multipliers.topRows(r.steps));
-            d["steps"] = r.steps;
-            d["seconds"] = seconds;
-            return d;
+            return rollout_dict(r, seconds);
           }, py::arg("q0"), py::arg("p0"), py::arg("steps"), py::arg("u") = py::none(), py::arg("previous") = py::none(),
           py::arg("multipliers") = py::none(), R"doc(
 `steps` steps from q0, p0 (n,) in C++ (GIL released); u (steps, (s+1) m), previous: the control

@@ -61,6 +61,7 @@ void bind_integrator(py::module_& m);
 void bind_linearizer(py::module_& m);
 void bind_trajopt(py::module_& m);
 void bind_contact(py::module_& m);
+void bind_control(py::module_& m);
 
 }  // namespace hovi::py_bind
 

@@ -36,4 +36,5 @@ PYBIND11_MODULE(_core, m) {
   hovi::py_bind::bind_linearizer(m);
   hovi::py_bind::bind_trajopt(m);
   hovi::py_bind::bind_contact(m);
+  hovi::py_bind::bind_control(m);
 }

@@ -23,6 +23,27 @@ inline StrDict info_dict(const SolveInfo& info) {
   return d;
 }
 
+// A rollout as the Python dict hovi.Integrator reads: q, p, control_points, iterations,
+// factorizations, residual, status, multipliers, steps, seconds (and controls, chosen by a StepHook).
+inline StrDict rollout_dict(const Rollout& r, double seconds) {
+  StrDict d;
+  const int attempted = static_cast<int>(r.status.size());
+  d["q"] = MatX(r.q.topRows(r.steps + 1));
+  d["p"] = MatX(r.p.topRows(r.steps + 1));
+  d["control_points"] = MatX(r.control_points.topRows(r.steps));
+  d["iterations"] = Eigen::VectorXi(r.iterations.head(attempted));
+  d["factorizations"] = Eigen::VectorXi(r.factorizations.head(attempted));
+  d["residual"] = VecX(r.residual.head(attempted));
+  py::list st;
+  for (SolveStatus x : r.status) st.append(to_string(x));
+  d["status"] = st;
+  d["multipliers"] = MatX(r.multipliers.topRows(r.steps));
+  d["steps"] = r.steps;
+  d["seconds"] = seconds;
+  if (r.controls.size()) d["controls"] = MatX(r.controls.topRows(attempted));
+  return d;
+}
+
 // The core integrator (safe for concurrent calls: each leases its own workspace) and a watch on
 // the model it copied: every call goes through integ(), which raises once the model has changed.
 class PyIntegrator {

@@ -367,15 +367,7 @@ class Integrator:
             from tqdm import tqdm  # type: ignore[import-untyped, unused-ignore]
             bar = tqdm(total=steps, unit="step", desc="simulating")
         parts = self._chunks(q0, p0, steps, U, bar, chunk)
-        traj = self._join(parts)
-        if self._contact is not None:
-            assert self.contacts is not None
-            C, pc = self._contact.n_contacts, self._contact.per_contact
-            traj.contact = ContactRecord(
-                impulses=np.vstack([r["impulses"] for r in parts]).reshape(-1, C, pc),
-                gaps=np.vstack([r["gaps"] for r in parts]).reshape(-1, C), directions=self.contacts.D.copy(),
-                pivots=np.concatenate([r["pivots"] for r in parts]),
-                impact=np.concatenate([r["impact"] for r in parts]))
+        traj = self.trajectory_of(parts)
         if not traj.converged and raise_on_failure:
             k = traj.steps
             what = "contact step" if self._contact is not None else "Newton solve"
@@ -563,6 +555,21 @@ class Integrator:
                          iterations=ints["iterations"], factorizations=ints["factorizations"],
                          residual_evaluations=ints["residual_evaluations"], residuals=res, status=status,
                          errors=list(errors), solve_seconds=seconds, impulses=z, gaps=gaps, pivots=ints["pivots"])
+
+    def trajectory_of(self, parts: List[Dict[str, Any]]) -> Trajectory:
+        """The Trajectory of consecutive C++ rollouts of this integrator (``_core`` rollout dicts, each
+        continuing the last: ``rollout``'s chunks, a closed loop of ``hovi.control``), with its contact
+        record when the integrator has contacts."""
+        traj = self._join(parts)
+        if self._contact is not None:
+            assert self.contacts is not None
+            C, pc = self._contact.n_contacts, self._contact.per_contact
+            traj.contact = ContactRecord(
+                impulses=np.vstack([r["impulses"] for r in parts]).reshape(-1, C, pc),
+                gaps=np.vstack([r["gaps"] for r in parts]).reshape(-1, C), directions=self.contacts.D.copy(),
+                pivots=np.concatenate([r["pivots"] for r in parts]),
+                impact=np.concatenate([r["impact"] for r in parts]))
+        return traj
 
     def _join(self, parts: List[Dict[str, Any]]) -> Trajectory:
         q = np.vstack([parts[0]["q"]] + [r["q"][1:] for r in parts[1:]])

@@ -239,12 +239,13 @@ SolveInfo ContactIntegrator::step(const Eigen::Ref<const VecX>& p, const Eigen::
   return info;
 }
 
-ContactRollout ContactIntegrator::rollout(const VecX& q0, const VecX& p0, int N, const MatX& u, const VecX& z0) const {
+ContactRollout ContactIntegrator::rollout(const VecX& q0, const VecX& p0, int N, const MatX& u, const VecX& z0,
+                                         StepHook* hook) const {
   const Model& model = free_.model();
   const int n = model.n(), s = free_.quadrature().s, S1 = s + 1, m = model.n_controls();
   const int C = contacts_.size(), nz = contacts_.unknowns();
   ContactRollout out;
-  free_.start_rollout(q0, p0, N, u, out);
+  free_.start_rollout(q0, p0, N, u, out, hook != nullptr);
   if (z0.size() && (z0.size() != nz || !z0.allFinite() || z0.minCoeff() < 0))
     throw InputError("impulses must be " + std::to_string(nz) + " finite numbers >= 0");
   out.impulses.resize(N, nz);
@@ -257,7 +258,11 @@ ContactRollout ContactIntegrator::rollout(const VecX& q0, const VecX& p0, int N,
   VecX p = p0, p_next(n), z = z0.size() ? z0 : VecX::Zero(nz), phi(C);
   for (int k = 0; k < N; ++k) {
     qc.col(0) = out.q.row(k).transpose();
-    if (m > 0) free_.step_controls(u, k, uk);
+    if (hook) {
+      free_.hooked_controls(*hook, k, out, p, uk);
+    } else if (m > 0) {
+      free_.step_controls(u, k, uk);
+    }
     int pivots = 0;
     double theta = 0;
     const SolveInfo info = step(*ws, p, uk, prev2, prev, qc, p_next, z, phi, pivots, theta);

@@ -215,15 +215,17 @@ void GalerkinIntegrator::guess_from_previous(const Eigen::Ref<const MatX>& previ
   qc.rightCols(quad_.s).colwise() += qc.col(0);
 }
 
-void GalerkinIntegrator::start_rollout(const VecX& q0, const VecX& p0, int N, const MatX& u, Rollout& out) const {
+void GalerkinIntegrator::start_rollout(const VecX& q0, const VecX& p0, int N, const MatX& u, Rollout& out,
+                                       bool hooked) const {
   const int n = model_.n(), S1 = quad_.s + 1, m = model_.n_controls();
   check_vector("q0", q0, n);
   check_vector("p0", p0, n);
   if (N < 0) throw InputError("the number of steps must be non-negative");
-  if (m > 0 && (u.rows() != N || u.cols() != S1 * m))
+  if (hooked) out.controls.setZero(N, S1 * m);
+  if (m > 0 && !hooked && (u.rows() != N || u.cols() != S1 * m))
     throw InputError("controls must have shape (steps, s+1, m) = (" + std::to_string(N) + ", " + std::to_string(S1) +
                      ", " + std::to_string(m) + ")");
-  if (m > 0 && !u.allFinite()) throw InputError("controls contain NaN or infinity");
+  if (m > 0 && !hooked && !u.allFinite()) throw InputError("controls contain NaN or infinity");
   out.q.resize(N + 1, n);
   out.p.resize(N + 1, n);
   out.control_points.resize(N, S1 * n);
@@ -242,6 +244,16 @@ void GalerkinIntegrator::step_controls(const MatX& u, int k, MatX& uk) const {
     for (int j = 0; j < m; ++j) uk(j, a) = u(k, a * m + j);
 }
 
+void GalerkinIntegrator::hooked_controls(StepHook& hook, int k, Rollout& out, VecX& p, MatX& uk) const {
+  const int m = model_.n_controls();
+  uk.setZero(m, quad_.s + 1);
+  hook.before_step(k, out.q.row(k).transpose(), p, uk);
+  if (uk.rows() != m || uk.cols() != quad_.s + 1 || !uk.allFinite() || !p.allFinite())
+    throw InputError("the controller gave controls of the wrong shape, or NaN or infinity, at step " + std::to_string(k));
+  out.p.row(k) = p.transpose();
+  out.controls.row(k) = Eigen::Map<const VecX>(uk.data(), uk.size()).transpose();
+}
+
 void GalerkinIntegrator::record_step(Rollout& out, int k, const SolveInfo& info, const Eigen::Ref<const MatX>& qc,
                                      const Eigen::Ref<const VecX>& p_next) const {
   out.status.push_back(info.status);
@@ -256,10 +268,10 @@ void GalerkinIntegrator::record_step(Rollout& out, int k, const SolveInfo& info,
 }
 
 Rollout GalerkinIntegrator::rollout(const VecX& q0, const VecX& p0, int N, const MatX& u, const MatX& previous,
-                                    const MatX& lambda0) const {
+                                    const MatX& lambda0, StepHook* hook) const {
   const int n = model_.n(), s = quad_.s, S1 = s + 1, m = model_.n_controls(), mc = model_.n_constraints();
   Rollout out;
-  start_rollout(q0, p0, N, u, out);
+  start_rollout(q0, p0, N, u, out, hook != nullptr);
   if (previous.size() && (previous.rows() != n || previous.cols() != S1))
     throw InputError("previous control points must have shape (n, s+1)");
   MatX lambda = lambda_guess(lambda0.size() ? &lambda0 : nullptr);
@@ -270,7 +282,11 @@ Rollout GalerkinIntegrator::rollout(const VecX& q0, const VecX& p0, int N, const
   PredictorChoice predictor(options.predictor, s, uses_dense_direction(options.direction, model_, s));
   for (int k = 0; k < N; ++k) {
     qc.col(0) = out.q.row(k).transpose();
-    if (m > 0) step_controls(u, k, uk);
+    if (hook) {
+      hooked_controls(*hook, k, out, p, uk);
+    } else if (m > 0) {
+      step_controls(u, k, uk);
+    }
     const bool predicted = prev2.size() > 0;  // the history of two steps (before: robust_step's guesses)
     const bool flow = predicted && predictor.flow();
     const SolveInfo info = robust_step(*ws, p, uk, prev2, prev, qc, p_next, lambda, flow);

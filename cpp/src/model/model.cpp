@@ -149,6 +149,16 @@ void Model::set_armature(int joint, double value) {
   armature[joint] = value;
 }
 
+void Model::scale_mass(int body, double factor) {
+  check_joint(*this, body, "scale_mass");
+  if (!std::isfinite(factor) || factor <= 0)
+    throw ModelError("scale_mass: body '" + spec[body].name + "': factor must be finite and positive, got " +
+                     std::to_string(factor));
+  spec[body].mass *= factor;
+  spec[body].inertia *= factor;
+  M[body] = SpatialInertia::AtCom(spec[body].mass, spec[body].inertia);
+}
+
 void Model::add_damper(int joint, double damping) {
   check_joint(*this, joint, "add_damper");
   check_parameter(*this, joint, "add_damper", "damping", damping, true);

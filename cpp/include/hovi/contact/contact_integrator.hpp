@@ -57,7 +57,9 @@ class ContactIntegrator {
 
   // N steps from (q0, p0); u: N x ((s+1) m) as GalerkinIntegrator::rollout; z0: the impulses of the step
   // before (empty: none active). Stops at the first failed step.
-  ContactRollout rollout(const VecX& q0, const VecX& p0, int N, const MatX& u, const VecX& z0 = VecX()) const;
+  // hook: as GalerkinIntegrator::rollout's (the state it sees is (q^k, p^k) before the knot's impulse).
+  ContactRollout rollout(const VecX& q0, const VecX& p0, int N, const MatX& u, const VecX& z0 = VecX(),
+                         StepHook* hook = nullptr) const;
 
  private:
   struct Workspace {

@@ -12,6 +12,7 @@
 #include "hovi/integrators/flow_predictor.hpp"
 #include "hovi/integrators/newton_solver.hpp"
 #include "hovi/integrators/step_continuation.hpp"
+#include "hovi/integrators/step_hook.hpp"
 #include "hovi/model/data.hpp"
 #include "hovi/util/workspace_pool.hpp"
 
@@ -21,6 +22,7 @@ struct Rollout {
   MatX q, p;                   // (N+1) x n: q^k, p^k
   MatX control_points;         // N x ((s+1) n): row k = vec(q^{k,0..s}) column-major (n per point)
   MatX multipliers;            // N x (s m_c): row k = vec(λ^{k,0..s-1}) column-major (constrained)
+  MatX controls;               // N x ((s+1) m) as u: the controls a StepHook chose (empty without one)
   Eigen::VectorXi iterations;  // Newton iterations per step
   Eigen::VectorXi factorizations;  // of them, those with a fresh Jacobian factorisation
   VecX residual;               // final ||r||_inf per step
@@ -103,16 +105,20 @@ class GalerkinIntegrator {
   // N steps from (q0, p0). u: N x ((s+1) m), row k = vec(u^{k,0..s}) column-major; may have 0
   // columns when the model has no controls. previous: control points of the step before
   // (n x (s+1)) for the first guess, or empty to start from M^{-1} p0; lambda0: the first
-  // multiplier guess (m_c x s; empty: zero). Stops at the first failed solve.
+  // multiplier guess (m_c x s; empty: zero). Stops at the first failed solve. hook: asked for each
+  // step's controls (and impulses) instead of u (then u may be empty), e.g. a feedback policy.
   Rollout rollout(const VecX& q0, const VecX& p0, int N, const MatX& u, const MatX& previous = MatX(),
-                  const MatX& lambda0 = MatX()) const;
+                  const MatX& lambda0 = MatX(), StepHook* hook = nullptr) const;
 
   // What every rollout (this one's, the contact simulator's) does alike: start_rollout checks q0,
   // p0, N and the controls u (N x ((s+1) m), InputError naming what does not fit) and sizes `out`
   // for N steps with row 0 = (q0, p0); step_controls unpacks step k's u^{k,0..s} (m x (s+1));
   // record_step stores step k's solve and, if it converged, q^{k+1}, p^{k+1} and its control points.
-  void start_rollout(const VecX& q0, const VecX& p0, int N, const MatX& u, Rollout& out) const;
+  // With a hook, u is not read (the hook gives each step's controls) and `controls` records them.
+  void start_rollout(const VecX& q0, const VecX& p0, int N, const MatX& u, Rollout& out, bool hooked = false) const;
   void step_controls(const MatX& u, int k, MatX& uk) const;
+  // A hooked rollout's step k: the hook's controls into uk (and out.controls) and its momentum into p (and out.p).
+  void hooked_controls(StepHook& hook, int k, Rollout& out, VecX& p, MatX& uk) const;
   void record_step(Rollout& out, int k, const SolveInfo& info, const Eigen::Ref<const MatX>& qc,
                    const Eigen::Ref<const VecX>& p_next) const;
 

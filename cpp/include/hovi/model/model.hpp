@@ -97,6 +97,10 @@ class Model {
   // mass matrix is M(q) + diag(a). Throws ModelError unless the joint exists and value is finite
   // and non-negative.
   void set_armature(int joint, double value);
+  // Multiplies a body's mass and rotational inertia by factor (its density: shape and centre of mass
+  // kept), e.g. for a model-mismatch study. Throws ModelError unless the body exists and factor is
+  // finite and positive.
+  void scale_mass(int body, double factor);
   bool has_armature() const { return armature.size() && armature.maxCoeff() > 0; }
 
   // Topology

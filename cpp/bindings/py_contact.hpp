@@ -1,0 +1,57 @@
+// The Python-side contact simulator shared by the bindings (bind_contact, bind_control).
+#pragma once
+#include "hovi/contact/contact_integrator.hpp"
+#include "hovi/contact/contact_linearizer.hpp"
+#include "py_integrator.hpp"
+
+namespace hovi::py_bind {
+
+// The contact simulator over the model, s, dt and options of an Integrator; every call goes
+// through core(), which raises once the Integrator's model has changed.
+class PyContactIntegrator {
+ public:
+  PyContactIntegrator(const PyIntegrator& integrator, ContactModel contacts, double tol, bool locate_impacts)
+      : py_(integrator),
+        core_(py_.integ().model(), std::move(contacts), py_.s(), py_.dt(), py_.integ().options, tol, locate_impacts),
+        lin_(core_.integrator().model(), core_.integrator().quadrature(), core_.integrator().dt(), core_.contacts()) {}
+  const ContactIntegrator& core() const {
+    py_.integ();  // the model watch
+    return core_;
+  }
+  const ContactLinearizer& lin() const {
+    py_.integ();
+    return lin_;
+  }
+  const PyIntegrator& py() const { return py_; }
+
+ private:
+  const PyIntegrator& py_;  // kept alive by the binding (keep_alive)
+  ContactIntegrator core_;
+  ContactLinearizer lin_;
+};
+
+// A contact rollout as the Python dict hovi.Integrator reads (q, p, control points, impulses, gaps, ...).
+inline StrDict rollout_dict(const ContactRollout& r, double seconds) {
+  StrDict d;
+  const int attempted = static_cast<int>(r.status.size());
+  d["q"] = MatX(r.q.topRows(r.steps + 1));
+  d["p"] = MatX(r.p.topRows(r.steps + 1));
+  d["control_points"] = MatX(r.control_points.topRows(r.steps));
+  d["iterations"] = Eigen::VectorXi(r.iterations.head(attempted));
+  d["factorizations"] = Eigen::VectorXi(r.factorizations.head(attempted));
+  d["residual"] = VecX(r.residual.head(attempted));
+  d["pivots"] = Eigen::VectorXi(r.pivots.head(attempted));
+  py::list st;
+  for (SolveStatus x : r.status) st.append(to_string(x));
+  d["status"] = st;
+  d["impulses"] = MatX(r.impulses.topRows(r.steps));
+  d["gaps"] = MatX(r.gaps.topRows(r.steps));
+  d["impact"] = VecX(r.impact.head(r.steps));
+  if (r.controls.size()) d["controls"] = MatX(r.controls.topRows(attempted));
+  d["steps"] = r.steps;
+  d["seconds"] = seconds;
+  return d;
+}
+
+
+}  // namespace hovi::py_bind

@@ -1,0 +1,54 @@
+// A feedback policy on the integrator's state x = (q, p) and the pushes of a closed-loop run.
+// At step k:  u^{k,a} = clamp(u_ref^{k,a} - K^k (x^k - x_ref^k), lower, upper),  a = 0..s
+// (the feedback held over the step, the feed-forward at each control point): LQR at an equilibrium
+// (one reference and gain) or time-varying LQR along a trajectory (one per step; past its last
+// step, the last).
+#pragma once
+#include <vector>
+
+#include "hovi/integrators/step_hook.hpp"
+#include "hovi/model/data.hpp"
+
+namespace hovi {
+
+struct Policy {
+  MatX x_ref;           // S x 2n: x_ref^k = (q, p)
+  MatX u_ref;           // S x ((s+1) m), row k = vec(u^{k,0..s}) column-major, as rollout's u
+  std::vector<MatX> K;  // S gains, m x 2n
+  VecX lower, upper;    // m: saturation (±inf: none)
+
+  int stages() const { return int(K.size()); }
+  // Throws InputError unless the sizes fit n, m and s and every entry is finite (limits: lower <= upper).
+  void check(int n, int m, int s) const;
+  // uk (m x (s+1)) at step k from the state (q, p).
+  void control(int k, const Eigen::Ref<const VecX>& q, const Eigen::Ref<const VecX>& p, MatX& uk) const;
+};
+
+// A push: the world impulse `impulse` (N s) at `point` (in the joint frame of `body`) applied at knot
+// `step`, as p^k += J(q^k)^T impulse.
+struct Push {
+  int step;
+  int body;
+  Vec3 point;
+  Vec3 impulse;
+};
+
+// The StepHook of a closed loop: the pushes of step k, then the policy's controls.
+class PolicyHook : public StepHook {
+ public:
+  // model, policy and pushes must outlive it.
+  PolicyHook(const Model& model, const Policy& policy, const std::vector<Push>& pushes);
+  void before_step(int k, const VecX& q, VecX& p, MatX& uk) override;
+
+ private:
+  const Model& model_;
+  const Policy& policy_;
+  const std::vector<Push>& pushes_;
+  Data data_;
+  MatX J_;
+};
+
+// Throws InputError naming the push unless its body exists and its numbers are finite.
+void check_pushes(const Model& model, const std::vector<Push>& pushes);
+
+}  // namespace hovi

@@ -1,0 +1,64 @@
+#include "hovi/control/policy.hpp"
+
+#include <string>
+
+#include "hovi/algorithms/body_points.hpp"
+#include "hovi/algorithms/kinematics.hpp"
+#include "hovi/errors.hpp"
+
+namespace hovi {
+
+void Policy::check(int n, int m, int s) const {
+  const int S = stages();
+  if (S < 1) throw InputError("a policy needs at least one gain");
+  if (x_ref.rows() != S || x_ref.cols() != 2 * n)
+    throw InputError("the policy's reference states must be (" + std::to_string(S) + ", 2n = " + std::to_string(2 * n) + ")");
+  if (u_ref.rows() != S || u_ref.cols() != (s + 1) * m)
+    throw InputError("the policy's reference controls must be (" + std::to_string(S) + ", (s+1) m = " +
+                     std::to_string((s + 1) * m) + ")");
+  for (int k = 0; k < S; ++k)
+    if (K[k].rows() != m || K[k].cols() != 2 * n || !K[k].allFinite())
+      throw InputError("the policy's gain " + std::to_string(k) + " must be finite and (m, 2n) = (" + std::to_string(m) +
+                       ", " + std::to_string(2 * n) + ")");
+  if (!x_ref.allFinite() || !u_ref.allFinite()) throw InputError("the policy's references hold NaN or infinity");
+  if (lower.size() != m || upper.size() != m || lower.hasNaN() || upper.hasNaN() || (lower.array() > upper.array()).any())
+    throw InputError("the policy's control limits must be m numbers with lower <= upper (no NaN)");
+}
+
+void Policy::control(int k, const Eigen::Ref<const VecX>& q, const Eigen::Ref<const VecX>& p, MatX& uk) const {
+  const int j = std::min(k, stages() - 1), n = int(q.size()), m = int(K[j].rows());
+  const auto K_q = K[j].leftCols(n);
+  const VecX du = K_q * (x_ref.row(j).head(n).transpose() - q) + K[j].rightCols(n) * (x_ref.row(j).tail(n).transpose() - p);
+  // uk is m x (s+1) on entry (the rollout sizes it)
+  for (int a = 0; a < uk.cols(); ++a)
+    uk.col(a) = (u_ref.row(j).segment(a * m, m).transpose() + du).cwiseMax(lower).cwiseMin(upper);
+}
+
+void check_pushes(const Model& model, const std::vector<Push>& pushes) {
+  for (std::size_t i = 0; i < pushes.size(); ++i) {
+    const Push& d = pushes[i];
+    if (d.body < 0 || d.body >= model.n()) throw InputError("push " + std::to_string(i) + ": no body " + std::to_string(d.body));
+    if (!d.point.allFinite() || !d.impulse.allFinite()) throw InputError("push " + std::to_string(i) + ": NaN or infinity");
+    if (d.step < 0) throw InputError("push " + std::to_string(i) + ": a negative step");
+  }
+}
+
+PolicyHook::PolicyHook(const Model& model, const Policy& policy, const std::vector<Push>& pushes)
+    : model_(model), policy_(policy), pushes_(pushes), data_(model), J_(3, model.n()) {}
+
+void PolicyHook::before_step(int k, const VecX& q, VecX& p, MatX& uk) {
+  bool moved = false;
+  for (const Push& d : pushes_) {
+    if (d.step != k) continue;
+    if (!moved) forward_kinematics(model_, data_, q);
+    moved = true;
+    J_.setZero();
+    Vec3 x;
+    const Vec3 r = d.point - model_.spec[d.body].com;  // body frames sit at the COM (ERRATA C-3)
+    body_point_jacobian(KinematicsView{model_, data_.g.data(), data_.Sbar.data(), 1}, d.body, r, x, J_);
+    p.noalias() += J_.transpose() * d.impulse;
+  }
+  policy_.control(k, q, p, uk);
+}
+
+}  // namespace hovi

@@ -1,0 +1,168 @@
+"""LQR at an equilibrium and time-varying LQR along a trajectory, from the exact step Jacobians
+A_k, B_k of the integrator (hovi.Linearizer; through contact with the contact state held or
+smoothed). Costs are given in the user's terms, on (q, q̇) and u; they act on the integrator's
+state x = (q, p) through T = d(q, q̇)/d(q, p) (Q_x = T^T W T, cpp/include/hovi/control/state_map.hpp).
+The stage cost is x^T Q x + u^T R u per step (no factor 1/2, no dt)."""
+from __future__ import annotations
+
+from typing import Any, Optional, Union
+
+import numpy as np
+import numpy.typing as npt
+
+from .. import _core
+from .._checks import real_array, real_number
+from .._typing import FloatArray
+from ..integrator import ConvergenceError, Integrator
+from ..linearizer import Linearizer
+from ..trajectory import Trajectory
+from .policy import Policy
+
+
+def _weight(W: Any, size: int, name: str) -> FloatArray:
+    """A weight as a (size, size) symmetric positive semi-definite matrix: a number, `size` numbers
+    (the diagonal) or a matrix."""
+    a = real_array(W, name)
+    if a.ndim == 0 or a.shape == (1,):
+        a = np.full(size, float(a.ravel()[0]))
+    if a.shape == (size,):
+        a = np.diag(a)
+    if a.shape != (size, size):
+        raise ValueError(f"{name} must be a number, {size} numbers or a ({size}, {size}) matrix, got shape {a.shape}")
+    if not np.allclose(a, a.T, rtol=1e-12, atol=1e-14 * (1 + np.abs(a).max())):
+        raise ValueError(f"{name} must be symmetric")
+    if np.linalg.eigvalsh(a).min() < -1e-12 * (1 + np.abs(a).max()):
+        raise ValueError(f"{name} must be positive semi-definite")
+    out: FloatArray = 0.5 * (a + a.T)
+    return out
+
+
+def _user_weights(n: int, q_weight: Any, v_weight: Any, Q: Any) -> FloatArray:
+    """The (2n, 2n) weight on (q, q̇): Q if given, else blockdiag(q_weight, v_weight)."""
+    if Q is not None:
+        return _weight(Q, 2 * n, "Q")
+    W = np.zeros((2 * n, 2 * n))
+    W[:n, :n] = _weight(q_weight, n, "q_weight")
+    W[n:, n:] = _weight(v_weight, n, "v_weight")
+    return W
+
+
+def _check_integrator(integrator: Integrator) -> None:
+    if not isinstance(integrator, Integrator):
+        raise TypeError(f"integrator must be a hovi.Integrator, got {type(integrator).__name__}")
+    if integrator.n_constraints:
+        raise ValueError("LQR on a model with holonomic constraints is not supported (its state is not (q, p) freely)")
+    if integrator.model.n_controls == 0:
+        raise ValueError("the model has no controls (add actuators first)")
+
+
+def _limits(integrator: Integrator, u_limits: Any) -> tuple[FloatArray, FloatArray]:
+    m = integrator.model.n_controls
+    if u_limits is None:
+        return np.full(m, -np.inf), np.full(m, np.inf)
+    if isinstance(u_limits, (str, bytes)) or not hasattr(u_limits, "__len__") or len(u_limits) != 2:
+        raise ValueError(f"u_limits must be a pair (lower, upper), each a number or {m} numbers, got {u_limits!r}")
+    lo = np.broadcast_to(real_array(u_limits[0], "u_limits (lower)", finite=False), (m,)).copy()
+    hi = np.broadcast_to(real_array(u_limits[1], "u_limits (upper)", finite=False), (m,)).copy()
+    if np.any(np.isnan(lo)) or np.any(np.isnan(hi)) or np.any(lo > hi):
+        raise ValueError(f"u_limits must have lower <= upper and no NaN, got {lo.tolist()} and {hi.tolist()}")
+    return lo, hi
+
+
+def equilibrium_controls(integrator: Integrator, q: npt.ArrayLike) -> FloatArray:
+    """The held controls u (m,) that balance gravity at q: the least-squares solution of
+    actuation u = G(q) (inverse dynamics at rest). ``lqr`` checks that they hold q at rest."""
+    model = integrator.model
+    q = real_array(q, "q", (model.n,))
+    tau = model.inverse_dynamics(q, np.zeros(model.n), np.zeros(model.n))
+    u, *_ = np.linalg.lstsq(model.actuation, tau, rcond=None)
+    return np.asarray(u, dtype=np.float64)
+
+
+def _check_rest(integrator: Integrator, q: FloatArray, u: FloatArray) -> None:
+    q_next, p_next, _ = integrator.step(q, np.zeros(integrator.n), u)
+    scale = 1.0 + np.abs(q).max()
+    drift = max(np.abs(q_next - q).max() / scale, np.abs(p_next).max() * integrator.dt / scale)
+    if drift > 1e-9:
+        raise ValueError(f"q is not an equilibrium with controls u = {np.round(u, 6).tolist()}: one step from rest moves "
+                         f"it by {drift:.2e} (relative); give u_eq (held controls that hold q at rest)")
+
+
+def lqr(integrator: Integrator, q_eq: npt.ArrayLike, u_eq: Optional[npt.ArrayLike] = None, *, q_weight: Any = 1.0,
+        v_weight: Any = 0.1, u_weight: Any = 0.01, Q: Any = None, u_limits: Any = None) -> Policy:
+    """Infinite-horizon discrete LQR of ``integrator`` at rest at q_eq (n,) with held controls u_eq
+    (m,) (default: ``equilibrium_controls``), from the exact step Jacobians A, B there.
+
+    Costs per step: (q, q̇) weighted by Q (2n, 2n), or blockdiag(q_weight, v_weight) (numbers, n
+    numbers or (n, n)), and u by u_weight (R: number, m numbers or (m, m), positive definite);
+    u_limits = (lower, upper) saturates the policy. Returns a stationary Policy (its cost_to_go P).
+    ValueError if q_eq is not an equilibrium or (A, B) is not stabilisable."""
+    _check_integrator(integrator)
+    n, m = integrator.n, integrator.model.n_controls
+    q_eq = real_array(q_eq, "q_eq", (n,))
+    u = equilibrium_controls(integrator, q_eq) if u_eq is None else real_array(u_eq, "u_eq", (m,))
+    _check_rest(integrator, q_eq, u)
+    lin = Linearizer(integrator).step_jacobians(q_eq, np.zeros(n), u, hold=True)
+    assert lin.A is not None and lin.B is not None
+    T = _core.control.velocity_state_map(integrator.model, q_eq[None], np.zeros((1, n)))[0]
+    Qx = T.T @ _user_weights(n, q_weight, v_weight, Q) @ T
+    R = _weight(u_weight, m, "u_weight")
+    if np.linalg.eigvalsh(R).min() <= 0:
+        raise ValueError("u_weight must be positive definite")
+    P, K, _ = _core.control.discrete_are(lin.A, lin.B, Qx, R)
+    lo, hi = _limits(integrator, u_limits)
+    return Policy(x_ref=np.concatenate([q_eq, np.zeros(n)])[None], u_ref=np.tile(u, (1, integrator.s + 1, 1)),
+                  gains=K[None], lower=lo, upper=hi, cost_to_go=P[None], dt=integrator.dt, s=integrator.s)
+
+
+def tvlqr(integrator: Integrator, trajectory: Union[Trajectory, Any], u: Optional[npt.ArrayLike] = None, *,
+          q_weight: Any = 1.0, v_weight: Any = 0.1, u_weight: Any = 0.01, Q: Any = None, final_weight: Any = None,
+          u_limits: Any = None, smoothing: float = 0.0) -> Policy:
+    """Finite-horizon time-varying LQR along a trajectory of ``integrator``: a Trajectory it computed
+    with controls u (as ``Integrator.rollout`` takes them), or a ``hovi.trajopt.Result`` of a VI
+    transcription with this integrator's s and dt (its replay and controls are used).
+
+    Weights as ``lqr``; final_weight (2n, 2n) on (q, q̇) at the end (default: 10 Q). With contacts the
+    Jacobians hold each contact's state, or are smoothed (``smoothing`` = kappa, Linearizer). Returns
+    a Policy with a reference and gain per step."""
+    _check_integrator(integrator)
+    n, m, s = integrator.n, integrator.model.n_controls, integrator.s
+    if not isinstance(trajectory, Trajectory):
+        trajectory, u = _from_result(integrator, trajectory)
+    if not trajectory.converged:
+        raise ConvergenceError("the trajectory has unconverged steps; track its converged part")
+    K = trajectory.steps
+    if K < 1:
+        raise ValueError("the trajectory has no steps")
+    U = integrator.controls_per_point(u, K)
+    if U is None:
+        raise ValueError("give the trajectory's controls u (as Integrator.rollout takes them)")
+    A, B = Linearizer(integrator).rollout_jacobians(trajectory, U, hold=True, smoothing=real_number(smoothing, "smoothing", minimum=0.0))
+    T = _core.control.velocity_state_map(integrator.model, trajectory.q, trajectory.p)
+    W = _user_weights(n, q_weight, v_weight, Q)
+    WN = 10 * W if final_weight is None else _weight(final_weight, 2 * n, "final_weight")
+    Qx = np.einsum("kji,jl,klm->kim", T[:-1], W, T[:-1])
+    R = _weight(u_weight, m, "u_weight")
+    if np.linalg.eigvalsh(R).min() <= 0:
+        raise ValueError("u_weight must be positive definite")
+    gains, P = _core.control.backward_riccati(A, B, Qx, R, T[-1].T @ WN @ T[-1])
+    lo, hi = _limits(integrator, u_limits)
+    x_ref = np.hstack([trajectory.q[:K], trajectory.p[:K]])
+    return Policy(x_ref=x_ref, u_ref=np.asarray(U, dtype=np.float64), gains=gains, lower=lo, upper=hi, cost_to_go=P,
+                  dt=integrator.dt, s=s)
+
+
+def _from_result(integrator: Integrator, result: Any) -> tuple[Trajectory, FloatArray]:
+    """(replayed trajectory, controls (N, s+1, m)) of a trajopt Result of a VI transcription that
+    matches the integrator."""
+    tr = getattr(result, "transcription", None)
+    if tr is None or not hasattr(tr, "stage_controls"):
+        raise TypeError("trajectory must be a hovi Trajectory or a hovi.trajopt.Result of a VI transcription, got "
+                        f"{type(result).__name__}")
+    if tr.s != integrator.s or abs(tr.dt - integrator.dt) > 1e-12 * tr.dt:
+        raise ValueError(f"the Result's transcription has s = {tr.s}, dt = {tr.dt:g}; the integrator s = "
+                         f"{integrator.s}, dt = {integrator.dt:g}: they must match")
+    U = tr.stage_controls(result.x)
+    traj = integrator.rollout(tr.trajectory(result.x)["q"][0], len(U), p0=tr.trajectory(result.x)["p"][0], u=U,
+                              raise_on_failure=False)
+    return traj, U
