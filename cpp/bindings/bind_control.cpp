@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "hovi/control/box_fddp.hpp"
 #include "hovi/control/closed_loop.hpp"
 #include "hovi/control/riccati.hpp"
 #include "hovi/control/state_map.hpp"
@@ -91,6 +92,62 @@ py::tuple run_batch(const py::list& plants, const Policy& policy, const py::list
 }
 
 const GalerkinIntegrator& free_core(const PyIntegrator& p) { return p.integ(); }
+
+// A ShootingProblem with the Integrator it steps kept alive (py::keep_alive) and watched.
+class PyShootingProblem {
+ public:
+  PyShootingProblem(const PyIntegrator& integ, int N, const VecX& x0, std::vector<SampleCost> costs, const VecX& lo,
+                    const VecX& hi)
+      : py_(integ), core_(integ.integ(), N, x0, std::move(costs), lo, hi) {}
+  ShootingProblem& core() {
+    py_.integ();  // the model watch
+    return core_;
+  }
+
+ private:
+  const PyIntegrator& py_;
+  ShootingProblem core_;
+};
+
+std::vector<SampleCost> sample_costs(const py::list& terms, int n, int m) {
+  std::vector<SampleCost> out;
+  for (const py::handle& h : terms) {
+    const py::dict d = h.cast<py::dict>();
+    SampleCost c;
+    c.terminal = d["terminal"].cast<bool>();
+    c.Wq = as_matrix(d["Wq"], "Wq", -1, n);
+    const long rows = c.Wq.rows();
+    c.q_ref = as_matrix(d["q_ref"], "q_ref", rows, n);
+    c.Wv = as_matrix(d["Wv"], "Wv", rows, n);
+    c.v_ref = as_matrix(d["v_ref"], "v_ref", rows, n);
+    c.R = as_matrix(d["R"], "R", rows, m);
+    c.u_ref = as_matrix(d["u_ref"], "u_ref", rows, m);
+    out.push_back(std::move(c));
+  }
+  return out;
+}
+
+StrDict fddp_dict(const FddpResult& r) {
+  StrDict d;
+  d["xs"] = r.xs;
+  d["us"] = r.us;
+  d["control_points"] = r.control_points;
+  std::vector<MatX> K = r.K;
+  d["K"] = K.empty() ? py::array_t<double>() : stacked(K);
+  d["cost"] = r.cost;
+  d["stop"] = r.stop;
+  d["gaps"] = r.gaps;
+  d["iterations"] = r.iterations;
+  d["converged"] = r.converged;
+  d["feasible"] = r.feasible;
+  d["status"] = r.status;
+  MatX trace(r.trace.size(), 5);
+  for (std::size_t i = 0; i < r.trace.size(); ++i)
+    trace.row(i) << r.trace[i].cost, r.trace[i].stop, r.trace[i].step, r.trace[i].reg, r.trace[i].gaps;
+  d["trace"] = trace;
+  d["seconds"] = r.seconds;
+  return d;
+}
 const ContactIntegrator& contact_core(const PyContactIntegrator& p) { return p.core(); }
 
 }  // namespace
@@ -131,6 +188,81 @@ returns (K (N, m, n), P (N+1, n, n)), u^k = -K^k x^k, cost-to-go x^T P^k x.
       }, py::arg("model"), py::arg("q"), py::arg("p"), R"doc(
 T = d(q, q̇)/d(q, p) (K, 2n, 2n) at states q, p (K, n), q̇ = M(q)^{-1} p: a cost x_user^T W x_user on
 (q, q̇) is x^T (T^T W T) x on the integrator's state x = (q, p).
+)doc");
+  py::class_<PyShootingProblem>(m, "ShootingProblem", R"doc(
+The VI as the dynamics of an optimal control problem (control/shooting_problem.hpp): N steps of an
+Integrator from x0 = (q, p) (2n,), held controls within u_lower, u_upper (m,), and quadratic cost terms
+on the steps' control points (hovi.trajopt.FDDP builds it from a Problem).
+)doc")
+      .def(py::init([](const PyIntegrator& integ, int N, const ArrayLike& x0, const py::list& costs,
+                       const ArrayLike& u_lower, const ArrayLike& u_upper) {
+             const int n = integ.n(), m = integ.m();
+             const RealArray lo = real_array(u_lower, "u_lower"), hi = real_array(u_upper, "u_upper");
+             return std::make_unique<PyShootingProblem>(integ, N, as_vector(x0, "x0", 2 * n), sample_costs(costs, n, m),
+                                                        Eigen::Map<const VecX>(lo.data(), lo.size()),
+                                                        Eigen::Map<const VecX>(hi.data(), hi.size()));
+           }),
+           py::keep_alive<1, 2>(), py::arg("integrator"), py::arg("N"), py::arg("x0"), py::arg("costs"),
+           py::arg("u_lower"), py::arg("u_upper"), R"doc(
+costs: a list of dicts, each a term with `terminal` (bool) and diagonal weights and references per sample,
+Wq, q_ref, Wv, v_ref (rows, n), R, u_ref (rows, m): rows = S (s+1) for a running term (S stages; step k
+uses stage min(offset + k, S - 1)), 1 for a terminal term (the horizon's last sample).
+)doc")
+      .def_property("x0", [](PyShootingProblem& p) { return VecX(p.core().x0()); },
+                    [](PyShootingProblem& p, const ArrayLike& x) { p.core().set_x0(as_vector(x, "x0", p.core().nx())); },
+                    "The initial state (q, p), (2n,).")
+      .def_property("offset", [](PyShootingProblem& p) { return p.core().offset; },
+                    [](PyShootingProblem& p, int k) {
+                      if (k < 0) throw InputError("offset must be >= 0");
+                      p.core().offset = k;
+                    }, "The stage of the cost terms' references that step 0 uses.")
+      .def("stage_cost", [](PyShootingProblem& p, int k, const ArrayLike& cps, const ArrayLike& u) {
+            ShootingProblem& c = p.core();
+            const int n = c.nx() / 2;
+            return c.stage_cost(k, as_matrix(cps, "control_points", c.s() + 1, n).transpose(), as_vector(u, "u", c.nu()));
+          }, py::arg("k"), py::arg("control_points"), py::arg("u"),
+          "The cost l^k of step k at its control points (s+1, n) with held controls u (m,).")
+      .def("derivatives", [](PyShootingProblem& p, int k, const ArrayLike& cps, const ArrayLike& u) {
+            ShootingProblem& c = p.core();
+            const int n = c.nx() / 2;
+            StageDerivatives d;
+            if (!c.derivatives(k, as_matrix(cps, "control_points", c.s() + 1, n).transpose(), as_vector(u, "u", c.nu()), d))
+              throw InputError("the step's DEL Jacobian is singular");
+            StrDict out;
+            out["A"] = d.A;
+            out["B"] = d.B;
+            out["lx"] = d.lx;
+            out["lu"] = d.lu;
+            out["lxx"] = d.lxx;
+            out["luu"] = d.luu;
+            out["lux"] = d.lux;
+            return out;
+          }, py::arg("k"), py::arg("control_points"), py::arg("u"), R"doc(
+Step k's derivatives at converged control points (s+1, n) with held u (m,): A (2n, 2n), B (2n, m), the cost
+gradient lx (2n,), lu (m,) and Gauss-Newton Hessian lxx, luu, lux.
+)doc")
+      .def("solve", [](PyShootingProblem& p, const OptArrayLike& xs, const OptArrayLike& us, int max_iterations, double tol,
+                       int threads) {
+            ShootingProblem& c = p.core();
+            const MatX X = xs.is_none() ? MatX() : as_matrix(xs, "xs", c.N() + 1, c.nx());
+            const MatX U = us.is_none() ? MatX() : as_matrix(us, "us", c.N(), c.nu());
+            FddpOptions opt;
+            opt.max_iterations = max_iterations;
+            opt.tol = tol;
+            opt.threads = threads_arg(py::int_(threads));
+            BoxFddp solver(c, opt);
+            FddpResult r;
+            {
+              py::gil_scoped_release release;
+              r = solver.solve(X, U);
+            }
+            return fddp_dict(r);
+          }, py::arg("xs") = py::none(), py::arg("us") = py::none(), py::arg("max_iterations") = 500,
+          py::arg("tol") = 1e-9, py::arg("threads") = 1, R"doc(
+Box-FDDP (control/box_fddp.hpp) from xs (N+1, 2n) (None: the rollout of us from x0) and us (N, m) (None:
+zeros), in C++ with the GIL released. Returns a dict: xs, us, control_points (N, (s+1) n), K (N, m, 2n)
+(u = us + K (x - xs)), cost, stop, gaps, iterations, converged, feasible, status, trace (iterations, 5:
+cost, stop, step, regularisation, gaps), seconds.
 )doc");
   m.def("closed_loop", [](const py::list& plants, const ArrayLike& x_ref, const ArrayLike& u_ref, const ArrayLike& gains,
                           const ArrayLike& lower, const ArrayLike& upper, const py::list& pushes, const ArrayLike& q0s,

@@ -35,7 +35,7 @@ void Linearizer::del_jacobian(const Eigen::Ref<const MatX>& qc, const Eigen::Ref
 }
 
 bool Linearizer::step_jacobians(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u, MatX* A, MatX* B,
-                                const Eigen::Ref<const MatX>& lambda) const {
+                                const Eigen::Ref<const MatX>& lambda, MatX* Yx, MatX* Yu) const {
   auto w = pool_.acquire();
   MatX &uaug = w->uaug, &Jq = w->Jq, &Ju = w->Ju, &K = w->K, &rhs = w->rhs, &sol = w->sol, &Dh = w->Dh;
   const int n = model_.n(), s = quad_.s, S1 = s + 1, m = model_.n_controls(), mc = mc_;
@@ -74,6 +74,7 @@ bool Linearizer::step_jacobians(const Eigen::Ref<const MatX>& qc, const Eigen::R
     A->topRows(n) = sol.middleRows(sn - n, n);
     A->bottomRows(n).noalias() = P_z * sol.topRows(sn);
     A->bottomLeftCorner(n, n) += Jq.bottomLeftCorner(n, n);
+    if (Yx) *Yx = sol.topRows(sn);
   }
   if (B) {
     B->setZero(2 * n, S1 * m);
@@ -84,6 +85,9 @@ bool Linearizer::step_jacobians(const Eigen::Ref<const MatX>& qc, const Eigen::R
       B->topRows(n) = sol.middleRows(sn - n, n);
       B->bottomRows(n).noalias() = P_z * sol.topRows(sn);
       for (int a = 0; a < S1; ++a) B->block(n, a * m, n, m) += Ju.block(sn, a * ma, n, m);
+      if (Yu) *Yu = sol.topRows(sn);
+    } else if (Yu) {
+      Yu->setZero(sn, S1 * m);
     }
   }
   return true;

@@ -19,12 +19,12 @@ from .nlp import NLP
 from .path_constraints import BodyPoint, CallbackPathConstraint, Clearance, PathConstraint, PoseHeld
 from .problem import Problem
 from .result import Result
-from .solvers import ContactHomotopy, Ipopt, NLPSolver, Solver, solve, solve_contact
+from .solvers import FDDP, ContactHomotopy, Ipopt, NLPSolver, Solver, solve, solve_contact
 from .transcription import Guess, Transcription, TranscriptionMethod
 from .transcriptions import DEFAULT_TRANSCRIPTION, transcribe
 from .variational import VI
 
 __all__ = ["Problem", "VI", "HermiteSimpson", "DEFAULT_TRANSCRIPTION", "TranscriptionMethod", "Transcription",
-           "NLP", "Solver", "NLPSolver", "Ipopt", "ContactHomotopy", "solve", "solve_contact", "Result", "Guess",
+           "NLP", "Solver", "NLPSolver", "Ipopt", "FDDP", "ContactHomotopy", "solve", "solve_contact", "Result", "Guess",
            "Cost", "ControlEffort", "StateTracking", "TerminalCost", "CallbackCost", "PathConstraint", "BodyPoint",
            "Clearance", "CallbackPathConstraint", "PoseHeld", "InputConstraint"]

@@ -28,6 +28,7 @@ class Result:
     sizes: dict[str, int] = field(default_factory=dict)  # variables, constraints, Jacobian nonzeros
     transcription: Any = field(default=None, repr=False)
     contact: dict = field(default_factory=dict)
+    solver: dict = field(default_factory=dict)  # a solver's own output (FDDP: xs, us, gains K, trace)
 
     def control_function(self) -> Callable[[npt.ArrayLike], np.ndarray]:
         """u(t) of the solution, vectorised: times t (K,) -> controls (K, m)."""

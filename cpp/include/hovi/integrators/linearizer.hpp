@@ -32,8 +32,11 @@ class Linearizer {
                     const Eigen::Ref<const MatX>& lambda = MatX(), MatX* Dh = nullptr) const;
   // A and/or B (null: not computed, and no work done for it) at converged control points qc
   // and, for a constrained model, multipliers lambda (m_c x s). Returns false if dR/dy is singular.
+  // Yx, Yu (if given): the sensitivities of the step's interior and last control points
+  // y = q^{k,1..s} (s n rows, point a-1 in rows (a-1) n ..), dy/d(q^k, p^k) (s n x 2n) and dy/du
+  // (s n x (s+1) m): what a cost on the control points needs (the FDDP of control/).
   bool step_jacobians(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u, MatX* A, MatX* B,
-                      const Eigen::Ref<const MatX>& lambda = MatX()) const;
+                      const Eigen::Ref<const MatX>& lambda = MatX(), MatX* Yx = nullptr, MatX* Yu = nullptr) const;
   // step_jacobians along K converged steps: control points C (K x (s+1) n, row k = vec(q^{k,0..s})
   // column-major), controls U (K x (s+1) m, likewise) and multipliers L (K x s m_c; constrained
   // models). A_k goes to As[k] and B_k to Bs[k], row-major blocks of a (K, 2n, 2n) and a

@@ -1,0 +1,72 @@
+// The variational integrator as the dynamics of a discrete optimal control problem (single
+// shooting): state x^k = (q^k, p^k), controls u^k (m) held over step k, x^{k+1} = f(x^k, u^k) the VI
+// step, and the cost of the trajectory optimiser's Problem on the control points of each step:
+//   l^k = sum_a  |q^{k,a} - q_ref|^2_Wq + |q̇^{k,a} - q̇_ref|^2_Wv + |u^k - u_ref|^2_R,
+//   q̇^{k,a} = (1/dt) sum_b b^{ab} q^{k,b}  (the transcription's samples, ERRATA C-1),
+// with diagonal weights per sample (the quadrature weight w^a dt folded in), plus a terminal term on
+// the last sample. Its derivatives come from the exact step Jacobians and the control points'
+// sensitivities (Linearizer); the cost's Hessian is the Gauss-Newton one (the second derivatives of
+// the control points dropped, as FDDP drops the dynamics').
+#pragma once
+#include <vector>
+
+#include "hovi/integrators/galerkin_integrator.hpp"
+#include "hovi/integrators/linearizer.hpp"
+
+namespace hovi {
+
+// One quadratic cost term on the samples. Running: rows = S (s+1), the samples of S stages (step k
+// uses stage min(offset + k, S - 1)); terminal: one row, on the last sample of the horizon.
+// Each array has `rows` rows (n or m columns); weights are diagonal and >= 0.
+struct SampleCost {
+  bool terminal = false;
+  MatX Wq, q_ref, Wv, v_ref, R, u_ref;
+};
+
+// The derivatives of a stage at a converged step.
+struct StageDerivatives {
+  MatX A, B;            // 2n x 2n, 2n x m
+  VecX lx, lu;          // gradients of l^k
+  MatX lxx, luu, lux;   // Gauss-Newton Hessian blocks
+};
+
+class ShootingProblem {
+ public:
+  // integ must outlive the problem. Throws InputError for sizes that do not fit, a model with
+  // constraints, or negative or non-finite weights.
+  ShootingProblem(const GalerkinIntegrator& integ, int N, const VecX& x0, std::vector<SampleCost> costs,
+                  const VecX& u_lower, const VecX& u_upper);
+
+  int N() const { return N_; }
+  int nx() const { return 2 * n_; }
+  int nu() const { return m_; }
+  int s() const { return s_; }
+  const VecX& x0() const { return x0_; }
+  void set_x0(const VecX& x0);
+  // The stage whose references step 0 uses (MPC: the time index of the horizon's start).
+  int offset = 0;
+  const VecX& u_lower() const { return lo_; }
+  const VecX& u_upper() const { return hi_; }
+  const GalerkinIntegrator& integrator() const { return integ_; }
+
+  // Step k from x with u: x_next and the control points qc (n x (s+1)); qc's columns 1..s are the
+  // first guess if `guessed`. False if the step does not converge.
+  bool step(const VecX& x, const VecX& u, VecX& x_next, MatX& qc, bool guessed) const;
+  // l^k at the step's control points.
+  double stage_cost(int k, const MatX& qc, const VecX& u) const;
+  // l^k's derivatives and the step's A, B at its converged control points; false if singular.
+  bool derivatives(int k, const MatX& qc, const VecX& u, StageDerivatives& d) const;
+
+ private:
+  // The cost's gradient g (n x (s+1)) and Gauss-Newton Hessian H ((s+1) n square) in the control
+  // points, and its u-parts, at stage k.
+  void point_cost(int k, const MatX& qc, const VecX& u, double* value, MatX* g, MatX* H, VecX* gu, MatX* Huu) const;
+
+  const GalerkinIntegrator& integ_;
+  Linearizer lin_;
+  int N_, n_, m_, s_;
+  VecX x0_, lo_, hi_;
+  std::vector<SampleCost> costs_;
+};
+
+}  // namespace hovi

@@ -1,0 +1,133 @@
+"""Box-FDDP (cpp/include/hovi/control/box_fddp.hpp) as a solver of a Problem transcribed by the VI:
+single shooting on the integrator, so every iterate that closes its gaps is a VI trajectory. The
+Problem's costs become quadratic terms on the samples of the VI transcription (the same samples,
+weights and velocities, so the same cost as IPOPT's on ``VI(s)``); the solution is returned as that
+transcription's x, so ``Result.replay``, ``as_guess`` and plots work as for IPOPT.
+
+What FDDP handles: held controls (``Problem(..., controls='held')``) within bounds, and the costs
+ControlEffort, StateTracking and TerminalCost. A fixed final state, joint bounds, path or input
+constraints, contacts and CallbackCost need IPOPT (the final state as a TerminalCost here)."""
+from __future__ import annotations
+
+import time
+from typing import Any, Optional
+
+import numpy as np
+
+from ... import _core
+from ..._checks import real_number, whole_number
+from ..costs import ControlEffort, StateTracking, TerminalCost
+from ..problem import Problem
+from ..result import Result
+from ..transcription import Guess, TranscriptionMethod
+from ..variational import VI, VariationalTranscription
+from .base import Solver
+
+
+def _broadcast(weight: Any, K: int, size: int) -> np.ndarray:
+    return np.broadcast_to(np.asarray(weight, dtype=np.float64), (size,))[None, :].repeat(K, 0)
+
+
+def sample_costs(problem: Problem, transcription: VariationalTranscription) -> list[dict[str, Any]]:
+    """The Problem's costs as the shooting problem's quadratic sample terms (see ShootingProblem)."""
+    smap = transcription.sample_map()
+    t, w, K, n, m = smap.t, smap.w, len(smap.t), problem.model.n, problem.model.n_controls
+    zq, zu = np.zeros((K, n)), np.zeros((K, m))
+    terms = []
+    for cost in problem.costs:
+        if isinstance(cost, ControlEffort):
+            terms.append(dict(terminal=False, Wq=zq, q_ref=zq, Wv=zq, v_ref=zq, R=w[:, None] * _broadcast(cost.weight, K, m),
+                              u_ref=zu))
+        elif isinstance(cost, StateTracking):
+            terms.append(dict(terminal=False, Wq=w[:, None] * _broadcast(cost.weight, K, n),
+                              q_ref=np.array(StateTracking._reference(cost.q_ref, t, n, "StateTracking q_ref")),
+                              Wv=w[:, None] * _broadcast(cost.velocity_weight, K, n),
+                              v_ref=np.array(StateTracking._reference(cost.v_ref, t, n, "StateTracking v_ref")), R=zu, u_ref=zu))
+        elif isinstance(cost, TerminalCost):
+            one = lambda v: np.broadcast_to(np.asarray(v, dtype=np.float64), (n,))[None, :].copy()  # noqa: E731
+            terms.append(dict(terminal=True, Wq=one(cost.weight), q_ref=one(cost.q_target), Wv=one(cost.velocity_weight),
+                              v_ref=one(0.0 if cost.v_target is None else cost.v_target), R=np.zeros((1, m)),
+                              u_ref=np.zeros((1, m))))
+        else:
+            raise ValueError(f"FDDP handles ControlEffort, StateTracking and TerminalCost; {type(cost).__name__} "
+                             "needs IPOPT (hovi.trajopt.Ipopt)")
+    return terms
+
+
+def check_problem(problem: Problem) -> None:
+    """ValueError naming what a Problem asks that FDDP does not handle."""
+    problem.check()
+    if problem.controls != "held":
+        raise ValueError("FDDP needs held controls: Problem(..., controls='held') (one control per step)")
+    if problem.qT is not None:
+        raise ValueError("FDDP has no hard final state: express it as a TerminalCost (or solve with IPOPT)")
+    if problem.path_constraints or problem.input_constraints:
+        raise ValueError("FDDP handles control bounds only: path and input constraints need IPOPT")
+    if problem.contacts is not None:
+        raise ValueError("FDDP does not handle contact-implicit problems: use solve_contact")
+    if problem.model.n_constraints:
+        raise ValueError("FDDP does not handle models with holonomic constraints")
+    if np.any(np.isfinite(problem.q_lower)) or np.any(np.isfinite(problem.q_upper)):
+        raise ValueError("FDDP does not enforce joint bounds: give q_bounds=(-np.inf, np.inf) (or solve with IPOPT)")
+
+
+class FDDP(Solver):
+    """Box-FDDP on the VI (Mastalli et al. 2020 with Tassa's box-QP for the control bounds), in C++:
+    the dynamics are the integrator's step and its exact Jacobians, the costs the Problem's on the
+    VI transcription's samples (Gauss-Newton Hessian). Stops when the iterate is a VI trajectory
+    (no gaps) and the projected control gradient sum_k |Q_u|^2 < tol.
+
+    guess: None (zero controls), a Result (its controls), or functions (q(t), v(t), u(t)) (u is
+    sampled at the middle of each step; FDDP starts from the rollout of the controls)."""
+
+    def __init__(self, max_iterations: int = 500, tol: float = 1e-9, threads: int = 1):
+        self.max_iterations = whole_number(max_iterations, "max_iterations")
+        self.tol = real_number(tol, "tol", minimum=0.0, strict_minimum=True)
+        self.threads = whole_number(threads, "threads", minimum=1)
+
+    def shooting_problem(self, problem: Problem, transcription: VariationalTranscription) -> Any:
+        """The C++ ShootingProblem of ``problem`` on ``transcription``'s integrator."""
+        check_problem(problem)
+        integ = transcription.integrator
+        x0 = np.concatenate([problem.q0, integ.momentum(problem.q0, problem.qdot0)])
+        return _core.control.ShootingProblem(integ._core, problem.N, x0, sample_costs(problem, transcription),
+                                             problem.u_lower, problem.u_upper)
+
+    def solve(self, problem: Problem, transcription: TranscriptionMethod = VI(2), guess: Guess = None) -> Result:
+        """Solve ``problem`` on ``VI(s)`` from ``guess``; a Result whose x is the VI transcription's."""
+        if not isinstance(transcription, VI):
+            raise ValueError(f"FDDP shoots with the variational integrator: give hovi.trajopt.VI(s), got {transcription!r}")
+        t0 = time.perf_counter()
+        tr = transcription.transcribe(problem)
+        sp = self.shooting_problem(problem, tr)
+        us = self._initial_controls(problem, guess)
+        setup = time.perf_counter() - t0
+        out = sp.solve(None, us, self.max_iterations, self.tol, self.threads)
+        n, N, s = problem.model.n, problem.N, tr.s
+        U = np.repeat(out["us"][:, None, :], s + 1, axis=1)
+        traj = tr.integrator.rollout(problem.q0, N, p0=out["xs"][0, n:], u=U, raise_on_failure=False)
+        x = tr.guess_from_rollout(traj, U) if traj.steps == N else np.full(tr.core.n_variables, np.nan)
+        return self._result(out, tr, x, setup, t0)
+
+    @staticmethod
+    def _result(out: dict[str, Any], tr: VariationalTranscription, x: np.ndarray, setup: float, t0: float) -> Result:
+        res = Result(status=out["status"], success=bool(out["converged"]), cost=float(out["cost"]),
+                     constraint_violation=float(out["gaps"]), iterations=int(out["iterations"]),
+                     wall_seconds=time.perf_counter() - t0, trajectory=tr.trajectory(x), x=x,
+                     timing={"setup": setup, "solver": float(out["seconds"])},
+                     sizes={"steps": tr.N}, transcription=tr,
+                     solver={k: out[k] for k in ("xs", "us", "K", "trace", "stop", "feasible")})
+        return res
+
+    @staticmethod
+    def _initial_controls(problem: Problem, guess: Guess) -> Optional[np.ndarray]:
+        if guess is None or (isinstance(guess, str) and guess == "rollout"):
+            return None
+        if isinstance(guess, Result):
+            f = guess.control_function()
+        elif isinstance(guess, tuple) and len(guess) == 3 and all(callable(g) for g in guess):
+            f = guess[2]
+        else:
+            raise ValueError("FDDP guess must be None, a Result or functions (q(t), v(t), u(t))")
+        t = (np.arange(problem.N) + 0.5) * problem.dt
+        return np.clip(np.asarray(f(t), dtype=np.float64).reshape(problem.N, -1), problem.u_lower, problem.u_upper)
