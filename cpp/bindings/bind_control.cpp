@@ -6,6 +6,7 @@
 
 #include "hovi/control/box_fddp.hpp"
 #include "hovi/control/closed_loop.hpp"
+#include "hovi/control/mpc.hpp"
 #include "hovi/control/riccati.hpp"
 #include "hovi/control/state_map.hpp"
 #include "hovi/errors.hpp"
@@ -263,6 +264,62 @@ Box-FDDP (control/box_fddp.hpp) from xs (N+1, 2n) (None: the rollout of us from 
 zeros), in C++ with the GIL released. Returns a dict: xs, us, control_points (N, (s+1) n), K (N, m, 2n)
 (u = us + K (x - xs)), cost, stop, gaps, iterations, converged, feasible, status, trace (iterations, 5:
 cost, stop, step, regularisation, gaps), seconds.
+)doc");
+  m.def("mpc", [](const py::object& plant, PyShootingProblem& problem, const ArrayLike& q0, const ArrayLike& p0, int steps,
+                  int period, int max_iterations, double tol, const py::list& pushes, const OptArrayLike& us_init) {
+        ShootingProblem& pb = problem.core();
+        const int n = pb.nx() / 2;
+        const VecX q = as_vector(q0, "q0", n), mom = as_vector(p0, "p0", n);
+        const MatX U = us_init.is_none() ? MatX() : as_matrix(us_init, "us_init", pb.N(), pb.nu());
+        if (steps < 0) throw InputError("steps must be non-negative");
+        FddpOptions opt;
+        opt.max_iterations = max_iterations;
+        opt.tol = tol;
+        const auto push = pushes_arg(pushes);
+        const std::vector<Push> none;
+        const std::vector<Push>& mine = push.empty() ? none : push[0];
+        const bool contact = py::isinstance<PyContactIntegrator>(plant);
+        const GalerkinIntegrator& free = contact ? plant.cast<const PyContactIntegrator&>().core().integrator()
+                                                 : plant.cast<const PyIntegrator&>().integ();
+        if (std::abs(free.dt() - pb.integrator().dt()) > 1e-12 * pb.integrator().dt())
+          throw InputError("the plant's dt must be the controller's (the problem's T / N)");
+        check_pushes(free.model(), mine);
+        MpcHook hook(pb, opt, period, free.model(), mine, U);
+        StrDict d;
+        {
+          double seconds;
+          if (contact) {
+            ContactRollout r;
+            {
+              py::gil_scoped_release release;
+              const auto t0 = std::chrono::steady_clock::now();
+              r = plant.cast<const PyContactIntegrator&>().core().rollout(q, mom, steps, MatX(), VecX(), &hook);
+              seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            }
+            d = rollout_dict(r, seconds);
+          } else {
+            Rollout r;
+            {
+              py::gil_scoped_release release;
+              const auto t0 = std::chrono::steady_clock::now();
+              r = free.rollout(q, mom, steps, MatX(), MatX(), MatX(), &hook);
+              seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            }
+            d = rollout_dict(r, seconds);
+          }
+        }
+        const MpcStats& st = hook.stats();
+        d["solve_seconds"] = VecX(Eigen::Map<const VecX>(st.solve_seconds.data(), st.solve_seconds.size()));
+        d["solve_iterations"] = Eigen::VectorXi(Eigen::Map<const Eigen::VectorXi>(st.iterations.data(), st.iterations.size()));
+        d["solve_converged"] = Eigen::VectorXi(Eigen::Map<const Eigen::VectorXi>(st.converged.data(), st.converged.size()));
+        return d;
+      }, py::arg("plant"), py::arg("problem"), py::arg("q0"), py::arg("p0"), py::arg("steps"), py::arg("period"),
+      py::arg("max_iterations"), py::arg("tol"), py::arg("pushes"), py::arg("us_init") = py::none(), R"doc(
+`steps` steps of plant (a _core.Integrator or _core.ContactIntegrator with the problem's dt) from q0, p0
+(n,) under MPC (control/mpc.hpp): FDDP on `problem` re-solved every `period` steps (at most max_iterations,
+tol), warm-started from the last plan shifted; pushes: a list with one list of (step, body, point,
+impulse). Returns the plant's rollout dict with controls, and per solve solve_seconds, solve_iterations,
+solve_converged.
 )doc");
   m.def("closed_loop", [](const py::list& plants, const ArrayLike& x_ref, const ArrayLike& u_ref, const ArrayLike& gains,
                           const ArrayLike& lower, const ArrayLike& upper, const py::list& pushes, const ArrayLike& q0s,

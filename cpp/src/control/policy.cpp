@@ -43,10 +43,10 @@ void check_pushes(const Model& model, const std::vector<Push>& pushes) {
   }
 }
 
-PolicyHook::PolicyHook(const Model& model, const Policy& policy, const std::vector<Push>& pushes)
-    : model_(model), policy_(policy), pushes_(pushes), data_(model), J_(3, model.n()) {}
+PushSchedule::PushSchedule(const Model& model, const std::vector<Push>& pushes)
+    : model_(model), pushes_(pushes), data_(model), J_(3, model.n()) {}
 
-void PolicyHook::before_step(int k, const VecX& q, VecX& p, MatX& uk) {
+void PushSchedule::apply(int k, const VecX& q, VecX& p) {
   bool moved = false;
   for (const Push& d : pushes_) {
     if (d.step != k) continue;
@@ -58,7 +58,6 @@ void PolicyHook::before_step(int k, const VecX& q, VecX& p, MatX& uk) {
     body_point_jacobian(KinematicsView{model_, data_.g.data(), data_.Sbar.data(), 1}, d.body, r, x, J_);
     p.noalias() += J_.transpose() * d.impulse;
   }
-  policy_.control(k, q, p, uk);
 }
 
 }  // namespace hovi

@@ -1,6 +1,6 @@
 """Feedback control on hovi's integrator: LQR at an equilibrium and time-varying LQR along a
-trajectory from the exact step Jacobians, and closed-loop runs in C++ (saturation, pushes, model
-mismatch, contacts, Monte-Carlo batches)::
+trajectory from the exact step Jacobians, MPC with the FDDP solver on the VI, and closed-loop runs
+in C++ (saturation, pushes, model mismatch, contacts, Monte-Carlo batches)::
 
     from hovi import control
     policy = control.lqr(integrator, q_upright)                  # or control.tvlqr(integrator, traj, u)
@@ -8,6 +8,7 @@ mismatch, contacts, Monte-Carlo batches)::
 """
 from .closed_loop import ClosedLoop, Push, simulate, simulate_batch
 from .lqr import equilibrium_controls, lqr, tvlqr
+from .mpc import MPC, MpcRun
 from .policy import Policy
 
-__all__ = ["Policy", "lqr", "tvlqr", "equilibrium_controls", "Push", "ClosedLoop", "simulate", "simulate_batch"]
+__all__ = ["Policy", "lqr", "tvlqr", "equilibrium_controls", "Push", "ClosedLoop", "simulate", "simulate_batch", "MPC", "MpcRun"]

@@ -33,19 +33,35 @@ struct Push {
   Vec3 impulse;
 };
 
+// The pushes of a run, applied at their knots (PolicyHook, MpcHook).
+class PushSchedule {
+ public:
+  // model and pushes must outlive it.
+  PushSchedule(const Model& model, const std::vector<Push>& pushes);
+  // p += J(q)^T impulse for every push at step k.
+  void apply(int k, const VecX& q, VecX& p);
+
+ private:
+  const Model& model_;
+  const std::vector<Push>& pushes_;
+  Data data_;
+  MatX J_;
+};
+
 // The StepHook of a closed loop: the pushes of step k, then the policy's controls.
 class PolicyHook : public StepHook {
  public:
   // model, policy and pushes must outlive it.
-  PolicyHook(const Model& model, const Policy& policy, const std::vector<Push>& pushes);
-  void before_step(int k, const VecX& q, VecX& p, MatX& uk) override;
+  PolicyHook(const Model& model, const Policy& policy, const std::vector<Push>& pushes)
+      : policy_(policy), pushes_(model, pushes) {}
+  void before_step(int k, const VecX& q, VecX& p, MatX& uk) override {
+    pushes_.apply(k, q, p);
+    policy_.control(k, q, p, uk);
+  }
 
  private:
-  const Model& model_;
   const Policy& policy_;
-  const std::vector<Push>& pushes_;
-  Data data_;
-  MatX J_;
+  PushSchedule pushes_;
 };
 
 // Throws InputError naming the push unless its body exists and its numbers are finite.

@@ -1,0 +1,92 @@
+"""Model-predictive control with the FDDP solver on the VI (cpp/include/hovi/control/mpc.hpp): a
+held-control trajopt Problem is the controller's horizon; in the plant's C++ step loop FDDP is
+re-solved from the plant's state every ``period`` steps, warm-started from its shifted last plan."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Optional, Sequence
+
+import numpy as np
+import numpy.typing as npt
+
+from .. import _core
+from .._checks import real_number, whole_number
+from .._typing import FloatArray, IntArray
+from ..integrator import Integrator
+from ..trajectory import Trajectory
+from ..trajopt.problem import Problem
+from ..trajopt.solvers.fddp import FDDP
+from ..trajopt.variational import VI
+from .closed_loop import Push
+
+
+@dataclass
+class MpcRun:
+    """An MPC run: the plant's trajectory, the controls applied (K, s+1, m), and per solve its time (s),
+    FDDP iterations and whether it converged."""
+    trajectory: Trajectory
+    u: FloatArray
+    solve_seconds: FloatArray
+    iterations: IntArray
+    converged: IntArray
+    period: int
+    dt: float
+
+    @property
+    def real_time_factor(self) -> float:
+        """Simulated time over the time spent solving: > 1 means the solves keep up with real time."""
+        total = float(self.solve_seconds.sum())
+        return float("inf") if total == 0 else self.trajectory.steps * self.dt / total
+
+    @property
+    def worst_solve_seconds(self) -> float:
+        """The longest solve (s): it must stay below the control period period * dt for real time."""
+        return float(self.solve_seconds.max()) if len(self.solve_seconds) else 0.0
+
+
+class MPC:
+    """Receding-horizon FDDP on ``problem`` (held controls, FDDP's costs and bounds; its N steps of
+    T / N are the horizon; its initial state is replaced by the plant's at every solve; time-varying
+    cost references move on with the plant's time), with the VI of order 2s as the model. ``period``:
+    plant steps per solve (the plan's feedback policy runs in between); ``max_iterations`` and ``tol``
+    per solve."""
+
+    def __init__(self, problem: Problem, s: int = 1, *, period: int = 1, max_iterations: int = 10, tol: float = 1e-8):
+        if not isinstance(problem, Problem):
+            raise TypeError(f"problem must be a hovi.trajopt.Problem, got {type(problem).__name__}")
+        self.problem, self.method = problem, VI(s)
+        self.period = whole_number(period, "period", minimum=1)
+        if self.period > problem.N:
+            raise ValueError(f"period ({self.period}) must not exceed the horizon N = {problem.N}")
+        self.max_iterations = whole_number(max_iterations, "max_iterations", minimum=1)
+        self.tol = real_number(tol, "tol", minimum=0.0, strict_minimum=True)
+        self.transcription = self.method.transcribe(problem)
+        self._solver = FDDP(self.max_iterations, self.tol)
+        self._shooting = self._solver.shooting_problem(problem, self.transcription)
+
+    @property
+    def dt(self) -> float:
+        """The control step T / N (the plant's dt must be this)."""
+        return self.problem.dt
+
+    def run(self, plant: Integrator, q0: npt.ArrayLike, steps: int, *, qdot0: Optional[npt.ArrayLike] = None,
+            pushes: Sequence[Push] = (), warm_start: Optional[npt.ArrayLike] = None) -> MpcRun:
+        """``steps`` steps of ``plant`` (an Integrator with dt = T / N; another model, order or contacts
+        allowed) from q0 with qdot0 (default rest) under MPC, with ``pushes``, all in C++.
+        warm_start: controls (N, m) for the first solve (default zeros)."""
+        if not isinstance(plant, Integrator):
+            raise TypeError(f"plant must be a hovi.Integrator, got {type(plant).__name__}")
+        if abs(plant.dt - self.dt) > 1e-12 * self.dt:
+            raise ValueError(f"the plant's dt ({plant.dt:g}) must be the controller's T / N = {self.dt:g}")
+        if plant.n != self.problem.model.n or plant.model.n_controls != self.problem.model.n_controls:
+            raise ValueError("the plant must have the controller model's n and controls")
+        q0 = _core.real_array(q0, "q0")
+        p0 = plant.momentum(q0, np.zeros(plant.n) if qdot0 is None else _core.real_array(qdot0, "qdot0"))
+        knots = [[k for push in pushes for k in push.knots(plant.model, plant.dt)]]
+        core = plant._core if plant._contact is None else plant._contact
+        res = _core.control.mpc(core, self._shooting, q0, p0, whole_number(steps, "steps"), self.period,
+                                self.max_iterations, self.tol, knots, warm_start)
+        m, S1 = plant.model.n_controls, plant.s + 1
+        return MpcRun(trajectory=plant.trajectory_of([res]), u=res["controls"].reshape(-1, S1, m),
+                      solve_seconds=res["solve_seconds"], iterations=res["solve_iterations"],
+                      converged=res["solve_converged"], period=self.period, dt=self.dt)
