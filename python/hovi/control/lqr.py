@@ -138,7 +138,27 @@ def tvlqr(integrator: Integrator, trajectory: Union[Trajectory, Any], u: Optiona
     if U is None:
         raise ValueError("give the trajectory's controls u (as Integrator.rollout takes them)")
     A, B = Linearizer(integrator).rollout_jacobians(trajectory, U, hold=True, smoothing=real_number(smoothing, "smoothing", minimum=0.0))
-    T = _core.control.velocity_state_map(integrator.model, trajectory.q, trajectory.p)
+    return riccati_policy(integrator, trajectory.q, trajectory.p, U, A, B, q_weight=q_weight, v_weight=v_weight,
+                          u_weight=u_weight, Q=Q, final_weight=final_weight, u_limits=u_limits)
+
+
+def riccati_policy(integrator: Integrator, q: npt.ArrayLike, p: npt.ArrayLike, u: npt.ArrayLike, A: npt.ArrayLike,
+                   B: npt.ArrayLike, *, q_weight: Any = 1.0, v_weight: Any = 0.1, u_weight: Any = 0.01, Q: Any = None,
+                   final_weight: Any = None, u_limits: Any = None) -> Policy:
+    """The time-varying LQR Policy of given step Jacobians A (K, 2n, 2n), B (K, 2n, m) (held controls)
+    along references q, p (K+1, n) with controls u (K, s+1, m): what ``tvlqr`` does after linearising,
+    for Jacobians computed otherwise (e.g. each step of a contact motion linearised on its own).
+    Weights as ``tvlqr``."""
+    _check_integrator(integrator)
+    n, m, s = integrator.n, integrator.model.n_controls, integrator.s
+    A = real_array(A, "A")
+    K = A.shape[0] if A.ndim == 3 else -1
+    if A.shape != (K, 2 * n, 2 * n) or K < 1:
+        raise ValueError(f"A must have shape (K, {2 * n}, {2 * n}), got {A.shape}")
+    B = real_array(B, "B", (K, 2 * n, m))
+    q, p = real_array(q, "q", (K + 1, n)), real_array(p, "p", (K + 1, n))
+    U = real_array(u, "u", (K, s + 1, m))
+    T = _core.control.velocity_state_map(integrator.model, q, p)
     W = _user_weights(n, q_weight, v_weight, Q)
     WN = 10 * W if final_weight is None else _weight(final_weight, 2 * n, "final_weight")
     Qx = np.einsum("kji,jl,klm->kim", T[:-1], W, T[:-1])
@@ -147,8 +167,7 @@ def tvlqr(integrator: Integrator, trajectory: Union[Trajectory, Any], u: Optiona
         raise ValueError("u_weight must be positive definite")
     gains, P = _core.control.backward_riccati(A, B, Qx, R, T[-1].T @ WN @ T[-1])
     lo, hi = _limits(integrator, u_limits)
-    x_ref = np.hstack([trajectory.q[:K], trajectory.p[:K]])
-    return Policy(x_ref=x_ref, u_ref=np.asarray(U, dtype=np.float64), gains=gains, lower=lo, upper=hi, cost_to_go=P,
+    return Policy(x_ref=np.hstack([q[:K], p[:K]]), u_ref=U, gains=gains, lower=lo, upper=hi, cost_to_go=P,
                   dt=integrator.dt, s=s)
 
 
