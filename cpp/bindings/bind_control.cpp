@@ -1,6 +1,7 @@
 // Bindings of the control layer (hovi._core.control): Riccati equations, the velocity state map and
 // closed-loop runs in C++. The Pythonic layer is python/hovi/control/.
 #include <chrono>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -94,19 +95,23 @@ py::tuple run_batch(const py::list& plants, const Policy& policy, const py::list
 
 const GalerkinIntegrator& free_core(const PyIntegrator& p) { return p.integ(); }
 
-// A ShootingProblem with the Integrator it steps kept alive (py::keep_alive) and watched.
+// A ShootingProblem with the Integrator (or contact simulator) it steps kept alive (py::keep_alive)
+// and its model watched.
 class PyShootingProblem {
  public:
   PyShootingProblem(const PyIntegrator& integ, int N, const VecX& x0, std::vector<SampleCost> costs, const VecX& lo,
                     const VecX& hi)
-      : py_(integ), core_(integ.integ(), N, x0, std::move(costs), lo, hi) {}
+      : watch_([&integ] { integ.integ(); }), core_(integ.integ(), N, x0, std::move(costs), lo, hi) {}
+  PyShootingProblem(const PyContactIntegrator& contact, double kappa, int N, const VecX& x0,
+                    std::vector<SampleCost> costs, const VecX& lo, const VecX& hi)
+      : watch_([&contact] { contact.core(); }), core_(contact.core(), kappa, N, x0, std::move(costs), lo, hi) {}
   ShootingProblem& core() {
-    py_.integ();  // the model watch
+    watch_();  // raises once the model changed
     return core_;
   }
 
  private:
-  const PyIntegrator& py_;
+  std::function<void()> watch_;
   ShootingProblem core_;
 };
 
@@ -133,6 +138,7 @@ StrDict fddp_dict(const FddpResult& r) {
   d["xs"] = r.xs;
   d["us"] = r.us;
   d["control_points"] = r.control_points;
+  d["impulses"] = r.impulses;
   std::vector<MatX> K = r.K;
   d["K"] = K.empty() ? py::array_t<double>() : stacked(K);
   d["cost"] = r.cost;
@@ -195,16 +201,25 @@ The VI as the dynamics of an optimal control problem (control/shooting_problem.h
 Integrator from x0 = (q, p) (2n,), held controls within u_lower, u_upper (m,), and quadratic cost terms
 on the steps' control points (hovi.trajopt.FDDP builds it from a Problem).
 )doc")
-      .def(py::init([](const PyIntegrator& integ, int N, const ArrayLike& x0, const py::list& costs,
-                       const ArrayLike& u_lower, const ArrayLike& u_upper) {
+      .def(py::init([](const py::object& integrator, int N, const ArrayLike& x0, const py::list& costs,
+                       const ArrayLike& u_lower, const ArrayLike& u_upper, double smoothing) {
+             const bool contact = py::isinstance<PyContactIntegrator>(integrator);
+             const PyIntegrator& integ = contact ? integrator.cast<const PyContactIntegrator&>().py()
+                                                 : integrator.cast<const PyIntegrator&>();
              const int n = integ.n(), m = integ.m();
              const RealArray lo = real_array(u_lower, "u_lower"), hi = real_array(u_upper, "u_upper");
-             return std::make_unique<PyShootingProblem>(integ, N, as_vector(x0, "x0", 2 * n), sample_costs(costs, n, m),
-                                                        Eigen::Map<const VecX>(lo.data(), lo.size()),
-                                                        Eigen::Map<const VecX>(hi.data(), hi.size()));
+             const VecX x = as_vector(x0, "x0", 2 * n);
+             const VecX l = Eigen::Map<const VecX>(lo.data(), lo.size()), h = Eigen::Map<const VecX>(hi.data(), hi.size());
+             if (contact)
+               return std::make_unique<PyShootingProblem>(integrator.cast<const PyContactIntegrator&>(), smoothing, N, x,
+                                                          sample_costs(costs, n, m), l, h);
+             if (smoothing != 0) throw InputError("smoothing is for shooting through contact");
+             return std::make_unique<PyShootingProblem>(integ, N, x, sample_costs(costs, n, m), l, h);
            }),
            py::keep_alive<1, 2>(), py::arg("integrator"), py::arg("N"), py::arg("x0"), py::arg("costs"),
-           py::arg("u_lower"), py::arg("u_upper"), R"doc(
+           py::arg("u_lower"), py::arg("u_upper"), py::arg("smoothing") = 0.0, R"doc(
+integrator: a _core.Integrator, or a _core.ContactIntegrator (s = 1) to shoot through contact with its
+Jacobians held (smoothing = 0) or smoothed (kappa > 0, ContactLinearizer).
 costs: a list of dicts, each a term with `terminal` (bool) and diagonal weights and references per sample,
 Wq, q_ref, Wv, v_ref (rows, n), R, u_ref (rows, m): rows = S (s+1) for a running term (S stages; step k
 uses stage min(offset + k, S - 1)), 1 for a terminal term (the horizon's last sample).
@@ -223,11 +238,13 @@ uses stage min(offset + k, S - 1)), 1 for a terminal term (the horizon's last sa
             return c.stage_cost(k, as_matrix(cps, "control_points", c.s() + 1, n).transpose(), as_vector(u, "u", c.nu()));
           }, py::arg("k"), py::arg("control_points"), py::arg("u"),
           "The cost l^k of step k at its control points (s+1, n) with held controls u (m,).")
-      .def("derivatives", [](PyShootingProblem& p, int k, const ArrayLike& cps, const ArrayLike& u) {
+      .def("derivatives", [](PyShootingProblem& p, int k, const ArrayLike& cps, const ArrayLike& u,
+                             const OptArrayLike& impulses) {
             ShootingProblem& c = p.core();
             const int n = c.nx() / 2;
             StageDerivatives d;
-            if (!c.derivatives(k, as_matrix(cps, "control_points", c.s() + 1, n).transpose(), as_vector(u, "u", c.nu()), d))
+            const VecX z = impulses.is_none() ? VecX::Zero(c.impulses()) : as_vector(impulses, "impulses", c.impulses());
+            if (!c.derivatives(k, as_matrix(cps, "control_points", c.s() + 1, n).transpose(), as_vector(u, "u", c.nu()), z, d))
               throw InputError("the step's DEL Jacobian is singular");
             StrDict out;
             out["A"] = d.A;
@@ -238,8 +255,8 @@ uses stage min(offset + k, S - 1)), 1 for a terminal term (the horizon's last sa
             out["luu"] = d.luu;
             out["lux"] = d.lux;
             return out;
-          }, py::arg("k"), py::arg("control_points"), py::arg("u"), R"doc(
-Step k's derivatives at converged control points (s+1, n) with held u (m,): A (2n, 2n), B (2n, m), the cost
+          }, py::arg("k"), py::arg("control_points"), py::arg("u"), py::arg("impulses") = py::none(), R"doc(
+Step k's derivatives (through contact: at the step's impulses) at converged control points (s+1, n) with held u (m,): A (2n, 2n), B (2n, m), the cost
 gradient lx (2n,), lu (m,) and Gauss-Newton Hessian lxx, luu, lux.
 )doc")
       .def("solve", [](PyShootingProblem& p, const OptArrayLike& xs, const OptArrayLike& us, int max_iterations, double tol,

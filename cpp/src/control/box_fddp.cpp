@@ -28,6 +28,7 @@ void BoxFddp::start(const MatX& xs_init, const MatX& us_init) {
   fs_.assign(N + 1, VecX::Zero(nx_));
   xnext_.assign(N, VecX());
   qc_.assign(N, MatX());
+  zs_.assign(N, VecX());
   d_.assign(N, StageDerivatives());
   Vx_.assign(N + 1, VecX::Zero(nx_));
   Vxx_.assign(N + 1, MatX::Zero(nx_, nx_));
@@ -40,7 +41,7 @@ void BoxFddp::start(const MatX& xs_init, const MatX& us_init) {
   cost_ = 0;
   xs_[0] = xs_init.size() ? VecX(xs_init.row(0).transpose()) : pb_.x0();
   for (int k = 0; k < N; ++k) {
-    if (!pb_.step(xs_[k], us_[k], xnext_[k], qc_[k], false))
+    if (!pb_.step(xs_[k], us_[k], xnext_[k], qc_[k], false, zs_[k]))
       throw InputError("FDDP: the step from the initial guess failed at step " + std::to_string(k) +
                        " (give another initial guess or a smaller dt)");
     cost_ += pb_.stage_cost(k, qc_[k], us_[k]);
@@ -59,7 +60,7 @@ void BoxFddp::start(const MatX& xs_init, const MatX& us_init) {
 bool BoxFddp::calc_derivatives() {
   std::vector<char> ok(N_, 1);
   const auto errors = parallel_for(N_, std::max(1, opt_.threads), [&](int k, int) {
-    ok[k] = pb_.derivatives(k, qc_[k], us_[k], d_[k]);
+    ok[k] = pb_.derivatives(k, qc_[k], us_[k], zs_[k], d_[k]);
   });
   for (int k = 0; k < N_; ++k)
     if (!ok[k] || !errors[k].empty()) return false;
@@ -137,13 +138,15 @@ double BoxFddp::try_step(double alpha) {
   us_try_.assign(N_, VecX());
   xnext_try_.assign(N_, VecX());
   qc_try_.assign(N_, MatX());
+  zs_try_ = zs_;  // each step's impulses start from its last
   xs_try_[0] = xs_[0] + alpha * fs_[0];
   double cost = 0;
   for (int k = 0; k < N_; ++k) {
     us_try_[k] = (us_[k] + alpha * k_[k] + K_[k] * (xs_try_[k] - xs_[k])).cwiseMax(pb_.u_lower()).cwiseMin(pb_.u_upper());
     qc_try_[k] = qc_[k];  // the guess: this stage's last control points, moved with q^k
     qc_try_[k].rightCols(pb_.s()).colwise() += xs_try_[k].head(nx_ / 2) - xs_[k].head(nx_ / 2);
-    if (!pb_.step(xs_try_[k], us_try_[k], xnext_try_[k], qc_try_[k], true)) return std::numeric_limits<double>::infinity();
+    if (!pb_.step(xs_try_[k], us_try_[k], xnext_try_[k], qc_try_[k], true, zs_try_[k]))
+      return std::numeric_limits<double>::infinity();
     cost += pb_.stage_cost(k, qc_try_[k], us_try_[k]);
     xs_try_[k + 1] = xnext_try_[k] - (1 - alpha) * fs_[k + 1];
     if (!std::isfinite(cost)) return cost;
@@ -156,6 +159,7 @@ void BoxFddp::accept_trial(double alpha) {
   us_.swap(us_try_);
   xnext_.swap(xnext_try_);
   qc_.swap(qc_try_);
+  zs_.swap(zs_try_);
   cost_ = cost_try_;
   fs_[0] = pb_.x0() - xs_[0];
   for (int k = 0; k < N_; ++k) fs_[k + 1] = xnext_[k] - xs_[k + 1];
@@ -225,6 +229,8 @@ FddpResult BoxFddp::solve(const MatX& xs_init, const MatX& us_init) {
     out.us.row(k) = us_[k].transpose();
     out.control_points.row(k) = Eigen::Map<const VecX>(qc_[k].data(), qc_[k].size()).transpose();
   }
+  out.impulses.resize(N_, pb_.impulses());
+  for (int k = 0; k < N_ && pb_.impulses(); ++k) out.impulses.row(k) = zs_[k].transpose();
   out.K = K_;
   out.cost = cost_;
   out.stop = stop_;

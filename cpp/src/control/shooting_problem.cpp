@@ -1,5 +1,6 @@
 #include "hovi/control/shooting_problem.hpp"
 
+#include <cmath>
 #include <string>
 
 #include "hovi/errors.hpp"
@@ -48,18 +49,40 @@ ShootingProblem::ShootingProblem(const GalerkinIntegrator& integ, int N, const V
   for (std::size_t i = 0; i < costs_.size(); ++i) check_cost(costs_[i], s_ + 1, n_, m_, i);
 }
 
+ShootingProblem::ShootingProblem(const ContactIntegrator& contact, double kappa, int N, const VecX& x0,
+                                 std::vector<SampleCost> costs, const VecX& u_lower, const VecX& u_upper)
+    : ShootingProblem(contact.integrator(), N, x0, std::move(costs), u_lower, u_upper) {
+  if (s_ != 1 || contact.locate_impacts())
+    throw InputError("shooting through contact needs s = 1 without impact location (the trajectory optimiser's "
+                     "time-stepping: a step split at an impact is not differentiable)");
+  if (!(kappa >= 0) || !std::isfinite(kappa)) throw InputError("the smoothing kappa must be finite and >= 0");
+  contact_ = &contact;
+  kappa_ = kappa;
+  const GalerkinIntegrator& g = contact.integrator();
+  clin_ = std::make_unique<ContactLinearizer>(g.model(), g.quadrature(), g.dt(), contact.contacts());
+}
+
 void ShootingProblem::set_x0(const VecX& x0) {
   if (x0.size() != 2 * n_ || !x0.allFinite()) throw InputError("x0 must be 2n finite numbers (q, p)");
   x0_ = x0;
 }
 
-bool ShootingProblem::step(const VecX& x, const VecX& u, VecX& x_next, MatX& qc, bool guessed) const {
+bool ShootingProblem::step(const VecX& x, const VecX& u, VecX& x_next, MatX& qc, bool guessed, VecX& z) const {
   const int S1 = s_ + 1;
   const MatX uk = u.replicate(1, S1);
   qc.resize(n_, S1);
   qc.col(0) = x.head(n_);
   VecX p_next(n_);
   SolveInfo info;
+  if (contact_) {
+    if (z.size() != impulses()) z.setZero(impulses());
+    VecX phi(contact_->contacts().size());
+    info = contact_->step(x.tail(n_), uk, MatX(), qc, p_next, z, phi);
+    if (!info.converged()) return false;
+    x_next.resize(2 * n_);
+    x_next << qc.col(s_), p_next;
+    return true;
+  }
   if (guessed) info = integ_.step(x.tail(n_), uk, qc, p_next);
   if (!guessed || !info.converged()) {
     qc.rightCols(s_) = x.head(n_).replicate(1, s_);
@@ -118,11 +141,19 @@ double ShootingProblem::stage_cost(int k, const MatX& qc, const VecX& u) const {
   return v;
 }
 
-bool ShootingProblem::derivatives(int k, const MatX& qc, const VecX& u, StageDerivatives& d) const {
+bool ShootingProblem::derivatives(int k, const MatX& qc, const VecX& u, const VecX& z, StageDerivatives& d) const {
   const int S1 = s_ + 1, n = n_, m = m_, sn = s_ * n;
   const MatX uk = u.replicate(1, S1);
   MatX Bp, Yx, Yu;
-  if (!lin_.step_jacobians(qc, uk, &d.A, &Bp, MatX(), &Yx, &Yu)) return false;
+  if (contact_) {  // s = 1: the only unknown control point is q^{k+1}, the top rows of A and B
+    const bool ok = kappa_ > 0 ? clin_->smoothed_jacobians(qc, uk, z, kappa_, &d.A, &Bp)
+                               : clin_->step_jacobians(qc, uk, z, &d.A, &Bp);
+    if (!ok) return false;
+    Yx = d.A.topRows(n);
+    Yu = Bp.topRows(n);
+  } else if (!lin_.step_jacobians(qc, uk, &d.A, &Bp, MatX(), &Yx, &Yu)) {
+    return false;
+  }
   d.B = MatX::Zero(2 * n, m);
   MatX Yuh = MatX::Zero(sn, m);
   for (int a = 0; a < S1; ++a) {  // held controls: the sum over the control points' blocks

@@ -4,7 +4,7 @@ re-solved from the plant's state every ``period`` steps, warm-started from its s
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Optional, Sequence
+from typing import Any, Optional, Sequence
 
 import numpy as np
 import numpy.typing as npt
@@ -49,9 +49,10 @@ class MPC:
     T / N are the horizon; its initial state is replaced by the plant's at every solve; time-varying
     cost references move on with the plant's time), with the VI of order 2s as the model. ``period``:
     plant steps per solve (the plan's feedback policy runs in between); ``max_iterations`` and ``tol``
-    per solve."""
+    per solve; ``contacts`` and ``smoothing``: plan through contact (FDDP's, s = 1)."""
 
-    def __init__(self, problem: Problem, s: int = 1, *, period: int = 1, max_iterations: int = 10, tol: float = 1e-8):
+    def __init__(self, problem: Problem, s: int = 1, *, period: int = 1, max_iterations: int = 10, tol: float = 1e-8,
+                 contacts: Any = None, smoothing: float = 0.0):
         if not isinstance(problem, Problem):
             raise TypeError(f"problem must be a hovi.trajopt.Problem, got {type(problem).__name__}")
         self.problem, self.method = problem, VI(s)
@@ -61,7 +62,7 @@ class MPC:
         self.max_iterations = whole_number(max_iterations, "max_iterations", minimum=1)
         self.tol = real_number(tol, "tol", minimum=0.0, strict_minimum=True)
         self.transcription = self.method.transcribe(problem)
-        self._solver = FDDP(self.max_iterations, self.tol)
+        self._solver = FDDP(self.max_iterations, self.tol, contacts=contacts, smoothing=smoothing)
         self._shooting = self._solver.shooting_problem(problem, self.transcription)
 
     @property

@@ -31,6 +31,7 @@ struct FddpResult {
   MatX xs;                      // (N+1) x 2n
   MatX us;                      // N x m
   MatX control_points;          // N x ((s+1) n), as Rollout
+  MatX impulses;                // N x impulses(): through contact, each step's
   std::vector<MatX> K;          // N feedback gains (m x 2n): u = us^k + K^k (x - xs^k)
   double cost = 0, stop = 0, gaps = 0;
   int iterations = 0;
@@ -63,7 +64,7 @@ class BoxFddp {
   const ShootingProblem& pb_;
   FddpOptions opt_;
   int N_, nx_, nu_;
-  std::vector<VecX> xs_, us_, fs_, xs_try_, us_try_, xnext_, xnext_try_;
+  std::vector<VecX> xs_, us_, fs_, xs_try_, us_try_, xnext_, xnext_try_, zs_, zs_try_;  // zs: contact impulses
   std::vector<MatX> qc_, qc_try_;
   std::vector<StageDerivatives> d_;
   std::vector<VecX> Vx_, Qu_, k_;

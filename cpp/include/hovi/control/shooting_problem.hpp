@@ -7,9 +7,16 @@
 // the last sample. Its derivatives come from the exact step Jacobians and the control points'
 // sensitivities (Linearizer); the cost's Hessian is the Gauss-Newton one (the second derivatives of
 // the control points dropped, as FDDP drops the dynamics').
+//
+// Through contact (s = 1): the step is the contact simulator's (ContactIntegrator) and its Jacobians
+// those of ContactLinearizer, with the contact state held (kappa = 0) or smoothed on the central path
+// (kappa > 0: gradients across contact switches); each step's impulses are kept with it.
 #pragma once
+#include <memory>
 #include <vector>
 
+#include "hovi/contact/contact_integrator.hpp"
+#include "hovi/contact/contact_linearizer.hpp"
 #include "hovi/integrators/galerkin_integrator.hpp"
 #include "hovi/integrators/linearizer.hpp"
 
@@ -36,6 +43,11 @@ class ShootingProblem {
   // constraints, or negative or non-finite weights.
   ShootingProblem(const GalerkinIntegrator& integ, int N, const VecX& x0, std::vector<SampleCost> costs,
                   const VecX& u_lower, const VecX& u_upper);
+  // Through contact: contact must outlive the problem; its integrator must have s = 1; kappa >= 0.
+  ShootingProblem(const ContactIntegrator& contact, double kappa, int N, const VecX& x0, std::vector<SampleCost> costs,
+                  const VecX& u_lower, const VecX& u_upper);
+  bool has_contacts() const { return contact_ != nullptr; }
+  int impulses() const { return contact_ ? contact_->contacts().unknowns() : 0; }
 
   int N() const { return N_; }
   int nx() const { return 2 * n_; }
@@ -50,12 +62,14 @@ class ShootingProblem {
   const GalerkinIntegrator& integrator() const { return integ_; }
 
   // Step k from x with u: x_next and the control points qc (n x (s+1)); qc's columns 1..s are the
-  // first guess if `guessed`. False if the step does not converge.
-  bool step(const VecX& x, const VecX& u, VecX& x_next, MatX& qc, bool guessed) const;
+  // first guess if `guessed`. Through contact, z (impulses()) holds the impulses' guess on entry (empty:
+  // none active) and the step's on exit. False if the step does not converge.
+  bool step(const VecX& x, const VecX& u, VecX& x_next, MatX& qc, bool guessed, VecX& z) const;
   // l^k at the step's control points.
   double stage_cost(int k, const MatX& qc, const VecX& u) const;
   // l^k's derivatives and the step's A, B at its converged control points; false if singular.
-  bool derivatives(int k, const MatX& qc, const VecX& u, StageDerivatives& d) const;
+  // (Through contact: at the step's impulses z.)
+  bool derivatives(int k, const MatX& qc, const VecX& u, const VecX& z, StageDerivatives& d) const;
 
  private:
   // The cost's gradient g (n x (s+1)) and Gauss-Newton Hessian H ((s+1) n square) in the control
@@ -64,6 +78,9 @@ class ShootingProblem {
 
   const GalerkinIntegrator& integ_;
   Linearizer lin_;
+  const ContactIntegrator* contact_ = nullptr;
+  std::unique_ptr<ContactLinearizer> clin_;
+  double kappa_ = 0;
   int N_, n_, m_, s_;
   VecX x0_, lo_, hi_;
   std::vector<SampleCost> costs_;

@@ -6,7 +6,9 @@ transcription's x, so ``Result.replay``, ``as_guess`` and plots work as for IPOP
 
 What FDDP handles: held controls (``Problem(..., controls='held')``) within bounds, and the costs
 ControlEffort, StateTracking and TerminalCost. A fixed final state, joint bounds, path or input
-constraints, contacts and CallbackCost need IPOPT (the final state as a TerminalCost here)."""
+constraints, contact-implicit problems and CallbackCost need IPOPT (the final state as a
+TerminalCost here). Through contact, FDDP shoots with the contact simulator instead (``contacts``:
+the robot's contacts, s = 1) and its Jacobians through contact, held or smoothed (``smoothing``)."""
 from __future__ import annotations
 
 import time
@@ -15,7 +17,8 @@ from typing import Any, Optional
 import numpy as np
 
 from ... import _core
-from ..._checks import real_number, whole_number
+from ..._checks import real_array, real_number, whole_number
+from ...integrator import Integrator
 from ..costs import ControlEffort, StateTracking, TerminalCost
 from ..problem import Problem
 from ..result import Result
@@ -77,21 +80,35 @@ class FDDP(Solver):
     VI transcription's samples (Gauss-Newton Hessian). Stops when the iterate is a VI trajectory
     (no gaps) and the projected control gradient sum_k |Q_u|^2 < tol.
 
-    guess: None (zero controls), a Result (its controls), or functions (q(t), v(t), u(t)) (u is
-    sampled at the middle of each step; FDDP starts from the rollout of the controls)."""
+    guess: None (zero controls), a Result (its controls), controls (N, m) or (m,), or functions
+    (q(t), v(t), u(t)) (u sampled at the middle of each step); FDDP starts from their rollout."""
 
-    def __init__(self, max_iterations: int = 500, tol: float = 1e-9, threads: int = 1):
+    def __init__(self, max_iterations: int = 500, tol: float = 1e-9, threads: int = 1, *, contacts: Any = None,
+                 smoothing: float = 0.0):
         self.max_iterations = whole_number(max_iterations, "max_iterations")
         self.tol = real_number(tol, "tol", minimum=0.0, strict_minimum=True)
         self.threads = whole_number(threads, "threads", minimum=1)
+        self.contacts = contacts
+        self.smoothing = real_number(smoothing, "smoothing", minimum=0.0)
+        if self.smoothing and contacts is None:
+            raise ValueError("smoothing is for shooting through contact (give contacts)")
+
+    def dynamics(self, problem: Problem, transcription: VariationalTranscription) -> Integrator:
+        """The integrator FDDP shoots with: the transcription's, or with ``contacts`` the contact simulator (s = 1)."""
+        if self.contacts is None:
+            return transcription.integrator
+        if transcription.s != 1:
+            raise ValueError(f"FDDP through contact needs VI(1) (the contact time-stepping), got VI({transcription.s})")
+        return Integrator(problem.model, s=1, dt=problem.dt, tol=1e-13, contacts=self.contacts, locate_impacts=False)
 
     def shooting_problem(self, problem: Problem, transcription: VariationalTranscription) -> Any:
-        """The C++ ShootingProblem of ``problem`` on ``transcription``'s integrator."""
+        """The C++ ShootingProblem of ``problem`` on ``transcription``'s integrator (or the contact simulator)."""
         check_problem(problem)
-        integ = transcription.integrator
+        integ = self.dynamics(problem, transcription)
         x0 = np.concatenate([problem.q0, integ.momentum(problem.q0, problem.qdot0)])
-        return _core.control.ShootingProblem(integ._core, problem.N, x0, sample_costs(problem, transcription),
-                                             problem.u_lower, problem.u_upper)
+        core = integ._core if integ._contact is None else integ._contact
+        return _core.control.ShootingProblem(core, problem.N, x0, sample_costs(problem, transcription),
+                                             problem.u_lower, problem.u_upper, self.smoothing)
 
     def solve(self, problem: Problem, transcription: TranscriptionMethod = VI(2), guess: Guess = None) -> Result:
         """Solve ``problem`` on ``VI(s)`` from ``guess``; a Result whose x is the VI transcription's."""
@@ -105,9 +122,11 @@ class FDDP(Solver):
         out = sp.solve(None, us, self.max_iterations, self.tol, self.threads)
         n, N, s = problem.model.n, problem.N, tr.s
         U = np.repeat(out["us"][:, None, :], s + 1, axis=1)
-        traj = tr.integrator.rollout(problem.q0, N, p0=out["xs"][0, n:], u=U, raise_on_failure=False)
+        traj = self.dynamics(problem, tr).rollout(problem.q0, N, p0=out["xs"][0, n:], u=U, raise_on_failure=False)
         x = tr.guess_from_rollout(traj, U) if traj.steps == N else np.full(tr.core.n_variables, np.nan)
-        return self._result(out, tr, x, setup, t0)
+        res = self._result(out, tr, x, setup, t0)
+        res.solver["trajectory"] = traj  # the solution simulated (through contact: with its impulses)
+        return res
 
     @staticmethod
     def _result(out: dict[str, Any], tr: VariationalTranscription, x: np.ndarray, setup: float, t0: float) -> Result:
@@ -123,11 +142,17 @@ class FDDP(Solver):
     def _initial_controls(problem: Problem, guess: Guess) -> Optional[np.ndarray]:
         if guess is None or (isinstance(guess, str) and guess == "rollout"):
             return None
+        m = problem.model.n_controls
         if isinstance(guess, Result):
             f = guess.control_function()
-        elif isinstance(guess, tuple) and len(guess) == 3 and all(callable(g) for g in guess):
+        elif isinstance(guess, tuple) and len(guess) == 3 and callable(guess[2]):
             f = guess[2]
+        elif isinstance(guess, (np.ndarray, list)):
+            u = real_array(guess, "guess (controls)")
+            if u.shape not in ((m,), (problem.N, m)):
+                raise ValueError(f"FDDP guess controls must be ({m},) or ({problem.N}, {m}), got {u.shape}")
+            return np.clip(np.broadcast_to(u, (problem.N, m)), problem.u_lower, problem.u_upper)
         else:
-            raise ValueError("FDDP guess must be None, a Result or functions (q(t), v(t), u(t))")
+            raise ValueError("FDDP guess must be None, a Result, controls (N, m) or (m,), or functions (q(t), v(t), u(t))")
         t = (np.arange(problem.N) + 0.5) * problem.dt
         return np.clip(np.asarray(f(t), dtype=np.float64).reshape(problem.N, -1), problem.u_lower, problem.u_upper)
