@@ -3,6 +3,7 @@ cpp/baselines): no include cycle at header level (a .cpp counts as the .hpp it i
 include against the layer order
 
     spatial -> model -> {algorithms, forces} -> constraints -> parsers -> integrators -> {trajopt, contact}
+        -> control
 
 (the bindings above all). model/ holds the Model and the interfaces it stores (BodyWrench,
 Constraint, JointForces), so that algorithms compute through the interfaces only; forces/ and
@@ -10,7 +11,9 @@ constraints/ hold the built-in kinds (a constraint's multipliers act through for
 constraints sit above forces); parsers/ read and write models (URDF, the byte format of
 model_serialization), every kind included. The baselines may include the product; the product
 never includes the baselines. Directories outside the named layers (util, quadrature, parallel,
-errors.hpp) sit at the bottom, beside spatial; models (built-in models) is a peer of algorithms."""
+errors.hpp) sit at the bottom, beside spatial; models (built-in models) is a peer of algorithms.
+control (Riccati, policies, FDDP, MPC) steps the integrator and the contact simulator, so it sits
+above both."""
 from __future__ import annotations
 
 import re
@@ -25,7 +28,7 @@ INCLUDE = re.compile(r'^\s*#\s*include\s+"(hovi/[^"]+)"', re.M)
 # (algorithms, forces, models) may not include each other.
 LAYERS = {"errors.hpp": 0, "spatial": 1, "util": 2, "quadrature": 2, "parallel": 2, "model": 3,
           "algorithms": 4, "forces": 4, "models": 4, "constraints": 5, "parsers": 6,
-          "integrators": 7, "trajopt": 8, "contact": 8, "baselines": 9}
+          "integrators": 7, "trajopt": 8, "contact": 8, "control": 9, "baselines": 10}
 # Arrows against the order and cycles that the tree is allowed to keep: none (a new one fails).
 KNOWN: set[str] = set()
 KNOWN_CYCLES: set[str] = set()

@@ -200,16 +200,11 @@ def solve_fddp(problem, s, **options):
     return r, time.perf_counter() - t0
 
 
-CARTPOLE_STOPS_EARLY = (
-    "FDDP(tol=1e-12) stops on sum_k |Q_u|^2 = 9.7e-13 with the cost 8e-13 from IPOPT's but the controls 2.9e-5 "
-    "from them (cart-pole's flat directions: an absolute, unscaled test on |Q_u|^2 leaves |du| ~ |Q_u| / "
-    "lambda_min); with tol=1e-14 (next case) the controls agree to 5e-6")
-
-
+# FDDP's stop test is Crocoddyl's: sum_k |Q_u|^2 < tol, absolute. On the cart-pole's flat directions
+# tol = 1e-12 leaves the controls 2.9e-5 from IPOPT's (|du| ~ |Q_u| / lambda_min), so it is solved to 1e-14.
 @ipopt
 @pytest.mark.parametrize("name,s,tol", [
     ("pendulum", 1, 1e-12), ("pendulum", 2, 1e-12),
-    pytest.param("cartpole", 2, 1e-12, marks=pytest.mark.xfail(strict=True, reason=CARTPOLE_STOPS_EARLY)),
     ("cartpole", 2, 1e-14), ("acrobot", 2, 1e-12)])
 def test_fddp_reaches_ipopts_optimum(name, s, tol):
     r, t_fddp = solve_fddp(swingup(name), s, tol=tol)
