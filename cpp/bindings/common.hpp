@@ -26,6 +26,7 @@ HOVI_PY_HINTED_OBJECT(Index)         // int | str: a joint or body by index or n
 HOVI_PY_HINTED_OBJECT(OptIndex)      // int | str | None
 HOVI_PY_HINTED_OBJECT(PathOrXml)     // str | os.PathLike[str]: a URDF path or XML string
 HOVI_PY_HINTED_OBJECT(OptInt)        // int | None
+HOVI_PY_HINTED_OBJECT(AnyIntegrator) // hovi._core.Integrator | hovi._core.ContactIntegrator
 #undef HOVI_PY_HINTED_OBJECT
 
 // Typed containers for return values: py::typing::Tuple<MatX, VecX> is `tuple[NDArray, NDArray]`.
@@ -75,5 +76,6 @@ HOVI_PY_TYPE_NAME(Index, "int | str")
 HOVI_PY_TYPE_NAME(OptIndex, "int | str | None")
 HOVI_PY_TYPE_NAME(PathOrXml, "str | os.PathLike[str]")
 HOVI_PY_TYPE_NAME(OptInt, "int | None")
+HOVI_PY_TYPE_NAME(AnyIntegrator, "hovi._core.Integrator | hovi._core.ContactIntegrator")
 #undef HOVI_PY_TYPE_NAME
 }  // namespace pybind11::detail

@@ -47,6 +47,7 @@ inline StrDict rollout_dict(const ContactRollout& r, double seconds) {
   d["impulses"] = MatX(r.impulses.topRows(r.steps));
   d["gaps"] = MatX(r.gaps.topRows(r.steps));
   d["impact"] = VecX(r.impact.head(r.steps));
+  d["step_p"] = MatX(r.step_p.topRows(r.steps + 1));
   if (r.controls.size()) d["controls"] = MatX(r.controls.topRows(attempted));
   d["steps"] = r.steps;
   d["seconds"] = seconds;

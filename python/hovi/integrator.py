@@ -2,7 +2,7 @@
 from __future__ import annotations
 
 import os
-from typing import Any, Dict, List, Optional, Tuple
+from typing import Any, Dict, List, Optional, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -167,6 +167,12 @@ class Integrator:
         self.__init__(state["model"], **state["options"], **extra)  # type: ignore[misc]
 
     # --- properties -------------------------------------------------------------------------
+    @property
+    def core(self) -> Union[_core.Integrator, _core.ContactIntegrator]:
+        """The C++ object that steps this integrator: hovi._core.Integrator, or with contacts
+        hovi._core.ContactIntegrator (what hovi's C++ loops take: closed loops, FDDP, MPC)."""
+        return self._core if self._contact is None else self._contact
+
     @property
     def s(self) -> int:
         """Number of Lobatto intervals; s+1 control points."""
@@ -568,7 +574,8 @@ class Integrator:
                 impulses=np.vstack([r["impulses"] for r in parts]).reshape(-1, C, pc),
                 gaps=np.vstack([r["gaps"] for r in parts]).reshape(-1, C), directions=self.contacts.D.copy(),
                 pivots=np.concatenate([r["pivots"] for r in parts]),
-                impact=np.concatenate([r["impact"] for r in parts]))
+                impact=np.concatenate([r["impact"] for r in parts]),
+                step_momenta=np.vstack([r["step_p"][:-1] for r in parts[:-1]] + [parts[-1]["step_p"]]))
         return traj
 
     def _join(self, parts: List[Dict[str, Any]]) -> Trajectory:

@@ -87,6 +87,9 @@ class ContactRecord:
     pivots: IntArray        # (attempted,) LCP pivots per step (0: no contact solve, or the guessed active set held)
     impact: Optional[FloatArray] = None  # (K,) θ of a step split at an impact at t^k + θ dt (its impulses act
                                          # there; Integrator locate_impacts), else 0
+    step_momenta: Optional[FloatArray] = None  # (K+1, n): the momentum each step starts from, before its knot's
+                                               # impulse: the state of the contact Jacobians and of feedback policies
+                                               # (``p`` adds half the knot impulse for 0 < k < K)
 
     @property
     def normal(self) -> FloatArray:
@@ -231,6 +234,8 @@ def save_trajectory(trajectory: Trajectory, path: str | os.PathLike[str]) -> Non
                       contact_pivots=c.pivots)
         if c.impact is not None:
             arrays["contact_impact"] = c.impact
+        if c.step_momenta is not None:
+            arrays["contact_step_momenta"] = c.step_momenta
     try:
         arrays = check_arrays(arrays, d.model.n_constraints)
     except ValueError as e:
@@ -240,7 +245,7 @@ def save_trajectory(trajectory: Trajectory, path: str | os.PathLike[str]) -> Non
 
 REQUIRED = ("format_version", "joint_names", "s", "dt", "t", "q", "p", "control_points", "iterations", "residuals",
             "status", "solve_seconds")
-OPTIONAL = ("factorizations", "multipliers", "contact_impact")
+OPTIONAL = ("factorizations", "multipliers", "contact_impact", "contact_step_momenta")
 CONTACT = ("contact_impulses", "contact_gaps", "contact_directions", "contact_pivots")  # all or none
 
 
@@ -358,6 +363,10 @@ def check_arrays(arrays: Dict[str, Any], n_constraints: Optional[int] = None) ->
         theta = _numbers(a["contact_impact"], "contact_impact", (K,))
         if np.any((theta < 0) | (theta >= 1)):
             raise ValueError("contact_impact must lie in [0, 1)")
+    if "contact_step_momenta" in a:
+        if not given:
+            raise ValueError("contact_step_momenta given without the other contact arrays")
+        _numbers(a["contact_step_momenta"], "contact_step_momenta", (K + 1, a["q"].shape[1]))
     return a
 
 
@@ -416,7 +425,7 @@ def load_trajectory(path: str | os.PathLike[str], integrator: Optional[HasDiscre
     if "contact_impulses" in arrays:
         optional["contact"] = ContactRecord(arrays["contact_impulses"], arrays["contact_gaps"],
                                             arrays["contact_directions"], arrays["contact_pivots"],
-                                            arrays.get("contact_impact"))
+                                            arrays.get("contact_impact"), arrays.get("contact_step_momenta"))
     return Trajectory(t=arrays["t"], q=arrays["q"], p=arrays["p"], control_points=arrays["control_points"],
                       iterations=arrays["iterations"], residuals=arrays["residuals"],
                       status=[str(x) for x in arrays["status"]], solve_seconds=float(arrays["solve_seconds"]),

@@ -252,6 +252,7 @@ ContactRollout ContactIntegrator::rollout(const VecX& q0, const VecX& p0, int N,
   out.gaps.resize(N, C);
   out.pivots.resize(N);
   out.impact.setZero(N);
+  out.step_p.resize(N + 1, n);
   auto ws = pool_.acquire();
   ws->basis.clear();
   MatX qc(n, S1), prev, prev2, uk(m, S1);
@@ -268,8 +269,10 @@ ContactRollout ContactIntegrator::rollout(const VecX& q0, const VecX& p0, int N,
     const SolveInfo info = step(*ws, p, uk, prev2, prev, qc, p_next, z, phi, pivots, theta);
     out.impact[k] = theta;
     out.pivots[k] = pivots;
+    out.step_p.row(k) = p.transpose();
     free_.record_step(out, k, info, qc, p_next);
     if (!info.converged()) break;
+    out.step_p.row(k + 1) = p_next.transpose();
     out.impulses.row(k) = z.transpose();
     if ((k > 0 || z0.size()) && theta == 0)  // ContactRollout's p^k (a split step's impulses act inside it)
       out.p.row(k) += 0.5 * ws->solver.knot_impulse(z).transpose();

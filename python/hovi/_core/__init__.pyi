@@ -8,7 +8,8 @@ import numpy.typing
 import os
 import typing
 from . import trajopt
-__all__: list[str] = ['ContactIntegrator', 'Integrator', 'Linearizer', 'Model', 'ModelError', 'URDFError', 'body_point_kinematics', 'lagrange_basis', 'march', 'pendulum', 'real_array', 'trajopt']
+from . import control
+__all__: list[str] = ['ContactIntegrator', 'Integrator', 'Linearizer', 'Model', 'ModelError', 'URDFError', 'body_point_kinematics', 'control', 'lagrange_basis', 'march', 'pendulum', 'real_array', 'trajopt']
 class ModelError(ValueError):
     """
     An invalid model or model input (a ValueError): a bad body, joint, force or constraint, an unknown joint or body name, or a call on an Integrator or Linearizer whose model changed after it was made.
@@ -183,6 +184,13 @@ class Model:
     def potential_energy(self, q: numpy.typing.ArrayLike) -> float:
         """
         q: (n,); the gravitational potential -sum m_i g^T p_i (p_i the centre of mass) plus the springs' 1/2 k (q - rest)^2.
+        """
+    def scale_mass(self, body: int | str, factor: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        """
+        Multiply a body's (index or name) mass and rotational inertia by factor > 0 (its density; shape and
+        centre of mass kept): a plant that differs from the model a controller was made on
+        (``model.copy()`` first). Raises hovi.ModelError for an unknown body or a factor that is not finite
+        and positive.
         """
     def set_armature(self, joint: int | str, armature: typing.SupportsFloat | typing.SupportsIndex) -> None:
         """

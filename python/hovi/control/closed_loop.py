@@ -53,7 +53,8 @@ class Push:
 @dataclass
 class ClosedLoop:
     """A closed-loop run: the plant's trajectory and the controls (K, s+1, m) the policy applied
-    (saturated), step by step."""
+    (saturated), step by step. The policy sees (q^k, p^k); with contacts p^k is the step's own momentum
+    before its knot's impulse, ``trajectory.contact.step_momenta``."""
     trajectory: Trajectory
     u: FloatArray
 
@@ -73,7 +74,7 @@ def _plants(plants: Union[Integrator, Sequence[Integrator]], policy: Policy) -> 
         if p.n != policy.n or p.model.n_controls != policy.m or p.s != policy.s:
             raise ValueError(f"the plant (n = {p.n}, m = {p.model.n_controls}, s = {p.s}) does not fit the policy "
                              f"(n = {policy.n}, m = {policy.m}, s = {policy.s})")
-        if (p._contact is None) != (items[0]._contact is None):
+        if (p.contacts is None) != (items[0].contacts is None):
             raise ValueError("the plants must all have contacts, or none")
     return items
 
@@ -88,7 +89,8 @@ def _states(plants: List[Integrator], q0: Any, p0: Any, qdot0: Any, B: int) -> t
         P = real_array(p0, "p0")
         return Q, (np.broadcast_to(P, (B, n)).copy() if P.shape in ((n,), (1, n)) else real_array(p0, "p0", (B, n)))
     V = np.zeros((B, n)) if qdot0 is None else real_array(qdot0, "qdot0")
-    V = np.broadcast_to(V, (B, n)).copy() if V.shape in ((n,), (1, n)) else real_array(qdot0, "qdot0", (B, n))
+    if qdot0 is not None:
+        V = np.broadcast_to(V, (B, n)).copy() if V.shape in ((n,), (1, n)) else real_array(qdot0, "qdot0", (B, n))
     P = np.array([plants[0 if len(plants) == 1 else b].momentum(Q[b], V[b]) for b in range(B)])
     return Q, P
 
@@ -117,7 +119,7 @@ def simulate_batch(plants: Union[Integrator, Sequence[Integrator]], policy: Poli
     Q, P = _states(items, q0, p0, qdot0, B)
     dt = items[0].dt
     knots = [[k for push in run for k in push.knots(items[0].model, dt)] for run in push_lists]
-    cores = [p._core if p._contact is None else p._contact for p in items]
+    cores = [p.core for p in items]
     out, errors = _core.control.closed_loop(
         cores, policy.x_ref, policy.u_ref.reshape(policy.stages, -1), policy.gains, policy.lower, policy.upper, knots,
         Q, P, steps, threads)

@@ -138,7 +138,10 @@ def tvlqr(integrator: Integrator, trajectory: Union[Trajectory, Any], u: Optiona
     if U is None:
         raise ValueError("give the trajectory's controls u (as Integrator.rollout takes them)")
     A, B = Linearizer(integrator).rollout_jacobians(trajectory, U, hold=True, smoothing=real_number(smoothing, "smoothing", minimum=0.0))
-    return riccati_policy(integrator, trajectory.q, trajectory.p, U, A, B, q_weight=q_weight, v_weight=v_weight,
+    # with contacts the policy's state is each step's own momentum (before its knot's impulse, as the Jacobians')
+    p = trajectory.p if trajectory.contact is None or trajectory.contact.step_momenta is None \
+        else trajectory.contact.step_momenta
+    return riccati_policy(integrator, trajectory.q, p, U, A, B, q_weight=q_weight, v_weight=v_weight,
                           u_weight=u_weight, Q=Q, final_weight=final_weight, u_limits=u_limits)
 
 

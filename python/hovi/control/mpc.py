@@ -84,8 +84,7 @@ class MPC:
         q0 = _core.real_array(q0, "q0")
         p0 = plant.momentum(q0, np.zeros(plant.n) if qdot0 is None else _core.real_array(qdot0, "qdot0"))
         knots = [[k for push in pushes for k in push.knots(plant.model, plant.dt)]]
-        core = plant._core if plant._contact is None else plant._contact
-        res = _core.control.mpc(core, self._shooting, q0, p0, whole_number(steps, "steps"), self.period,
+        res = _core.control.mpc(plant.core, self._shooting, q0, p0, whole_number(steps, "steps"), self.period,
                                 self.max_iterations, self.tol, knots, warm_start)
         m, S1 = plant.model.n_controls, plant.s + 1
         return MpcRun(trajectory=plant.trajectory_of([res]), u=res["controls"].reshape(-1, S1, m),

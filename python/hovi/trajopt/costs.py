@@ -123,10 +123,15 @@ class StateTracking(Cost):
                              f"sample times t (K,) returning (K, {n}); got shape {r.shape}")
         return np.broadcast_to(r, (len(t), n))
 
+    def references(self, t: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
+        """(q_ref, v_ref) at the sample times t (K,), each (K, n)."""
+        return (self._reference(self.q_ref, t, n, "StateTracking q_ref"),
+                self._reference(self.v_ref, t, n, "StateTracking v_ref"))
+
     def __call__(self, s: Samples) -> CostValue:
         n = s.q.shape[1]
-        eq = s.q - self._reference(self.q_ref, s.t, n, "StateTracking q_ref")
-        ev = s.v - self._reference(self.v_ref, s.t, n, "StateTracking v_ref")
+        q_ref, v_ref = self.references(s.t, n)
+        eq, ev = s.q - q_ref, s.v - v_ref
         Wq = s.w[:, None] * _weights(self.weight, n, "state tracking")
         Wv = s.w[:, None] * _weights(self.velocity_weight, n, "velocity tracking")
         value = float(np.sum(Wq * eq * eq) + np.sum(Wv * ev * ev))

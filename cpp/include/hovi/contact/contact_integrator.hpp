@@ -29,6 +29,8 @@ struct ContactRollout : Rollout {
   MatX gaps;               // N x C: φ_c(q^{k+1})
   Eigen::VectorXi pivots;  // LCP pivots of step k (0: solved without contact, or on the guessed active set)
   VecX impact;             // N: θ of a step split at an impact at t^k + θ dt (its impulses act there), else 0
+  MatX step_p;             // (N+1) x n: the momentum each step starts from, before its knot's impulse (the state
+                           // of the step's Jacobians and of a feedback policy; p without the half impulse)
 };
 
 class ContactIntegrator {

@@ -42,10 +42,10 @@ def sample_costs(problem: Problem, transcription: VariationalTranscription) -> l
             terms.append(dict(terminal=False, Wq=zq, q_ref=zq, Wv=zq, v_ref=zq, R=w[:, None] * _broadcast(cost.weight, K, m),
                               u_ref=zu))
         elif isinstance(cost, StateTracking):
-            terms.append(dict(terminal=False, Wq=w[:, None] * _broadcast(cost.weight, K, n),
-                              q_ref=np.array(StateTracking._reference(cost.q_ref, t, n, "StateTracking q_ref")),
-                              Wv=w[:, None] * _broadcast(cost.velocity_weight, K, n),
-                              v_ref=np.array(StateTracking._reference(cost.v_ref, t, n, "StateTracking v_ref")), R=zu, u_ref=zu))
+            q_ref, v_ref = cost.references(t, n)
+            terms.append(dict(terminal=False, Wq=w[:, None] * _broadcast(cost.weight, K, n), q_ref=np.array(q_ref),
+                              Wv=w[:, None] * _broadcast(cost.velocity_weight, K, n), v_ref=np.array(v_ref), R=zu,
+                              u_ref=zu))
         elif isinstance(cost, TerminalCost):
             one = lambda v: np.broadcast_to(np.asarray(v, dtype=np.float64), (n,))[None, :].copy()  # noqa: E731
             terms.append(dict(terminal=True, Wq=one(cost.weight), q_ref=one(cost.q_target), Wv=one(cost.velocity_weight),
@@ -106,8 +106,7 @@ class FDDP(Solver):
         check_problem(problem)
         integ = self.dynamics(problem, transcription)
         x0 = np.concatenate([problem.q0, integ.momentum(problem.q0, problem.qdot0)])
-        core = integ._core if integ._contact is None else integ._contact
-        return _core.control.ShootingProblem(core, problem.N, x0, sample_costs(problem, transcription),
+        return _core.control.ShootingProblem(integ.core, problem.N, x0, sample_costs(problem, transcription),
                                              problem.u_lower, problem.u_upper, self.smoothing)
 
     def solve(self, problem: Problem, transcription: TranscriptionMethod = VI(2), guess: Guess = None) -> Result:
