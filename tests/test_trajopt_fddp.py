@@ -314,7 +314,7 @@ def test_fddp_refuses_what_it_does_not_handle():
         fddp.solve(pendulum_problem().add_constraint(trajopt.InputConstraint(np.ones((1, 1)), -1.0, 1.0)))
     with pytest.raises(ValueError, match="joint bounds"):
         fddp.solve(pendulum_problem(q_bounds=(-3.0, 3.0)))
-    with pytest.raises(ValueError, match="CallbackCost needs IPOPT"):
+    with pytest.raises(ValueError, match="FDDP needs the Hessian of a CallbackCost"):
         fddp.solve(pendulum_problem().add_cost(trajopt.CallbackCost(lambda t, w, q, v, u: (
             0.0, np.zeros_like(q), np.zeros_like(v), np.zeros_like(u)))))
     with pytest.raises(ValueError, match="variational integrator"):
@@ -357,3 +357,46 @@ def test_max_iterations_reported():
     assert r.status == "max_iterations"
     assert r.iterations == 2 and r.solver["trace"].shape == (2, 5)
     assert r.trajectory["u"].shape == (50, 1) and np.all(np.isfinite(r.trajectory["u"]))
+
+
+def callback_acrobot(user):
+    """An acrobot problem whose running cost is StateTracking + ControlEffort, or the same written as a
+    CallbackCost with its Hessian (what FDDP needs of a user cost)."""
+    m = models.acrobot()
+    pr = trajopt.Problem(m, 30, 3.0, controls="held", u_bounds=(-15, 15), q_bounds=(-np.inf, np.inf))
+    pr.initial_state([0.1, 0.0]).add_cost(trajopt.TerminalCost([np.pi, 0], 100.0, velocity_weight=10.0))
+    W, Wv, R = np.array([1.0, 2.0]), np.array([0.3, 0.1]), 0.5
+    if not user:
+        return pr.add_cost(trajopt.StateTracking([0, 0], W, velocity_weight=Wv)).add_cost(trajopt.ControlEffort(R))
+
+    def fun(t, w, q, v, u):
+        value = np.sum(w[:, None] * (W * q ** 2 + Wv * v ** 2)) + np.sum(w[:, None] * R * u ** 2)
+        return value, 2 * w[:, None] * W * q, 2 * w[:, None] * Wv * v, 2 * w[:, None] * R * u
+
+    def hessian(t, w, q, v, u):
+        H = np.zeros((len(t), 5, 5))
+        for i, x in enumerate([W[0], W[1], Wv[0], Wv[1], R]):
+            H[:, i, i] = 2 * w * x
+        return H
+    return pr.add_cost(trajopt.CallbackCost(fun, hessian))
+
+
+@pytest.mark.parametrize("s", [1, 2, 3])
+def test_user_cost_in_python_equals_the_built_in_terms(s):
+    """A CallbackCost (value, gradient and Hessian in Python, one call per rollout and per
+    linearisation) gives FDDP the iterates of the same cost in C++."""
+    a = trajopt.FDDP(tol=1e-12).solve(callback_acrobot(False), trajopt.VI(s))
+    b = trajopt.FDDP(tol=1e-12).solve(callback_acrobot(True), trajopt.VI(s))
+    assert a.success and b.success and a.iterations == b.iterations
+    assert abs(a.cost - b.cost) <= 1e-12 * a.cost
+    np.testing.assert_allclose(b.solver["us"], a.solver["us"], rtol=0, atol=1e-10)
+
+
+def test_user_cost_exception_reaches_the_caller():
+    pr = callback_acrobot(True)
+
+    def broken(t, w, q, v, u):
+        raise KeyError("from the user's cost")
+    pr.costs[-1] = trajopt.CallbackCost(broken, pr.costs[-1].hessian)
+    with pytest.raises(KeyError, match="from the user's cost"):
+        trajopt.FDDP().solve(pr, trajopt.VI(1))

@@ -1,7 +1,10 @@
 // Bindings of the control layer (hovi._core.control): Riccati equations, the velocity state map and
 // closed-loop runs in C++. The Pythonic layer is python/hovi/control/.
 #include <chrono>
+#include <exception>
 #include <functional>
+#include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -133,6 +136,60 @@ std::vector<SampleCost> sample_costs(const py::list& terms, int n, int m) {
   return out;
 }
 
+// A StepCosts of a Python callable fun(kind, control_points (N, s+1, n), us (N, m)): kind "value"
+// returns the total, "derivatives" (g (N, (s+1) n + m), H (N, (s+1) n + m, (s+1) n + m)). Called with
+// the GIL taken; a Python exception is kept (error) and ends the solve.
+class PyStepCosts : public StepCosts {
+ public:
+  PyStepCosts(py::object fun, int n, int m, int S1) : fun_(std::move(fun)), n_(n), m_(m), S1_(S1) {}
+  double value(const std::vector<MatX>& qc, const std::vector<VecX>& us) override {
+    py::gil_scoped_acquire gil;
+    try {
+      return fun_("value", pack(qc), pack_u(us)).cast<double>();
+    } catch (py::error_already_set&) {
+      error = std::current_exception();
+      throw std::runtime_error("the user cost raised");
+    }
+  }
+  void derivatives(const std::vector<MatX>& qc, const std::vector<VecX>& us, std::vector<VecX>& g,
+                   std::vector<MatX>& H) override {
+    py::gil_scoped_acquire gil;
+    try {
+      const py::tuple out = fun_("derivatives", pack(qc), pack_u(us));
+      const long N = long(qc.size()), z = S1_ * n_ + m_;
+      const MatX G = as_matrix(out[0], "user cost gradient", N, z);
+      const std::vector<MatX> Hs = matrices(out[1], "user cost Hessian", z, z);
+      if (long(Hs.size()) != N) throw InputError("the user cost Hessian must have one block per step");
+      g.resize(N);
+      H = Hs;
+      for (long k = 0; k < N; ++k) g[k] = G.row(k).transpose();
+    } catch (py::error_already_set&) {
+      error = std::current_exception();
+      throw std::runtime_error("the user cost raised");
+    }
+  }
+  std::exception_ptr error;
+
+ private:
+  py::array_t<double> pack(const std::vector<MatX>& qc) const {
+    py::array_t<double> a({long(qc.size()), long(S1_), long(n_)});
+    auto w = a.mutable_unchecked<3>();
+    for (std::size_t k = 0; k < qc.size(); ++k)
+      for (int c = 0; c < S1_; ++c)
+        for (int i = 0; i < n_; ++i) w(k, c, i) = qc[k](i, c);
+    return a;
+  }
+  py::array_t<double> pack_u(const std::vector<VecX>& us) const {
+    py::array_t<double> a({long(us.size()), long(m_)});
+    auto w = a.mutable_unchecked<2>();
+    for (std::size_t k = 0; k < us.size(); ++k)
+      for (int i = 0; i < m_; ++i) w(k, i) = us[k][i];
+    return a;
+  }
+  py::object fun_;
+  int n_, m_, S1_;
+};
+
 StrDict fddp_dict(const FddpResult& r) {
   StrDict d;
   d["xs"] = r.xs;
@@ -260,7 +317,7 @@ Step k's derivatives (through contact: at the step's impulses) at converged cont
 gradient lx (2n,), lu (m,) and Gauss-Newton Hessian lxx, luu, lux.
 )doc")
       .def("solve", [](PyShootingProblem& p, const OptArrayLike& xs, const OptArrayLike& us, int max_iterations, double tol,
-                       int threads) {
+                       int threads, const std::optional<py::function>& user_cost) {
             ShootingProblem& c = p.core();
             const MatX X = xs.is_none() ? MatX() : as_matrix(xs, "xs", c.N() + 1, c.nx());
             const MatX U = us.is_none() ? MatX() : as_matrix(us, "us", c.N(), c.nu());
@@ -268,19 +325,30 @@ gradient lx (2n,), lu (m,) and Gauss-Newton Hessian lxx, luu, lux.
             opt.max_iterations = max_iterations;
             opt.tol = tol;
             opt.threads = threads_arg(py::int_(threads));
+            std::unique_ptr<PyStepCosts> extra;
+            if (user_cost) extra = std::make_unique<PyStepCosts>(*user_cost, c.nx() / 2, c.nu(), c.s() + 1);
+            c.extra = extra.get();
             BoxFddp solver(c, opt);
             FddpResult r;
-            {
+            try {
               py::gil_scoped_release release;
               r = solver.solve(X, U);
+            } catch (...) {
+              c.extra = nullptr;
+              if (extra && extra->error) std::rethrow_exception(extra->error);
+              throw;
             }
+            c.extra = nullptr;
             return fddp_dict(r);
           }, py::arg("xs") = py::none(), py::arg("us") = py::none(), py::arg("max_iterations") = 500,
-          py::arg("tol") = 1e-9, py::arg("threads") = 1, R"doc(
+          py::arg("tol") = 1e-9, py::arg("threads") = 1, py::arg("user_cost") = py::none(), R"doc(
+user_cost: None, or fun(kind, control_points (N, s+1, n), us (N, m)) for costs computed in Python, one call
+per rollout ("value": the total) and per linearisation ("derivatives": g (N, (s+1) n + m) and the
+Gauss-Newton Hessian H (N, (s+1) n + m, (s+1) n + m) in each step's (vec(q^{k,0..s}) by points, u^k)).
 Box-FDDP (control/box_fddp.hpp) from xs (N+1, 2n) (None: the rollout of us from x0) and us (N, m) (None:
 zeros), in C++ with the GIL released. Returns a dict: xs, us, control_points (N, (s+1) n), K (N, m, 2n)
 (u = us + K (x - xs)), cost, stop, gaps, iterations, converged, feasible, status, trace (iterations, 5:
-cost, stop, step, regularisation, gaps), seconds.
+cost, stop, step, regularisation, gaps), seconds; an exception of user_cost is raised.
 )doc");
   m.def("mpc", [](const AnyIntegrator& plant, PyShootingProblem& problem, const ArrayLike& q0, const ArrayLike& p0, int steps,
                   int period, int max_iterations, double tol, const py::list& pushes, const OptArrayLike& us_init) {

@@ -47,6 +47,7 @@ void BoxFddp::start(const MatX& xs_init, const MatX& us_init) {
     cost_ += pb_.stage_cost(k, qc_[k], us_[k]);
     xs_[k + 1] = xs_init.size() ? VecX(xs_init.row(k + 1).transpose()) : xnext_[k];
   }
+  if (pb_.extra) cost_ += pb_.extra->value(qc_, us_);
   fs_[0] = pb_.x0() - xs_[0];
   double gap = fs_[0].cwiseAbs().maxCoeff();
   for (int k = 0; k < N; ++k) {
@@ -59,8 +60,12 @@ void BoxFddp::start(const MatX& xs_init, const MatX& us_init) {
 
 bool BoxFddp::calc_derivatives() {
   std::vector<char> ok(N_, 1);
+  std::vector<VecX> eg;
+  std::vector<MatX> eH;
+  if (pb_.extra) pb_.extra->derivatives(qc_, us_, eg, eH);
   const auto errors = parallel_for(N_, std::max(1, opt_.threads), [&](int k, int) {
-    ok[k] = pb_.derivatives(k, qc_[k], us_[k], zs_[k], d_[k]);
+    ok[k] = pb_.extra ? pb_.derivatives(k, qc_[k], us_[k], zs_[k], d_[k], &eg[k], &eH[k])
+                      : pb_.derivatives(k, qc_[k], us_[k], zs_[k], d_[k]);
   });
   for (int k = 0; k < N_; ++k)
     if (!ok[k] || !errors[k].empty()) return false;
@@ -151,6 +156,7 @@ double BoxFddp::try_step(double alpha) {
     xs_try_[k + 1] = xnext_try_[k] - (1 - alpha) * fs_[k + 1];
     if (!std::isfinite(cost)) return cost;
   }
+  if (pb_.extra) cost += pb_.extra->value(qc_try_, us_try_);
   return cost;
 }
 

@@ -141,7 +141,8 @@ double ShootingProblem::stage_cost(int k, const MatX& qc, const VecX& u) const {
   return v;
 }
 
-bool ShootingProblem::derivatives(int k, const MatX& qc, const VecX& u, const VecX& z, StageDerivatives& d) const {
+bool ShootingProblem::derivatives(int k, const MatX& qc, const VecX& u, const VecX& z, StageDerivatives& d,
+                                  const VecX* extra_g, const MatX* extra_H) const {
   const int S1 = s_ + 1, n = n_, m = m_, sn = s_ * n;
   const MatX uk = u.replicate(1, S1);
   MatX Bp, Yx, Yu;
@@ -168,6 +169,13 @@ bool ShootingProblem::derivatives(int k, const MatX& qc, const VecX& u, const Ve
   MatX g, H, Huu;
   VecX gu;
   point_cost(k, qc, u, nullptr, &g, &H, &gu, &Huu);
+  if (extra_g) {  // z = (vec Q, u): its Q-blocks join the built-in terms', its u-blocks act directly
+    const int nQ = S1 * n;
+    Eigen::Map<VecX>(g.data(), g.size()) += extra_g->head(nQ);
+    gu += extra_g->tail(m);
+    H += extra_H->topLeftCorner(nQ, nQ);
+    Huu += extra_H->bottomRightCorner(m, m);
+  }
   const Eigen::Map<const VecX> gv(g.data(), g.size());
   const MatX HQx = H * Qx;
   d.lx = Qx.transpose() * gv;
@@ -175,6 +183,13 @@ bool ShootingProblem::derivatives(int k, const MatX& qc, const VecX& u, const Ve
   d.lxx = Qx.transpose() * HQx;
   d.lux = Qu.transpose() * HQx;
   d.luu = Qu.transpose() * H * Qu + Huu;
+  if (extra_H) {  // the cross terms u-Q of the outside cost: d2/du dQ through Q(x, u)
+    const int nQ = S1 * n;
+    const MatX HuQ = extra_H->bottomLeftCorner(m, nQ);
+    d.lux += HuQ * Qx;
+    const MatX HuQ_Qu = HuQ * Qu;
+    d.luu += HuQ_Qu + HuQ_Qu.transpose();
+  }
   return true;
 }
 

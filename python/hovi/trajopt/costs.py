@@ -163,12 +163,17 @@ class TerminalCost(Cost):
 
 class CallbackCost(Cost):
     """A user cost on the samples: ``fun(t, w, q, v, u) -> (value, dq, dv, du)`` with arrays of the
-    samples' shapes (vectorised over the samples: called once per evaluation, not per stage)."""
+    samples' shapes (vectorised over the samples: called once per evaluation, not per stage).
+    ``hessian(t, w, q, v, u) -> H`` (K, 2n + m, 2n + m), each sample's (Gauss-Newton) Hessian in its
+    (q, v, u), is what FDDP needs of it (IPOPT does not use it)."""
 
-    def __init__(self, fun: Callable[..., tuple[float, npt.ArrayLike, npt.ArrayLike, npt.ArrayLike]]):
+    def __init__(self, fun: Callable[..., tuple[float, npt.ArrayLike, npt.ArrayLike, npt.ArrayLike]],
+                 hessian: Callable[..., npt.ArrayLike] | None = None):
         if not callable(fun):
             raise TypeError(f"CallbackCost fun must be callable, got {type(fun).__name__}")
-        self.fun = fun
+        if hessian is not None and not callable(hessian):
+            raise TypeError(f"CallbackCost hessian must be callable, got {type(hessian).__name__}")
+        self.fun, self.hessian = fun, hessian
 
     def __call__(self, s: Samples) -> CostValue:
         out = self.fun(s.t, s.w, s.q, s.v, s.u)

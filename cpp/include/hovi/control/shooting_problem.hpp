@@ -30,6 +30,17 @@ struct SampleCost {
   MatX Wq, q_ref, Wv, v_ref, R, u_ref;
 };
 
+// A cost computed outside for every step at once (hovi.trajopt.FDDP: a user's CallbackCost, one
+// Python call per rollout and one per linearisation): its total value, and per step its gradient g
+// and Gauss-Newton Hessian H in z = (vec(q^{k,0..s}), u^k) ((s+1) n + m), vec column-major as Rollout.
+class StepCosts {
+ public:
+  virtual ~StepCosts() = default;
+  virtual double value(const std::vector<MatX>& qc, const std::vector<VecX>& us) = 0;
+  virtual void derivatives(const std::vector<MatX>& qc, const std::vector<VecX>& us, std::vector<VecX>& g,
+                           std::vector<MatX>& H) = 0;
+};
+
 // The derivatives of a stage at a converged step.
 struct StageDerivatives {
   MatX A, B;            // 2n x 2n, 2n x m
@@ -68,8 +79,11 @@ class ShootingProblem {
   // l^k at the step's control points.
   double stage_cost(int k, const MatX& qc, const VecX& u) const;
   // l^k's derivatives and the step's A, B at its converged control points; false if singular.
-  // (Through contact: at the step's impulses z.)
-  bool derivatives(int k, const MatX& qc, const VecX& u, const VecX& z, StageDerivatives& d) const;
+  // (Through contact: at the step's impulses z.) extra_g, extra_H: a StepCosts term of this step (or null).
+  bool derivatives(int k, const MatX& qc, const VecX& u, const VecX& z, StageDerivatives& d,
+                   const VecX* extra_g = nullptr, const MatX* extra_H = nullptr) const;
+  // Costs computed outside (null: none); the caller keeps it alive.
+  StepCosts* extra = nullptr;
 
  private:
   // The cost's gradient g (n x (s+1)) and Gauss-Newton Hessian H ((s+1) n square) in the control

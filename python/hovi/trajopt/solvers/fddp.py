@@ -5,9 +5,9 @@ weights and velocities, so the same cost as IPOPT's on ``VI(s)``); the solution 
 transcription's x, so ``Result.replay``, ``as_guess`` and plots work as for IPOPT.
 
 What FDDP handles: held controls (``Problem(..., controls='held')``) within bounds, and the costs
-ControlEffort, StateTracking and TerminalCost. A fixed final state, joint bounds, path or input
-constraints, contact-implicit problems and CallbackCost need IPOPT (the final state as a
-TerminalCost here). Through contact, FDDP shoots with the contact simulator instead (``contacts``:
+ControlEffort, StateTracking, TerminalCost (in C++) and CallbackCost with its Hessian (Python, one
+call per rollout and per linearisation). A fixed final state, joint bounds, path or input
+constraints and contact-implicit problems need IPOPT (the final state as a TerminalCost here). Through contact, FDDP shoots with the contact simulator instead (``contacts``:
 the robot's contacts, s = 1) and its Jacobians through contact, held or smoothed (``smoothing``)."""
 from __future__ import annotations
 
@@ -19,7 +19,8 @@ import numpy as np
 from ... import _core
 from ..._checks import real_array, real_number, whole_number
 from ...integrator import Integrator
-from ..costs import ControlEffort, StateTracking, TerminalCost
+from ..costs import CallbackCost, ControlEffort, StateTracking, TerminalCost, checked_cost
+from ..samples import Samples
 from ..problem import Problem
 from ..result import Result
 from ..transcription import Guess, TranscriptionMethod
@@ -51,10 +52,54 @@ def sample_costs(problem: Problem, transcription: VariationalTranscription) -> l
             terms.append(dict(terminal=True, Wq=one(cost.weight), q_ref=one(cost.q_target), Wv=one(cost.velocity_weight),
                               v_ref=one(0.0 if cost.v_target is None else cost.v_target), R=np.zeros((1, m)),
                               u_ref=np.zeros((1, m))))
+        elif isinstance(cost, CallbackCost):
+            if cost.hessian is None:
+                raise ValueError("FDDP needs the Hessian of a CallbackCost: CallbackCost(fun, hessian=...) (each "
+                                 "sample's (2n+m, 2n+m) Hessian in (q, v, u))")
         else:
-            raise ValueError(f"FDDP handles ControlEffort, StateTracking and TerminalCost; {type(cost).__name__} "
-                             "needs IPOPT (hovi.trajopt.Ipopt)")
+            raise ValueError(f"FDDP handles ControlEffort, StateTracking, TerminalCost and CallbackCost with a hessian; "
+                             f"{type(cost).__name__} needs IPOPT (hovi.trajopt.Ipopt)")
     return terms
+
+
+def user_cost(problem: Problem, transcription: VariationalTranscription) -> Any:
+    """The Problem's CallbackCosts as the shooting problem's user_cost (one Python call per rollout and
+    per linearisation, every step at once), or None: the samples are each step's control points q^{k,a},
+    q̇^{k,a} = (1/dt) sum_b b^{ab} q^{k,b} and its held u, as the VI transcription's."""
+    costs = [c for c in problem.costs if isinstance(c, CallbackCost)]
+    if not costs:
+        return None
+    smap = transcription.sample_map()
+    t, w = smap.t, smap.w
+    n, m, S1, dt = problem.model.n, problem.model.n_controls, transcription.s + 1, problem.dt
+    b = transcription.integrator.differentiation_matrix
+    L = np.zeros((S1, 2 * n + m, S1 * n + m))      # (q^a, q̇^a, u) = L_a (vec Q, u)
+    for a in range(S1):
+        L[a, :n, a * n:(a + 1) * n] = np.eye(n)
+        for c in range(S1):
+            L[a, n:2 * n, c * n:(c + 1) * n] = b[a, c] / dt * np.eye(n)
+        L[a, 2 * n:, S1 * n:] = np.eye(m)
+
+    def samples(cps: np.ndarray, us: np.ndarray) -> Samples:
+        N = len(us)
+        v = np.einsum("ab,kbn->kan", b, cps) / dt
+        return Samples(t, w, cps.reshape(N * S1, n), v.reshape(N * S1, n), np.repeat(us, S1, axis=0), N * S1 - 1)
+
+    def fun(kind: str, cps: np.ndarray, us: np.ndarray) -> Any:
+        s = samples(cps, us)
+        N = len(us)
+        if kind == "value":
+            return sum(checked_cost(c, s, "CallbackCost", finite=True)[0] for c in costs)
+        g = np.zeros((N, S1 * n + m))
+        H = np.zeros((N, S1 * n + m, S1 * n + m))
+        for c in costs:
+            _, dq, dv, du = checked_cost(c, s, "CallbackCost", finite=True)
+            per = np.concatenate([dq, dv, du], axis=1).reshape(N, S1, 2 * n + m)
+            g += np.einsum("kai,aij->kj", per, L)
+            Hs = real_array(c.hessian(s.t, s.w, s.q, s.v, s.u), "CallbackCost hessian", (N * S1, 2 * n + m, 2 * n + m))
+            H += np.einsum("aij,kaip,apl->kjl", L, Hs.reshape(N, S1, 2 * n + m, 2 * n + m), L)
+        return g, H
+    return fun
 
 
 def check_problem(problem: Problem) -> None:
@@ -118,7 +163,7 @@ class FDDP(Solver):
         sp = self.shooting_problem(problem, tr)
         us = self._initial_controls(problem, guess)
         setup = time.perf_counter() - t0
-        out = sp.solve(None, us, self.max_iterations, self.tol, self.threads)
+        out = sp.solve(None, us, self.max_iterations, self.tol, self.threads, user_cost(problem, tr))
         n, N, s = problem.model.n, problem.N, tr.s
         U = np.repeat(out["us"][:, None, :], s + 1, axis=1)
         traj = self.dynamics(problem, tr).rollout(problem.q0, N, p0=out["xs"][0, n:], u=U, raise_on_failure=False)
