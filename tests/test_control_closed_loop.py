@@ -393,3 +393,30 @@ def test_tvlqr_on_a_sliding_block_reproduces_it_and_tracks_it():
     closed = control.simulate(integ, policy, q0, N).trajectory
     opened = integ.rollout(q0, N, u=U)
     assert abs(closed.q[-1, 0] - traj.q[-1, 0]) < 0.1 * abs(opened.q[-1, 0] - traj.q[-1, 0])
+
+
+def test_an_angular_push_adds_the_bodys_angular_jacobian_times_the_impulse():
+    """Push(angular=tau): p += J_w(q)^T tau, J_w from central differences of the body's world
+    orientation (dR R^T = [J_w dq]x), on a 3D three-link pendulum (axes x, y, x)."""
+    m = models.pendulum(3)
+    for j in range(3):
+        m.add_actuator(j)
+    integ = hovi.Integrator(m, s=1, dt=0.01)
+    policy = control.Policy(x_ref=np.zeros((1, 6)), u_ref=np.zeros((1, 2, 3)), gains=np.zeros((1, 3, 6)),
+                            lower=np.full(3, -np.inf), upper=np.full(3, np.inf), cost_to_go=np.zeros((1, 6, 6)),
+                            dt=0.01, s=1)
+    q0, tau, imp = np.array([0.3, -0.2, 0.5]), np.array([0.1, -0.3, 0.2]), np.array([0.05, 0.0, -0.1])
+    run = control.simulate(integ, policy, q0, 1, pushes=[control.Push(0.0, 2, imp, point=[0, 0, -0.1], angular=tau)])
+
+    def R(q):
+        return m.body_poses(q)[2][:3, :3]
+
+    h, Jw = 1e-6, np.zeros((3, 3))
+    for j in range(3):
+        e = np.zeros(3)
+        e[j] = h
+        W = (R(q0 + e) - R(q0 - e)) / (2 * h) @ R(q0).T
+        Jw[:, j] = [W[2, 1], W[0, 2], W[1, 0]]
+    # the linear part alone, from the same run without the angular impulse
+    lin = control.simulate(integ, policy, q0, 1, pushes=[control.Push(0.0, 2, imp, point=[0, 0, -0.1])])
+    np.testing.assert_allclose(run.trajectory.p[0] - lin.trajectory.p[0], Jw.T @ tau, rtol=0, atol=1e-9)

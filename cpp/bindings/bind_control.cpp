@@ -52,8 +52,9 @@ std::vector<std::vector<Push>> pushes_arg(const py::list& runs) {
     std::vector<Push> items;
     for (const py::handle& p : run.cast<py::list>()) {
       const py::tuple t = p.cast<py::tuple>();
-      if (t.size() != 4) throw InputError("a push is (step, body, point (3,), impulse (3,))");
-      items.push_back({t[0].cast<int>(), t[1].cast<int>(), as_vector(t[2], "push point", 3), as_vector(t[3], "push impulse", 3)});
+      if (t.size() != 4 && t.size() != 5) throw InputError("a push is (step, body, point (3,), impulse (3,)[, angular (3,)])");
+      items.push_back({t[0].cast<int>(), t[1].cast<int>(), as_vector(t[2], "push point", 3), as_vector(t[3], "push impulse", 3),
+                       t.size() == 5 ? Vec3(as_vector(t[4], "push angular impulse", 3)) : Vec3(Vec3::Zero())});
     }
     out.push_back(std::move(items));
   }
@@ -423,7 +424,8 @@ solve_converged.
 B closed-loop runs of `steps` steps in C++ (GIL released, `threads` threads): plants, a list of one or
 B _core.Integrator or _core.ContactIntegrator; the policy u^{k,a} = clamp(u_ref^{k,a} - K^k (x - x_ref^k))
 from x_ref (S, 2n), u_ref (S, (s+1) m), gains (S, m, 2n), lower, upper (m,); pushes: a list of one or
-B lists of (step, body, point (3,) in the joint frame, world impulse (3,)); q0s, p0s (B, n). Returns
+B lists of (step, body, point (3,) in the joint frame, world impulse (3,)[, world angular impulse (3,)]);
+q0s, p0s (B, n). Returns
 (items: B rollout dicts with `controls` (K, (s+1) m), or None for an item that raised, errors (B,)).
 )doc");
 }

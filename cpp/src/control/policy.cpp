@@ -38,7 +38,7 @@ void check_pushes(const Model& model, const std::vector<Push>& pushes) {
   for (std::size_t i = 0; i < pushes.size(); ++i) {
     const Push& d = pushes[i];
     if (d.body < 0 || d.body >= model.n()) throw InputError("push " + std::to_string(i) + ": no body " + std::to_string(d.body));
-    if (!d.point.allFinite() || !d.impulse.allFinite()) throw InputError("push " + std::to_string(i) + ": NaN or infinity");
+    if (!d.point.allFinite() || !d.impulse.allFinite() || !d.angular.allFinite()) throw InputError("push " + std::to_string(i) + ": NaN or infinity");
     if (d.step < 0) throw InputError("push " + std::to_string(i) + ": a negative step");
   }
 }
@@ -57,6 +57,7 @@ void PushSchedule::apply(int k, const VecX& q, VecX& p) {
     const Vec3 r = d.point - model_.spec[d.body].com;  // body frames sit at the COM (ERRATA C-3)
     body_point_jacobian(KinematicsView{model_, data_.g.data(), data_.Sbar.data(), 1}, d.body, r, x, J_);
     p.noalias() += J_.transpose() * d.impulse;
+    for (int j = d.body; j >= 0; j = model_.parent[j]) p[j] += data_.Sbar[j].head<3>().dot(d.angular);  // ω_j . τ
   }
 }
 

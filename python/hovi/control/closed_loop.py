@@ -22,17 +22,19 @@ from .policy import Policy
 @dataclass(frozen=True)
 class Push:
     """A push on a body: the world impulse ``impulse`` (3,) (N s) at ``point`` (3,) in the body's
-    joint frame (default its origin), at time ``time`` (s; applied at the first knot at or after it).
-    With ``duration`` > 0 it is a constant force impulse / duration over [time, time + duration),
-    applied as equal impulses at the knots in that interval."""
+    joint frame (default its origin) and the world angular impulse ``angular`` (3,) (N m s) on the
+    body (together a wrench impulse), at time ``time`` (s; applied at the first knot at or after it).
+    With ``duration`` > 0 it is a constant wrench (impulse, angular) / duration over
+    [time, time + duration), applied as equal impulses at the knots in that interval."""
     time: float
     body: Union[int, str]
     impulse: Sequence[float]
     point: Sequence[float] = (0.0, 0.0, 0.0)
     duration: float = 0.0
+    angular: Sequence[float] = (0.0, 0.0, 0.0)
 
-    def knots(self, model: Any, dt: float) -> list[tuple[int, int, FloatArray, FloatArray]]:
-        """The push as (step, body index, point, impulse) at the knots of a step dt."""
+    def knots(self, model: Any, dt: float) -> list[tuple[int, int, FloatArray, FloatArray, FloatArray]]:
+        """The push as (step, body index, point, impulse, angular impulse) at the knots of a step dt."""
         t = real_number(self.time, "Push time", minimum=0.0)
         duration = real_number(self.duration, "Push duration", minimum=0.0)
         body = self.body
@@ -45,9 +47,10 @@ class Push:
             raise ValueError(f"Push body must be a body index in [0, {model.n}) or a body name, got {self.body!r}")
         imp = real_array(self.impulse, "Push impulse", (3,))
         point = real_array(self.point, "Push point", (3,))
+        angular = real_array(self.angular, "Push angular", (3,))
         first = int(math.ceil(t / dt - 1e-9))
         count = max(1, int(round(duration / dt))) if duration > 0 else 1
-        return [(first + i, int(body), point, imp / count) for i in range(count)]
+        return [(first + i, int(body), point, imp / count, angular / count) for i in range(count)]
 
 
 @dataclass

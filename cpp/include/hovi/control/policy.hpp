@@ -24,13 +24,15 @@ struct Policy {
   void control(int k, const Eigen::Ref<const VecX>& q, const Eigen::Ref<const VecX>& p, MatX& uk) const;
 };
 
-// A push: the world impulse `impulse` (N s) at `point` (in the joint frame of `body`) applied at knot
-// `step`, as p^k += J(q^k)^T impulse.
+// A push: the world impulse `impulse` (N s) at `point` (in the joint frame of `body`) and the world
+// angular impulse `angular` (N m s) on the body, applied at knot `step`: a wrench impulse,
+// p^k += J_x(q^k)^T impulse + J_ω(q^k)^T angular (J_x the point's, J_ω the body's angular Jacobian).
 struct Push {
   int step;
   int body;
   Vec3 point;
   Vec3 impulse;
+  Vec3 angular = Vec3::Zero();
 };
 
 // The pushes of a run, applied at their knots (PolicyHook, MpcHook).
