@@ -43,3 +43,34 @@ def test_pareto_time_to_reach_takes_the_cheapest_crossing():
     assert time_to_reach(curve, 1e-1) == (1.0, True)
     slow_then_fast = np.array([[5.0, 1e-2], [8.0, 5e-4], [3.0, 1e-4]])  # the smaller dt is cheaper
     assert time_to_reach(slow_then_fast, 1e-3)[0] == 3.0
+
+
+def test_control_quick_mode():
+    """bench/control.py --quick (issue 32): FDDP on the VI against Crocoddyl's (RK4), TVLQR Monte-Carlo,
+    the upright LQR's region of attraction, MPC's solve times and FDDP through contact, in one small run."""
+    pytest.importorskip("crocoddyl")
+    pytest.importorskip("pinocchio")
+    sys.path.insert(0, BENCH)
+    try:
+        import crocoddyl_baseline as cb
+        cb.build_problem("pendulum", N=2)
+    except cb.CrocoddylPinocchioMismatch as e:
+        pytest.skip(str(e))
+    finally:
+        sys.path.remove(BENCH)
+    done = subprocess.run([sys.executable, os.path.join(BENCH, "control.py"), "--quick"], cwd=BENCH,
+                          capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stdout[-2000:] + done.stderr[-4000:]
+    import json
+    with open(os.path.join(BENCH, "results", "control_quick.json")) as f:
+        res = json.load(f)["results"]
+    rows = res["A"]["swingups"]["pendulum"]["rows"]
+    by = {(r["N"], r["solver"]): r for r in rows}
+    assert by[(40, "hovi VI s=3")]["resim_error"] < 1e-5 < by[(40, "Crocoddyl RK4")]["resim_error"]
+    assert all(r["converged"] for r in rows)
+    for robot in res["B"]["robots"].values():  # feedback never does worse than the nominal controls
+        assert all(c["closed_loop"]["success_rate"] >= c["open_loop"]["success_rate"] for c in robot["conditions"].values())
+        assert robot["conditions"]["none"]["closed_loop"]["success_rate"] == 1.0
+    assert res["C"]["maps"]["cartpole_q1_v1"]["largest_a_at_b0"] > 0.1
+    assert all(r["plant_converged"] for r in res["D"]["runs"])
+    assert all(r["min_gap"] > -1e-9 for r in res["E"]["rows"])
