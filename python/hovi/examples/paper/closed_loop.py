@@ -24,7 +24,20 @@ Weights (``Weights``, per example in ``WEIGHTS``; the choice and what else was t
 bench/control_robots.py and bench/README.md): a diagonal cost per step on (q, q̇), the floating
 base's coordinates weighted apart from the joints, torques relative to their limits, a final cost
 ``final`` times the stage cost, plus for Atlas the hand's distance from the ball at the end (the
-goal; J^T J of the hand's position Jacobian on q)."""
+goal; J^T J of the hand's position Jacobian on q).
+
+Measured on the quick examples (bench/results/control_robots.json): Atlas tracks the nominal to 4e-11
+and reaches the ball on one foot after a 20 N s push on the pelvis (up to 80 N s in x), with every mass
+x1.1 and with both (hand 7e-5 to 1.5e-3 m from the ball), where the open loop's contact step fails at
+0.25 s. The Spring Flamingo tracks the nominal to 5e-8 and clears the obstacle and lands after a push in
+flight (up to 4 N s against its motion, 1 N s along it; the open loop fails from 0.1 N s), but not after a
+push before take-off nor with 0.5% more mass: its push-off runs at the 50 N m torque limits and its
+flight is ballistic, and the optimised motion clears the obstacle by 8 mm. LittleDog fails in every case:
+the optimiser drags its front-left foot along the ground without load (0.075-0.225 s), the simulator's
+contact step sticks it there (another solution of the same complementarity conditions), the knee is
+0.11 rad off after one step, and the contact step fails at 0.3 s; with a mass error its first step at
+dt = 0.075 s converges to another root of the DEL equations (7.2 rad away; in 10 substeps it moves
+0.05)."""
 from __future__ import annotations
 
 import dataclasses
