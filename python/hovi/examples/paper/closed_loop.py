@@ -29,10 +29,11 @@ goal; J^T J of the hand's position Jacobian on q).
 Measured on the quick examples (bench/results/control_robots.json): Atlas tracks the nominal to 4e-11
 and reaches the ball on one foot after a 20 N s push on the pelvis (up to 80 N s in x), with every mass
 x1.1 and with both (hand 7e-5 to 1.5e-3 m from the ball), where the open loop's contact step fails at
-0.25 s. The Spring Flamingo tracks the nominal to 5e-8 and clears the obstacle and lands after a push in
-flight (up to 4 N s against its motion, 1 N s along it; the open loop fails from 0.1 N s), but not after a
-push before take-off nor with 0.5% more mass: its push-off runs at the 50 N m torque limits and its
-flight is ballistic, and the optimised motion clears the obstacle by 8 mm. LittleDog fails in every case:
+0.25 s (at 20 N s; Atlas also holds 80 N s along x and 40 N s against it). The Spring Flamingo tracks the
+nominal to 5e-8 and clears the obstacle and lands after a 1 N s push along its motion at any time
+tried (0.1-1.0 s; in flight up to 4 N s along and 1 N s against it; the open loop fails from 0.1 N s),
+but not with 0.5% more mass (1% without torque limits; smoothing no help): its push-off runs at the
+50 N m torque limits, its flight is ballistic, and the optimised motion clears the obstacle by 8 mm. LittleDog fails in every case:
 the optimiser drags its front-left foot along the ground without load (0.075-0.225 s), the simulator's
 contact step sticks it there (another solution of the same complementarity conditions), the knee is
 0.11 rad off after one step, and the contact step fails at 0.3 s; with a mass error its first step at
