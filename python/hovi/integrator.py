@@ -298,7 +298,8 @@ class Integrator:
     # --- stepping --------------------------------------------------------------------------------
     def step(self, q: npt.ArrayLike, p: npt.ArrayLike, u: Optional[npt.ArrayLike] = None, *,
              guess: Optional[npt.ArrayLike] = None, multipliers: Optional[npt.ArrayLike] = None,
-             raise_on_failure: bool = True) -> Tuple[FloatArray, FloatArray, StepInfo]:
+             impulses: Optional[npt.ArrayLike] = None, raise_on_failure: bool = True
+             ) -> Tuple[FloatArray, FloatArray, StepInfo]:
         """One step from q, p (n,) with controls u ((m,) or (s+1, m)): returns (q_next (n,), p_next (n,),
         info). ``info.control_points`` holds q^{k,0..s} and,
         for a constrained model, ``info.multipliers`` λ^{k,0..s-1} (s, n_constraints).
@@ -308,10 +309,14 @@ class Integrator:
         (without constraints) the step is continued in its length from h = 0 to dt along the
         solution branch through q (status 'continuation_stalled' if that branch turns back first).
         multipliers: the first guess of λ^{k,0..s-1} of a constrained model (default zero).
+        impulses: with contacts, the first guess of the step's impulses (C, 2 + d) (default: none
+        active), e.g. a known solution's: the contact step's equations can have more than one solution.
         Raises ConvergenceError if the solve fails and raise_on_failure (else check info.converged).
         """
         if self._contact is not None:
-            return self._contact_step(q, p, u, guess, multipliers, raise_on_failure)
+            return self._contact_step(q, p, u, guess, multipliers, impulses, raise_on_failure)
+        if impulses is not None:
+            raise ValueError("impulses are for an integrator with contacts")
         qc, p_next, raw = self._core.step(q, p, u, guess, multipliers)
         lam = raw.pop("multipliers")
         info = StepInfo(**raw)
@@ -324,12 +329,13 @@ class Integrator:
         return qc[-1].copy(), p_next, info
 
     def _contact_step(self, q: npt.ArrayLike, p: npt.ArrayLike, u: Optional[npt.ArrayLike], guess: Any,
-                      multipliers: Any, raise_on_failure: bool) -> Tuple[FloatArray, FloatArray, StepInfo]:
+                      multipliers: Any, impulses: Any, raise_on_failure: bool) -> Tuple[FloatArray, FloatArray, StepInfo]:
         """``step`` with contacts: info.impulses (C, 2 + d), info.gaps (C,), info.pivots."""
         if guess is not None or multipliers is not None:
             raise ValueError("guess and multipliers are not taken with contacts (the contact step makes its own guesses)")
         assert self._contact is not None
-        qc, p_next, z, phi, raw = self._contact.step(q, p, u)
+        z0 = None if impulses is None else _core.real_array(impulses, "impulses").ravel()
+        qc, p_next, z, phi, raw = self._contact.step(q, p, u, z0)
         pivots, impact = raw.pop("pivots"), raw.pop("impact")
         info = StepInfo(**raw)
         info.control_points, info.pivots, info.impact = qc, int(pivots), float(impact)

@@ -36,7 +36,7 @@ def centre_of_mass(robot: Robot, q: np.ndarray) -> np.ndarray:
     return m.masses @ m.body_poses(q)[:, :3, 3] / m.total_mass
 
 
-def _point(robot: Robot, q: np.ndarray, body: str, point: np.ndarray):
+def body_point(robot: Robot, q: np.ndarray, body: str, point: np.ndarray):
     pose = robot.model.joint_placements(q)[robot.model.body_index(body)]
     return pose[:3, :3] @ point + pose[:3, 3], pose[:3, :3]
 
@@ -46,7 +46,7 @@ def single_support(robot: Robot, lift: float = LIFT) -> np.ndarray:
     centre of mass is over its centre and the left sole is ``lift`` above the ground, level."""
     q0 = robot.q0
     right, left = sole(robot, "r")[0], sole(robot, "l")[0]
-    where0, _ = _point(robot, q0, "r_foot", right)
+    where0, _ = body_point(robot, q0, "r_foot", right)
     free = [robot.model.joint_index(j) for j in
             ("pelvis_base_x", "pelvis_base_y", "pelvis_base_z", "pelvis_base_rx", *(f"{s}_leg_{j}" for s in "rl"
              for j in ("hpx", "akx", "hpy", "kny", "aky")))]
@@ -54,8 +54,8 @@ def single_support(robot: Robot, lift: float = LIFT) -> np.ndarray:
     def residual(z, regularise):
         q = q0.copy()
         q[free] = z
-        r, R = _point(robot, q, "r_foot", right)
-        lp, Rl = _point(robot, q, "l_foot", left)
+        r, R = body_point(robot, q, "r_foot", right)
+        lp, Rl = body_point(robot, q, "l_foot", left)
         com = centre_of_mass(robot, q)
         return np.concatenate([r - where0, R[:2, 2], [R[0, 1]], com[:2] - r[:2], [lp[2] - lift], Rl[:2, 2],
                                regularise * (z - q0[free])])
@@ -76,7 +76,7 @@ def build(quick: bool = False) -> Example:
     left_centre = sole(robot, "l")[0]
     foot = FlatFoot(robot.model, "r_foot", centre, X, Y, mu=MU, q0=qs)
     model = foot.model
-    hand0, _ = _point(robot, qs, "l_hand", np.zeros(3))
+    hand0, _ = body_point(robot, qs, "l_hand", np.zeros(3))
     ball = hand0 + reach * np.asarray(BALL)
     prob = Problem(model, N=N, T=T)
     prob.initial_state(qs)
@@ -108,8 +108,8 @@ def build(quick: bool = False) -> Example:
         u = tr["u"][:-1]                    # the last point's wrench acts only on the final momentum
         w = foot.wrench(u)
         q = tr["q"]
-        held = np.array([_point(robot, qk, "r_foot", centre)[0] for qk in q])
-        hand = _point(robot, q[-1], "l_hand", np.zeros(3))[0]
+        held = np.array([body_point(robot, qk, "r_foot", centre)[0] for qk in q])
+        hand = body_point(robot, q[-1], "l_hand", np.zeros(3))[0]
         cop = foot.centre_of_pressure(u)
         return {"constraint_violation": float(result.constraint_violation),
                 "ball_distance": float(np.linalg.norm(hand - ball)),

@@ -239,15 +239,16 @@ def _knot_steps(integ: Integrator, motion: Motion, U: np.ndarray, p: np.ndarray,
     land, failed, differs = [], [], []
     names = [integ.model.body_names[pt.body] for pt in integ.contacts.points]
     for k in range(K):
-        # Integrator.step takes no first guess of the impulses: without one the contact step found another
-        # root of the DEL equations (12-15 rad away) at 4 of LittleDog's 16 knots (measured)
-        qc, _, z, _, info = integ._contact.step(motion.q[k], p[k], U[k], Z[k].ravel())
-        if not info["converged"]:
-            failed.append((k, info["status"]))
+        # the optimiser's impulses as the first guess: without one the contact step found another root of
+        # the DEL equations (12-15 rad away) at 4 of LittleDog's 16 knots (measured)
+        _, _, info = integ.step(motion.q[k], p[k], U[k], impulses=Z[k], raise_on_failure=False)
+        if not info.converged:
+            failed.append((k, info.status))
             land.append(np.inf)
             continue
+        qc = info.control_points
         land.append(float(np.abs(qc[-1] - motion.q[k + 1]).max()))
-        z = z.reshape(Z[k].shape)
+        z = info.impulses.reshape(Z[k].shape)
         loaded = (z[:, 0] > UNLOADED) & (Z[k][:, 0] == 0.0)
         if land[-1] > DEPARTED and loaded.any():
             differs.append((k, [names[i] for i in np.flatnonzero(loaded)]))
@@ -384,7 +385,7 @@ def _atlas_goal(example: Example, integ: Integrator, q: np.ndarray, normal: np.n
     events: List[Event] = []
     goal = _goal_point(example)
     bound = example.bounds["ball_distance"][1]
-    hand = atlas._point(robot, q[-1], goal.body, goal.point)[0]
+    hand = atlas.body_point(robot, q[-1], goal.body, goal.point)[0]
     distance = float(np.linalg.norm(hand - goal.lower))
     figures["ball_distance"] = distance
     if complete and distance > bound:
@@ -407,7 +408,7 @@ def _atlas_goal(example: Example, integ: Integrator, q: np.ndarray, normal: np.n
     if off is not None:
         events.append((off, "the stance foot leaves the ground"))
     centre = atlas.sole(robot, "r")[0]
-    held = np.array([atlas._point(robot, qk, "r_foot", centre)[0] for qk in q])
+    held = np.array([atlas.body_point(robot, qk, "r_foot", centre)[0] for qk in q])
     slip = float(np.abs(held - held[0]).max())
     figures["stance_foot_motion"] = slip
     slip_bound = example.bounds["stance_foot_motion"][1]        # the example's own: the sole held
@@ -444,7 +445,7 @@ def _flamingo_goal(example: Example, integ: Integrator, q: np.ndarray, normal: n
     down = _first(knees <= 0, t)
     if down is not None:
         events.append((down, "a knee touches the ground"))
-    points = np.concatenate([F._segment_points(robot.model, q[-1], c.body, np.array(c.point), np.array(c.point), 1)
+    points = np.concatenate([F.segment_points(robot.model, q[-1], c.body, np.array(c.point), np.array(c.point), 1)
                              for c in robot.contacts])
     figures["feet_beyond_obstacle"] = float(F.OBSTACLE.x0 - points[:, 0].max())
     figures["goal_distance"] = float(q[-1, 0] - F.GOAL)

@@ -119,7 +119,7 @@ def obstacle_circles(box: Box) -> List[Tuple[float, float]]:
     return [(box.x0 + CIRCLE_INSET, z), ((box.x0 + box.x1) / 2, z), (box.x1 - CIRCLE_INSET, z)]
 
 
-def _segment_points(model, q: np.ndarray, body: str, a: np.ndarray, b: np.ndarray, k: int = 25) -> np.ndarray:
+def segment_points(model, q: np.ndarray, body: str, a: np.ndarray, b: np.ndarray, k: int = 25) -> np.ndarray:
     """k world points (k, 3) on the segment from a to b (3,) of ``body`` (its joint frame) at q."""
     pose = model.joint_placements(q)[model.body_index(body)]
     local = a + np.linspace(0.0, 1.0, k)[:, None] * (b - a)
@@ -144,8 +144,8 @@ def leg_points(robot: Robot, q: np.ndarray) -> np.ndarray:
     ankle = np.array([0.0, 0.0, -SHIN])  # in the lower leg's frame, whose origin is the knee axis
     out = []
     for side in ("left", "right"):
-        out.append(_segment_points(model, q, f"{side}_foot", toe, heel))
-        out.append(_segment_points(model, q, f"{side}_lower_leg", np.zeros(3), ankle))
+        out.append(segment_points(model, q, f"{side}_foot", toe, heel))
+        out.append(segment_points(model, q, f"{side}_lower_leg", np.zeros(3), ankle))
     return np.concatenate(out)
 
 
@@ -208,7 +208,7 @@ def build(quick: bool = False) -> Example:
     def checks(result: Result) -> Dict[str, float]:
         q = result.trajectory["q"]
         clearance = min(float(box_distance(leg_points(robot, qk), OBSTACLE).min()) for qk in path_configurations(result))
-        feet = np.concatenate([_segment_points(robot.model, q[-1], c.body, np.array(c.point), np.array(c.point), 1)
+        feet = np.concatenate([segment_points(robot.model, q[-1], c.body, np.array(c.point), np.array(c.point), 1)
                                for c in robot.contacts])
         return {"constraint_violation": float(result.constraint_violation),
                 **contact_figures(contacts, result, [c.name for c in robot.contacts]),
