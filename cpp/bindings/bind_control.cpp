@@ -371,29 +371,20 @@ cost, stop, step, regularisation, gaps), seconds; an exception of user_cost is r
           throw InputError("the plant's dt must be the controller's (the problem's T / N)");
         check_pushes(free.model(), mine);
         MpcHook hook(pb, opt, period, free.model(), mine, U);
-        StrDict d;
-        {
+        auto timed = [](auto&& run) {  // the plant's rollout, GIL released, and its time
+          decltype(run()) r;
           double seconds;
-          if (contact) {
-            ContactRollout r;
-            {
-              py::gil_scoped_release release;
-              const auto t0 = std::chrono::steady_clock::now();
-              r = plant.cast<const PyContactIntegrator&>().core().rollout(q, mom, steps, MatX(), VecX(), &hook);
-              seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-            }
-            d = rollout_dict(r, seconds);
-          } else {
-            Rollout r;
-            {
-              py::gil_scoped_release release;
-              const auto t0 = std::chrono::steady_clock::now();
-              r = free.rollout(q, mom, steps, MatX(), MatX(), MatX(), &hook);
-              seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-            }
-            d = rollout_dict(r, seconds);
+          {
+            py::gil_scoped_release release;
+            const auto t0 = std::chrono::steady_clock::now();
+            r = run();
+            seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
           }
-        }
+          return rollout_dict(r, seconds);
+        };
+        StrDict d = contact ? timed([&] {
+          return plant.cast<const PyContactIntegrator&>().core().rollout(q, mom, steps, MatX(), VecX(), &hook);
+        }) : timed([&] { return free.rollout(q, mom, steps, MatX(), MatX(), MatX(), &hook); });
         const MpcStats& st = hook.stats();
         d["solve_seconds"] = VecX(Eigen::Map<const VecX>(st.solve_seconds.data(), st.solve_seconds.size()));
         d["solve_iterations"] = Eigen::VectorXi(Eigen::Map<const Eigen::VectorXi>(st.iterations.data(), st.iterations.size()));

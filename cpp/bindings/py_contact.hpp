@@ -32,25 +32,13 @@ class PyContactIntegrator {
 
 // A contact rollout as the Python dict hovi.Integrator reads (q, p, control points, impulses, gaps, ...).
 inline StrDict rollout_dict(const ContactRollout& r, double seconds) {
-  StrDict d;
+  StrDict d = rollout_dict(static_cast<const Rollout&>(r), seconds);
   const int attempted = static_cast<int>(r.status.size());
-  d["q"] = MatX(r.q.topRows(r.steps + 1));
-  d["p"] = MatX(r.p.topRows(r.steps + 1));
-  d["control_points"] = MatX(r.control_points.topRows(r.steps));
-  d["iterations"] = Eigen::VectorXi(r.iterations.head(attempted));
-  d["factorizations"] = Eigen::VectorXi(r.factorizations.head(attempted));
-  d["residual"] = VecX(r.residual.head(attempted));
   d["pivots"] = Eigen::VectorXi(r.pivots.head(attempted));
-  py::list st;
-  for (SolveStatus x : r.status) st.append(to_string(x));
-  d["status"] = st;
   d["impulses"] = MatX(r.impulses.topRows(r.steps));
   d["gaps"] = MatX(r.gaps.topRows(r.steps));
   d["impact"] = VecX(r.impact.head(r.steps));
   d["step_p"] = MatX(r.step_p.topRows(r.steps + 1));
-  if (r.controls.size()) d["controls"] = MatX(r.controls.topRows(attempted));
-  d["steps"] = r.steps;
-  d["seconds"] = seconds;
   return d;
 }
 

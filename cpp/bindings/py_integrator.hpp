@@ -37,7 +37,7 @@ inline StrDict rollout_dict(const Rollout& r, double seconds) {
   py::list st;
   for (SolveStatus x : r.status) st.append(to_string(x));
   d["status"] = st;
-  d["multipliers"] = MatX(r.multipliers.topRows(r.steps));
+  d["multipliers"] = r.multipliers.rows() >= r.steps ? MatX(r.multipliers.topRows(r.steps)) : MatX(r.steps, 0);
   d["steps"] = r.steps;
   d["seconds"] = seconds;
   if (r.controls.size()) d["controls"] = MatX(r.controls.topRows(attempted));
