@@ -27,10 +27,9 @@ void Policy::check(int n, int m, int s) const {
 
 void Policy::control(int k, const Eigen::Ref<const VecX>& q, const Eigen::Ref<const VecX>& p, MatX& uk) const {
   const int j = std::min(k, stages() - 1), n = int(q.size()), m = int(K[j].rows());
-  const auto K_q = K[j].leftCols(n);
-  const VecX du = K_q * (x_ref.row(j).head(n).transpose() - q) + K[j].rightCols(n) * (x_ref.row(j).tail(n).transpose() - p);
-  // uk is m x (s+1) on entry (the rollout sizes it)
-  for (int a = 0; a < uk.cols(); ++a)
+  const VecX du = K[j].leftCols(n) * (x_ref.row(j).head(n).transpose() - q) +
+                  K[j].rightCols(n) * (x_ref.row(j).tail(n).transpose() - p);  // -K (x - x_ref)
+  for (int a = 0; a < uk.cols(); ++a)  // uk: m x (s+1), sized by the rollout
     uk.col(a) = (u_ref.row(j).segment(a * m, m).transpose() + du).cwiseMax(lower).cwiseMin(upper);
 }
 
