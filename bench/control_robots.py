@@ -12,12 +12,14 @@ Beside the four cases, what was measured to choose the weights and to find where
   - margins: the largest push (a multiple of the case's push) and mass factor the closed and the
     open loop still succeed with (from a short list).
 
-    python bench/control_robots.py [--quick] [--only atlas flamingo littledog] [--solutions DIR]
+    python bench/control_robots.py [--quick] [--only atlas flamingo littledog] [--solutions DIR] [--video]
 
 --quick: Atlas only (its quick solve takes ~3 s), no weights study. --solutions DIR: keep each
 solve's arrays in DIR/<name>.npz and reuse them when present (the solve times are then not
-measured again). Writes bench/results/control_robots.json (control_robots_quick.json). Times are
-indicative (2 cores shared with other work).
+measured again). --video: also the push case of Atlas and the Spring Flamingo, closed and open loop,
+as MP4s in bench/results/videos/ and as stills docs/images/control_<robot>.png (bench/control_videos.py).
+Writes bench/results/control_robots.json (control_robots_quick.json). Times are indicative (2 cores
+shared with other work).
 """
 from __future__ import annotations
 
@@ -29,6 +31,7 @@ import time
 
 import numpy as np
 
+import control_videos
 from common import RESULTS, write_json
 from hovi.control import Push
 from hovi.examples.paper import build, report
@@ -196,6 +199,7 @@ def main() -> None:
     ap.add_argument("--quick", action="store_true", help="Atlas only, no weights study")
     ap.add_argument("--only", nargs="+", choices=ROBOTS, default=None, help="the robots (default: all; --quick: atlas)")
     ap.add_argument("--solutions", default=None, metavar="DIR", help="keep / reuse each solve's arrays in DIR")
+    ap.add_argument("--video", action="store_true", help="MP4s and stills of the push cases (bench/control_videos.py)")
     args = ap.parse_args()
     robots = args.only or (["atlas"] if args.quick else list(ROBOTS))
     t_start = time.perf_counter()
@@ -216,6 +220,8 @@ def main() -> None:
             entry["study"]["finer_replays"] = finer_replays(example, CL.optimised_motion(example, motion))
         if not args.quick:
             entry["weights_study"] = weights_study(example, motion)
+        if args.video and name in control_videos.ROBOTS:
+            entry["video"] = control_videos.write(name, example, motion)
         entry["seconds"] = time.perf_counter() - t0
         results[name] = entry
     text = table(results)
