@@ -29,10 +29,11 @@ D. MPC (hovi.control.MPC, FDDP on VI(s), period 1) holding the cart-pole upright
    cold FDDP solve of the same horizon problem for the ratio.
 E. FDDP through contact: LittleDog standing -> 3 cm crouch, held or smoothed Jacobians (kappa).
 
-    python bench/control.py [--quick] [--only A B C D E]
+    python bench/control.py [--quick] [--only A B C D E] [--tables]
 
-Writes bench/results/control.json (control_quick.json), control_roa.png and, for a full run of all
-parts, the tables in bench/README.md (section "Control").
+Writes bench/results/control.json (control_quick.json), control_roa.png and the tables in
+bench/README.md (section "Control"; not for --quick). A full run of some parts (--only) keeps the
+other parts from the last control.json; --tables rebuilds the README tables from it.
 """
 from __future__ import annotations
 
@@ -187,18 +188,31 @@ def time_to_reach(rows, solver, level):
     return dict(N=r["N"], seconds=r["seconds"], resim_error=r["resim_error"], cost=r["cost"], other_optimum=r["other_optimum"])
 
 
-def tight_costs(name):
+def tight_costs(name, repeats=3):
     """Each solver at its nominal N with a tight stopping test: how far the default test stops from
-    its optimum (cost relative difference)."""
+    its optimum (cost relative difference); and hovi with the tolerance (1e-9, 1e-10, ...) at which
+    its gap is no larger than Crocoddyl's, with its time (best of `repeats`): the time at equal
+    convergence precision."""
     N = cb.SWINGUPS[name]["N"]
     out = {}
-    for side, tight in [(HoviSide(name, N, s), HoviSide(name, N, s, tol=1e-20)) for s in (1, 2, 3)] + \
-                       [(CrocSide(name, N), CrocSide(name, N, th_stop=1e-20))]:
+    for side, tight in [(CrocSide(name, N), CrocSide(name, N, th_stop=1e-20))] + \
+                       [(HoviSide(name, N, s), HoviSide(name, N, s, tol=1e-20)) for s in (1, 2, 3)]:
         side.solve()
         tight.solve()
         a, b = side.summary(), tight.summary()
-        out[side.label] = dict(cost=a["cost"], tight_cost=b["cost"], tight_iterations=b["iterations"],
-                               relative_gap=(a["cost"] - b["cost"]) / abs(b["cost"]))
+        gap = (a["cost"] - b["cost"]) / abs(b["cost"])
+        out[side.label] = dict(cost=a["cost"], tight_cost=b["cost"], tight_iterations=b["iterations"], relative_gap=gap)
+        if isinstance(side, HoviSide):
+            target = out["Crocoddyl RK4"]["relative_gap"]
+            for tol in (1e-9, 1e-10, 1e-11, 1e-12, 1e-13, 1e-14):
+                h = HoviSide(name, N, side.s, tol=tol)
+                seconds = min(h.solve() for _ in range(repeats))
+                m = h.summary()
+                matched = (m["cost"] - b["cost"]) / abs(b["cost"])
+                if matched <= target or tol == 1e-14:
+                    break
+            out[side.label].update(matched_tol=tol, matched_gap=matched, matched_iterations=m["iterations"],
+                                   matched_seconds=seconds)
     return out
 
 
@@ -323,7 +337,11 @@ def part_b(quick):
                                             threads=1)
                 wall = time.perf_counter() - t0
                 ok, angle, vel, conv, cart = final_errors(name, plants, rr)
+                qK = np.array([r.trajectory.q[min(K, r.trajectory.steps)] for r in rr]) - qT
+                qK[:, mc["angles"]] = (qK[:, mc["angles"]] + np.pi) % (2 * np.pi) - np.pi
+                at_T = np.abs(qK[:, mc["angles"]]).max(axis=1) < SUCCESS["angle"]
                 row[label] = dict(success_rate=float(ok.mean()), converged_rate=float(conv.mean()),
+                                  upright_at_end_of_motion_rate=float(np.mean(at_T & conv)),
                                   median_angle_error=float(np.median(angle)), median_velocity=float(np.median(vel)),
                                   max_cart_offset_of_successes=float(cart[ok].max()) if name == "cartpole" and ok.any() else None,
                                   saturated_fraction=float(np.mean([np.mean(np.abs(r.u) >= spec["u_max"] - 1e-9) for r in rr])),
@@ -381,10 +399,13 @@ def part_c(quick):
         ok = roa_map(name, integ, L, ga, gb, axes)
         zero_b = int(np.argmin(np.abs(gb)))
         zero_a = int(np.argmin(np.abs(ga)))
+        # the same line (other = 0) without control limits: is it the limit or the nonlinearity?
+        free = roa_map(name, integ, L.with_limits(-np.inf, np.inf), ga, gb[zero_b:zero_b + 1], axes)[:, 0]
         key = f"{name}_{axes[0]}_{axes[1]}"
         out["maps"][key] = dict(robot=name, axes=list(axes), u_limits=[-spec["u_max"], spec["u_max"]], weights=MC[name]["weights"],
                                 grid_a=ga.tolist(), grid_b=gb.tolist(), success=ok.astype(int).tolist(),
                                 fraction=float(ok.mean()), largest_a_at_b0=largest_offset(ga, ok[:, zero_b]),
+                                largest_a_at_b0_without_limits=largest_offset(ga, free),
                                 largest_b_at_a0=largest_offset(gb, ok[zero_a, :]),
                                 largest_recovering_a=float(np.abs(ga[ok.any(axis=1)]).max()) if ok.any() else 0.0,
                                 wall_seconds=time.perf_counter() - t0)
@@ -561,32 +582,46 @@ def tables(res):
                 lines.append(f"| {name} | {float(level):g} | " + " | ".join(cells) + " |")
         lines.append("")
         if any("tight_stopping" in e for e in a["swingups"].values()):
-            lines += ["Where the stopping tests stop (nominal N): cost relative to the same solver run to a tight test:", "",
-                      "| swing-up | " + " | ".join(["hovi VI s=1", "hovi VI s=2", "hovi VI s=3", "Crocoddyl RK4"]) + " |",
-                      "|---|---|---|---|---|"]
+            lines += ["Where the stopping tests stop (nominal N): cost above the same solver's run to a tight test "
+                      "(relative), and hovi with the tolerance at which it stops as close as Crocoddyl (best of 3):", "",
+                      "| swing-up | solver | gap at the default test | tol for Crocoddyl's gap | its gap | iterations | time |",
+                      "|---|---|---|---|---|---|---|"]
             for name, e in a["swingups"].items():
                 t = e.get("tight_stopping", {})
-                lines.append(f"| {name} | " + " | ".join(f"{t[s]['relative_gap']:.1e}" if s in t else "—" for s in
-                                                         ["hovi VI s=1", "hovi VI s=2", "hovi VI s=3", "Crocoddyl RK4"]) + " |")
+                for s in ["hovi VI s=1", "hovi VI s=2", "hovi VI s=3", "Crocoddyl RK4"]:
+                    x = t.get(s)
+                    if x is None:
+                        continue
+                    nominal = [r for r in e["rows"] if r["solver"] == s and r["N"] == e["rows"][0]["N"]]
+                    tail = (f"{x['matched_tol']:g} | {x['matched_gap']:.1e} | {x['matched_iterations']} | {fmt_t(x['matched_seconds'])}"
+                            if "matched_tol" in x else
+                            f"(its default) | {x['relative_gap']:.1e} | {nominal[0]['iterations'] if nominal else '—'} | "
+                            f"{fmt_t(nominal[0]['seconds']) if nominal else '—'}")
+                    lines.append(f"| {name} | {s} | {x['relative_gap']:.1e} | {tail} |")
             lines.append("")
     b = res.get("B")
     if b:
         lines += ["### B. TVLQR Monte-Carlo on the swing-ups", "",
                   f"{b['runs']} runs per condition; success: {b['success']}. Noise: {b['noise']}; mass: {b['mass']}.", "",
+                  "Success, and in brackets the runs with every angle within 0.1 rad of the upright at the end of the "
+                  "motion (t = T, before the hold).", "",
                   "| robot | push | condition | open loop | closed loop (TVLQR + LQR) |", "|---|---|---|---|---|"]
         for name, e in b["robots"].items():
             for cond, row in e["conditions"].items():
                 lines.append(f"| {name} | {e['push']['impulse_Ns']} N s at the {e['push']['body']} tip, t = {e['push']['time']} s "
-                             f"| {cond} | {100 * row['open_loop']['success_rate']:.0f} % | {100 * row['closed_loop']['success_rate']:.0f} % |")
+                             f"| {cond} | {100 * row['open_loop']['success_rate']:.0f} % ({100 * row['open_loop']['upright_at_end_of_motion_rate']:.0f} %) | "
+                             f"{100 * row['closed_loop']['success_rate']:.0f} % ({100 * row['closed_loop']['upright_at_end_of_motion_rate']:.0f} %) |")
         lines.append("")
     c = res.get("C")
     if c:
         lines += ["### C. LQR at the upright: region of attraction", "",
                   f"dt = {c['dt']}, s = {c['s']}, {c['seconds']} s from the offset; success as in B.", "",
-                  "| robot | grid | recovers from (other = 0) | recovers from (first = 0) | grid fraction |", "|---|---|---|---|---|"]
+                  "| robot | grid | recovers from (other = 0) | the same without control limits | recovers from (first = 0) | grid fraction |",
+                  "|---|---|---|---|---|---|"]
         for key, m in c["maps"].items():
-            lines.append(f"| {m['robot']} (|u| <= {m['u_limits'][1]:g}) | {AXIS_NAMES[(m['robot'], m['axes'][0])]} x "
-                         f"{AXIS_NAMES[(m['robot'], m['axes'][1])]} | {m['largest_a_at_b0']:.3f} | {m['largest_b_at_a0']:.3f} | "
+            lines.append(f"| {m['robot']} (u within ±{m['u_limits'][1]:g}) | {AXIS_NAMES[(m['robot'], m['axes'][0])]} x "
+                         f"{AXIS_NAMES[(m['robot'], m['axes'][1])]} | {m['largest_a_at_b0']:.3f} | {m['largest_a_at_b0_without_limits']:.3f} | "
+                         f"{m['largest_b_at_a0']:.3f} | "
                          f"{100 * m['fraction']:.0f} % |")
         lines.append("")
     d = res.get("D")
@@ -650,7 +685,13 @@ def main():
     ap.add_argument("--quick", action="store_true", help="a small smoke run (well under a minute), no README update")
     ap.add_argument("--only", nargs="+", choices=list("ABCDE"), default=list("ABCDE"))
     ap.add_argument("--repeats", type=int, default=None, help="solves per FDDP timing (default 5; quick 1)")
+    ap.add_argument("--tables", action="store_true", help="only rebuild the README tables from results/control.json")
     args = ap.parse_args()
+    if args.tables:
+        import json
+        with open(os.path.join(RESULTS, "control.json")) as f:
+            update_readme_section("control", tables(json.load(f)["results"]))
+        return
     repeats = args.repeats or (1 if args.quick else 5)
     t_start = time.perf_counter()
     load_start = os.getloadavg()
@@ -671,6 +712,18 @@ def main():
                "threads": "one core per solve (Crocoddyl nthreads = 1; hovi FDDP threads = 1; batches threads = 1)",
                "load_average_start": list(load_start), "load_average_end": list(os.getloadavg()),
                "results": res, "wall_seconds": time.perf_counter() - t_start}
+    full_path = os.path.join(RESULTS, f"{name}.json")
+    merged = not args.quick and args.only != list("ABCDE") and os.path.exists(full_path)
+    if merged:  # a full run of some parts: the other parts kept from the last full run
+        import json
+        with open(full_path) as f:
+            old = json.load(f)
+        for key, part in old.get("results", {}).items():
+            if key in "ABCDE" and key not in res:
+                res[key] = part
+        payload["parts"] = sorted(k for k in res if k in "ABCDE")
+        payload["rerun_parts"] = args.only
+        payload["earlier_run"] = {k: old.get(k) for k in ("hovi_commit", "load_average_start", "load_average_end", "wall_seconds")}
     path = write_json(f"{name}.json", clean(payload))
     if "C" in res:
         try:
@@ -680,7 +733,7 @@ def main():
     text = tables(res)
     print(text)
     print(f"wrote {path} in {time.perf_counter() - t_start:.1f} s (load {load_start[0]:.2f} -> {os.getloadavg()[0]:.2f})")
-    if not args.quick and args.only == list("ABCDE"):
+    if not args.quick and sorted(k for k in res if k in "ABCDE") == list("ABCDE"):
         update_readme_section("control", text)
 
 
