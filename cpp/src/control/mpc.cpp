@@ -29,7 +29,12 @@ void MpcHook::before_step(int k, const VecX& q, VecX& p, MatX& uk) {
     pb_.offset = k;
     pb_.set_x0(x);
     BoxFddp solver(pb_, opt_);
-    plan_ = solver.solve(xs, us);
+    try {
+      plan_ = solver.solve(xs, us);
+    } catch (const InputError&) {  // a step from the shifted plan failed: start from the rollout of its controls
+      if (!xs.size()) throw;
+      plan_ = solver.solve(MatX(), us);
+    }
     stats_.solve_seconds.push_back(plan_.seconds);
     stats_.iterations.push_back(plan_.iterations);
     stats_.converged.push_back(plan_.converged ? 1 : 0);
