@@ -12,6 +12,7 @@ SCRIPTS = ["speed.py", "linearization.py", "constraints.py", "constrained_energy
            "robot_examples.py --only flamingo atlas", "scaling.py",  # LittleDog's quick solve: tests/test_robot_examples.py
            "contact_sim.py",  # hovi's contact simulation against MuJoCo (issue 31)
            "contact_order.py",  # impacts located on the step's polynomial: order 2s kept (issue 31)
+           "ipopt_options.py",  # IPOPT's Hessian and barrier options on the swing-ups (issue 33)
            # the studies over many states, on local threads and on a Dask LocalCluster
            "fig2_quasi_newton.py --workers 2", "stability.py --scheduler local --workers 2"]
 
