@@ -343,13 +343,13 @@ gradient lx (2n,), lu (m,) and Gauss-Newton Hessian lxx, luu, lux.
             return fddp_dict(r);
           }, py::arg("xs") = py::none(), py::arg("us") = py::none(), py::arg("max_iterations") = 500,
           py::arg("tol") = 1e-9, py::arg("threads") = 1, py::arg("user_cost") = py::none(), R"doc(
-user_cost: None, or fun(kind, control_points (N, s+1, n), us (N, m)) for costs computed in Python, one call
-per rollout ("value": the total) and per linearisation ("derivatives": g (N, (s+1) n + m) and the
-Gauss-Newton Hessian H (N, (s+1) n + m, (s+1) n + m) in each step's (vec(q^{k,0..s}) by points, u^k)).
 Box-FDDP (control/box_fddp.hpp) from xs (N+1, 2n) (None: the rollout of us from x0) and us (N, m) (None:
-zeros), in C++ with the GIL released. Returns a dict: xs, us, control_points (N, (s+1) n), K (N, m, 2n)
-(u = us + K (x - xs)), cost, stop, gaps, iterations, converged, feasible, status, trace (iterations, 5:
-cost, stop, step, regularisation, gaps), seconds; an exception of user_cost is raised.
+zeros), in C++ with the GIL released. user_cost: None, or fun(kind, control_points (N, s+1, n), us (N, m))
+for costs computed in Python, one call per rollout ("value": the total) and per linearisation
+("derivatives": g (N, (s+1) n + m) and the Gauss-Newton Hessian H (N, (s+1) n + m, (s+1) n + m) in each
+step's (vec(q^{k,0..s}) by points, u^k)); an exception it raises is raised. Returns a dict: xs, us,
+control_points (N, (s+1) n), K (N, m, 2n) (u = us + K (x - xs)), cost, stop, gaps, iterations, converged,
+feasible, status, trace (iterations, 5: cost, stop, step, regularisation, gaps), seconds.
 )doc");
   m.def("mpc", [](const AnyIntegrator& plant, PyShootingProblem& problem, const ArrayLike& q0, const ArrayLike& p0, int steps,
                   int period, int max_iterations, double tol, const py::list& pushes, const OptArrayLike& us_init) {

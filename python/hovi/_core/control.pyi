@@ -29,13 +29,13 @@ class ShootingProblem:
         """
     def solve(self, xs: numpy.typing.ArrayLike | None = None, us: numpy.typing.ArrayLike | None = None, max_iterations: typing.SupportsInt | typing.SupportsIndex = 500, tol: typing.SupportsFloat | typing.SupportsIndex = 1e-09, threads: typing.SupportsInt | typing.SupportsIndex = 1, user_cost: collections.abc.Callable | None = None) -> dict[str, typing.Any]:
         """
-        user_cost: None, or fun(kind, control_points (N, s+1, n), us (N, m)) for costs computed in Python, one call
-        per rollout ("value": the total) and per linearisation ("derivatives": g (N, (s+1) n + m) and the
-        Gauss-Newton Hessian H (N, (s+1) n + m, (s+1) n + m) in each step's (vec(q^{k,0..s}) by points, u^k)).
         Box-FDDP (control/box_fddp.hpp) from xs (N+1, 2n) (None: the rollout of us from x0) and us (N, m) (None:
-        zeros), in C++ with the GIL released. Returns a dict: xs, us, control_points (N, (s+1) n), K (N, m, 2n)
-        (u = us + K (x - xs)), cost, stop, gaps, iterations, converged, feasible, status, trace (iterations, 5:
-        cost, stop, step, regularisation, gaps), seconds; an exception of user_cost is raised.
+        zeros), in C++ with the GIL released. user_cost: None, or fun(kind, control_points (N, s+1, n), us (N, m))
+        for costs computed in Python, one call per rollout ("value": the total) and per linearisation
+        ("derivatives": g (N, (s+1) n + m) and the Gauss-Newton Hessian H (N, (s+1) n + m, (s+1) n + m) in each
+        step's (vec(q^{k,0..s}) by points, u^k)); an exception it raises is raised. Returns a dict: xs, us,
+        control_points (N, (s+1) n), K (N, m, 2n) (u = us + K (x - xs)), cost, stop, gaps, iterations, converged,
+        feasible, status, trace (iterations, 5: cost, stop, step, regularisation, gaps), seconds.
         """
     def stage_cost(self, k: typing.SupportsInt | typing.SupportsIndex, control_points: numpy.typing.ArrayLike, u: numpy.typing.ArrayLike) -> float:
         """
