@@ -6,6 +6,8 @@ instead of a generic NLP (a shooting method such as FDDP) implements ``solve`` i
 the transcription for its layout; neither kind changes the transcriptions or the Problem."""
 from __future__ import annotations
 
+import time
+
 from ..nlp import NLP
 from ..problem import Problem
 from ..result import Result
@@ -28,8 +30,14 @@ class NLPSolver(Solver):
 
     def solve(self, problem: Problem, transcription: TranscriptionMethod = DEFAULT_TRANSCRIPTION,
               guess: Guess = None) -> Result:
-        """Solve the NLP of ``problem`` transcribed by ``transcription`` from ``guess``."""
-        return self.solve_nlp(NLP(problem, transcription), guess)
+        """Solve the NLP of ``problem`` transcribed by ``transcription`` from ``guess``; the time to
+        build the NLP joins the result's ``timing['setup']``."""
+        t0 = time.perf_counter()
+        nlp = NLP(problem, transcription)
+        built = time.perf_counter() - t0
+        result = self.solve_nlp(nlp, guess)
+        result.timing["setup"] = result.timing.get("setup", 0.0) + built
+        return result
 
     def solve_nlp(self, nlp: NLP, guess: Guess = None) -> Result:
         """Solve ``nlp`` from ``guess`` (the start x0 is ``nlp.transcription.initial_guess(guess)``)."""

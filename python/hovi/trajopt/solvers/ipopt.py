@@ -258,9 +258,11 @@ class Ipopt(NLPSolver):
     pattern probed near the starting point: many Jacobian evaluations per iteration, far fewer
     iterations on large robots).
 
-    The result's ``timing`` splits the wall time: 'evaluations' (the C++ transcription calls),
-    'callbacks' (all time in hovi's callbacks: evaluations, costs, path constraints, Python and
-    copies), 'ipopt' (the rest: IPOPT's own work, mostly the sparse linear algebra)."""
+    The result's ``timing`` splits the wall time: 'setup' (before IPOPT starts: building the NLP,
+    the starting point and, with 'fd', the Hessian's pattern and colouring; not in wall_seconds),
+    then within the solve 'evaluations' (the C++ transcription calls), 'callbacks' (all time in
+    hovi's callbacks: evaluations, costs, path constraints, Python and copies), 'ipopt' (the rest:
+    IPOPT's own work, mostly the sparse linear algebra)."""
 
     def __init__(self, options: dict[str, Any] | None = None, *, verbose: bool = True, hessian: str = "lbfgs"):
         if not isinstance(hessian, str) or hessian not in HESSIANS:
@@ -298,6 +300,7 @@ class Ipopt(NLPSolver):
         except ImportError as e:  # pragma: no cover - depends on the installation
             raise ImportError("hovi.trajopt.solve needs cyipopt: pip install 'hovi[trajopt]' (it builds against "
                               "IPOPT: apt-get install coinor-libipopt-dev pkg-config, or `make trajopt-deps`)") from e
+        t_setup = time.perf_counter()
         tr = nlp.transcription
         x0 = np.clip(tr.initial_guess(guess), nlp.lower, nlp.upper)
         nlp.check_start(x0)  # user costs and path constraints raise their errors here, before IPOPT runs
@@ -310,6 +313,7 @@ class Ipopt(NLPSolver):
                              cl=nlp.cl, cu=nlp.cu)
         apply_options(ip, self.ipopt_options())
         t0 = time.perf_counter()
+        setup = t0 - t_setup
         _SOLVING[0] += 1
         try:
             x, info = ip.solve(x0)
@@ -322,7 +326,7 @@ class Ipopt(NLPSolver):
         result = Result(status=status, success=info["status"] in (0, 1), cost=float(info["obj_val"]),
                         constraint_violation=nlp.violation(x), iterations=cb.iterations, wall_seconds=wall,
                         trajectory=tr.trajectory(x), x=x,
-                        timing={"evaluations": nlp.eval_seconds, "callbacks": cb.callback_seconds,
+                        timing={"setup": setup, "evaluations": nlp.eval_seconds, "callbacks": cb.callback_seconds,
                                 "ipopt": wall - cb.callback_seconds,
                                 "per_iteration": wall / max(cb.iterations, 1)},
                         sizes={"variables": nlp.n_variables, "constraints": nlp.n_constraints, "nonzeros": nlp.nnz,
