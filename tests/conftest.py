@@ -1,5 +1,7 @@
 """Shared helpers and fixtures for the hovi test suite."""
+import importlib
 import os
+import sys
 
 import numpy as np
 import pytest
@@ -15,6 +17,19 @@ def erd_urdf(rel):
     if not os.path.isfile(path):
         pytest.skip(f"example-robot-data file not found: {rel}")
     return path
+
+
+BENCH = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "bench")
+
+
+def bench_module(name):
+    """The benchmark script bench/<name>.py imported as a module (bench/ on sys.path only while it
+    imports, so its own ``from common import ...`` resolves)."""
+    sys.path.insert(0, BENCH)
+    try:
+        return importlib.import_module(name)
+    finally:
+        sys.path.remove(BENCH)
 
 
 @pytest.fixture

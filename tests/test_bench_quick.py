@@ -5,7 +5,7 @@ import sys
 
 import pytest
 
-BENCH = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "bench")
+from conftest import BENCH, bench_module  # noqa: E402
 SCRIPTS = ["speed.py", "linearization.py", "constraints.py", "constrained_energy.py", "fig2_quasi_newton.py", "fig3_autodiff.py",
            "fig4_hermite_simpson.py", "stability.py", "trajopt.py", "pareto.py", "energy_runtime.py",
            "direction_crossover.py", "jacobian_reuse.py", "step_floor.py", "fuzz_urdf.py", "soak_threads.py", "robot_sweep.py", "long_run.py",
@@ -31,12 +31,8 @@ def test_bench_script_quick_mode(command):
 def test_pareto_time_to_reach_takes_the_cheapest_crossing():
     """bench/pareto.py's equal-error run time: log-log interpolation across the level, and the cheapest
     point or crossing when run time falls with dt (large steps needing many Newton iterations)."""
-    sys.path.insert(0, BENCH)
-    try:
-        import numpy as np
-        from pareto import time_to_reach
-    finally:
-        sys.path.remove(BENCH)
+    import numpy as np
+    time_to_reach = bench_module("pareto").time_to_reach
     curve = np.array([[1.0, 1e-2], [10.0, 1e-4]])              # (seconds, error) by decreasing dt
     t, bound = time_to_reach(curve, 1e-3)
     assert not bound and abs(t - np.sqrt(10.0)) < 1e-12       # halfway in log error -> halfway in log time
@@ -51,14 +47,11 @@ def test_control_quick_mode():
     the upright LQR's region of attraction, MPC's solve times and FDDP through contact, in one small run."""
     pytest.importorskip("crocoddyl")
     pytest.importorskip("pinocchio")
-    sys.path.insert(0, BENCH)
+    cb = bench_module("crocoddyl_baseline")
     try:
-        import crocoddyl_baseline as cb
         cb.build_problem("pendulum", N=2)
     except cb.CrocoddylPinocchioMismatch as e:
         pytest.skip(str(e))
-    finally:
-        sys.path.remove(BENCH)
     done = subprocess.run([sys.executable, os.path.join(BENCH, "control.py"), "--quick"], cwd=BENCH,
                           capture_output=True, text=True, timeout=600)
     assert done.returncode == 0, done.stdout[-2000:] + done.stderr[-4000:]

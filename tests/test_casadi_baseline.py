@@ -9,21 +9,15 @@ cost 1.0944 (first swing to +q) and 1.2959 (first swing to -q). CasADi's exact-H
 hovi with hessian='fd' find the first; hovi's default limited-memory Hessian takes the other path
 from the same start and ends in the second. Warm-started from CasADi's solution hovi's default
 stays on it: the two NLPs are the same."""
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
 
 pytest.importorskip("casadi")
 pytest.importorskip("cyipopt")
 
-BENCH = Path(__file__).resolve().parent.parent / "bench"
-sys.path.insert(0, str(BENCH))
-try:
-    import casadi_baseline as cb
-finally:
-    sys.path.remove(str(BENCH))
+from conftest import bench_module  # noqa: E402
+
+cb = bench_module("casadi_baseline")
 
 from hovi import trajopt  # noqa: E402
 from hovi.examples import swingups  # noqa: E402

@@ -12,6 +12,8 @@ import pytest
 import hovi
 from hovi.contact import Box, Contacts, Gap, Terrain
 
+from conftest import bench_module
+
 G = 9.81
 TOL = 1e-9  # the issue's bound on penetration and complementarity (the solver's own: 1e-10)
 
@@ -285,10 +287,7 @@ def test_impact_location_keeps_the_order_of_the_flight():
     """bench/contact_order.py --quick: a rod tumbling onto frictionless ground; with s = 2 the flight
     and the impact time are of order 4 (the closed form), with s = 1 of order 2; without location
     the impact happens at the next knot (an error that does not shrink with dt at these steps)."""
-    import sys
-    from pathlib import Path
-    sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "bench"))
-    import contact_order
+    contact_order = bench_module("contact_order")
     t = contact_order.exact_impact()
     rows = {(s, loc, dt): contact_order.run(s, dt, loc, t) for s, loc in [(1, False), (1, True), (2, True)]
             for dt in (0.02, 0.01)}

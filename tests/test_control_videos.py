@@ -1,26 +1,18 @@
 """bench/control_videos.py (bench/control_robots.py --video) on the quick Atlas: the push case run
 closed and open loop, its still (two rows of frames, one camera) and its MP4s (each run, and both
 side by side), written to a temporary folder."""
-import os
-import sys
-
 import numpy as np
 import pytest
 
 pytest.importorskip("cyipopt")
 pytest.importorskip("imageio_ffmpeg")
 
-BENCH = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "bench")
+from conftest import bench_module  # noqa: E402
 
 
 @pytest.fixture(scope="module")
 def videos():
-    sys.path.insert(0, BENCH)
-    try:
-        import control_videos
-    finally:
-        sys.path.remove(BENCH)
-    return control_videos
+    return bench_module("control_videos")
 
 
 def test_atlas_push_still_and_videos(videos, tmp_path, monkeypatch):

@@ -9,17 +9,13 @@ libpinocchio 4.0.0 and compute garbage dynamics with 4.1.0; see the module's doc
 import os
 import subprocess
 import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 
-BENCH = Path(__file__).resolve().parent.parent / "bench"
-sys.path.insert(0, str(BENCH))
-try:
-    import crocoddyl_baseline as cb
-finally:
-    sys.path.remove(str(BENCH))
+from conftest import BENCH, bench_module  # noqa: E402
+
+cb = bench_module("crocoddyl_baseline")
 
 NAMES = ["pendulum", "cartpole", "acrobot"]
 
@@ -138,7 +134,7 @@ def test_pendulum_swingup_converges(crocoddyl):
 
 
 def test_quick_mode_prints_the_table(crocoddyl):
-    done = subprocess.run([sys.executable, str(BENCH / "crocoddyl_baseline.py"), "--quick"], cwd=BENCH,
+    done = subprocess.run([sys.executable, os.path.join(BENCH, "crocoddyl_baseline.py"), "--quick"], cwd=BENCH,
                           capture_output=True, text=True, timeout=300,
                           env={**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)})
     assert done.returncode == 0, done.stdout[-2000:] + done.stderr[-4000:]
