@@ -31,7 +31,7 @@ ContactLinearizer::ContactLinearizer(const Model& model, const Quadrature& quad,
 void ContactLinearizer::point_kinematics(Workspace& w, const Eigen::Ref<const MatX>& qc,
                                          const Eigen::Ref<const MatX>& u, const Eigen::Ref<const VecX>& z,
                                          bool want_u) const {
-  const int n = model_.n(), s = quad_.s, C = contacts_.size(), d = contacts_.d(), pc = contacts_.per_contact();
+  const int n = model_.n(), s = quad_.s, C = contacts_.size();
   w.Jq.resize((s + 1) * n, (s + 1) * n);
   del_jacobian(model_, quad_, w.ws, qc, u, dt_, w.Jq, want_u ? &w.Ju : nullptr);
   w.J0.setZero(3 * C, n);
@@ -45,9 +45,7 @@ void ContactLinearizer::point_kinematics(Workspace& w, const Eigen::Ref<const Ma
     Vec3 x;
     body_point_jacobian(kin, contacts_.points[c].body, r_com_.col(c), x, w.J0.middleRows(3 * c, 3));
     w.X0.col(c) = x;
-    const auto zc = z.segment(c * pc, pc);
-    const Vec3 F = zc[0] * Vec3::UnitZ() + contacts_.D.transpose() * zc.segment(1, d);
-    body_point_force_derivative(kin, contacts_.points[c].body, r_com_.col(c), F, w.H);
+    body_point_force_derivative(kin, contacts_.points[c].body, r_com_.col(c), contacts_.world_impulse(z, c), w.H);
   }
   forward_kinematics(model_, w.data, qc.col(s));
   for (int c = 0; c < C; ++c) {

@@ -46,7 +46,7 @@ void ContactSolver::evaluate(const Eigen::Ref<const VecX>& p, const Eigen::Ref<c
     body_point_jacobian(end, contacts_.points[c].body, r_com_.col(c), x, st.Je.middleRows(3 * c, 3));
     st.Xe.col(c) = x;
     const auto zc = z.segment(c * pc, pc);
-    const Vec3 F = zc[0] * Vec3::UnitZ() + contacts_.D.transpose() * zc.segment(1, d_);
+    const Vec3 F = contacts_.world_impulse(z, c);
     st.R.col(0).noalias() += J0_.middleRows(3 * c, 3).transpose() * F;  // the impulse at q^k
     st.h[c] = contacts_.terrain.height(x[0], x[1]);
     st.phi[c] = x[2] - st.h[c];
@@ -70,12 +70,8 @@ void ContactSolver::evaluate(const Eigen::Ref<const VecX>& p, const Eigen::Ref<c
 }
 
 VecX ContactSolver::knot_impulse(const Eigen::Ref<const VecX>& z) const {
-  const int pc = contacts_.per_contact();
   VecX out = VecX::Zero(n_);
-  for (int c = 0; c < C_; ++c) {
-    const Vec3 F = z[c * pc] * Vec3::UnitZ() + contacts_.D.transpose() * z.segment(c * pc + 1, d_);
-    out.noalias() += J0_.middleRows(3 * c, 3).transpose() * F;
-  }
+  for (int c = 0; c < C_; ++c) out.noalias() += J0_.middleRows(3 * c, 3).transpose() * contacts_.world_impulse(z, c);
   return out;
 }
 
@@ -151,7 +147,7 @@ bool ContactSolver::solve_linearization(const Eigen::Ref<const VecX>& z, std::ve
   if (!ok) return false;
   F_.resize(3 * C_);
   for (int c = 0; c < C_; ++c)
-    F_.segment<3>(3 * c) = z_new_[c * pc] * Vec3::UnitZ() + contacts_.D.transpose() * z_new_.segment(c * pc + 1, d_);
+    F_.segment<3>(3 * c) = contacts_.world_impulse(z_new_, c);
   dy_ = d0_;
   Eigen::Map<VecX>(dy_.data(), ns).noalias() += W3_ * F_;
   dz_ = z_new_ - z;

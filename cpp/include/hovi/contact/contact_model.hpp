@@ -44,6 +44,10 @@ struct ContactModel {
   // sliding displacement γ_c (Stewart-Trinkle's slack), at c * per_contact() + 0, 1..d, d+1.
   int per_contact() const { return d() + 2; }
   int unknowns() const { return size() * per_contact(); }
+  // The world impulse of contact c for the step's unknowns z: λ_c e_z + D^T β_c.
+  Vec3 world_impulse(const Eigen::Ref<const VecX>& z, int c) const {
+    return z[c * per_contact()] * Vec3::UnitZ() + D.transpose() * z.segment(c * per_contact() + 1, d());
+  }
   // ModelError / InputError naming the problem unless every point is on an existing body with mass,
   // finite, mu is finite in [0, 1e3], D holds horizontal unit vectors and the terrain is valid.
   void check(const Model& model) const;
