@@ -35,16 +35,6 @@ std::vector<MatX> matrices(const ArrayLike& x, const char* name, long rows, long
   return out;
 }
 
-py::array_t<double> stacked(const std::vector<MatX>& mats) {
-  const long K = long(mats.size()), r = K ? mats[0].rows() : 0, c = K ? mats[0].cols() : 0;
-  py::array_t<double> out({K, r, c});
-  auto w = out.mutable_unchecked<3>();
-  for (long k = 0; k < K; ++k)
-    for (long i = 0; i < r; ++i)
-      for (long j = 0; j < c; ++j) w(k, i, j) = mats[k](i, j);
-  return out;
-}
-
 // pushes: per run, a list of (step, body, point (3,), impulse (3,))
 std::vector<std::vector<Push>> pushes_arg(const py::list& runs) {
   std::vector<std::vector<Push>> out;
@@ -197,8 +187,7 @@ StrDict fddp_dict(const FddpResult& r) {
   d["us"] = r.us;
   d["control_points"] = r.control_points;
   d["impulses"] = r.impulses;
-  std::vector<MatX> K = r.K;
-  d["K"] = K.empty() ? py::array_t<double>() : stacked(K);
+  d["K"] = stack(r.K);
   d["cost"] = r.cost;
   d["stop"] = r.stop;
   d["gaps"] = r.gaps;
@@ -239,7 +228,7 @@ R (m, m) (stage cost x^T Q x + u^T R u): returns (P (n, n), K (m, n), doublings)
         const long m = b.empty() ? 0 : b[0].cols();
         std::vector<MatX> K, P;
         backward_riccati(a, b, matrices(Q, "Q", n, n), matrices(R, "R", m, m), as_matrix(QN, "QN", n, n), K, P);
-        return py::make_tuple(stacked(K), stacked(P));
+        return py::make_tuple(stack(K), stack(P));
       }, py::arg("A"), py::arg("B"), py::arg("Q"), py::arg("R"), py::arg("QN"), R"doc(
 Finite-horizon LQR: A (N, n, n), B (N, n, m), Q (n, n) or (N, n, n), R (m, m) or (N, m, m), QN (n, n);
 returns (K (N, m, n), P (N+1, n, n)), u^k = -K^k x^k, cost-to-go x^T P^k x.
@@ -249,7 +238,7 @@ returns (K (N, m, n), P (N+1, n, n)), u^k = -K^k x^k, cost-to-go x^T P^k x.
         Data data(model.model);
         std::vector<MatX> out(Q.rows());
         for (long k = 0; k < Q.rows(); ++k) velocity_state_map(model.model, data, Q.row(k).transpose(), P.row(k).transpose(), out[k]);
-        return stacked(out);
+        return stack(out);
       }, py::arg("model"), py::arg("q"), py::arg("p"), R"doc(
 T = d(q, q̇)/d(q, p) (K, 2n, 2n) at states q, p (K, n), q̇ = M(q)^{-1} p: a cost x_user^T W x_user on
 (q, q̇) is x^T (T^T W T) x on the integrator's state x = (q, p).

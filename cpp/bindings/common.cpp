@@ -122,6 +122,16 @@ py::array_t<double> stack(const std::vector<Mat4>& mats) {
   return out;
 }
 
+py::array_t<double> stack(const std::vector<MatX>& mats) {
+  const py::ssize_t K = py::ssize_t(mats.size()), R = K ? mats[0].rows() : 0, C = K ? mats[0].cols() : 0;
+  py::array_t<double> out({K, R, C});
+  auto r = out.mutable_unchecked<3>();
+  for (py::ssize_t k = 0; k < K; ++k)
+    for (py::ssize_t i = 0; i < R; ++i)
+      for (py::ssize_t j = 0; j < C; ++j) r(k, i, j) = mats[k](i, j);
+  return out;
+}
+
 py::array_t<double> stack(const std::vector<Vec6>& vecs) {
   py::array_t<double> out({static_cast<py::ssize_t>(vecs.size()), py::ssize_t(6)});
   auto r = out.mutable_unchecked<2>();

@@ -55,6 +55,7 @@ int threads_arg(const py::handle& threads);
 py::list error_list(const std::vector<std::string>& errors);
 // A stack of SE(3)/4x4 or 6-vectors as numpy arrays of shape (n, 4, 4) / (n, 6).
 py::array_t<double> stack(const std::vector<Mat4>& mats);
+py::array_t<double> stack(const std::vector<MatX>& mats);  // K equal-sized matrices -> (K, rows, cols)
 py::array_t<double> stack(const std::vector<Vec6>& vecs);
 
 void bind_model(py::module_& m);
