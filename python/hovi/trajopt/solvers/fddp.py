@@ -146,10 +146,12 @@ class FDDP(Solver):
             raise ValueError(f"FDDP through contact needs VI(1) (the contact time-stepping), got VI({transcription.s})")
         return Integrator(problem.model, s=1, dt=problem.dt, tol=1e-13, contacts=self.contacts, locate_impacts=False)
 
-    def shooting_problem(self, problem: Problem, transcription: VariationalTranscription) -> Any:
-        """The C++ ShootingProblem of ``problem`` on ``transcription``'s integrator (or the contact simulator)."""
+    def shooting_problem(self, problem: Problem, transcription: VariationalTranscription,
+                         integrator: Optional[Integrator] = None) -> Any:
+        """The C++ ShootingProblem of ``problem`` on ``integrator`` (default ``dynamics``: the
+        transcription's integrator, or the contact simulator)."""
         check_problem(problem)
-        integ = self.dynamics(problem, transcription)
+        integ = self.dynamics(problem, transcription) if integrator is None else integrator
         x0 = np.concatenate([problem.q0, integ.momentum(problem.q0, problem.qdot0)])
         return _core.control.ShootingProblem(integ.core, problem.N, x0, sample_costs(problem, transcription),
                                              problem.u_lower, problem.u_upper, self.smoothing)
@@ -160,13 +162,14 @@ class FDDP(Solver):
             raise ValueError(f"FDDP shoots with the variational integrator: give hovi.trajopt.VI(s), got {transcription!r}")
         t0 = time.perf_counter()
         tr = transcription.transcribe(problem)
-        sp = self.shooting_problem(problem, tr)
+        integ = self.dynamics(problem, tr)
+        sp = self.shooting_problem(problem, tr, integ)
         us = self._initial_controls(problem, guess)
         setup = time.perf_counter() - t0
         out = sp.solve(None, us, self.max_iterations, self.tol, self.threads, user_cost(problem, tr))
         n, N, s = problem.model.n, problem.N, tr.s
         U = np.repeat(out["us"][:, None, :], s + 1, axis=1)
-        traj = self.dynamics(problem, tr).rollout(problem.q0, N, p0=out["xs"][0, n:], u=U, raise_on_failure=False)
+        traj = integ.rollout(problem.q0, N, p0=out["xs"][0, n:], u=U, raise_on_failure=False)
         x = tr.guess_from_rollout(traj, U) if traj.steps == N else np.full(tr.core.n_variables, np.nan)
         res = self._result(out, tr, x, setup, t0)
         res.solver["trajectory"] = traj  # the solution simulated (through contact: with its impulses)
