@@ -82,20 +82,22 @@ def _plants(plants: Union[Integrator, Sequence[Integrator]], policy: Policy) -> 
     return items
 
 
+def _per_run(value: Any, name: str, B: int, n: int) -> FloatArray:
+    """``value`` as (B, n): one state (n,) or (1, n) for every run, or one per run (B, n)."""
+    a = real_array(value, name)
+    return np.broadcast_to(a, (B, n)).copy() if a.shape in ((n,), (1, n)) else real_array(value, name, (B, n))
+
+
 def _states(plants: List[Integrator], q0: Any, p0: Any, qdot0: Any, B: int) -> tuple[FloatArray, FloatArray]:
+    """The runs' initial (q, p), each (B, n); p from qdot0 (default rest) when p0 is not given."""
     n = plants[0].n
-    Q = real_array(q0, "q0")
-    Q = np.broadcast_to(Q, (B, n)).copy() if Q.shape in ((n,), (1, n)) else real_array(q0, "q0", (B, n))
     if p0 is not None and qdot0 is not None:
         raise ValueError("give p0 or qdot0, not both")
+    Q = _per_run(q0, "q0", B, n)
     if p0 is not None:
-        P = real_array(p0, "p0")
-        return Q, (np.broadcast_to(P, (B, n)).copy() if P.shape in ((n,), (1, n)) else real_array(p0, "p0", (B, n)))
-    V = np.zeros((B, n)) if qdot0 is None else real_array(qdot0, "qdot0")
-    if qdot0 is not None:
-        V = np.broadcast_to(V, (B, n)).copy() if V.shape in ((n,), (1, n)) else real_array(qdot0, "qdot0", (B, n))
-    P = np.array([plants[0 if len(plants) == 1 else b].momentum(Q[b], V[b]) for b in range(B)])
-    return Q, P
+        return Q, _per_run(p0, "p0", B, n)
+    V = np.zeros((B, n)) if qdot0 is None else _per_run(qdot0, "qdot0", B, n)
+    return Q, np.array([plants[0 if len(plants) == 1 else b].momentum(Q[b], V[b]) for b in range(B)])
 
 
 def simulate_batch(plants: Union[Integrator, Sequence[Integrator]], policy: Policy, q0: npt.ArrayLike, steps: int, *,
@@ -114,8 +116,8 @@ def simulate_batch(plants: Union[Integrator, Sequence[Integrator]], policy: Poli
     push_lists = [list(p) for p in pushes]
     if push_lists and not all(isinstance(x, Push) for p in push_lists for x in p):
         raise TypeError("pushes must be lists of hovi.control.Push, one per run (or one for all)")
-    q0a = np.asarray(q0, dtype=object)
-    B = runs if runs is not None else max(len(items), len(push_lists), q0a.shape[0] if q0a.ndim == 2 else 1)
+    q0s = real_array(q0, "q0")  # named errors for text, ragged lists, NaN
+    B = runs if runs is not None else max(len(items), len(push_lists), q0s.shape[0] if q0s.ndim == 2 else 1)
     if len(items) not in (1, B) or len(push_lists) not in (0, 1, B):
         raise ValueError(f"give one plant or {B}, and the pushes of one run or of {B}")
     steps = int(real_number(steps, "steps", minimum=0))
