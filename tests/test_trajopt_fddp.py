@@ -16,7 +16,9 @@ import time
 import numpy as np
 import pytest
 
+import hovi
 from hovi import Integrator, trajopt
+from hovi.contact import Contacts, Terrain
 from hovi.examples import models
 from hovi.examples.swingups import close_mechanism
 
@@ -400,3 +402,96 @@ def test_user_cost_exception_reaches_the_caller():
     pr.costs[-1] = trajopt.CallbackCost(broken, pr.costs[-1].hessian)
     with pytest.raises(KeyError, match="from the user's cost"):
         trajopt.FDDP().solve(pr, trajopt.VI(1))
+
+
+# --- through contact -----------------------------------------------------------------------------
+
+def sliding_block():
+    """A point mass on flat ground (x-z plane, mu = 0.5), pushed along x (control 0): its contact
+    slides under any push beyond mu m g = 9.81 N, so x-perturbations keep the contact state."""
+    model = hovi.Model()
+    model.add_body("slider", None, "prismatic", axis=(1, 0, 0))
+    model.add_body("mass", "slider", "prismatic", axis=(0, 0, 1), mass=2.0, inertia=np.eye(3) * 1e-3)
+    model.add_actuator(0)
+    return model, Contacts(model, [("mass", (0.0, 0.0, 0.0))], Terrain(), mu=0.5, plane="xz")
+
+
+def block_problem(model, N=20, T=0.4):
+    pr = trajopt.Problem(model, N, T, controls="held", u_bounds=(-40.0, 40.0), q_bounds=INF)
+    pr.initial_state([0.0, 0.0])
+    pr.add_cost(trajopt.ControlEffort(0.01))
+    return pr.add_cost(trajopt.TerminalCost([0.3, 0.0], [1e3, 0.0], velocity_weight=[10.0, 0.0]))
+
+
+def test_contact_shooting_derivatives_against_differences():
+    """Through contact the shooting problem's A, B (the contact step, its sliding state held) and
+    lx, lu equal central differences along x (q_x, p_x, u: no contact switch within them)."""
+    model, contacts = sliding_block()
+    pr = block_problem(model)
+    fddp = trajopt.FDDP(contacts=contacts)
+    tr = trajopt.VI(1).transcribe(pr)
+    integ = fddp.dynamics(pr, tr)
+    sp = fddp.shooting_problem(pr, tr, integ)
+    q, p, u = np.array([0.1, 0.0]), np.array([0.4, -2.0 * 9.81 * integ.dt / 2]), np.array([15.0])
+    _, _, info = integ.step(q, p, u)
+    assert info.impulses[0, 0] > 0 and info.impulses[0, -1] > 0  # loaded and sliding
+    d = sp.derivatives(3, info.control_points, u, info.impulses.ravel())
+
+    def step(x, uu):
+        qn, pn, _ = integ.step(x[:2], x[2:], uu)
+        return np.concatenate([qn, pn])
+
+    def cost(x, uu):
+        _, _, inf = integ.step(x[:2], x[2:], uu)
+        return sp.stage_cost(3, inf.control_points, uu)
+    x, h = np.concatenate([q, p]), 1e-6
+    for j in (0, 2):  # q_x and p_x
+        e = np.zeros(4)
+        e[j] = h
+        np.testing.assert_allclose(d["A"][:, j], (step(x + e, u) - step(x - e, u)) / (2 * h), rtol=0, atol=1e-7)
+        assert abs(d["lx"][j] - (cost(x + e, u) - cost(x - e, u)) / (2 * h)) <= 1e-6 * (1 + abs(d["lx"][j]))
+    du = np.array([h])
+    np.testing.assert_allclose(d["B"][:, 0], (step(x, u + du) - step(x, u - du)) / (2 * h), rtol=0, atol=1e-7)
+    assert abs(d["lu"][0] - (cost(x, u + du) - cost(x, u - du)) / (2 * h)) <= 1e-6 * (1 + abs(d["lu"][0]))
+
+
+@pytest.mark.parametrize("kappa,guess", [(0.0, 15.0), (1e-8, 0.0)])
+def test_fddp_through_contact_is_stationary_on_the_contact_simulator(kappa, guess):
+    """FDDP shooting with the contact simulator pushes the block to x = 0.3; its solution is a
+    trajectory of the simulator (replayed to 1e-12) and stationary: central differences of the total
+    cost of simulator rollouts with respect to each control vanish. With the contact state held
+    (kappa = 0) it starts from a push that slides (from rest see the next test); smoothed, from rest."""
+    model, contacts = sliding_block()
+    pr = block_problem(model)
+    fddp = trajopt.FDDP(contacts=contacts, smoothing=kappa, tol=1e-12)
+    r = fddp.solve(pr, trajopt.VI(1), guess=np.full(1, guess))
+    assert r.success, (r.status, r.iterations)
+    tr = trajopt.VI(1).transcribe(pr)
+    integ = fddp.dynamics(pr, tr)
+    sp = fddp.shooting_problem(pr, tr, integ)
+    us = r.solver["us"]
+
+    def total(U):
+        traj = integ.rollout([0.0, 0.0], pr.N, u=U)
+        return sum(sp.stage_cost(k, traj.control_points[k], U[k]) for k in range(pr.N)), traj
+    J, traj = total(us)
+    assert abs(J - r.cost) <= 1e-10 * r.cost
+    np.testing.assert_allclose(traj.q, r.solver["trajectory"].q, rtol=0, atol=1e-12)
+    assert abs(traj.q[-1, 0] - 0.3) < 0.01 and traj.contact.gaps.min() >= -1e-10
+    h = 1e-5
+    for k in range(pr.N):
+        e = np.zeros_like(us)
+        e[k, 0] = h
+        g = (total(us + e)[0] - total(us - e)[0]) / (2 * h)
+        assert abs(g) <= 1e-4 * (1 + r.cost), (k, g)
+
+
+def test_fddp_through_a_held_sticking_contact_sees_no_gradient():
+    """The limit of the held contact state: a block at rest under stiction has zero sensitivity to
+    small pushes in its Jacobians (the stick holds x), so FDDP from zero controls without smoothing
+    stops at once where it started, though pushing beyond friction lowers the cost; smoothing
+    (kappa > 0, the previous test) gives the gradient across the switch."""
+    model, contacts = sliding_block()
+    r = trajopt.FDDP(contacts=contacts).solve(block_problem(model), trajopt.VI(1))
+    assert r.iterations == 0 and np.all(r.solver["us"] == 0)
+    assert abs(r.solver["trajectory"].q[-1, 0]) == 0.0

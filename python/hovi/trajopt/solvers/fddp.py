@@ -126,7 +126,11 @@ class FDDP(Solver):
     (no gaps) and the projected control gradient sum_k |Q_u|^2 < tol.
 
     guess: None (zero controls), a Result (its controls), controls (N, m) or (m,), or functions
-    (q(t), v(t), u(t)) (u sampled at the middle of each step); FDDP starts from their rollout."""
+    (q(t), v(t), u(t)) (u sampled at the middle of each step); FDDP starts from their rollout.
+
+    Through contact with the contact state held (smoothing = 0) a sticking contact has no
+    sensitivity to pushes below its friction limit: from rest FDDP stops where it starts (its
+    stopping test holds there). Smooth (``smoothing`` > 0) or start from controls that make it move."""
 
     def __init__(self, max_iterations: int = 500, tol: float = 1e-9, threads: int = 1, *, contacts: Any = None,
                  smoothing: float = 0.0):
