@@ -315,3 +315,18 @@ def test_flat_foot_is_simulated_as_its_sole_corners():
     np.testing.assert_allclose(traj.contact.normal[-1].sum() / (model.total_mass * G * 0.005), 1.0, rtol=1e-9)
     with pytest.raises(TypeError, match="FlatFoot"):
         flat_feet_contacts(model, ["box"], Terrain())
+
+
+def test_step_takes_a_first_guess_of_the_impulses():
+    """Integrator.step(impulses=...): the step's own impulses as the first guess give the same step;
+    a guess of another shape, or one for an integrator without contacts, is refused by name."""
+    integ = integrator(block())
+    q, p = np.array([0.0, 0.0]), np.array([0.2, 0.0])
+    q1, p1, info = integ.step(q, p)
+    q2, p2, again = integ.step(q, p, impulses=info.impulses)
+    np.testing.assert_allclose(q2, q1, rtol=0, atol=1e-13)
+    np.testing.assert_allclose(again.impulses, info.impulses, rtol=0, atol=1e-13)
+    with pytest.raises(ValueError, match="impulses"):
+        integ.step(q, p, impulses=np.zeros(7))
+    with pytest.raises(ValueError, match="impulses are for an integrator with contacts"):
+        hovi.Integrator(hovi.examples.models.pendulum(1), s=1).step([0.0], [0.0], impulses=np.zeros(4))
