@@ -4,7 +4,7 @@
 #include "hovi/errors.hpp"
 #include "hovi/trajopt/hermite_simpson_transcription.hpp"
 #include "hovi/trajopt/variational_transcription.hpp"
-#include "py_model.hpp"
+#include "py_transcription.hpp"
 
 namespace hovi::py_bind {
 
@@ -15,20 +15,6 @@ ControlMode parse_controls(const std::string& c) {
   if (c == "held") return ControlMode::Held;
   throw InputError("controls must be 'per_point' or 'held', got '" + c + "'");
 }
-
-// A transcription with a watch on the model it copied.
-template <class T>
-struct PyTranscription {
-  template <class... Args>
-  PyTranscription(std::shared_ptr<const PyModel> m, Args&&... args)
-      : t(m->model, std::forward<Args>(args)...), watch(std::move(m), "trajopt transcription") {}
-  const T& get() const {
-    watch.check();
-    return t;
-  }
-  T t;
-  ModelWatch watch;
-};
 
 // The methods every transcription shares: sizes, sparsity, constraint values and Jacobian values.
 template <class T>
@@ -111,6 +97,7 @@ variables q, v (and a) at the 2N + 1 knots and midpoints, controls, multipliers 
       .def_property_readonly("n_control_values", [](const PH& p) { return p.t.n_control_values(); },
                              "Number of control samples (per point or per interval).");
   bind_common(hs);
+  bind_nlp_program(t);
 }
 
 }  // namespace hovi::py_bind

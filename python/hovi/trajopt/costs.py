@@ -17,10 +17,16 @@ CostValue = Tuple[float, np.ndarray, np.ndarray, np.ndarray]
 
 
 class Cost:
-    """Base class: ``__call__(samples) -> (value, dq (K, n), dv (K, n), du (K, m))``."""
+    """Base class: ``__call__(samples) -> (value, dq (K, n), dv (K, n), du (K, m))``. A term
+    quadratic in the samples with a diagonal Hessian also gives ``curvature(samples)``, its second
+    derivatives (hq (K, n), hv (K, n), hu (K, m)); the NLP then evaluates it in C++ without Python."""
 
     def __call__(self, s: Samples) -> CostValue:
         raise NotImplementedError
+
+    def curvature(self, s: Samples) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+        """The constant diagonal second derivatives (hq, hv, hu) of a quadratic term, or None."""
+        return None
 
 
 def _vector(value: npt.ArrayLike, name: str, size: int | None = None, *, nonnegative: bool = False) -> np.ndarray:
@@ -88,6 +94,11 @@ class ControlEffort(Cost):
         wu = s.w[:, None] * R * s.u
         return float(np.sum(wu * s.u)), np.zeros_like(s.q), np.zeros_like(s.v), 2 * wu
 
+    def curvature(self, s: Samples) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(0, 0, 2 w R): second derivatives in the samples' q (K, n), v (K, n), u (K, m)."""
+        hu = 2 * s.w[:, None] * _weights(self.weight, s.u.shape[1], "control effort")
+        return np.zeros_like(s.q), np.zeros_like(s.v), np.broadcast_to(hu, s.u.shape).copy()
+
 
 class StateTracking(Cost):
     """∫ sum_i Wq_i (q_i - q_ref,i(t))^2 + Wv_i (v_i - v_ref,i(t))^2 dt: posture regulation
@@ -137,6 +148,13 @@ class StateTracking(Cost):
         value = float(np.sum(Wq * eq * eq) + np.sum(Wv * ev * ev))
         return value, 2 * Wq * eq, 2 * Wv * ev, np.zeros_like(s.u)
 
+    def curvature(self, s: Samples) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(2 w Wq, 2 w Wv, 0): second derivatives in the samples' q (K, n), v (K, n), u (K, m)."""
+        n = s.q.shape[1]
+        return (np.broadcast_to(2 * s.w[:, None] * _weights(self.weight, n, "state tracking"), s.q.shape).copy(),
+                np.broadcast_to(2 * s.w[:, None] * _weights(self.velocity_weight, n, "velocity tracking"),
+                                s.v.shape).copy(), np.zeros_like(s.u))
+
 
 class TerminalCost(Cost):
     """Wq |q(T) - q_T|^2 + Wv |v(T) - v_T|^2: targets q_target, v_target (n,) (v_target default
@@ -159,6 +177,15 @@ class TerminalCost(Cost):
         dq, dv = np.zeros_like(s.q), np.zeros_like(s.v)
         dq[f], dv[f] = 2 * Wq * eq, 2 * Wv * ev
         return float(Wq @ (eq * eq) + Wv @ (ev * ev)), dq, dv, np.zeros_like(s.u)
+
+    def curvature(self, s: Samples) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """2 Wq, 2 Wv at the final sample, zero elsewhere: second derivatives in the samples' q (K, n),
+        v (K, n), u (K, m)."""
+        n, f = s.q.shape[1], s.final
+        hq, hv = np.zeros_like(s.q), np.zeros_like(s.v)
+        hq[f] = 2 * _weights(self.weight, n, "terminal")
+        hv[f] = 2 * _weights(self.velocity_weight, n, "terminal velocity")
+        return hq, hv, np.zeros_like(s.u)
 
 
 class CallbackCost(Cost):

@@ -111,9 +111,9 @@ class LagrangianHessian:
         count = np.zeros((nv, self.n_colours), np.int32)
         np.add.at(count, (P.row, self.colour[P.col]), 1)
         alone = count[self.rows, self.colour[self.cols]] == 1
-        self._read_row = np.where(alone, self.rows, self.cols)
-        self._read_col = np.where(alone, self.cols, self.rows)
-        self._read_colour = self.colour[self._read_col]
+        self.read_row = np.where(alone, self.rows, self.cols)   # entry e is component read_row[e] of the
+        self.read_col = np.where(alone, self.cols, self.rows)   # difference of read_col[e]'s colour
+        self._read_colour = self.colour[self.read_col]
 
     def probed_pattern(self, P: sp.csr_matrix, x: np.ndarray, rng: np.random.Generator) -> sp.csr_matrix:
         """The entries of the coupling pattern P (symmetric, with the diagonal) where the Hessian is
@@ -164,5 +164,5 @@ class LagrangianHessian:
             step = np.where(self.colour == c, h, 0.0)
             Hd = self.gradient(x + step, lam, sigma) - g0         # sum over colour c of H[:, j] h_j
             sel = self._read_colour == c
-            out[sel] = Hd[self._read_row[sel]] / h[self._read_col[sel]]  # the row meets one column of colour c
+            out[sel] = Hd[self.read_row[sel]] / h[self.read_col[sel]]  # the row meets one column of colour c
         return out

@@ -7,6 +7,7 @@ nothing of the solver. Times its C++ evaluations for the solver's report."""
 from __future__ import annotations
 
 import time
+import weakref
 
 import numpy as np
 import scipy.sparse as sp
@@ -107,6 +108,7 @@ class NLP:
         self.tq = tq
         self.offsets = offsets
         self.eval_seconds = 0.0  # time in the C++ transcription calls
+        self._program = None
         bad = np.nonzero(self.lower > self.upper)[0]
         if len(bad):
             raise ValueError(f"inconsistent bounds on {len(bad)} variables (e.g. a boundary state outside the "
@@ -228,3 +230,83 @@ class NLP:
         g = self.constraints(x)
         return float(max(np.max(np.maximum(self.cl - g, 0), initial=0), np.max(np.maximum(g - self.cu, 0), initial=0),
                          np.max(np.maximum(self.lower - x, 0), initial=0), np.max(np.maximum(x - self.upper, 0), initial=0)))
+
+    def program(self) -> _core.trajopt.Program:
+        """This NLP as a C++ program (``hovi._core.trajopt.Program``, built once): the costs that give
+        their ``curvature`` as weighted squares c + sum_i d_i (S x - r)_i^2 / 2, the transcription and
+        the linear rows in C++; the other costs, the path constraints and the contact rows through one
+        Python object, one call per evaluation. What hovi._ipopt solves."""
+        if self._program is None:
+            nv, s = self.n_variables, self.samples
+            zero = s.evaluate(np.zeros(nv))
+            c0, S, r, d, others = 0.0, [sp.csr_matrix((0, nv))], [np.zeros(0)], [np.zeros(0)], []
+            for i, cost in enumerate(self.problem.costs):
+                squares = self._squares(cost, i, zero)
+                if squares is None:
+                    others.append(i)
+                    continue
+                c0 += squares[0]
+                for part, where in zip((S, r, d), squares[1:]):
+                    part.append(where)
+            extra_rows = self.n_constraints - self.core.n_constraints - self.A.shape[0]
+            extra_nnz = self.nnz - self.core.nnz - self.A.nnz
+            self._program = _core.trajopt.Program(
+                self.core, c0, sp.vstack(S).tocsr(), np.concatenate(r), np.concatenate(d), self.A,
+                self.jac_rows.astype(np.int32), self.jac_cols.astype(np.int32),
+                _PythonTerms(self, others) if (others or extra_rows) else None, extra_rows, extra_nnz, bool(others))
+        return self._program
+
+    def _squares(self, cost, i: int, zero):
+        """A cost term with a ``curvature`` h as weighted squares of samples less references: (c, S, r,
+        d) with cost(x) = c + sum d (S x - r)^2 / 2 (r = -gradient / h at x = 0); None for a term
+        without a curvature, or with a linear part where h = 0 (not a sum of squares)."""
+        h = cost.curvature(zero)
+        if h is None:
+            return None
+        value, dq, dv, du = checked_cost(cost, zero, f"cost {i} ({type(cost).__name__})", finite=True)
+        S, r, d = [], [], []
+        for Sx, hx, gx in zip((self.samples.Sq, self.samples.Sv, self.samples.Su), h, (dq, dv, du)):
+            hx, gx = np.ravel(hx), np.ravel(gx)
+            if np.any((hx == 0) & (gx != 0)) or np.any(hx < 0):
+                return None
+            rows = np.nonzero(hx > 0)[0]
+            S.append(Sx[rows])
+            d.append(hx[rows])
+            r.append(-gx[rows] / hx[rows])
+        d, r = np.concatenate(d), np.concatenate(r)
+        return value - 0.5 * float(d @ (r * r)), sp.vstack(S), r, d
+
+
+class _PythonTerms:
+    """What the C++ program of an NLP leaves to Python: the costs without a ``curvature``
+    (``cost(x) -> (value, gradient)``), and the path-constraint and contact rows (``constraints(x)``,
+    ``jacobian(x)``), each one vectorised call. Holds its NLP weakly (the NLP holds the program)."""
+
+    def __init__(self, nlp: NLP, costs: list[int]):
+        self._nlp, self.costs = weakref.ref(nlp), costs
+
+    @property
+    def nlp(self) -> NLP:
+        nlp = self._nlp()
+        if nlp is None:
+            raise RuntimeError("the NLP of this program no longer exists")
+        return nlp
+
+    def cost(self, x: np.ndarray) -> tuple[float, np.ndarray]:
+        nlp = self.nlp
+        smp = nlp.samples.evaluate(x)
+        value, grad = 0.0, np.zeros(nlp.n_variables)
+        for i in self.costs:
+            c = nlp.problem.costs[i]
+            v, dq, dv, du = checked_cost(c, smp, f"cost {i} ({type(c).__name__})")
+            value += v
+            grad += nlp.samples.pullback(dq, dv, du)
+        return value, grad
+
+    def constraints(self, x: np.ndarray) -> np.ndarray:
+        nlp = self.nlp
+        return np.concatenate([np.zeros(0), *nlp._path(x, False), *nlp._contacts(x, False)])
+
+    def jacobian(self, x: np.ndarray) -> np.ndarray:
+        nlp = self.nlp
+        return np.concatenate([np.zeros(0), *nlp._path(x, True), *nlp._contacts(x, True)])

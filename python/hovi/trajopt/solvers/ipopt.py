@@ -40,6 +40,41 @@ DEFAULT_OPTIONS = {
 
 HESSIANS = ("lbfgs", "fd")
 
+# IPOPT's return codes (ApplicationReturnStatus) and their messages, as IPOPT's C interface words them.
+STATUS_MESSAGES = {
+    0: "Algorithm terminated successfully at a locally optimal point, satisfying the convergence tolerances "
+       "(can be specified by options).",
+    1: "Algorithm stopped at a point that was converged, not to \"desired\" tolerances, but to \"acceptable\" "
+       "tolerances (see the acceptable-... options).",
+    2: "Algorithm converged to a point of local infeasibility. Problem may be infeasible.",
+    3: "Algorithm proceeds with very little progress.",
+    4: "It seems that the iterates diverge.",
+    5: "The user call-back function intermediate_callback (see Section 3.3.1 in the documentation) returned false, "
+       "i.e., the user code requested a premature termination of the optimization.",
+    6: "Feasible point for square problem found.",
+    -1: "Maximum number of iterations exceeded (can be specified by an option).",
+    -2: "Restoration phase failed, algorithm doesn't know how to continue.",
+    -3: "An unrecoverable error occurred while Ipopt tried to compute the search direction.",
+    -4: "Maximum CPU time exceeded.",
+    -10: "Problem has too few degrees of freedom.",
+    -11: "Problem has inconsistent variable bounds or constraint sides.",
+    -12: "Invalid option encountered.",
+    -13: "Invalid number in NLP function or derivative detected.",
+    -100: "Unrecoverable exception occurred.",
+    -101: "Unknown exception caught in Ipopt.",
+    -102: "Not enough memory.",
+    -199: "INTERNAL ERROR: Unknown SolverReturn value - Notify IPOPT Authors.",
+}
+
+
+def _cpp_ipopt():
+    """hovi._ipopt (IPOPT's C++ interface on the NLP program), or None where hovi was built without IPOPT."""
+    try:
+        from ... import _ipopt
+    except ImportError:
+        return None
+    return _ipopt
+
 # Called after every IPOPT iteration of every solve in this process (on_iteration).
 _ITERATION_HOOKS: list[Callable[[int, float, float, float], None]] = []
 _SOLVING = [0]  # IPOPT solves running in this process (solving())
@@ -270,6 +305,10 @@ class Ipopt(NLPSolver):
         if options is not None and not isinstance(options, dict):
             raise TypeError(f"options must be a dict of IPOPT options, got {type(options).__name__}")
         self.options, self.verbose, self.hessian = dict(options or {}), bool(verbose), hessian
+        cpp = _cpp_ipopt()
+        if cpp is not None:
+            apply_options(cpp.Ipopt(), self.ipopt_options())
+            return
         try:
             import cyipopt
         except ImportError:  # pragma: no cover - checked when solving
@@ -294,7 +333,11 @@ class Ipopt(NLPSolver):
     def solve_nlp(self, nlp: NLP, guess: Guess = None) -> Result:
         """Solve ``nlp`` with IPOPT from ``guess`` (``Transcription.initial_guess``: None or
         'rollout', 'linear', a Result, or functions (q(t), v(t), u(t)) of times t (K,) returning
-        (K, n), (K, n), (K, m))."""
+        (K, n), (K, n), (K, m)): through IPOPT's C++ interface (hovi._ipopt, ``nlp.program()``)
+        where hovi was built with IPOPT, else through cyipopt."""
+        cpp = _cpp_ipopt()
+        if cpp is not None:
+            return self._solve_in_cpp(cpp, nlp, guess)
         try:
             import cyipopt
         except ImportError as e:  # pragma: no cover - depends on the installation
@@ -336,6 +379,63 @@ class Ipopt(NLPSolver):
             print(f"{tr.name}: {status} after {cb.iterations} iterations, {wall:.3f} s; cost {result.cost:.8g}, "
                   f"constraint violation {result.constraint_violation:.2e}")
         return result
+
+
+    def _solve_in_cpp(self, cpp: Any, nlp: NLP, guess: Guess) -> Result:
+        """solve_nlp through hovi._ipopt: every callback in C++ (Python only for the NLP's terms
+        written in Python, and after an iteration when verbose or an ``on_iteration`` hook asks)."""
+        t_setup = time.perf_counter()
+        tr = nlp.transcription
+        x0 = np.clip(tr.initial_guess(guess), nlp.lower, nlp.upper)
+        nlp.check_start(x0)
+        program = nlp.program()
+        if self.hessian == "fd" and not program.has_hessian:
+            H = LagrangianHessian(nlp, x0)
+            program.set_colouring(H.colour.astype(np.int32), H.rows.astype(np.int32), H.cols.astype(np.int32),
+                                  H.read_row.astype(np.int32), H.read_col.astype(np.int32))
+        run = cpp.Ipopt()
+        apply_options(run, self.ipopt_options())
+        progress = _Progress(self.verbose) if self.verbose or _ITERATION_HOOKS else None
+        setup = time.perf_counter() - t_setup
+        _SOLVING[0] += 1
+        try:
+            out = run.solve(program, x0, nlp.lower, nlp.upper, nlp.cl, nlp.cu, exact_hessian=self.hessian == "fd",
+                            callback=progress)
+        finally:
+            _SOLVING[0] -= 1
+        x, wall, status = out["x"], out["seconds"], int(out["status"])
+        message = STATUS_MESSAGES.get(status, f"IPOPT returned status {status}")
+        result = Result(status=message, success=status in (0, 1), cost=float(out["cost"]),
+                        constraint_violation=nlp.violation(x), iterations=int(out["iterations"]), wall_seconds=wall,
+                        trajectory=tr.trajectory(x), x=x,
+                        timing={"setup": setup, "evaluations": out["transcription_seconds"],
+                                "callbacks": out["callback_seconds"], "python": out["extra_seconds"],
+                                "hessian": out["hessian_seconds"], "ipopt": wall - out["callback_seconds"],
+                                "per_iteration": wall / max(int(out["iterations"]), 1)},
+                        sizes={"variables": nlp.n_variables, "constraints": nlp.n_constraints, "nonzeros": nlp.nnz,
+                               "dynamics_constraints": tr.core.n_constraints},
+                        transcription=tr,
+                        solver={"lambda": out["lambda"], "z_lower": out["z_lower"], "z_upper": out["z_upper"]})
+        if self.verbose:
+            print(f"{tr.name}: {message} after {result.iterations} iterations, {wall:.3f} s; cost {result.cost:.8g}, "
+                  f"constraint violation {result.constraint_violation:.2e}")
+        return result
+
+
+class _Progress:
+    """After each iteration of a C++ solve: the ``on_iteration`` hooks and, verbose, a line of progress."""
+
+    def __init__(self, verbose: bool):
+        self.verbose = verbose
+
+    def __call__(self, iteration: int, cost: float, inf_pr: float, inf_du: float, mu: float) -> bool:
+        for hook in tuple(_ITERATION_HOOKS):
+            hook(iteration, cost, inf_pr, inf_du)
+        if self.verbose:
+            if iteration % 20 == 0:
+                print(f"{'iter':>5} {'cost':>14} {'primal inf':>11} {'dual inf':>10} {'log mu':>7}", flush=True)
+            print(f"{iteration:5d} {cost:14.7e} {inf_pr:11.3e} {inf_du:10.3e} {np.log10(mu):7.2f}", flush=True)
+        return True
 
 
 def solve(problem: Problem, transcription: TranscriptionMethod = DEFAULT_TRANSCRIPTION, *, s: int | None = None,

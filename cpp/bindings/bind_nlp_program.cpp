@@ -1,0 +1,140 @@
+// Binding of the NLP program (hovi._core.trajopt.Program): python/hovi/trajopt/nlp.py builds it
+// once per NLP; a solver (hovi._ipopt) then evaluates it without Python, except for the terms
+// written in Python (the `extra` object), one call per evaluation.
+#include <Eigen/SparseCore>
+#include <pybind11/eigen.h>
+
+#include "hovi/errors.hpp"
+#include "hovi/trajopt/hermite_simpson_transcription.hpp"
+#include "hovi/trajopt/variational_transcription.hpp"
+#include "py_program.hpp"
+#include "py_transcription.hpp"
+
+namespace hovi::py_bind {
+
+namespace {
+
+const Transcription& transcription_of(const py::object& obj) {
+  if (py::isinstance<PyTranscription<VariationalTranscription>>(obj))
+    return obj.cast<const PyTranscription<VariationalTranscription>&>().get();
+  if (py::isinstance<PyTranscription<HermiteSimpsonTranscription>>(obj))
+    return obj.cast<const PyTranscription<HermiteSimpsonTranscription>&>().get();
+  throw InputError("transcription must be a hovi._core.trajopt.VariationalTranscription or "
+                   "HermiteSimpsonTranscription");
+}
+
+// Copies a Python result into out (the expected length), naming the hook on a mismatch.
+void copy_into(const py::handle& result, Eigen::Ref<VecX> out, const char* what) {
+  const RealArray a = real_array(result, what);
+  if (a.ndim() != 1 || a.shape(0) != out.size())
+    throw InputError(std::string(what) + " must have shape (" + std::to_string(out.size()) + ",)");
+  out = Eigen::Map<const VecX>(a.data(), out.size());
+}
+
+py::array_t<double> view(const VecX& x) { return py::array_t<double>(x.size(), x.data()); }
+
+// The extra terms as C++ hooks that take the GIL and call the Python object.
+ExtraTerms extra_hooks(const py::object& extra, int rows, int nnz, bool cost) {
+  ExtraTerms e;
+  if (extra.is_none()) {
+    if (rows != 0 || nnz != 0 || cost) throw InputError("extra rows or costs need an extra object");
+    return e;
+  }
+  e.rows = rows;
+  e.nnz = nnz;
+  const PyObject* raw = extra.ptr();   // kept alive by PyProgram::extra
+  const auto obj = [raw] { return py::reinterpret_borrow<py::object>(const_cast<PyObject*>(raw)); };
+  if (cost)
+    e.cost = [obj](const VecX& x, Eigen::Ref<VecX> grad) {
+      py::gil_scoped_acquire gil;
+      py::tuple r = obj().attr("cost")(view(x));
+      VecX g(grad.size());
+      copy_into(r[1], g, "the extra cost's gradient");
+      grad += g;
+      return r[0].cast<double>();
+    };
+  if (rows > 0) {
+    e.constraints = [obj](const VecX& x, Eigen::Ref<VecX> g) {
+      py::gil_scoped_acquire gil;
+      copy_into(obj().attr("constraints")(view(x)), g, "the extra constraints");
+    };
+    e.jacobian = [obj](const VecX& x, Eigen::Ref<VecX> v) {
+      py::gil_scoped_acquire gil;
+      copy_into(obj().attr("jacobian")(view(x)), v, "the extra Jacobian values");
+    };
+  }
+  return e;
+}
+
+const NlpProgram& program_of(const PyProgram& p) { return *p.program; }
+
+VecX vector_of(const PyProgram& p, const ArrayLike& x) { return as_vector(x, "x", p.program->n_variables()); }
+
+}  // namespace
+
+void bind_nlp_program(py::module_& t) {
+  py::class_<PyProgram>(t, "Program", R"doc(
+The NLP of a transcribed problem evaluated in C++ (nlp_program.hpp), as hovi.trajopt.NLP lays it
+out: the quadratic costs c + sum_i d_i (S x - r)_i^2 / 2, rows [transcription | extra | A x], the Jacobian
+in `jac_rows`, `jac_cols` order, and the Lagrangian's Hessian by coloured differences once
+`set_colouring` gave the colours. `extra` (None, or an object with cost(x) -> (value, gradient),
+constraints(x) -> (extra_rows,) and jacobian(x) -> (extra_nnz,)) evaluates the terms written in
+Python, one call per evaluation.
+)doc")
+      .def(py::init([](py::object transcription, double c, const SparseRowMatrix& S, const ArrayLike& r,
+                       const ArrayLike& d, const SparseRowMatrix& A, const Eigen::VectorXi& jac_rows, const Eigen::VectorXi& jac_cols,
+                       py::object extra, int extra_rows, int extra_nnz, bool extra_cost) {
+             const Transcription& tr = transcription_of(transcription);
+             auto p = std::make_unique<PyProgram>();
+             p->transcription = transcription;
+             p->extra = extra;
+             p->program = std::make_unique<NlpProgram>(tr, c, S, as_vector(r, "r", S.rows()), as_vector(d, "d", S.rows()), A,
+                                                       extra_hooks(p->extra, extra_rows, extra_nnz, extra_cost),
+                                                       jac_rows, jac_cols);
+             return p;
+           }),
+           py::arg("transcription"), py::arg("c"), py::arg("S"), py::arg("r"), py::arg("d"), py::arg("A"), py::arg("jac_rows"),
+           py::arg("jac_cols"), py::arg("extra") = py::none(), py::arg("extra_rows") = 0, py::arg("extra_nnz") = 0,
+           py::arg("extra_cost") = false,
+           "transcription: the C++ transcription; c, S (k, n) scipy CSR, r (k,), d (k,): the quadratic costs; A (a, n) "
+           "CSR: the linear rows; jac_rows, jac_cols (nnz,): the whole Jacobian's structure; the extra terms (see the class).")
+      .def_property_readonly("n_variables", [](const PyProgram& p) { return p.program->n_variables(); }, "Length of x.")
+      .def_property_readonly("n_constraints", [](const PyProgram& p) { return p.program->n_constraints(); }, "Length of g(x).")
+      .def_property_readonly("nnz", [](const PyProgram& p) { return p.program->nnz(); }, "Jacobian nonzeros.")
+      .def("objective", [](const PyProgram& p, const ArrayLike& x) { return program_of(p).objective(vector_of(p, x)); },
+           py::arg("x"), "x: (n_variables,); the total cost.")
+      .def("gradient", [](const PyProgram& p, const ArrayLike& x) {
+             VecX g(p.program->n_variables());
+             program_of(p).gradient(vector_of(p, x), g);
+             return g;
+           }, py::arg("x"), "x: (n_variables,); the cost's gradient (n_variables,).")
+      .def("constraints", [](const PyProgram& p, const ArrayLike& x) {
+             VecX g(p.program->n_constraints());
+             program_of(p).constraints(vector_of(p, x), g);
+             return g;
+           }, py::arg("x"), "x: (n_variables,); g(x) (n_constraints,).")
+      .def("jacobian", [](const PyProgram& p, const ArrayLike& x) {
+             VecX v(p.program->nnz());
+             program_of(p).jacobian(vector_of(p, x), v);
+             return v;
+           }, py::arg("x"), "x: (n_variables,); the Jacobian's values (nnz,) in (jac_rows, jac_cols) order.")
+      .def("set_colouring", [](PyProgram& p, const Eigen::VectorXi& colour, const Eigen::VectorXi& rows,
+                               const Eigen::VectorXi& cols, const Eigen::VectorXi& read_row,
+                               const Eigen::VectorXi& read_col) {
+             p.hessian = std::make_unique<LagrangianHessian>(*p.program, HessianColouring{colour, rows, cols, read_row, read_col});
+           }, py::arg("colour"), py::arg("rows"), py::arg("cols"), py::arg("read_row"), py::arg("read_col"),
+           "colour (n_variables,); the lower triangle's entries rows >= cols (E,) and where each is read: component "
+           "read_row of the difference of read_col's colour (hovi.trajopt.hessian.LagrangianHessian).")
+      .def_property_readonly("has_hessian", [](const PyProgram& p) { return bool(p.hessian); },
+                             "Whether set_colouring gave the Hessian its colours.")
+      .def("hessian", [](const PyProgram& p, const ArrayLike& x, const ArrayLike& lam, double sigma) {
+             if (!p.hessian) throw InputError("the program has no Hessian: call set_colouring first");
+             VecX v(p.hessian->nnz());
+             p.hessian->values(vector_of(p, x), as_vector(lam, "lam", p.program->n_constraints()), sigma, v);
+             return v;
+           }, py::arg("x"), py::arg("lam"), py::arg("sigma"),
+           "x (n_variables,), lam (n_constraints,), sigma: the lower triangle of the Lagrangian's Hessian (E,) at the "
+           "colouring's entries.");
+}
+
+}  // namespace hovi::py_bind

@@ -1,0 +1,35 @@
+// The lower triangle of the Hessian of the Lagrangian sigma f + lambda^T g of an NlpProgram, by
+// forward differences of its gradient along coloured directions (one difference per colour of a
+// star colouring of the Hessian's pattern; python/hovi/trajopt/hessian.py chooses the pattern and
+// the colours and documents the method). The quadratic costs' part is exact: sigma H.
+#pragma once
+#include "hovi/trajopt/nlp_program.hpp"
+
+namespace hovi {
+
+struct HessianColouring {
+  Eigen::VectorXi colour;              // (n,) colour of each variable, 0 .. n_colours - 1
+  Eigen::VectorXi rows, cols;          // the lower triangle's entries (rows >= cols)
+  Eigen::VectorXi read_row, read_col;  // entry e = difference of read_col's colour, component read_row, / h[read_col]
+};
+
+class LagrangianHessian {
+ public:
+  // Throws InputError for colours or entries out of range or of different lengths.
+  LagrangianHessian(const NlpProgram& program, HessianColouring colouring);
+  int nnz() const { return static_cast<int>(c_.rows.size()); }
+  int n_colours() const { return n_colours_; }
+  const HessianColouring& colouring() const { return c_; }
+  // values (nnz,) at (x, lambda, sigma).
+  void values(const VecX& x, const VecX& lambda, double sigma, Eigen::Ref<VecX> values) const;
+
+ private:
+  const NlpProgram& p_;
+  HessianColouring c_;
+  int n_colours_;
+  VecX cost_values_;                    // H at (rows, cols)
+  std::vector<std::vector<int>> by_colour_;   // variables of each colour
+  std::vector<std::vector<int>> entries_;     // entries read from each colour's difference
+};
+
+}  // namespace hovi

@@ -1,0 +1,115 @@
+// hovi._ipopt: IPOPT's C++ interface on a hovi._core.trajopt.Program (ipopt_adapter.hpp), built when
+// CMake finds IPOPT. The solve runs with the GIL released; Python is called only by the program's
+// extra terms and, after each iteration, by `callback` when one is given.
+#include "../bindings/py_program.hpp"
+#include "hovi/errors.hpp"
+#include "ipopt_adapter.hpp"
+
+namespace hovi::py_bind {
+
+namespace {
+
+IpoptOption option_of(const std::string& name, const py::handle& value) {
+  IpoptOption o{name, IpoptOption::Text, "", 0, 0.0};
+  if (py::isinstance<py::str>(value)) {
+    o.text = value.cast<std::string>();
+  } else if (py::isinstance<py::bool_>(value)) {
+    throw py::type_error("IPOPT option '" + name + "': a boolean is not an IPOPT value");
+  } else if (py::isinstance<py::int_>(value)) {
+    o.kind = IpoptOption::Integer;
+    o.integer = value.cast<int>();
+  } else if (py::isinstance<py::float_>(value)) {
+    o.kind = IpoptOption::Number;
+    o.number = value.cast<double>();
+  } else {
+    throw py::type_error("IPOPT option '" + name + "': the value must be a str, int or float");
+  }
+  return o;
+}
+
+// Bounds: n real numbers, infinite ones allowed (no bound), NaN refused.
+VecX bounds_vector(const py::handle& obj, const char* name, long n) {
+  const RealArray a = real_array(obj, name);
+  if (a.ndim() != 1 || a.shape(0) != n)
+    throw InputError(std::string(name) + " must have shape (" + std::to_string(n) + ",)");
+  VecX v = Eigen::Map<const VecX>(a.data(), n);
+  if (v.hasNaN()) throw InputError(std::string(name) + " contains NaN");
+  return v;
+}
+
+VecX optional_vector(const py::handle& obj, const char* name, long n) {
+  return obj.is_none() ? VecX() : as_vector(obj, name, n);
+}
+
+// The options of one IPOPT run: add_option checks each against IPOPT as it is added.
+struct PyIpoptRun {
+  std::vector<IpoptOption> options;
+};
+
+}  // namespace
+
+void bind_ipopt(py::module_& m) {
+  py::class_<PyIpoptRun>(m, "Ipopt", "IPOPT's options for solve(): add_option checks each with IPOPT.")
+      .def(py::init<>())
+      .def("add_option", [](PyIpoptRun& r, const std::string& name, const py::object& value) {
+             IpoptOption o = option_of(name, value);
+             if (!ipopt_accepts(o)) throw InputError("IPOPT refused the option '" + name + "'");
+             r.options.push_back(std::move(o));
+           }, py::arg("name"), py::arg("value"),
+           "name: an IPOPT option; value: str, int or float (ValueError if IPOPT refuses the name or the value, "
+           "TypeError for another type).")
+      .def("solve", [](const PyIpoptRun& r, const PyProgram& p, const ArrayLike& x0, const ArrayLike& lower,
+                       const ArrayLike& upper, const ArrayLike& cl, const ArrayLike& cu, bool exact_hessian,
+                       py::object callback, py::object lambda0, py::object z_lower0, py::object z_upper0) {
+             const NlpProgram& prog = *p.program;
+             const long n = prog.n_variables(), mc = prog.n_constraints();
+             if (exact_hessian && !p.hessian) throw InputError("exact_hessian needs Program.set_colouring first");
+             IpoptProblemData d{bounds_vector(lower, "lower", n), bounds_vector(upper, "upper", n),
+                                bounds_vector(cl, "cl", mc), bounds_vector(cu, "cu", mc), as_vector(x0, "x0", n),
+                                optional_vector(lambda0, "lambda0", mc), optional_vector(z_lower0, "z_lower0", n),
+                                optional_vector(z_upper0, "z_upper0", n)};
+             // after each iteration: a pending signal (Ctrl-C) raised, then the callback if any
+             IterationCallback cb = [callback](int it, double f, double pr, double du, double mu) {
+               py::gil_scoped_acquire gil;
+               if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+               return callback.is_none() || py::bool_(callback(it, f, pr, du, mu)).cast<bool>();
+             };
+             std::vector<IpoptOption> options = r.options;
+             options.push_back({"hessian_approximation", IpoptOption::Text, exact_hessian ? "exact" : "limited-memory"});
+             IpoptOutcome out;
+             {
+               py::gil_scoped_release release;
+               out = solve_with_ipopt(prog, exact_hessian ? p.hessian.get() : nullptr, d, options, std::move(cb));
+             }
+             StrDict res;
+             res["status"] = out.status;
+             res["iterations"] = out.iterations;
+             res["cost"] = out.cost;
+             res["x"] = out.x;
+             res["lambda"] = out.lambda;
+             res["z_lower"] = out.z_lower;
+             res["z_upper"] = out.z_upper;
+             res["seconds"] = out.seconds;
+             res["callback_seconds"] = out.callback_seconds;
+             res["hessian_seconds"] = out.hessian_seconds;
+             res["hessian_evaluations"] = out.hessian_evaluations;
+             res["transcription_seconds"] = prog.transcription_seconds();
+             res["extra_seconds"] = prog.extra_seconds();
+             return res;
+           }, py::arg("program"), py::arg("x0"), py::arg("lower"), py::arg("upper"), py::arg("cl"), py::arg("cu"),
+           py::arg("exact_hessian") = false, py::arg("callback") = py::none(), py::arg("lambda0") = py::none(),
+           py::arg("z_lower0") = py::none(), py::arg("z_upper0") = py::none(),
+           "Solve `program` from x0 (n,) within lower <= x <= upper, cl <= g(x) <= cu, with the program's coloured "
+           "Hessian (exact_hessian) or IPOPT's limited-memory one; callback(iteration, cost, inf_pr, inf_du, mu) -> "
+           "bool after each iteration (False stops); lambda0 (m,), z_lower0, z_upper0 (n,): a warm start of the "
+           "multipliers (with the option warm_start_init_point 'yes'). Returns a dict: status (IPOPT's return "
+           "code), iterations, cost, x, lambda, z_lower, z_upper and the timings in seconds.");
+}
+
+}  // namespace hovi::py_bind
+
+PYBIND11_MODULE(_ipopt, m) {
+  m.doc() = "IPOPT's C++ interface on hovi._core.trajopt.Program";
+  pybind11::module_::import("hovi._core");  // Program and the exceptions' translators
+  hovi::py_bind::bind_ipopt(m);
+}

@@ -1,0 +1,112 @@
+#include "hovi/trajopt/nlp_program.hpp"
+
+#include <chrono>
+#include <string>
+
+#include "hovi/errors.hpp"
+
+namespace hovi {
+
+namespace {
+double since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+}  // namespace
+
+NlpProgram::NlpProgram(const Transcription& transcription, double c, SparseRowMatrix S, VecX r, VecX d,
+                       SparseRowMatrix A, ExtraTerms extra, Eigen::VectorXi jac_rows, Eigen::VectorXi jac_cols)
+    : tr_(transcription), c_(c), S_(std::move(S)), r_(std::move(r)), d_(std::move(d)), A_(std::move(A)),
+      extra_(std::move(extra)), jac_rows_(std::move(jac_rows)), jac_cols_(std::move(jac_cols)) {
+  n_ = tr_.n_variables();
+  core_rows_ = tr_.n_constraints();
+  core_nnz_ = tr_.structure().nnz();
+  m_ = core_rows_ + extra_.rows + static_cast<int>(A_.rows());
+  const auto size = [](const std::string& what, long got, long want) {
+    if (got != want) throw InputError(what + " has " + std::to_string(got) + " entries, expected " + std::to_string(want));
+  };
+  size("the squares' columns", S_.cols(), n_);
+  size("r", r_.size(), S_.rows());
+  size("d", d_.size(), S_.rows());
+  if (d_.size() > 0 && !(d_.minCoeff() >= 0.0)) throw InputError("the squares' weights d must be >= 0");
+  size("the linear rows' columns", A_.cols(), n_);
+  size("jac_rows", jac_rows_.size(), core_nnz_ + extra_.nnz + A_.nonZeros());
+  size("jac_cols", jac_cols_.size(), jac_rows_.size());
+  if (extra_.rows > 0 && !(extra_.constraints && extra_.jacobian))
+    throw InputError("extra constraint rows need both a constraints and a jacobian function");
+  for (int k = 0; k < jac_rows_.size(); ++k)
+    if (jac_rows_[k] < 0 || jac_rows_[k] >= m_ || jac_cols_[k] < 0 || jac_cols_[k] >= n_)
+      throw InputError("Jacobian entry " + std::to_string(k) + " out of range");
+  A_.makeCompressed();
+  H_ = SparseRowMatrix(S_.transpose() * d_.asDiagonal() * S_);
+  jac_buffer_.resize(nnz());
+}
+
+double NlpProgram::objective(const VecX& x) const {
+  const VecX e = S_ * x - r_;
+  double f = c_ + 0.5 * e.dot(d_.cwiseProduct(e));
+  if (extra_.cost) {
+    const auto t0 = std::chrono::steady_clock::now();
+    VecX unused = VecX::Zero(n_);
+    f += extra_.cost(x, unused);
+    t_extra_ += since(t0);
+  }
+  return f;
+}
+
+void NlpProgram::gradient(const VecX& x, Eigen::Ref<VecX> grad) const {
+  grad = S_.transpose() * d_.cwiseProduct(S_ * x - r_);
+  if (extra_.cost) {
+    const auto t0 = std::chrono::steady_clock::now();
+    extra_.cost(x, grad);
+    t_extra_ += since(t0);
+  }
+}
+
+void NlpProgram::constraints(const VecX& x, Eigen::Ref<VecX> g) const {
+  auto t0 = std::chrono::steady_clock::now();
+  tr_.constraints(x, g.head(core_rows_));
+  t_core_ += since(t0);
+  if (extra_.rows > 0) {
+    t0 = std::chrono::steady_clock::now();
+    extra_.constraints(x, g.segment(core_rows_, extra_.rows));
+    t_extra_ += since(t0);
+  }
+  g.tail(A_.rows()) = A_ * x;
+}
+
+void NlpProgram::jacobian(const VecX& x, Eigen::Ref<VecX> values) const {
+  auto t0 = std::chrono::steady_clock::now();
+  tr_.jacobian(x, values.head(core_nnz_));
+  t_core_ += since(t0);
+  if (extra_.rows > 0) {
+    t0 = std::chrono::steady_clock::now();
+    extra_.jacobian(x, values.segment(core_nnz_, extra_.nnz));
+    t_extra_ += since(t0);
+  }
+  // A's values in its coordinate order (row-major, as python/hovi/trajopt/nlp.py lists them)
+  values.tail(A_.nonZeros()) = Eigen::Map<const VecX>(A_.valuePtr(), A_.nonZeros());
+}
+
+void NlpProgram::curved_gradient(const VecX& x, const VecX& lambda, double sigma, Eigen::Ref<VecX> out) const {
+  out.setZero();
+  if (extra_.cost) {
+    VecX g = VecX::Zero(n_);
+    const auto t0 = std::chrono::steady_clock::now();
+    extra_.cost(x, g);
+    t_extra_ += since(t0);
+    out = sigma * g;
+  }
+  auto t0 = std::chrono::steady_clock::now();
+  tr_.jacobian(x, jac_buffer_.head(core_nnz_));
+  t_core_ += since(t0);
+  int end = core_nnz_;
+  if (extra_.rows > 0) {
+    t0 = std::chrono::steady_clock::now();
+    extra_.jacobian(x, jac_buffer_.segment(core_nnz_, extra_.nnz));
+    t_extra_ += since(t0);
+    end += extra_.nnz;
+  }
+  for (int k = 0; k < end; ++k) out[jac_cols_[k]] += jac_buffer_[k] * lambda[jac_rows_[k]];
+}
+
+}  // namespace hovi
