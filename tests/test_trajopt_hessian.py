@@ -75,8 +75,8 @@ def test_star_colouring_reads_every_entry_from_one_side_with_fewer_colours():
 @pytest.mark.parametrize("make", [pendulum_swingup, slider_crank_to_target])
 def test_newton_steps_with_the_coloured_hessian_reach_the_lbfgs_optimum_in_fewer_iterations(make):
     pytest.importorskip("cyipopt")
-    lbfgs = trajopt.solve(make(), trajopt.VI(s=2), verbose=False)
-    exact = trajopt.solve(make(), trajopt.VI(s=2), verbose=False, hessian="fd")
+    lbfgs = trajopt.solve(make(), trajopt.VI(s=2), verbose=False, hessian="lbfgs", continuation=False)
+    exact = trajopt.solve(make(), trajopt.VI(s=2), verbose=False, hessian="fd", continuation=False)
     assert lbfgs.success and exact.success
     assert exact.cost == pytest.approx(lbfgs.cost, rel=1e-6)
     np.testing.assert_allclose(exact.trajectory["q"], lbfgs.trajectory["q"], atol=1e-5)
@@ -91,3 +91,7 @@ def test_hessian_choice_is_checked():
     prob.add_cost(trajopt.CallbackCost(lambda t, w, q, v, u: (0.0, 0 * q, 0 * v, 0 * u)))
     with pytest.raises(ValueError, match="CallbackCost"):
         trajopt.solve(prob, verbose=False, hessian="fd")
+    # the default, 'auto', takes the limited-memory Hessian for a CallbackCost, the coloured one otherwise
+    assert trajopt.Ipopt().hessian_for(trajopt.NLP(prob)) == "lbfgs"
+    assert trajopt.Ipopt().hessian_for(trajopt.NLP(pendulum_swingup(N=4))) == "fd"
+    assert trajopt.solve(prob, trajopt.VI(s=2), verbose=False).success

@@ -265,3 +265,41 @@ def test_deprecated_string_spellings_warn_and_give_the_same_result():
     with pytest.warns(DeprecationWarning, match="hovi.trajopt.solve"):
         from hovi.trajopt import ipopt
         assert ipopt.solve is trajopt.solve
+
+
+def acrobot_from_a_straight_line():
+    prob = trajopt.Problem(hovi.examples.models.acrobot(), 100, 5.0, u_bounds=(-10, 10))
+    return prob.initial_state([0.0, 0.0]).final_state([np.pi, 0.0], qdot=[0.0, 0.0]).add_cost(trajopt.ControlEffort())
+
+
+def test_order_continuation_starts_from_the_first_order_solution():
+    """VI(s=3) on the acrobot from a straight line: directly, IPOPT with the coloured Hessian ends
+    at local infeasibility; solving VI(s=1) first and starting from its interpolants converges in a
+    few iterations, to the solution VI(s=3) reaches from those interpolants by hand."""
+    prob = acrobot_from_a_straight_line()
+    direct = trajopt.solve(prob, trajopt.VI(s=3), guess="linear", verbose=False, continuation=False)
+    first = trajopt.solve(prob, trajopt.VI(s=1), guess="linear", verbose=False)
+    by_hand = trajopt.solve(prob, trajopt.VI(s=3), guess=first.as_guess(), verbose=False)
+    r = trajopt.solve(prob, trajopt.VI(s=3), guess="linear", verbose=False)
+    assert not direct.success
+    assert r.success and r.constraint_violation < 1e-9 and r.solver["continuation"]["used"]
+    assert r.solver["continuation"]["iterations"] == first.iterations and "continuation" not in first.solver
+    assert r.cost == pytest.approx(by_hand.cost, rel=1e-9) and r.iterations == by_hand.iterations
+    assert r.timing["continuation"] > 0
+
+
+def test_continuation_falls_back_to_the_guess_when_the_continued_solve_fails():
+    """With the tip's path constraints the pendulum's VI(s=2) fails from the VI(s=1) solution
+    (restoration fails at once); the solve then starts from the guess, as without continuation."""
+    prob = examples.pendulum_swingup(N=20)
+    tip = [0, 0, -0.5]
+    target = hovi._core.body_point_kinematics(prob.model, [[-1.0]], [0], [tip])[0][0, 0]
+    prob.add_constraint(trajopt.BodyPoint(0, tip, target=target, at=1.0))
+    prob.add_constraint(trajopt.BodyPoint(0, tip, axes="z", lower=-0.45, window=(1.5, 2.0)))
+    r = trajopt.solve(prob, trajopt.VI(s=2), verbose=False)
+    plain = trajopt.solve(prob, trajopt.VI(s=2), verbose=False, continuation=False)
+    assert r.success and not r.solver["continuation"]["used"] and r.solver["continuation"]["success"]
+    assert r.cost == pytest.approx(plain.cost, rel=1e-12) and r.iterations == plain.iterations
+    with pytest.raises(TypeError, match="continuation"):
+        trajopt.solve(prob, verbose=False, continuation="yes")
+

@@ -5,6 +5,7 @@
 #include <pybind11/eigen.h>
 
 #include "hovi/errors.hpp"
+#include "hovi/trajopt/colouring.hpp"
 #include "hovi/trajopt/hermite_simpson_transcription.hpp"
 #include "hovi/trajopt/variational_transcription.hpp"
 #include "py_program.hpp"
@@ -73,6 +74,25 @@ VecX vector_of(const PyProgram& p, const ArrayLike& x) { return as_vector(x, "x"
 }  // namespace
 
 void bind_nlp_program(py::module_& t) {
+  const auto pattern = [](const Eigen::VectorXi& indptr, const Eigen::VectorXi& indices) {
+    if (indptr.size() < 1 || indptr[0] != 0 || indptr[indptr.size() - 1] != indices.size())
+      throw InputError("indptr must start at 0 and end at len(indices)");
+    const int nv = static_cast<int>(indptr.size()) - 1;
+    for (int j = 0; j < nv; ++j)
+      if (indptr[j + 1] < indptr[j]) throw InputError("indptr must not decrease");
+    if (indices.size() > 0 && (indices.minCoeff() < 0 || indices.maxCoeff() >= nv))
+      throw InputError("indices out of range");
+  };
+  t.def("star_colouring", [pattern](const Eigen::VectorXi& indptr, const Eigen::VectorXi& indices) {
+         pattern(indptr, indices);
+         return star_colouring(Pattern{indptr, indices});
+       }, py::arg("indptr"), py::arg("indices"),
+       "Star colours (nv,) of the symmetric pattern in compressed rows (indptr (nv + 1,), indices) (colouring.hpp).");
+  t.def("distance2_colouring", [pattern](const Eigen::VectorXi& indptr, const Eigen::VectorXi& indices) {
+         pattern(indptr, indices);
+         return distance2_colouring(Pattern{indptr, indices});
+       }, py::arg("indptr"), py::arg("indices"),
+       "Distance-2 colours (nv,) of the symmetric pattern in compressed rows (indptr (nv + 1,), indices) (colouring.hpp).");
   py::class_<PyProgram>(t, "Program", R"doc(
 The NLP of a transcribed problem evaluated in C++ (nlp_program.hpp), as hovi.trajopt.NLP lays it
 out: the quadratic costs c + sum_i d_i (S x - r)_i^2 / 2, rows [transcription | extra | A x], the Jacobian

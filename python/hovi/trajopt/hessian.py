@@ -22,6 +22,8 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
+from .. import _core
+
 from .costs import CallbackCost
 from .nlp import NLP
 
@@ -32,48 +34,29 @@ def _pattern(M: sp.spmatrix) -> sp.csr_matrix:
     return M
 
 
+def _compressed(P: sp.spmatrix) -> tuple[np.ndarray, np.ndarray]:
+    P = sp.csr_matrix(P)
+    return P.indptr.astype(np.int32), P.indices.astype(np.int32)
+
+
 def star_colouring(P: sp.csr_matrix) -> np.ndarray:
     """Greedy star colours (nv,) of the symmetric pattern P (nv, nv; its diagonal is ignored), the
-    densest rows first (GMP 2005, Algorithm 4.1): coupled variables differ, and on every path
-    v-w-x-y the colours of v, x and of w, y are not both equal, so that each coupled pair (i, j) has
-    one side, say i, with no other variable of j's colour coupled to it. A count of each variable's
-    coloured neighbours per colour replaces the algorithm's innermost loop."""
-    P = sp.csr_matrix(P)
-    ip, ix = P.indptr, P.indices
-    nv = P.shape[0]
-    colour = np.full(nv, -1)
-    count = np.zeros((nv, 16), np.int32)         # count[x, c]: neighbours of x with colour c
-    for v in np.argsort(-np.diff(ip), kind="stable"):
-        W = ix[ip[v]:ip[v + 1]]
-        W = W[W != v]
-        forbidden = [colour[W]]
-        for w in W:
-            X = ix[ip[w]:ip[w + 1]]
-            X = X[(X != v) & (X != w) & (colour[X] >= 0)]
-            if colour[w] < 0:                    # w's colour is open: v may not repeat any of X's
-                forbidden.append(colour[X])
-            else:                                # v-w-x-y with colour(y) = colour(w), y != w
-                forbidden.append(colour[X[count[X, colour[w]] > 1]])
-        taken = np.zeros(count.shape[1] + 1, bool)
-        used = np.concatenate(forbidden)
-        taken[used[used >= 0]] = True
-        colour[v] = c = int(np.argmin(taken))
-        if c == count.shape[1]:
-            count = np.pad(count, ((0, 0), (0, count.shape[1])))
-        count[W, c] += 1
-    return colour
+    densest rows first (GMP 2005, Algorithm 4.1; in C++, colouring.hpp): coupled variables differ,
+    and on every path v-w-x-y the colours of v, x and of w, y are not both equal, so that each
+    coupled pair (i, j) has one side, say i, with no other variable of j's colour coupled to it."""
+    return _core.trajopt.star_colouring(*_compressed(P)).astype(np.int64)
 
 
 def distance2_colouring(P: sp.csr_matrix) -> np.ndarray:
     """Greedy colours (nv,) of the symmetric pattern P (nv, nv) with the diagonal: no two variables
-    with a common neighbour share a colour."""
-    P2 = _pattern(P @ P).tocsr()
-    colour = np.full(P.shape[0], -1)
-    for j in range(P.shape[0]):
-        used = np.unique(colour[P2.indices[P2.indptr[j]:P2.indptr[j + 1]]])
-        free = np.setdiff1d(np.arange(len(used) + 1), used)
-        colour[j] = free[0]
-    return colour
+    with a common neighbour share a colour (in C++, colouring.hpp)."""
+    return _core.trajopt.distance2_colouring(*_compressed(P)).astype(np.int64)
+
+
+# Colourings by coupling pattern (and probing), the most recently used last: a second solve of a
+# problem of the same structure (a warm start, a sweep, MPC) colours nothing.
+_COLOURINGS: dict[tuple, tuple[np.ndarray, ...]] = {}
+_CACHED_COLOURINGS = 32
 
 
 class LagrangianHessian:
@@ -99,21 +82,33 @@ class LagrangianHessian:
         per_sample = [(_pattern(S), S.shape[0] // K) for S in (s.Sq, s.Sv, s.Su) if S.shape[0]]
         incidence = sum(sp.kron(sp.eye(K), np.ones((1, width)), format="csr") @ S for S, width in per_sample)
         P = _pattern(J.T @ J + _pattern(incidence).T @ _pattern(incidence) + sp.eye(nv)).tocsr()
+        key = (nv, P.indptr.tobytes(), P.indices.tobytes(), probe is None, seed)
+        cached = _COLOURINGS.pop(key, None)
+        if cached is None:
+            cached = self._colouring(P, probe, seed)
+        _COLOURINGS[key] = cached                       # the most recent last
+        while len(_COLOURINGS) > _CACHED_COLOURINGS:
+            del _COLOURINGS[next(iter(_COLOURINGS))]
+        self.colour, self.rows, self.cols, self.read_row, self.read_col = cached
+        self.n_colours = int(self.colour.max()) + 1 if nv else 0
+        self._read_colour = self.colour[self.read_col]
+
+    def _colouring(self, P: sp.csr_matrix, probe: np.ndarray | None, seed: int) -> tuple[np.ndarray, ...]:
+        """(colour, rows, cols, read_row, read_col) of the coupling pattern P, probed near ``probe``."""
+        nv = P.shape[0]
         if probe is not None:
             P = self.probed_pattern(P, np.asarray(probe, float), np.random.default_rng(seed))
-        self.colour = star_colouring(P)
-        self.n_colours = int(self.colour.max()) + 1
+        colour = star_colouring(P)
         P = P.tocoo()
         lower = P.row >= P.col
-        self.rows, self.cols = P.row[lower].astype(np.int64), P.col[lower].astype(np.int64)
+        rows, cols = P.row[lower].astype(np.int64), P.col[lower].astype(np.int64)
         # where each entry is read: row i of the difference of j's colour, unless another variable
         # of that colour is coupled to i; then row j of the difference of i's colour (star colouring)
-        count = np.zeros((nv, self.n_colours), np.int32)
-        np.add.at(count, (P.row, self.colour[P.col]), 1)
-        alone = count[self.rows, self.colour[self.cols]] == 1
-        self.read_row = np.where(alone, self.rows, self.cols)   # entry e is component read_row[e] of the
-        self.read_col = np.where(alone, self.cols, self.rows)   # difference of read_col[e]'s colour
-        self._read_colour = self.colour[self.read_col]
+        count = np.zeros((nv, int(colour.max()) + 1 if nv else 0), np.int32)
+        np.add.at(count, (P.row, colour[P.col]), 1)
+        alone = count[rows, colour[cols]] == 1
+        # entry e is component read_row[e] of the difference of read_col[e]'s colour
+        return colour, rows, cols, np.where(alone, rows, cols), np.where(alone, cols, rows)
 
     def probed_pattern(self, P: sp.csr_matrix, x: np.ndarray, rng: np.random.Generator) -> sp.csr_matrix:
         """The entries of the coupling pattern P (symmetric, with the diagonal) where the Hessian is
@@ -149,10 +144,10 @@ class LagrangianHessian:
         return self.rows, self.cols
 
     def gradient(self, x: np.ndarray, lam: np.ndarray, sigma: float) -> np.ndarray:
-        """sigma grad f(x) + J(x)^T lambda (n_variables,)."""
-        nlp = self.nlp
-        jt_lam = np.bincount(nlp.jac_cols, weights=nlp.jacobian(x) * lam[nlp.jac_rows], minlength=nlp.n_variables)
-        return sigma * nlp.gradient(x) + jt_lam
+        """sigma grad f(x) + J(x)^T lambda (n_variables,), from the NLP's C++ program."""
+        nlp, program = self.nlp, self.nlp.program()
+        jt_lam = np.bincount(nlp.jac_cols, weights=program.jacobian(x) * lam[nlp.jac_rows], minlength=nlp.n_variables)
+        return sigma * program.gradient(x) + jt_lam
 
     def values(self, x: np.ndarray, lam: np.ndarray, sigma: float) -> np.ndarray:
         """The Hessian's values at (rows, cols), from one difference per colour with steps

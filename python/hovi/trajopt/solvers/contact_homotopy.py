@@ -63,7 +63,7 @@ class ContactHomotopy(Solver):
             raise ValueError(f"finish_below must be finite and >= 0, got {finish_below}")
         if time_limit is not None and not (np.isfinite(time_limit) and time_limit > 0):
             raise ValueError(f"time_limit must be a positive number of seconds, got {time_limit}")
-        self.ipopt = Ipopt(verbose=False) if ipopt is None else ipopt
+        self.ipopt = Ipopt(verbose=False, hessian="lbfgs") if ipopt is None else ipopt
         self.epsilons, self.finish_below, self.time_limit = eps, float(finish_below), time_limit
 
     def solve(self, problem: Problem, transcription: TranscriptionMethod = DEFAULT_TRANSCRIPTION,

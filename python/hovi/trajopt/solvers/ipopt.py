@@ -19,9 +19,11 @@ import numpy as np
 from ..hessian import LagrangianHessian
 from ..nlp import NLP
 from ..problem import Problem
+from ..costs import CallbackCost
 from ..result import Result
 from ..transcription import Guess, TranscriptionMethod
 from ..transcriptions import DEFAULT_TRANSCRIPTION, resolve
+from ..variational import VI
 from .base import NLPSolver
 
 # hovi's IPOPT defaults; why each differs from IPOPT's own: bench/README.md, "Design measurements"
@@ -38,7 +40,7 @@ DEFAULT_OPTIONS = {
     "limited_memory_max_history": 30,  # IPOPT's default is 6
 }
 
-HESSIANS = ("lbfgs", "fd")
+HESSIANS = ("auto", "lbfgs", "fd")
 
 # IPOPT's return codes (ApplicationReturnStatus) and their messages, as IPOPT's C interface words them.
 STATUS_MESSAGES = {
@@ -288,10 +290,12 @@ class Ipopt(NLPSolver):
     (limited-memory Hessian, tol 1e-8, constraint violation 1e-10, bounds not relaxed);
     ``verbose`` prints one line per iteration.
 
-    hessian: 'lbfgs' (IPOPT's limited-memory approximation: cheap iterations, many of them) or 'fd'
-    (the Lagrangian's Hessian by coloured differences of the exact gradient, hessian.py, its
-    pattern probed near the starting point: many Jacobian evaluations per iteration, far fewer
-    iterations on large robots).
+    hessian: 'fd' (the Lagrangian's Hessian by coloured differences of the exact gradient,
+    hessian.py, its pattern probed near the starting point: a few Jacobian evaluations per
+    iteration, far fewer iterations), 'lbfgs' (IPOPT's limited-memory approximation: cheap
+    iterations, many of them) or 'auto' (the default: 'fd' unless a CallbackCost, which may couple
+    any variables, needs 'lbfgs'). 'fd' took 2-4x less time than 'lbfgs' on the swing-ups
+    (bench/README.md, issue 33).
 
     The result's ``timing`` splits the wall time: 'setup' (before IPOPT starts: building the NLP,
     the starting point and, with 'fd', the Hessian's pattern and colouring; not in wall_seconds),
@@ -299,12 +303,16 @@ class Ipopt(NLPSolver):
     hovi's callbacks: evaluations, costs, path constraints, Python and copies), 'ipopt' (the rest:
     IPOPT's own work, mostly the sparse linear algebra)."""
 
-    def __init__(self, options: dict[str, Any] | None = None, *, verbose: bool = True, hessian: str = "lbfgs"):
+    def __init__(self, options: dict[str, Any] | None = None, *, verbose: bool = True, hessian: str = "auto",
+                 continuation: bool = True):
         if not isinstance(hessian, str) or hessian not in HESSIANS:
-            raise ValueError(f"hessian must be 'lbfgs' or 'fd', got {hessian!r}")
+            raise ValueError(f"hessian must be 'auto', 'lbfgs' or 'fd', got {hessian!r}")
         if options is not None and not isinstance(options, dict):
             raise TypeError(f"options must be a dict of IPOPT options, got {type(options).__name__}")
+        if not isinstance(continuation, (bool, np.bool_)):
+            raise TypeError(f"continuation must be True or False, got {continuation!r}")
         self.options, self.verbose, self.hessian = dict(options or {}), bool(verbose), hessian
+        self.continuation = bool(continuation)
         cpp = _cpp_ipopt()
         if cpp is not None:
             apply_options(cpp.Ipopt(), self.ipopt_options())
@@ -316,16 +324,52 @@ class Ipopt(NLPSolver):
         apply_options(cyipopt.Problem(n=1, m=0, problem_obj=_OptionProbe()), self.ipopt_options())
 
     def __repr__(self) -> str:
-        return f"Ipopt(options={self.options!r}, verbose={self.verbose}, hessian={self.hessian!r})"
+        return (f"Ipopt(options={self.options!r}, verbose={self.verbose}, hessian={self.hessian!r}, "
+                f"continuation={self.continuation})")
 
     def with_options(self, options: dict[str, Any]) -> Ipopt:
         """A copy with ``options`` over this one's."""
-        return Ipopt({**self.options, **options}, verbose=self.verbose, hessian=self.hessian)
+        return Ipopt({**self.options, **options}, verbose=self.verbose, hessian=self.hessian,
+                     continuation=self.continuation)
 
-    def ipopt_options(self) -> dict[str, Any]:
-        """The options IPOPT gets: hovi's defaults (for hessian 'fd': the exact Hessian) and ``options``."""
+    def solve(self, problem: Problem, transcription: TranscriptionMethod = DEFAULT_TRANSCRIPTION,
+              guess: Guess = None) -> Result:
+        """Solve ``problem`` transcribed by ``transcription`` from ``guess``. With ``continuation`` (the
+        default), a guess that is not a solution (None, 'rollout', 'linear') and a transcription other
+        than VI(s=1): the VI of order 2 (s = 1) is solved first, from that guess, and the transcription
+        starts from its solution's interpolants (Result.as_guess). If either solve fails, the
+        transcription is solved from ``guess`` as without continuation. On the acrobot this found
+        better optima in a fraction of the time (bench/README.md, issue 33). The first solve (and a
+        failed continued one) is reported in ``timing['continuation']`` (seconds) and
+        ``solver['continuation']`` ('used': whether the result started from the first solve)."""
+        first_order = VI(1)
+        if (not self.continuation or transcription == first_order or not (guess is None or isinstance(guess, str))
+                or problem.contacts is not None):
+            return super().solve(problem, transcription, guess)
+        t0 = time.perf_counter()
+        first = super().solve(problem, first_order, guess)
+        result = super().solve(problem, transcription, first.as_guess()) if first.success else None
+        used = result is not None and result.success
+        seconds = time.perf_counter() - t0 - (result.timing["setup"] + result.wall_seconds if used else 0.0)
+        if not used:
+            result = super().solve(problem, transcription, guess)
+        result.timing["continuation"] = seconds
+        result.solver["continuation"] = {"transcription": first_order, "success": first.success,
+                                         "iterations": first.iterations, "cost": first.cost, "seconds": seconds,
+                                         "used": used}
+        return result
+
+    def hessian_for(self, nlp: NLP) -> str:
+        """The Hessian used on ``nlp``: 'auto' resolved ('fd' unless the problem has a CallbackCost)."""
+        if self.hessian != "auto":
+            return self.hessian
+        return "lbfgs" if any(isinstance(c, CallbackCost) for c in nlp.problem.costs) else "fd"
+
+    def ipopt_options(self, hessian: str | None = None) -> dict[str, Any]:
+        """The options IPOPT gets: hovi's defaults (for hessian 'fd', and 'auto' unless told ``hessian``:
+        the exact Hessian) and ``options``."""
         defaults = dict(DEFAULT_OPTIONS)
-        if self.hessian == "fd":
+        if (hessian or self.hessian) in ("fd", "auto"):
             defaults["hessian_approximation"] = "exact"
             del defaults["limited_memory_max_history"]
         return {**defaults, **self.options}
@@ -335,6 +379,8 @@ class Ipopt(NLPSolver):
         'rollout', 'linear', a Result, or functions (q(t), v(t), u(t)) of times t (K,) returning
         (K, n), (K, n), (K, m)): through IPOPT's C++ interface (hovi._ipopt, ``nlp.program()``)
         where hovi was built with IPOPT, else through cyipopt."""
+        if self.hessian == "auto":
+            return Ipopt(self.options, verbose=self.verbose, hessian=self.hessian_for(nlp)).solve_nlp(nlp, guess)
         cpp = _cpp_ipopt()
         if cpp is not None:
             return self._solve_in_cpp(cpp, nlp, guess)
@@ -440,17 +486,18 @@ class _Progress:
 
 def solve(problem: Problem, transcription: TranscriptionMethod = DEFAULT_TRANSCRIPTION, *, s: int | None = None,
           guess: Guess = None, options: dict[str, Any] | None = None, verbose: bool = True,
-          hessian: str = "lbfgs") -> Result:
+          hessian: str = "auto", continuation: bool = True) -> Result:
     """Transcribe ``problem`` with ``transcription`` (``VI(s=2)`` by default: the Galerkin VI of order
     4; ``HermiteSimpson("implicit")`` or ``HermiteSimpson("explicit")``) and solve it with IPOPT:
-    ``Ipopt(options, verbose=verbose, hessian=hessian).solve(problem, transcription, guess)``.
+    ``Ipopt(options, verbose=verbose, hessian=hessian, continuation=continuation).solve(problem,
+    transcription, guess)``.
 
     guess: None or 'rollout' (simulate from the initial state with zero controls; if that fails,
     'linear'), 'linear', a Result (warm start from a solve of the same transcription), or
     functions (q(t), v(t), u(t)) of times t (K,) returning (K, n), (K, n), (K, m).
 
-    options, hessian, verbose and the result's ``timing``: see ``Ipopt``. The old spellings
+    options, hessian, verbose, continuation (solve VI(s=1) first) and the result's ``timing``: see ``Ipopt``. The old spellings
     ``solve(problem, "vi", s=2)``, ``solve(problem, "hs-implicit")`` still work for one release
     (DeprecationWarning)."""
     method = resolve(transcription, s, old_default_s=2, caller="solve")
-    return Ipopt(options, verbose=verbose, hessian=hessian).solve(problem, method, guess)
+    return Ipopt(options, verbose=verbose, hessian=hessian, continuation=continuation).solve(problem, method, guess)
