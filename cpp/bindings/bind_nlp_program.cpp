@@ -101,9 +101,9 @@ in `jac_rows`, `jac_cols` order, and the Lagrangian's Hessian by coloured differ
 constraints(x) -> (extra_rows,) and jacobian(x) -> (extra_nnz,)) evaluates the terms written in
 Python, one call per evaluation.
 )doc")
-      .def(py::init([](py::object transcription, double c, const SparseRowMatrix& S, const ArrayLike& r,
+      .def(py::init([](AnyTranscription transcription, double c, const SparseRowMatrix& S, const ArrayLike& r,
                        const ArrayLike& d, const SparseRowMatrix& A, const Eigen::VectorXi& jac_rows, const Eigen::VectorXi& jac_cols,
-                       py::object extra, int extra_rows, int extra_nnz, bool extra_cost) {
+                       OptPythonTerms extra, int extra_rows, int extra_nnz, bool extra_cost) {
              const Transcription& tr = transcription_of(transcription);
              auto p = std::make_unique<PyProgram>();
              p->transcription = transcription;
@@ -114,7 +114,7 @@ Python, one call per evaluation.
              return p;
            }),
            py::arg("transcription"), py::arg("c"), py::arg("S"), py::arg("r"), py::arg("d"), py::arg("A"), py::arg("jac_rows"),
-           py::arg("jac_cols"), py::arg("extra") = py::none(), py::arg("extra_rows") = 0, py::arg("extra_nnz") = 0,
+           py::arg("jac_cols"), py::arg("extra") = OptPythonTerms(py::none()), py::arg("extra_rows") = 0, py::arg("extra_nnz") = 0,
            py::arg("extra_cost") = false,
            "transcription: the C++ transcription; c, S (k, n) scipy CSR, r (k,), d (k,): the quadratic costs; A (a, n) "
            "CSR: the linear rows; jac_rows, jac_cols (nnz,): the whole Jacobian's structure; the extra terms (see the class).")

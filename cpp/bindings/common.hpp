@@ -27,6 +27,8 @@ HOVI_PY_HINTED_OBJECT(OptIndex)      // int | str | None
 HOVI_PY_HINTED_OBJECT(PathOrXml)     // str | os.PathLike[str]: a URDF path or XML string
 HOVI_PY_HINTED_OBJECT(OptInt)        // int | None
 HOVI_PY_HINTED_OBJECT(AnyIntegrator) // hovi._core.Integrator | hovi._core.ContactIntegrator
+HOVI_PY_HINTED_OBJECT(AnyTranscription)  // hovi._core.trajopt.VariationalTranscription | ...HermiteSimpsonTranscription
+HOVI_PY_HINTED_OBJECT(OptPythonTerms)     // hovi.trajopt.nlp.PythonTerms | None
 #undef HOVI_PY_HINTED_OBJECT
 
 // Typed containers for return values: py::typing::Tuple<MatX, VecX> is `tuple[NDArray, NDArray]`.
@@ -79,5 +81,8 @@ HOVI_PY_TYPE_NAME(OptIndex, "int | str | None")
 HOVI_PY_TYPE_NAME(PathOrXml, "str | os.PathLike[str]")
 HOVI_PY_TYPE_NAME(OptInt, "int | None")
 HOVI_PY_TYPE_NAME(AnyIntegrator, "hovi._core.Integrator | hovi._core.ContactIntegrator")
+HOVI_PY_TYPE_NAME(AnyTranscription,
+                  "hovi._core.trajopt.VariationalTranscription | hovi._core.trajopt.HermiteSimpsonTranscription")
+HOVI_PY_TYPE_NAME(OptPythonTerms, "hovi.trajopt.nlp.PythonTerms | None")
 #undef HOVI_PY_TYPE_NAME
 }  // namespace pybind11::detail

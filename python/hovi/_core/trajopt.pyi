@@ -3,10 +3,12 @@ Transcriptions of trajectory-optimisation problems
 """
 from __future__ import annotations
 import hovi._core
+import hovi.trajopt.nlp
 import numpy
 import numpy.typing
+import scipy.sparse
 import typing
-__all__: list[str] = ['HermiteSimpsonTranscription', 'VariationalTranscription']
+__all__: list[str] = ['HermiteSimpsonTranscription', 'Program', 'VariationalTranscription', 'distance2_colouring', 'star_colouring']
 class VariationalTranscription:
     """
     The Galerkin VI of order 2s as NLP constraints (variational_transcription.hpp): variables q at the
@@ -113,3 +115,68 @@ class HermiteSimpsonTranscription:
         """
         (rows (nnz,), cols (nnz,)) of the Jacobian's nonzeros, in the order `jacobian` returns values.
         """
+class Program:
+    """
+    The NLP of a transcribed problem evaluated in C++ (nlp_program.hpp), as hovi.trajopt.NLP lays it
+    out: the quadratic costs c + sum_i d_i (S x - r)_i^2 / 2, rows [transcription | extra | A x], the Jacobian
+    in `jac_rows`, `jac_cols` order, and the Lagrangian's Hessian by coloured differences once
+    `set_colouring` gave the colours. `extra` (None, or an object with cost(x) -> (value, gradient),
+    constraints(x) -> (extra_rows,) and jacobian(x) -> (extra_nnz,)) evaluates the terms written in
+    Python, one call per evaluation.
+    """
+    def __init__(self, transcription: VariationalTranscription | HermiteSimpsonTranscription, c: typing.SupportsFloat | typing.SupportsIndex, S: scipy.sparse.csr_matrix, r: numpy.typing.ArrayLike, d: numpy.typing.ArrayLike, A: scipy.sparse.csr_matrix, jac_rows: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], jac_cols: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], extra: hovi.trajopt.nlp.PythonTerms | None = None, extra_rows: typing.SupportsInt | typing.SupportsIndex = 0, extra_nnz: typing.SupportsInt | typing.SupportsIndex = 0, extra_cost: bool = False) -> None:
+        """
+        transcription: the C++ transcription; c, S (k, n) scipy CSR, r (k,), d (k,): the quadratic costs; A (a, n) CSR: the linear rows; jac_rows, jac_cols (nnz,): the whole Jacobian's structure; the extra terms (see the class).
+        """
+    def constraints(self, x: numpy.typing.ArrayLike) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        x: (n_variables,); g(x) (n_constraints,).
+        """
+    def gradient(self, x: numpy.typing.ArrayLike) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        x: (n_variables,); the cost's gradient (n_variables,).
+        """
+    def hessian(self, x: numpy.typing.ArrayLike, lam: numpy.typing.ArrayLike, sigma: typing.SupportsFloat | typing.SupportsIndex) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        x (n_variables,), lam (n_constraints,), sigma: the lower triangle of the Lagrangian's Hessian (E,) at the colouring's entries.
+        """
+    def jacobian(self, x: numpy.typing.ArrayLike) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        x: (n_variables,); the Jacobian's values (nnz,) in (jac_rows, jac_cols) order.
+        """
+    def objective(self, x: numpy.typing.ArrayLike) -> float:
+        """
+        x: (n_variables,); the total cost.
+        """
+    def set_colouring(self, colour: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], rows: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], cols: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], read_row: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], read_col: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"]) -> None:
+        """
+        colour (n_variables,); the lower triangle's entries rows >= cols (E,) and where each is read: component read_row of the difference of read_col's colour (hovi.trajopt.hessian.LagrangianHessian).
+        """
+    @property
+    def has_hessian(self) -> bool:
+        """
+        Whether set_colouring gave the Hessian its colours.
+        """
+    @property
+    def n_constraints(self) -> int:
+        """
+        Length of g(x).
+        """
+    @property
+    def n_variables(self) -> int:
+        """
+        Length of x.
+        """
+    @property
+    def nnz(self) -> int:
+        """
+        Jacobian nonzeros.
+        """
+def distance2_colouring(indptr: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], indices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"]) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"]:
+    """
+    Distance-2 colours (nv,) of the symmetric pattern in compressed rows (indptr (nv + 1,), indices) (colouring.hpp).
+    """
+def star_colouring(indptr: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], indices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"]) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"]:
+    """
+    Star colours (nv,) of the symmetric pattern in compressed rows (indptr (nv + 1,), indices) (colouring.hpp).
+    """

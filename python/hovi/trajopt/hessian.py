@@ -53,7 +53,7 @@ def distance2_colouring(P: sp.csr_matrix) -> np.ndarray:
     return _core.trajopt.distance2_colouring(*_compressed(P)).astype(np.int64)
 
 
-# Colourings by coupling pattern (and probing), the most recently used last: a second solve of a
+# Colourings by Hessian pattern (after probing), the most recently used last: a second solve of a
 # problem of the same structure (a warm start, a sweep, MPC) colours nothing.
 _COLOURINGS: dict[tuple, tuple[np.ndarray, ...]] = {}
 _CACHED_COLOURINGS = 32
@@ -82,10 +82,13 @@ class LagrangianHessian:
         per_sample = [(_pattern(S), S.shape[0] // K) for S in (s.Sq, s.Sv, s.Su) if S.shape[0]]
         incidence = sum(sp.kron(sp.eye(K), np.ones((1, width)), format="csr") @ S for S, width in per_sample)
         P = _pattern(J.T @ J + _pattern(incidence).T @ _pattern(incidence) + sp.eye(nv)).tocsr()
-        key = (nv, P.indptr.tobytes(), P.indices.tobytes(), probe is None, seed)
+        if probe is not None:
+            P = self.probed_pattern(P, np.asarray(probe, float), np.random.default_rng(seed))
+        P.sort_indices()
+        key = (nv, P.indptr.tobytes(), P.indices.tobytes())
         cached = _COLOURINGS.pop(key, None)
         if cached is None:
-            cached = self._colouring(P, probe, seed)
+            cached = self._colouring(P)
         _COLOURINGS[key] = cached                       # the most recent last
         while len(_COLOURINGS) > _CACHED_COLOURINGS:
             del _COLOURINGS[next(iter(_COLOURINGS))]
@@ -93,11 +96,10 @@ class LagrangianHessian:
         self.n_colours = int(self.colour.max()) + 1 if nv else 0
         self._read_colour = self.colour[self.read_col]
 
-    def _colouring(self, P: sp.csr_matrix, probe: np.ndarray | None, seed: int) -> tuple[np.ndarray, ...]:
-        """(colour, rows, cols, read_row, read_col) of the coupling pattern P, probed near ``probe``."""
+    @staticmethod
+    def _colouring(P: sp.csr_matrix) -> tuple[np.ndarray, ...]:
+        """(colour, rows, cols, read_row, read_col) of the Hessian's pattern P."""
         nv = P.shape[0]
-        if probe is not None:
-            P = self.probed_pattern(P, np.asarray(probe, float), np.random.default_rng(seed))
         colour = star_colouring(P)
         P = P.tocoo()
         lower = P.row >= P.col

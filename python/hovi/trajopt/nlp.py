@@ -253,7 +253,7 @@ class NLP:
             self._program = _core.trajopt.Program(
                 self.core, c0, sp.vstack(S).tocsr(), np.concatenate(r), np.concatenate(d), self.A,
                 self.jac_rows.astype(np.int32), self.jac_cols.astype(np.int32),
-                _PythonTerms(self, others) if (others or extra_rows) else None, extra_rows, extra_nnz, bool(others))
+                PythonTerms(self, others) if (others or extra_rows) else None, extra_rows, extra_nnz, bool(others))
         return self._program
 
     def _squares(self, cost, i: int, zero):
@@ -277,7 +277,7 @@ class NLP:
         return value - 0.5 * float(d @ (r * r)), sp.vstack(S), r, d
 
 
-class _PythonTerms:
+class PythonTerms:
     """What the C++ program of an NLP leaves to Python: the costs without a ``curvature``
     (``cost(x) -> (value, gradient)``), and the path-constraint and contact rows (``constraints(x)``,
     ``jacobian(x)``), each one vectorised call. Holds its NLP weakly (the NLP holds the program)."""
