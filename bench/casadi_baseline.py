@@ -57,6 +57,7 @@ Writes bench/results/casadi_baseline.json (casadi_baseline_quick.json with --qui
 from __future__ import annotations
 
 import argparse
+import os
 import time
 from dataclasses import dataclass, field
 
@@ -399,7 +400,7 @@ def casadi_row(sol: Solution, ref_cost: float, graph: str = "sx") -> dict:
 HOVI_METHODS = [("VI s=1", "vi", 1), ("VI s=2", "vi", 2), ("VI s=3", "vi", 3), ("HS implicit", "hs", 2)]
 
 
-def hovi_row(name, N, label, kind, s, ref_cost, hessian="lbfgs", repeat=1):
+def hovi_row(name, N, label, kind, s, ref_cost, hessian="auto", repeat=1):
     """hovi's solve of the swing-up at N, timed from building the Problem to the Result: set-up
     (everything outside IPOPT's solve call: transcription, NLP, guess, the 'fd' Hessian's pattern, the
     Result's trajectory) and the IPOPT phase (Result.wall_seconds) apart; the fastest of ``repeat``
@@ -416,8 +417,9 @@ def hovi_row(name, N, label, kind, s, ref_cost, hessian="lbfgs", repeat=1):
         if best is None or total < best[1]:
             best = (r, total)
     r, total = best
-    return {"solver": f"hovi {label}" + (" (fd Hessian)" if hessian == "fd" else ""), "N": N, "success": bool(r.success),
-            "status": r.status, "iterations": r.iterations, "cost": r.cost,
+    return {"solver": f"hovi {label}" + ("" if hessian == "auto" else f" ({hessian} Hessian)"), "N": N,
+            "success": bool(r.success), "continuation": r.solver.get("continuation", {}).get("used", False),
+            "status": r.status, "iterations": r.iterations, "cost": r.cost, "timing": dict(r.timing),
             "cost_error": abs(r.cost - ref_cost) / abs(ref_cost), "setup_seconds": total - r.wall_seconds,
             "ipopt_seconds": r.wall_seconds, "solve_seconds": total,
             "one_interval_error": hovi_one_interval_error(r, name) if r.success else float("nan")}
@@ -443,7 +445,11 @@ def timed_solve(name, N, graph, repeat=1) -> Solution:
     return min((solve(name, N, graph=graph) for _ in range(repeat)), key=lambda s: s.setup_seconds + s.ipopt_seconds)
 
 
-def run(grids=GRIDS, with_hovi=True, refine=16, hessians=("lbfgs",), repeat=1, log=print):
+# hovi's rows also at coarser N: the cheapest configuration reaching CasADi's accuracy may need fewer stages
+HOVI_GRIDS = {"pendulum": (10, 20, 40, 80), "cartpole": (20, 40, 50, 80), "acrobot": (40, 60, 80, 160)}
+
+
+def run(grids=GRIDS, with_hovi=True, refine=16, hessians=("auto",), repeat=1, log=print, references=None):
     """Every swing-up at each of its N: CasADi HS (SX and MX graphs), then (with_hovi) hovi's VI s = 1,
     2, 3 and HS with each Hessian in ``hessians``, in this process; the reference from CasADi HS at
     refine x the largest N. Times: the fastest of ``repeat`` identical solves."""
@@ -451,12 +457,14 @@ def run(grids=GRIDS, with_hovi=True, refine=16, hessians=("lbfgs",), repeat=1, l
     warm_up(with_hovi)
     for name, Ns in grids.items():
         sols = {(N, g): timed_solve(name, N, g, repeat) for N in Ns for g in CASADI_GRAPHS}
-        ref = reference(name, refine * max(Ns), sols[max(Ns), "sx"])
+        ref = references[name] if references and name in references else \
+            reference(name, refine * max(Ns), sols[max(Ns), "sx"])
         log(f"{name}: reference cost {ref['cost']:.10g} (HS N = {ref['N']}; VI s=3 N = {ref['vi3_N']}: "
             f"{ref['vi3_cost']:.10g})")
         rows = []
         for N in Ns:
             rows += [casadi_row(sols[N, g], ref["cost"], g) for g in CASADI_GRAPHS]
+        for N in sorted(set(Ns) | set(HOVI_GRIDS.get(name, ()) if max(Ns) == max(GRIDS[name]) else ())):
             if with_hovi:
                 for hess in hessians:
                     for label, kind, s in HOVI_METHODS:
@@ -520,14 +528,24 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--quick", action="store_true", help="the pendulum at N = 20 only")
     ap.add_argument("--no-hovi", action="store_true", help="CasADi's solves only")
-    ap.add_argument("--fd", action="store_true", help="hovi also with hessian='fd'")
+    ap.add_argument("--lbfgs", action="store_true", help="hovi also with hessian='lbfgs' (the default is hovi's: 'auto')")
+    ap.add_argument("--reuse-references", action="store_true",
+                    help="take the reference optima from the last bench/results/casadi_baseline.json")
     ap.add_argument("--repeat", type=int, default=3, help="time the fastest of this many identical solves")
     args = ap.parse_args()
     _require_casadi()
     from common import write_json
     grids = {"pendulum": (20,)} if args.quick else GRIDS
+    references = None
+    if args.reuse_references and not args.quick:
+        import json
+        from common import RESULTS
+        with open(os.path.join(RESULTS, "casadi_baseline.json")) as f:
+            last = json.load(f)
+        references = {name: d["reference"] for name, d in last["swingups"].items()}
     out = run(grids, with_hovi=not args.no_hovi, refine=8 if args.quick else 16,
-              hessians=("lbfgs", "fd") if args.fd else ("lbfgs",), repeat=1 if args.quick else args.repeat)
+              hessians=("auto", "lbfgs") if args.lbfgs else ("auto",), repeat=1 if args.quick else args.repeat,
+              references=references)
     path = write_json("casadi_baseline_quick.json" if args.quick else "casadi_baseline.json", out)
     print(report(out))
     print("wrote", path)

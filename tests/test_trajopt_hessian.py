@@ -33,6 +33,19 @@ def test_coloured_hessian_equals_dense_central_differences_of_the_lagrangian_gra
         assert np.abs(dense - dense.T).max() <= 1e-6 * scale         # (the Hessian is symmetric)
 
 
+def test_gram_pattern_is_the_pattern_of_a_transpose_a_plus_identity():
+    """The C++ coupling pattern (variables sharing a row of A) against scipy's A^T A + I."""
+    from hovi import _core
+    rng = np.random.default_rng(2)
+    for rows, n, density in ((30, 50, 0.08), (5, 40, 0.3), (0, 7, 0.0), (40, 12, 0.5)):
+        A = sp.random(rows, n, density=density, format="csr", random_state=rng)
+        indptr, indices = _core.trajopt.gram_pattern(A.indptr.astype(np.int32), A.indices.astype(np.int32), n)
+        got = sp.csr_matrix((np.ones(len(indices)), indices, indptr), (n, n)).toarray()
+        want = ((abs(A).T @ abs(A)).toarray() != 0) | np.eye(n, dtype=bool)
+        assert np.array_equal(got != 0, want)
+        assert all(np.all(np.diff(indices[indptr[j]:indptr[j + 1]]) > 0) for j in range(n))   # sorted, no repeats
+
+
 def test_colours_do_not_grow_with_the_horizon():
     colours = [LagrangianHessian(trajopt.NLP(cartpole_swingup(N=N), trajopt.VI(s=2))).n_colours
                for N in (8, 32)]

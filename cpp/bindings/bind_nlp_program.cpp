@@ -88,6 +88,15 @@ void bind_nlp_program(py::module_& t) {
          return star_colouring(Pattern{indptr, indices});
        }, py::arg("indptr"), py::arg("indices"),
        "Star colours (nv,) of the symmetric pattern in compressed rows (indptr (nv + 1,), indices) (colouring.hpp).");
+  t.def("gram_pattern", [](const Eigen::VectorXi& indptr, const Eigen::VectorXi& indices, int n) {
+         if (n < 0 || indptr.size() < 1 || indptr[0] != 0 || indptr[indptr.size() - 1] != indices.size())
+           throw InputError("indptr must start at 0 and end at len(indices), n >= 0");
+         if (indices.size() > 0 && (indices.minCoeff() < 0 || indices.maxCoeff() >= n))
+           throw InputError("indices out of range");
+         return gram_pattern(Pattern{indptr, indices}, n);
+       }, py::arg("indptr"), py::arg("indices"), py::arg("n"),
+       "The symmetric pattern (indptr (n + 1,), indices) of A^T A + I for the pattern A in compressed rows "
+       "(indptr, indices < n) (colouring.hpp).");
   t.def("distance2_colouring", [pattern](const Eigen::VectorXi& indptr, const Eigen::VectorXi& indices) {
          pattern(indptr, indices);
          return distance2_colouring(Pattern{indptr, indices});
@@ -145,6 +154,17 @@ Python, one call per evaluation.
            }, py::arg("colour"), py::arg("rows"), py::arg("cols"), py::arg("read_row"), py::arg("read_col"),
            "colour (n_variables,); the lower triangle's entries rows >= cols (E,) and where each is read: component "
            "read_row of the difference of read_col's colour (hovi.trajopt.hessian.LagrangianHessian).")
+      .def("probed_pattern", [pattern](const PyProgram& p, const Eigen::VectorXi& indptr, const Eigen::VectorXi& indices,
+                                       const ArrayLike& x, unsigned seed) {
+             pattern(indptr, indices);
+             if (indptr.size() != p.program->n_variables() + 1)
+               throw InputError("the pattern must have one row per variable");
+             const VecX xv = vector_of(p, x);
+             return probed_pattern(*p.program, Pattern{indptr, indices}, xv, seed);
+           }, py::arg("indptr"), py::arg("indices"), py::arg("x"), py::arg("seed") = 0,
+           "The entries (indptr, indices) of the symmetric coupling pattern (indptr (n_variables + 1,), indices) where "
+           "the Lagrangian's Hessian is not identically zero, probed at a random point near x (n_variables,) "
+           "(lagrangian_hessian.hpp), with the quadratic costs' entries and the diagonal.")
       .def_property_readonly("has_hessian", [](const PyProgram& p) { return bool(p.hessian); },
                              "Whether set_colouring gave the Hessian its colours.")
       .def("hessian", [](const PyProgram& p, const ArrayLike& x, const ArrayLike& lam, double sigma) {

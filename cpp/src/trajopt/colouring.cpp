@@ -15,6 +15,30 @@ int smallest_free(const std::vector<int>& taken, int stamp) {
 }
 }  // namespace
 
+std::pair<Eigen::VectorXi, Eigen::VectorXi> gram_pattern(const Pattern& A, int nv) {
+  // columns of each row of A, and rows of each column: j's neighbours are the columns of j's rows
+  std::vector<std::vector<int>> rows_of(nv);
+  for (int r = 0; r < A.size(); ++r)
+    for (int a = A.indptr[r]; a < A.indptr[r + 1]; ++a) rows_of[A.indices[a]].push_back(r);
+  Eigen::VectorXi indptr(nv + 1);
+  std::vector<int> indices, seen(nv, -1);
+  indptr[0] = 0;
+  for (int j = 0; j < nv; ++j) {
+    const size_t start = indices.size();
+    seen[j] = j;
+    indices.push_back(j);
+    for (int r : rows_of[j])
+      for (int a = A.indptr[r]; a < A.indptr[r + 1]; ++a)
+        if (seen[A.indices[a]] != j) {
+          seen[A.indices[a]] = j;
+          indices.push_back(A.indices[a]);
+        }
+    std::sort(indices.begin() + start, indices.end());
+    indptr[j + 1] = static_cast<int>(indices.size());
+  }
+  return {indptr, Eigen::Map<Eigen::VectorXi>(indices.data(), static_cast<long>(indices.size()))};
+}
+
 Eigen::VectorXi distance2_colouring(const Pattern& P) {
   const int nv = P.size();
   Eigen::VectorXi colour = Eigen::VectorXi::Constant(nv, -1);

@@ -1,12 +1,61 @@
 #include "hovi/trajopt/lagrangian_hessian.hpp"
 
 #include <cmath>
+#include <algorithm>
 #include <limits>
+#include <random>
 #include <string>
 
 #include "hovi/errors.hpp"
 
 namespace hovi {
+
+std::pair<Eigen::VectorXi, Eigen::VectorXi> probed_pattern(const NlpProgram& program, const Pattern& P,
+                                                           const VecX& x0, unsigned seed) {
+  const int nv = program.n_variables();
+  if (P.size() != nv || x0.size() != nv) throw InputError("the pattern and x must have one entry per variable");
+  const Eigen::VectorXi colour = distance2_colouring(P);
+  const int n_colours = nv == 0 ? 0 : colour.maxCoeff() + 1;
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> normal;
+  const VecX scale = 0.1 * x0.cwiseAbs().cwiseMax(1.0);
+  VecX x(nv), lambda(program.n_constraints()), g0(nv), g(nv);
+  for (int j = 0; j < nv; ++j) x[j] = x0[j] + scale[j] * normal(rng);
+  for (int i = 0; i < lambda.size(); ++i) lambda[i] = normal(rng);
+  program.curved_gradient(x, lambda, 1.0, g0);
+  std::vector<std::vector<int>> members(n_colours);
+  for (int j = 0; j < nv; ++j) members[colour[j]].push_back(j);
+  std::vector<std::vector<int>> entries(nv);          // entries[i]: columns k of row i found so far
+  for (int j = 0; j < nv; ++j) entries[j].push_back(j);
+  const SparseRowMatrix& H = program.cost_hessian();
+  for (int i = 0; i < nv; ++i)
+    for (SparseRowMatrix::InnerIterator it(H, i); it; ++it) entries[i].push_back(it.col());
+  VecX xc = x;
+  for (int c = 0; c < n_colours; ++c) {
+    for (int j : members[c]) xc[j] = x[j] + scale[j] * normal(rng);
+    program.curved_gradient(xc, lambda, 1.0, g);
+    for (int i = 0; i < nv; ++i) {
+      if (!(std::abs(g[i] - g0[i]) > 1e-12 * (1.0 + std::abs(g0[i])))) continue;
+      for (int a = P.indptr[i]; a < P.indptr[i + 1]; ++a)   // at most one of colour c (distance-2 colours)
+        if (colour[P.indices[a]] == c) {
+          entries[i].push_back(P.indices[a]);
+          entries[P.indices[a]].push_back(i);
+        }
+    }
+    for (int j : members[c]) xc[j] = x[j];
+  }
+  Eigen::VectorXi indptr(nv + 1);
+  std::vector<int> indices;
+  indptr[0] = 0;
+  for (int i = 0; i < nv; ++i) {
+    auto& e = entries[i];
+    std::sort(e.begin(), e.end());
+    e.erase(std::unique(e.begin(), e.end()), e.end());
+    indices.insert(indices.end(), e.begin(), e.end());
+    indptr[i + 1] = static_cast<int>(indices.size());
+  }
+  return {indptr, Eigen::Map<Eigen::VectorXi>(indices.data(), static_cast<long>(indices.size()))};
+}
 
 LagrangianHessian::LagrangianHessian(const NlpProgram& program, HessianColouring colouring)
     : p_(program), c_(std::move(colouring)) {

@@ -76,14 +76,17 @@ class LagrangianHessian:
                              "may couple any of them (use hessian='lbfgs')")
         self.nlp = nlp
         nv, nc = nlp.n_variables, nlp.n_constraints
-        J = _pattern(sp.csr_matrix((np.ones(nlp.nnz), (nlp.jac_rows, nlp.jac_cols)), (nc, nv)))
+        # variables coupled by a constraint row or by a sample (the costs couple only within one)
         s = nlp.samples
         K = len(s.t)
-        per_sample = [(_pattern(S), S.shape[0] // K) for S in (s.Sq, s.Sv, s.Su) if S.shape[0]]
-        incidence = sum(sp.kron(sp.eye(K), np.ones((1, width)), format="csr") @ S for S, width in per_sample)
-        P = _pattern(J.T @ J + _pattern(incidence).T @ _pattern(incidence) + sp.eye(nv)).tocsr()
+        per_sample = [(S.tocoo(), S.shape[0] // K) for S in (s.Sq, s.Sv, s.Su) if S.shape[0]]
+        rows = np.concatenate([nlp.jac_rows] + [nc + S.row // width for S, width in per_sample])
+        cols = np.concatenate([nlp.jac_cols] + [S.col for S, _ in per_sample])
+        A = sp.csr_matrix((np.ones(len(rows)), (rows, cols)), (nc + K, nv))
+        indptr, indices = _core.trajopt.gram_pattern(*_compressed(A), nv)
+        P = sp.csr_matrix((np.ones(len(indices)), indices, indptr), (nv, nv))
         if probe is not None:
-            P = self.probed_pattern(P, np.asarray(probe, float), np.random.default_rng(seed))
+            P = self.probed_pattern(P, np.asarray(probe, float), seed)
         P.sort_indices()
         key = (nv, P.indptr.tobytes(), P.indices.tobytes())
         cached = _COLOURINGS.pop(key, None)
@@ -112,33 +115,21 @@ class LagrangianHessian:
         # entry e is component read_row[e] of the difference of read_col[e]'s colour
         return colour, rows, cols, np.where(alone, rows, cols), np.where(alone, cols, rows)
 
-    def probed_pattern(self, P: sp.csr_matrix, x: np.ndarray, rng: np.random.Generator) -> sp.csr_matrix:
+    def probed_pattern(self, P: sp.csr_matrix, x: np.ndarray, seed: int = 0) -> sp.csr_matrix:
         """The entries of the coupling pattern P (symmetric, with the diagonal) where the Hessian is
-        not identically zero, found at a random point near x with random multipliers: for each
-        colour of P, the gradient's change when that colour's variables move by about 10% (not a
-        derivative: any dependence shows) names, in each changed component i, the one variable of
-        that colour coupled to i. Assumes that where a function depends on a variable somewhere, it
-        does near x (no piece of a piecewise function on which the dependence vanishes). An entry
-        missed there leaves IPOPT's Newton steps inexact, not its answer: IPOPT's convergence tests
-        use the exact gradient and Jacobian, so a wrong Hessian costs iterations, never feasibility."""
+        not identically zero, found at a random point near x with random multipliers (in C++,
+        ``Program.probed_pattern``): for each distance-2 colour of P, the gradient's change when that
+        colour's variables move by about 10% (not a derivative: any dependence shows) names, in each
+        changed component i, the one variable of that colour coupled to i; the quadratic costs'
+        entries and the diagonal are added. Assumes that where a function depends on a variable
+        somewhere, it does near x (no piece of a piecewise function on which the dependence
+        vanishes). An entry missed there leaves IPOPT's Newton steps inexact, not its answer: IPOPT's
+        convergence tests use the exact gradient and Jacobian, so a wrong Hessian costs iterations,
+        never feasibility."""
+        indptr, indices = _compressed(P)
+        indptr, indices = self.nlp.program().probed_pattern(indptr, indices, np.asarray(x, float), seed)
         nv = self.nlp.n_variables
-        colour = distance2_colouring(P)
-        scale = 0.1 * np.maximum(1.0, np.abs(x))
-        x = x + scale * rng.standard_normal(nv)
-        lam = rng.standard_normal(self.nlp.n_constraints)
-        g0 = self.gradient(x, lam, 1.0)
-        rows, cols = [np.arange(nv)], [np.arange(nv)]
-        for c in range(int(colour.max()) + 1):
-            mine = colour == c
-            dg = self.gradient(x + np.where(mine, scale * rng.standard_normal(nv), 0.0), lam, 1.0) - g0
-            changed = np.nonzero(np.abs(dg) > 1e-12 * (1.0 + np.abs(g0)))[0]
-            i, k = P[changed].nonzero()
-            hit = mine[k]                                   # at most one in each row i (distance-2 colours)
-            rows.append(changed[i[hit]])
-            cols.append(k[hit])
-        rows, cols = np.concatenate(rows), np.concatenate(cols)
-        H = sp.csr_matrix((np.ones(len(rows)), (rows, cols)), (nv, nv))
-        return _pattern(H + H.T)
+        return sp.csr_matrix((np.ones(len(indices)), indices, indptr), (nv, nv))
 
     @property
     def structure(self) -> tuple[np.ndarray, np.ndarray]:

@@ -2,14 +2,20 @@
 // documents the method): variables of one colour are perturbed together.
 #pragma once
 #include <Eigen/Core>
+#include <utility>
 
 namespace hovi {
 
-// A symmetric pattern in compressed rows (indptr (nv + 1,), indices), the diagonal optional.
+// A pattern in compressed rows (indptr (rows + 1,), indices); a symmetric one for the colourings,
+// the diagonal optional.
 struct Pattern {
   Eigen::Ref<const Eigen::VectorXi> indptr, indices;
   int size() const { return static_cast<int>(indptr.size()) - 1; }
 };
+
+// The symmetric pattern of A^T A + I for a pattern A (rows x nv, compressed rows): variables that
+// share a row of A are coupled. Returns (indptr, indices), sorted.
+std::pair<Eigen::VectorXi, Eigen::VectorXi> gram_pattern(const Pattern& A, int nv);
 
 // Greedy colours: no two variables within distance two (coupled, or with a common neighbour) share
 // one (Curtis, Powell and Reid), in the order 0 .. nv - 1.

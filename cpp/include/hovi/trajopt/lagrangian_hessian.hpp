@@ -3,6 +3,9 @@
 // star colouring of the Hessian's pattern; python/hovi/trajopt/hessian.py chooses the pattern and
 // the colours and documents the method). The quadratic costs' part is exact: sigma H.
 #pragma once
+#include <utility>
+
+#include "hovi/trajopt/colouring.hpp"
 #include "hovi/trajopt/nlp_program.hpp"
 
 namespace hovi {
@@ -12,6 +15,14 @@ struct HessianColouring {
   Eigen::VectorXi rows, cols;          // the lower triangle's entries (rows >= cols)
   Eigen::VectorXi read_row, read_col;  // entry e = difference of read_col's colour, component read_row, / h[read_col]
 };
+
+// The entries of the coupling pattern P (symmetric, with the diagonal) where the Lagrangian's
+// Hessian is not identically zero, as a symmetric pattern (indptr, indices, sorted): found at a
+// random point near x (each variable moved by 10% of max(1, |x_j|), random multipliers) by one
+// gradient change per distance-2 colour of P (python/hovi/trajopt/hessian.py documents it), plus
+// the quadratic costs' entries and the diagonal.
+std::pair<Eigen::VectorXi, Eigen::VectorXi> probed_pattern(const NlpProgram& program, const Pattern& P,
+                                                           const VecX& x, unsigned seed);
 
 class LagrangianHessian {
  public:
