@@ -46,6 +46,25 @@ def test_gram_pattern_is_the_pattern_of_a_transpose_a_plus_identity():
         assert all(np.all(np.diff(indices[indptr[j]:indptr[j + 1]]) > 0) for j in range(n))   # sorted, no repeats
 
 
+def test_hessian_threads_give_the_same_values_and_solve():
+    """The colours' differences on two threads: bitwise the values of one thread, so the same solve."""
+    nlp = trajopt.NLP(cartpole_swingup(N=12), trajopt.VI(s=3))
+    H = LagrangianHessian(nlp, probe=np.zeros(nlp.n_variables))
+    program = nlp.program()
+    rng = np.random.default_rng(3)
+    x, lam = rng.uniform(-1, 1, nlp.n_variables), rng.normal(size=nlp.n_constraints)
+    values = []
+    for threads in (1, 2, None):
+        program.set_colouring(H.colour.astype(np.int32), H.rows.astype(np.int32), H.cols.astype(np.int32),
+                              H.read_row.astype(np.int32), H.read_col.astype(np.int32), threads)
+        values.append(program.hessian(x, lam, 0.3))
+    assert program.hessian_threads >= 1 and np.array_equal(values[0], values[1]) and np.array_equal(values[0], values[2])
+    one, two = (trajopt.solve(cartpole_swingup(N=12), trajopt.VI(s=3), verbose=False, threads=t) for t in (1, 2))
+    assert one.success and one.iterations == two.iterations and np.array_equal(one.x, two.x)
+    with pytest.raises(ValueError, match="threads"):
+        trajopt.Ipopt(threads=0)
+
+
 def test_colours_do_not_grow_with_the_horizon():
     colours = [LagrangianHessian(trajopt.NLP(cartpole_swingup(N=N), trajopt.VI(s=2))).n_colours
                for N in (8, 32)]

@@ -149,11 +149,20 @@ Python, one call per evaluation.
            }, py::arg("x"), "x: (n_variables,); the Jacobian's values (nnz,) in (jac_rows, jac_cols) order.")
       .def("set_colouring", [](PyProgram& p, const Eigen::VectorXi& colour, const Eigen::VectorXi& rows,
                                const Eigen::VectorXi& cols, const Eigen::VectorXi& read_row,
-                               const Eigen::VectorXi& read_col) {
-             p.hessian = std::make_unique<LagrangianHessian>(*p.program, HessianColouring{colour, rows, cols, read_row, read_col});
+                               const Eigen::VectorXi& read_col, const OptInt& threads) {
+             p.hessian = std::make_unique<LagrangianHessian>(
+                 *p.program, HessianColouring{colour, rows, cols, read_row, read_col}, threads_arg(threads));
            }, py::arg("colour"), py::arg("rows"), py::arg("cols"), py::arg("read_row"), py::arg("read_col"),
+           py::arg("threads") = OptInt(py::int_(1)),
            "colour (n_variables,); the lower triangle's entries rows >= cols (E,) and where each is read: component "
-           "read_row of the difference of read_col's colour (hovi.trajopt.hessian.LagrangianHessian).")
+           "read_row of the difference of read_col's colour (hovi.trajopt.hessian.LagrangianHessian); threads: for "
+           "the colours' differences (None: HOVI_NUM_THREADS or every core; 1 with extra terms).")
+      .def("set_hessian_threads", [](PyProgram& p, const OptInt& threads) {
+             if (!p.hessian) throw InputError("the program has no Hessian: call set_colouring first");
+             p.hessian = std::make_unique<LagrangianHessian>(*p.program, p.hessian->colouring(), threads_arg(threads));
+           }, py::arg("threads"), "The Hessian's colours differenced on `threads` threads (as set_colouring).")
+      .def_property_readonly("hessian_threads", [](const PyProgram& p) { return p.hessian ? p.hessian->threads() : 0; },
+                             "Threads of the Hessian's differences (0 without a Hessian).")
       .def("probed_pattern", [pattern](const PyProgram& p, const Eigen::VectorXi& indptr, const Eigen::VectorXi& indices,
                                        const ArrayLike& x, unsigned seed) {
              pattern(indptr, indices);

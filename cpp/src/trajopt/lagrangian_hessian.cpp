@@ -4,9 +4,12 @@
 #include <algorithm>
 #include <limits>
 #include <random>
+#include <stdexcept>
+#include <vector>
 #include <string>
 
 #include "hovi/errors.hpp"
+#include "hovi/parallel/parallel_for.hpp"
 
 namespace hovi {
 
@@ -19,10 +22,10 @@ std::pair<Eigen::VectorXi, Eigen::VectorXi> probed_pattern(const NlpProgram& pro
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> normal;
   const VecX scale = 0.1 * x0.cwiseAbs().cwiseMax(1.0);
-  VecX x(nv), lambda(program.n_constraints()), g0(nv), g(nv);
+  VecX x(nv), lambda(program.n_constraints()), g0(nv), g(nv), jac;
   for (int j = 0; j < nv; ++j) x[j] = x0[j] + scale[j] * normal(rng);
   for (int i = 0; i < lambda.size(); ++i) lambda[i] = normal(rng);
-  program.curved_gradient(x, lambda, 1.0, g0);
+  program.curved_gradient(x, lambda, 1.0, g0, jac);
   std::vector<std::vector<int>> members(n_colours);
   for (int j = 0; j < nv; ++j) members[colour[j]].push_back(j);
   std::vector<std::vector<int>> entries(nv);          // entries[i]: columns k of row i found so far
@@ -33,7 +36,7 @@ std::pair<Eigen::VectorXi, Eigen::VectorXi> probed_pattern(const NlpProgram& pro
   VecX xc = x;
   for (int c = 0; c < n_colours; ++c) {
     for (int j : members[c]) xc[j] = x[j] + scale[j] * normal(rng);
-    program.curved_gradient(xc, lambda, 1.0, g);
+    program.curved_gradient(xc, lambda, 1.0, g, jac);
     for (int i = 0; i < nv; ++i) {
       if (!(std::abs(g[i] - g0[i]) > 1e-12 * (1.0 + std::abs(g0[i])))) continue;
       for (int a = P.indptr[i]; a < P.indptr[i + 1]; ++a)   // at most one of colour c (distance-2 colours)
@@ -57,8 +60,8 @@ std::pair<Eigen::VectorXi, Eigen::VectorXi> probed_pattern(const NlpProgram& pro
   return {indptr, Eigen::Map<Eigen::VectorXi>(indices.data(), static_cast<long>(indices.size()))};
 }
 
-LagrangianHessian::LagrangianHessian(const NlpProgram& program, HessianColouring colouring)
-    : p_(program), c_(std::move(colouring)) {
+LagrangianHessian::LagrangianHessian(const NlpProgram& program, HessianColouring colouring, int threads)
+    : p_(program), c_(std::move(colouring)), threads_(program.has_extra() ? 1 : thread_count(threads)) {
   const int n = p_.n_variables();
   const long e = c_.rows.size();
   if (c_.colour.size() != n)
@@ -87,18 +90,28 @@ LagrangianHessian::LagrangianHessian(const NlpProgram& program, HessianColouring
 void LagrangianHessian::values(const VecX& x, const VecX& lambda, double sigma, Eigen::Ref<VecX> values) const {
   const int n = p_.n_variables();
   const double root_eps = std::sqrt(std::numeric_limits<double>::epsilon());
-  VecX g0(n), g(n), xh = x;
-  p_.curved_gradient(x, lambda, sigma, g0);
+  const int threads = std::max(1, std::min(threads_, n_colours_));
+  std::vector<VecX> xh(threads, x), g(threads, VecX(n)), jac(threads);
+  VecX g0(n);
+  p_.curved_gradient(x, lambda, sigma, g0, jac[0]);
   values = sigma * cost_values_;
-  for (int c = 0; c < n_colours_; ++c) {
-    for (int j : by_colour_[c]) xh[j] = x[j] + root_eps * std::max(1.0, std::abs(x[j]));
-    p_.curved_gradient(xh, lambda, sigma, g);
+  // each colour writes only its own entries: the same values on any number of threads
+  const auto colour = [&](int c, int t) {
+    for (int j : by_colour_[c]) xh[t][j] = x[j] + root_eps * std::max(1.0, std::abs(x[j]));
+    p_.curved_gradient(xh[t], lambda, sigma, g[t], jac[t]);
     for (int k : entries_[c]) {
       const int j = c_.read_col[k];
-      values[k] += (g[c_.read_row[k]] - g0[c_.read_row[k]]) / (xh[j] - x[j]);
+      values[k] += (g[t][c_.read_row[k]] - g0[c_.read_row[k]]) / (xh[t][j] - x[j]);
     }
-    for (int j : by_colour_[c]) xh[j] = x[j];
+    for (int j : by_colour_[c]) xh[t][j] = x[j];
+  };
+  if (threads == 1) {
+    for (int c = 0; c < n_colours_; ++c) colour(c, 0);
+    return;
   }
+  const std::vector<std::string> errors = parallel_for(n_colours_, threads, colour);
+  for (const std::string& e : errors)
+    if (!e.empty()) throw std::runtime_error("the Hessian's differences failed: " + e);
 }
 
 }  // namespace hovi

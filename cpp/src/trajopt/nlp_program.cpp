@@ -8,8 +8,10 @@
 namespace hovi {
 
 namespace {
-double since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+using Clock = std::chrono::steady_clock;
+// Adds the nanoseconds since t0 to a timer.
+void add_since(std::atomic<long long>& timer, Clock::time_point t0) {
+  timer += std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - t0).count();
 }
 }  // namespace
 
@@ -38,17 +40,16 @@ NlpProgram::NlpProgram(const Transcription& transcription, double c, SparseRowMa
       throw InputError("Jacobian entry " + std::to_string(k) + " out of range");
   A_.makeCompressed();
   H_ = SparseRowMatrix(S_.transpose() * d_.asDiagonal() * S_);
-  jac_buffer_.resize(nnz());
 }
 
 double NlpProgram::objective(const VecX& x) const {
   const VecX e = S_ * x - r_;
   double f = c_ + 0.5 * e.dot(d_.cwiseProduct(e));
   if (extra_.cost) {
-    const auto t0 = std::chrono::steady_clock::now();
+    const auto t0 = Clock::now();
     VecX unused = VecX::Zero(n_);
     f += extra_.cost(x, unused);
-    t_extra_ += since(t0);
+    add_since(ns_extra_, t0);
   }
   return f;
 }
@@ -56,57 +57,59 @@ double NlpProgram::objective(const VecX& x) const {
 void NlpProgram::gradient(const VecX& x, Eigen::Ref<VecX> grad) const {
   grad = S_.transpose() * d_.cwiseProduct(S_ * x - r_);
   if (extra_.cost) {
-    const auto t0 = std::chrono::steady_clock::now();
+    const auto t0 = Clock::now();
     extra_.cost(x, grad);
-    t_extra_ += since(t0);
+    add_since(ns_extra_, t0);
   }
 }
 
 void NlpProgram::constraints(const VecX& x, Eigen::Ref<VecX> g) const {
-  auto t0 = std::chrono::steady_clock::now();
+  auto t0 = Clock::now();
   tr_.constraints(x, g.head(core_rows_));
-  t_core_ += since(t0);
+  add_since(ns_core_, t0);
   if (extra_.rows > 0) {
-    t0 = std::chrono::steady_clock::now();
+    t0 = Clock::now();
     extra_.constraints(x, g.segment(core_rows_, extra_.rows));
-    t_extra_ += since(t0);
+    add_since(ns_extra_, t0);
   }
   g.tail(A_.rows()) = A_ * x;
 }
 
 void NlpProgram::jacobian(const VecX& x, Eigen::Ref<VecX> values) const {
-  auto t0 = std::chrono::steady_clock::now();
+  auto t0 = Clock::now();
   tr_.jacobian(x, values.head(core_nnz_));
-  t_core_ += since(t0);
+  add_since(ns_core_, t0);
   if (extra_.rows > 0) {
-    t0 = std::chrono::steady_clock::now();
+    t0 = Clock::now();
     extra_.jacobian(x, values.segment(core_nnz_, extra_.nnz));
-    t_extra_ += since(t0);
+    add_since(ns_extra_, t0);
   }
   // A's values in its coordinate order (row-major, as python/hovi/trajopt/nlp.py lists them)
   values.tail(A_.nonZeros()) = Eigen::Map<const VecX>(A_.valuePtr(), A_.nonZeros());
 }
 
-void NlpProgram::curved_gradient(const VecX& x, const VecX& lambda, double sigma, Eigen::Ref<VecX> out) const {
+void NlpProgram::curved_gradient(const VecX& x, const VecX& lambda, double sigma, Eigen::Ref<VecX> out,
+                                 VecX& jac) const {
+  jac.resize(nnz());
   out.setZero();
   if (extra_.cost) {
     VecX g = VecX::Zero(n_);
-    const auto t0 = std::chrono::steady_clock::now();
+    const auto t0 = Clock::now();
     extra_.cost(x, g);
-    t_extra_ += since(t0);
+    add_since(ns_extra_, t0);
     out = sigma * g;
   }
-  auto t0 = std::chrono::steady_clock::now();
-  tr_.jacobian(x, jac_buffer_.head(core_nnz_));
-  t_core_ += since(t0);
+  auto t0 = Clock::now();
+  tr_.jacobian(x, jac.head(core_nnz_));
+  add_since(ns_core_, t0);
   int end = core_nnz_;
   if (extra_.rows > 0) {
-    t0 = std::chrono::steady_clock::now();
-    extra_.jacobian(x, jac_buffer_.segment(core_nnz_, extra_.nnz));
-    t_extra_ += since(t0);
+    t0 = Clock::now();
+    extra_.jacobian(x, jac.segment(core_nnz_, extra_.nnz));
+    add_since(ns_extra_, t0);
     end += extra_.nnz;
   }
-  for (int k = 0; k < end; ++k) out[jac_cols_[k]] += jac_buffer_[k] * lambda[jac_rows_[k]];
+  for (int k = 0; k < end; ++k) out[jac_cols_[k]] += jac[k] * lambda[jac_rows_[k]];
 }
 
 }  // namespace hovi

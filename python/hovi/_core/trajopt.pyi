@@ -8,7 +8,7 @@ import numpy
 import numpy.typing
 import scipy.sparse
 import typing
-__all__: list[str] = ['HermiteSimpsonTranscription', 'Program', 'VariationalTranscription', 'distance2_colouring', 'star_colouring']
+__all__: list[str] = ['HermiteSimpsonTranscription', 'Program', 'VariationalTranscription', 'distance2_colouring', 'gram_pattern', 'star_colouring']
 class VariationalTranscription:
     """
     The Galerkin VI of order 2s as NLP constraints (variational_transcription.hpp): variables q at the
@@ -148,14 +148,27 @@ class Program:
         """
         x: (n_variables,); the total cost.
         """
-    def set_colouring(self, colour: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], rows: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], cols: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], read_row: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], read_col: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"]) -> None:
+    def probed_pattern(self, indptr: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], indices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], x: numpy.typing.ArrayLike, seed: typing.SupportsInt | typing.SupportsIndex = 0) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"]]:
         """
-        colour (n_variables,); the lower triangle's entries rows >= cols (E,) and where each is read: component read_row of the difference of read_col's colour (hovi.trajopt.hessian.LagrangianHessian).
+        The entries (indptr, indices) of the symmetric coupling pattern (indptr (n_variables + 1,), indices) where the Lagrangian's Hessian is not identically zero, probed at a random point near x (n_variables,) (lagrangian_hessian.hpp), with the quadratic costs' entries and the diagonal.
+        """
+    def set_colouring(self, colour: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], rows: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], cols: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], read_row: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], read_col: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], threads: int | None = 1) -> None:
+        """
+        colour (n_variables,); the lower triangle's entries rows >= cols (E,) and where each is read: component read_row of the difference of read_col's colour (hovi.trajopt.hessian.LagrangianHessian); threads: for the colours' differences (None: HOVI_NUM_THREADS or every core; 1 with extra terms).
+        """
+    def set_hessian_threads(self, threads: int | None) -> None:
+        """
+        The Hessian's colours differenced on `threads` threads (as set_colouring).
         """
     @property
     def has_hessian(self) -> bool:
         """
         Whether set_colouring gave the Hessian its colours.
+        """
+    @property
+    def hessian_threads(self) -> int:
+        """
+        Threads of the Hessian's differences (0 without a Hessian).
         """
     @property
     def n_constraints(self) -> int:
@@ -175,6 +188,10 @@ class Program:
 def distance2_colouring(indptr: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], indices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"]) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"]:
     """
     Distance-2 colours (nv,) of the symmetric pattern in compressed rows (indptr (nv + 1,), indices) (colouring.hpp).
+    """
+def gram_pattern(indptr: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], indices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], n: typing.SupportsInt | typing.SupportsIndex) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"]]:
+    """
+    The symmetric pattern (indptr (n + 1,), indices) of A^T A + I for the pattern A in compressed rows (indptr, indices < n) (colouring.hpp).
     """
 def star_colouring(indptr: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], indices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"]) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"]:
     """

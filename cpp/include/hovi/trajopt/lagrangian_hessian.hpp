@@ -26,10 +26,13 @@ std::pair<Eigen::VectorXi, Eigen::VectorXi> probed_pattern(const NlpProgram& pro
 
 class LagrangianHessian {
  public:
-  // Throws InputError for colours or entries out of range or of different lengths.
-  LagrangianHessian(const NlpProgram& program, HessianColouring colouring);
+  // Throws InputError for colours or entries out of range or of different lengths. The colours'
+  // differences run on `threads` threads (parallel_for.hpp's thread_count; 1 for a program with
+  // extra terms, which hold the GIL); the values do not depend on the number of threads.
+  LagrangianHessian(const NlpProgram& program, HessianColouring colouring, int threads = 1);
   int nnz() const { return static_cast<int>(c_.rows.size()); }
   int n_colours() const { return n_colours_; }
+  int threads() const { return threads_; }
   const HessianColouring& colouring() const { return c_; }
   // values (nnz,) at (x, lambda, sigma).
   void values(const VecX& x, const VecX& lambda, double sigma, Eigen::Ref<VecX> values) const;
@@ -37,7 +40,7 @@ class LagrangianHessian {
  private:
   const NlpProgram& p_;
   HessianColouring c_;
-  int n_colours_;
+  int n_colours_, threads_;
   VecX cost_values_;                    // H at (rows, cols)
   std::vector<std::vector<int>> by_colour_;   // variables of each colour
   std::vector<std::vector<int>> entries_;     // entries read from each colour's difference

@@ -10,6 +10,7 @@
 // problem without them never leaves C++.
 #pragma once
 #include <Eigen/SparseCore>
+#include <atomic>
 #include <functional>
 
 #include "hovi/trajopt/transcription.hpp"
@@ -47,12 +48,14 @@ class NlpProgram {
   void constraints(const VecX& x, Eigen::Ref<VecX> g) const;
   void jacobian(const VecX& x, Eigen::Ref<VecX> values) const;
   // The gradient of the non-quadratic part of the Lagrangian, sigma grad f_extra + J(x)^T lambda
-  // without the linear rows (whose part is constant): what the Hessian differences.
-  void curved_gradient(const VecX& x, const VecX& lambda, double sigma, Eigen::Ref<VecX> out) const;
+  // without the linear rows (whose part is constant): what the Hessian differences. `jac` holds
+  // the Jacobian's values (resized to nnz()): one per thread, as calls may run concurrently when
+  // the program has no extra terms.
+  void curved_gradient(const VecX& x, const VecX& lambda, double sigma, Eigen::Ref<VecX> out, VecX& jac) const;
   // Seconds spent in the transcription's and in the caller's evaluations since the last reset.
-  double transcription_seconds() const { return t_core_; }
-  double extra_seconds() const { return t_extra_; }
-  void reset_timers() const { t_core_ = t_extra_ = 0.0; }
+  double transcription_seconds() const { return 1e-9 * static_cast<double>(ns_core_.load()); }
+  double extra_seconds() const { return 1e-9 * static_cast<double>(ns_extra_.load()); }
+  void reset_timers() const { ns_core_ = 0; ns_extra_ = 0; }
 
  private:
   const Transcription& tr_;
@@ -63,8 +66,7 @@ class NlpProgram {
   ExtraTerms extra_;
   Eigen::VectorXi jac_rows_, jac_cols_;
   int n_, m_, core_rows_, core_nnz_;
-  mutable VecX jac_buffer_;
-  mutable double t_core_ = 0.0, t_extra_ = 0.0;
+  mutable std::atomic<long long> ns_core_{0}, ns_extra_{0};
 };
 
 }  // namespace hovi

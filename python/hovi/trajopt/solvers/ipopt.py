@@ -19,6 +19,7 @@ import numpy as np
 from ..hessian import LagrangianHessian
 from ..nlp import NLP
 from ..problem import Problem
+from ..._checks import whole_number
 from ..costs import CallbackCost
 from ..result import Result
 from ..transcription import Guess, TranscriptionMethod
@@ -297,6 +298,10 @@ class Ipopt(NLPSolver):
     any variables, needs 'lbfgs'). 'fd' took 2-4x less time than 'lbfgs' on the swing-ups
     (bench/README.md, issue 33).
 
+    threads: threads for the coloured Hessian's differences (1 by default, None: HOVI_NUM_THREADS or
+    every core; one with costs, path constraints or contacts written in Python); the values do not
+    depend on it.
+
     The result's ``timing`` splits the wall time: 'setup' (before IPOPT starts: building the NLP,
     the starting point and, with 'fd', the Hessian's pattern and colouring; not in wall_seconds),
     then within the solve 'evaluations' (the C++ transcription calls), 'callbacks' (all time in
@@ -304,7 +309,7 @@ class Ipopt(NLPSolver):
     IPOPT's own work, mostly the sparse linear algebra)."""
 
     def __init__(self, options: dict[str, Any] | None = None, *, verbose: bool = True, hessian: str = "auto",
-                 continuation: bool = True):
+                 continuation: bool = True, threads: int | None = 1):
         if not isinstance(hessian, str) or hessian not in HESSIANS:
             raise ValueError(f"hessian must be 'auto', 'lbfgs' or 'fd', got {hessian!r}")
         if options is not None and not isinstance(options, dict):
@@ -313,6 +318,7 @@ class Ipopt(NLPSolver):
             raise TypeError(f"continuation must be True or False, got {continuation!r}")
         self.options, self.verbose, self.hessian = dict(options or {}), bool(verbose), hessian
         self.continuation = bool(continuation)
+        self.threads = None if threads is None else whole_number(threads, "threads", minimum=1)
         cpp = _cpp_ipopt()
         if cpp is not None:
             apply_options(cpp.Ipopt(), self.ipopt_options())
@@ -325,12 +331,12 @@ class Ipopt(NLPSolver):
 
     def __repr__(self) -> str:
         return (f"Ipopt(options={self.options!r}, verbose={self.verbose}, hessian={self.hessian!r}, "
-                f"continuation={self.continuation})")
+                f"continuation={self.continuation}, threads={self.threads})")
 
     def with_options(self, options: dict[str, Any]) -> Ipopt:
         """A copy with ``options`` over this one's."""
         return Ipopt({**self.options, **options}, verbose=self.verbose, hessian=self.hessian,
-                     continuation=self.continuation)
+                     continuation=self.continuation, threads=self.threads)
 
     def solve(self, problem: Problem, transcription: TranscriptionMethod = DEFAULT_TRANSCRIPTION,
               guess: Guess = None) -> Result:
@@ -380,7 +386,8 @@ class Ipopt(NLPSolver):
         (K, n), (K, n), (K, m)): through IPOPT's C++ interface (hovi._ipopt, ``nlp.program()``)
         where hovi was built with IPOPT, else through cyipopt."""
         if self.hessian == "auto":
-            return Ipopt(self.options, verbose=self.verbose, hessian=self.hessian_for(nlp)).solve_nlp(nlp, guess)
+            return Ipopt(self.options, verbose=self.verbose, hessian=self.hessian_for(nlp), continuation=self.continuation,
+                         threads=self.threads).solve_nlp(nlp, guess)
         cpp = _cpp_ipopt()
         if cpp is not None:
             return self._solve_in_cpp(cpp, nlp, guess)
@@ -435,10 +442,12 @@ class Ipopt(NLPSolver):
         x0 = np.clip(tr.initial_guess(guess), nlp.lower, nlp.upper)
         nlp.check_start(x0)
         program = nlp.program()
-        if self.hessian == "fd" and not program.has_hessian:
+        if self.hessian == "fd" and not program.has_hessian:   # probed once per NLP, near its first start
             H = LagrangianHessian(nlp, x0)
             program.set_colouring(H.colour.astype(np.int32), H.rows.astype(np.int32), H.cols.astype(np.int32),
-                                  H.read_row.astype(np.int32), H.read_col.astype(np.int32))
+                                  H.read_row.astype(np.int32), H.read_col.astype(np.int32), self.threads)
+        elif self.hessian == "fd":
+            program.set_hessian_threads(self.threads)
         run = cpp.Ipopt()
         apply_options(run, self.ipopt_options())
         progress = _Progress(self.verbose) if self.verbose or _ITERATION_HOOKS else None
@@ -486,18 +495,20 @@ class _Progress:
 
 def solve(problem: Problem, transcription: TranscriptionMethod = DEFAULT_TRANSCRIPTION, *, s: int | None = None,
           guess: Guess = None, options: dict[str, Any] | None = None, verbose: bool = True,
-          hessian: str = "auto", continuation: bool = True) -> Result:
+          hessian: str = "auto", continuation: bool = True, threads: int | None = 1) -> Result:
     """Transcribe ``problem`` with ``transcription`` (``VI(s=2)`` by default: the Galerkin VI of order
     4; ``HermiteSimpson("implicit")`` or ``HermiteSimpson("explicit")``) and solve it with IPOPT:
-    ``Ipopt(options, verbose=verbose, hessian=hessian, continuation=continuation).solve(problem,
-    transcription, guess)``.
+    ``Ipopt(options, verbose=verbose, hessian=hessian, continuation=continuation,
+    threads=threads).solve(problem, transcription, guess)``.
 
     guess: None or 'rollout' (simulate from the initial state with zero controls; if that fails,
     'linear'), 'linear', a Result (warm start from a solve of the same transcription), or
     functions (q(t), v(t), u(t)) of times t (K,) returning (K, n), (K, n), (K, m).
 
-    options, hessian, verbose, continuation (solve VI(s=1) first) and the result's ``timing``: see ``Ipopt``. The old spellings
+    options, hessian, verbose, continuation (solve VI(s=1) first), threads (of the Hessian) and the
+    result's ``timing``: see ``Ipopt``. The old spellings
     ``solve(problem, "vi", s=2)``, ``solve(problem, "hs-implicit")`` still work for one release
     (DeprecationWarning)."""
     method = resolve(transcription, s, old_default_s=2, caller="solve")
-    return Ipopt(options, verbose=verbose, hessian=hessian, continuation=continuation).solve(problem, method, guess)
+    return Ipopt(options, verbose=verbose, hessian=hessian, continuation=continuation, threads=threads).solve(
+        problem, method, guess)
