@@ -95,7 +95,7 @@ void bind_nlp_program(py::module_& t) {
            throw InputError("indices out of range");
          return gram_pattern(Pattern{indptr, indices}, n);
        }, py::arg("indptr"), py::arg("indices"), py::arg("n"),
-       "The symmetric pattern (indptr (n + 1,), indices) of A^T A + I for the pattern A in compressed rows "
+       "The symmetric pattern (indptr (n+1,), indices) of A^T A + I for the pattern A in compressed rows "
        "(indptr, indices < n) (colouring.hpp).");
   t.def("distance2_colouring", [pattern](const Eigen::VectorXi& indptr, const Eigen::VectorXi& indices) {
          pattern(indptr, indices);

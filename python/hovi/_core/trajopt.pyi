@@ -191,7 +191,7 @@ def distance2_colouring(indptr: typing.Annotated[numpy.typing.ArrayLike, numpy.i
     """
 def gram_pattern(indptr: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], indices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], n: typing.SupportsInt | typing.SupportsIndex) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"]]:
     """
-    The symmetric pattern (indptr (n + 1,), indices) of A^T A + I for the pattern A in compressed rows (indptr, indices < n) (colouring.hpp).
+    The symmetric pattern (indptr (n+1,), indices) of A^T A + I for the pattern A in compressed rows (indptr, indices < n) (colouring.hpp).
     """
 def star_colouring(indptr: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], indices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"]) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"]:
     """
