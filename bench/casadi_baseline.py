@@ -397,10 +397,11 @@ def casadi_row(sol: Solution, ref_cost: float, graph: str = "sx") -> dict:
             "one_interval_error": casadi_one_interval_error(sol) if sol.success else float("nan")}
 
 
-HOVI_METHODS = [("VI s=1", "vi", 1), ("VI s=2", "vi", 2), ("VI s=3", "vi", 3), ("HS implicit", "hs", 2)]
+HOVI_METHODS = [("VI s=1", "vi", 1), ("VI s=2", "vi", 2), ("VI s=3", "vi", 3), ("VI s=4", "vi", 4), ("VI s=5", "vi", 5),
+                ("HS implicit", "hs", 2)]
 
 
-def hovi_row(name, N, label, kind, s, ref_cost, hessian="auto", repeat=1):
+def hovi_row(name, N, label, kind, s, ref_cost, hessian="auto", repeat=1, continuation=True):
     """hovi's solve of the swing-up at N, timed from building the Problem to the Result: set-up
     (everything outside IPOPT's solve call: transcription, NLP, guess, the 'fd' Hessian's pattern, the
     Result's trajectory) and the IPOPT phase (Result.wall_seconds) apart; the fastest of ``repeat``
@@ -412,12 +413,15 @@ def hovi_row(name, N, label, kind, s, ref_cost, hessian="auto", repeat=1):
     for _ in range(repeat):
         t0 = time.perf_counter()
         prob = swingups.EXAMPLES[name](N=N)
-        r = trajopt.solve(prob, method, verbose=False, guess=GUESSES[name], hessian=hessian)
+        r = trajopt.solve(prob, method, verbose=False, guess=GUESSES[name], hessian=hessian, continuation=continuation)
         total = time.perf_counter() - t0
         if best is None or total < best[1]:
             best = (r, total)
     r, total = best
-    return {"solver": f"hovi {label}" + ("" if hessian == "auto" else f" ({hessian} Hessian)"), "N": N,
+    options = ([] if hessian == "auto" else [f"{hessian} Hessian"]) + ([] if continuation is True or s == 1 else
+                                                                      ["direct"] if not continuation else
+                                                                      [f"{continuation} first stage"])
+    return {"solver": f"hovi {label}" + (f" ({', '.join(options)})" if options else ""), "N": N,
             "success": bool(r.success), "continuation": r.solver.get("continuation", {}).get("used", False),
             "status": r.status, "iterations": r.iterations, "cost": r.cost, "timing": dict(r.timing),
             "cost_error": abs(r.cost - ref_cost) / abs(ref_cost), "setup_seconds": total - r.wall_seconds,
@@ -468,7 +472,11 @@ def run(grids=GRIDS, with_hovi=True, refine=16, hessians=("auto",), repeat=1, lo
             if with_hovi:
                 for hess in hessians:
                     for label, kind, s in HOVI_METHODS:
-                        rows.append(hovi_row(name, N, label, kind, s, ref["cost"], hess, repeat))
+                        stages = (True, False, "lbfgs") if name == "acrobot" else (True, False)
+                        for continuation in (stages if s > 1 or kind == "hs" else (True,)):
+                            if hess == "lbfgs" and not continuation:
+                                continue
+                            rows.append(hovi_row(name, N, label, kind, s, ref["cost"], hess, repeat, continuation))
         for r in rows:
             log(f"  N={r['N']:4d} {r['solver']:24s} {'ok ' if r['success'] else 'FAIL'} set-up {1e3 * r['setup_seconds']:8.1f} ms"
                 f"  IPOPT {1e3 * r['ipopt_seconds']:8.1f} ms  {r['iterations']:4d} it  cost {r['cost']:.8g}"

@@ -42,6 +42,7 @@ DEFAULT_OPTIONS = {
 }
 
 HESSIANS = ("auto", "lbfgs", "fd")
+CONTINUATIONS = ("lbfgs",)  # besides True (VI(s=1) with this solver's Hessian) and False
 
 # IPOPT's return codes (ApplicationReturnStatus) and their messages, as IPOPT's C interface words them.
 STATUS_MESSAGES = {
@@ -309,15 +310,15 @@ class Ipopt(NLPSolver):
     IPOPT's own work, mostly the sparse linear algebra)."""
 
     def __init__(self, options: dict[str, Any] | None = None, *, verbose: bool = True, hessian: str = "auto",
-                 continuation: bool = True, threads: int | None = 1):
+                 continuation: bool | str = True, threads: int | None = 1):
         if not isinstance(hessian, str) or hessian not in HESSIANS:
             raise ValueError(f"hessian must be 'auto', 'lbfgs' or 'fd', got {hessian!r}")
         if options is not None and not isinstance(options, dict):
             raise TypeError(f"options must be a dict of IPOPT options, got {type(options).__name__}")
-        if not isinstance(continuation, (bool, np.bool_)):
-            raise TypeError(f"continuation must be True or False, got {continuation!r}")
+        if not isinstance(continuation, (bool, np.bool_)) and continuation not in CONTINUATIONS:
+            raise ValueError(f"continuation must be True, False or 'lbfgs', got {continuation!r}")
         self.options, self.verbose, self.hessian = dict(options or {}), bool(verbose), hessian
-        self.continuation = bool(continuation)
+        self.continuation = continuation if isinstance(continuation, str) else bool(continuation)
         self.threads = None if threads is None else whole_number(threads, "threads", minimum=1)
         cpp = _cpp_ipopt()
         if cpp is not None:
@@ -347,14 +348,23 @@ class Ipopt(NLPSolver):
         transcription is solved from ``guess`` as without continuation. On the acrobot this found
         better optima in a fraction of the time (bench/README.md, issue 33). The first solve (and a
         failed continued one) is reported in ``timing['continuation']`` (seconds) and
-        ``solver['continuation']`` ('used': whether the result started from the first solve)."""
+        ``solver['continuation']`` ('used': whether the result started from the first solve).
+
+        ``continuation='lbfgs'``: the first solve takes at most 50 iterations of IPOPT's limited-memory
+        Hessian, converged or not, and the transcription starts from where it stopped. On the
+        acrobot the two first stages lead to different local optima, and neither is always the
+        better (bench/README.md, issue 33)."""
         first_order = VI(1)
         if (not self.continuation or transcription == first_order or not (guess is None or isinstance(guess, str))
                 or problem.contacts is not None):
             return super().solve(problem, transcription, guess)
         t0 = time.perf_counter()
-        first = super().solve(problem, first_order, guess)
-        result = super().solve(problem, transcription, first.as_guess()) if first.success else None
+        quasi_newton = self.continuation == "lbfgs"
+        stage = Ipopt({**self.options, "max_iter": 50}, verbose=self.verbose, hessian="lbfgs",
+                      continuation=False) if quasi_newton else self
+        first = NLPSolver.solve(stage, problem, first_order, guess)
+        started = first.success or (quasi_newton and np.all(np.isfinite(first.x)))
+        result = super().solve(problem, transcription, first.as_guess()) if started else None
         used = result is not None and result.success
         seconds = time.perf_counter() - t0 - (result.timing["setup"] + result.wall_seconds if used else 0.0)
         if not used:
@@ -495,7 +505,7 @@ class _Progress:
 
 def solve(problem: Problem, transcription: TranscriptionMethod = DEFAULT_TRANSCRIPTION, *, s: int | None = None,
           guess: Guess = None, options: dict[str, Any] | None = None, verbose: bool = True,
-          hessian: str = "auto", continuation: bool = True, threads: int | None = 1) -> Result:
+          hessian: str = "auto", continuation: bool | str = True, threads: int | None = 1) -> Result:
     """Transcribe ``problem`` with ``transcription`` (``VI(s=2)`` by default: the Galerkin VI of order
     4; ``HermiteSimpson("implicit")`` or ``HermiteSimpson("explicit")``) and solve it with IPOPT:
     ``Ipopt(options, verbose=verbose, hessian=hessian, continuation=continuation,
@@ -505,8 +515,8 @@ def solve(problem: Problem, transcription: TranscriptionMethod = DEFAULT_TRANSCR
     'linear'), 'linear', a Result (warm start from a solve of the same transcription), or
     functions (q(t), v(t), u(t)) of times t (K,) returning (K, n), (K, n), (K, m).
 
-    options, hessian, verbose, continuation (solve VI(s=1) first), threads (of the Hessian) and the
-    result's ``timing``: see ``Ipopt``. The old spellings
+    options, hessian, verbose, continuation (solve VI(s=1) first; 'lbfgs': 50 L-BFGS iterations of
+    it), threads (of the Hessian) and the result's ``timing``: see ``Ipopt``. The old spellings
     ``solve(problem, "vi", s=2)``, ``solve(problem, "hs-implicit")`` still work for one release
     (DeprecationWarning)."""
     method = resolve(transcription, s, old_default_s=2, caller="solve")
