@@ -47,18 +47,24 @@ def test_gram_pattern_is_the_pattern_of_a_transpose_a_plus_identity():
 
 
 def test_hessian_threads_give_the_same_values_and_solve():
-    """The colours' differences on two threads: bitwise the values of one thread, so the same solve."""
-    nlp = trajopt.NLP(cartpole_swingup(N=12), trajopt.VI(s=3))
-    H = LagrangianHessian(nlp, probe=np.zeros(nlp.n_variables))
-    program = nlp.program()
-    rng = np.random.default_rng(3)
-    x, lam = rng.uniform(-1, 1, nlp.n_variables), rng.normal(size=nlp.n_constraints)
-    values = []
-    for threads in (1, 2, None):
-        program.set_colouring(H.colour.astype(np.int32), H.rows.astype(np.int32), H.cols.astype(np.int32),
-                              H.read_row.astype(np.int32), H.read_col.astype(np.int32), threads)
-        values.append(program.hessian(x, lam, 0.3))
-    assert program.hessian_threads >= 1 and np.array_equal(values[0], values[1]) and np.array_equal(values[0], values[2])
+    """The colours' differences on two threads: bitwise the values of one thread, so the same solve;
+    also with a path constraint, whose Python part is differenced on the calling thread."""
+    with_path = pendulum_swingup(N=10)
+    with_path.add_constraint(trajopt.BodyPoint(0, [0, 0, -0.5], axes="z", lower=-0.45, window=(1.5, 2.0)))
+    for prob in (cartpole_swingup(N=12), with_path):
+        nlp = trajopt.NLP(prob, trajopt.VI(s=3))
+        H = LagrangianHessian(nlp, probe=np.zeros(nlp.n_variables))
+        program = nlp.program()
+        rng = np.random.default_rng(3)
+        x, lam = rng.uniform(-1, 1, nlp.n_variables), rng.normal(size=nlp.n_constraints)
+        values = []
+        for threads in (1, 2, None):
+            program.set_colouring(H.colour.astype(np.int32), H.rows.astype(np.int32), H.cols.astype(np.int32),
+                                  H.read_row.astype(np.int32), H.read_col.astype(np.int32), threads)
+            values.append(program.hessian(x, lam, 0.3))
+        assert program.hessian_threads >= 1
+        assert np.array_equal(values[0], values[1]) and np.array_equal(values[0], values[2])
+        np.testing.assert_allclose(values[0], H.values(x, lam, 0.3), rtol=1e-5, atol=1e-5 * np.abs(values[0]).max())
     one, two = (trajopt.solve(cartpole_swingup(N=12), trajopt.VI(s=3), verbose=False, threads=t) for t in (1, 2))
     assert one.success and one.iterations == two.iterations and np.array_equal(one.x, two.x)
     with pytest.raises(ValueError, match="threads"):

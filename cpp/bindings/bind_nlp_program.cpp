@@ -156,7 +156,8 @@ Python, one call per evaluation.
            py::arg("threads") = OptInt(py::int_(1)),
            "colour (n_variables,); the lower triangle's entries rows >= cols (E,) and where each is read: component "
            "read_row of the difference of read_col's colour (hovi.trajopt.hessian.LagrangianHessian); threads: for "
-           "the colours' differences (None: HOVI_NUM_THREADS or every core; 1 with extra terms).")
+           "the colours' differences of the transcription (None: HOVI_NUM_THREADS or every core; the extra terms "
+           "on the calling thread).")
       .def("set_hessian_threads", [](PyProgram& p, const OptInt& threads) {
              if (!p.hessian) throw InputError("the program has no Hessian: call set_colouring first");
              p.hessian = std::make_unique<LagrangianHessian>(*p.program, p.hessian->colouring(), threads_arg(threads));

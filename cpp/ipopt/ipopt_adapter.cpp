@@ -61,15 +61,12 @@ bool IpoptAdapter::get_bounds_info(Ipopt::Index n, Ipopt::Number* x_l, Ipopt::Nu
 bool IpoptAdapter::get_starting_point(Ipopt::Index n, bool init_x, Ipopt::Number* x, bool init_z, Ipopt::Number* z_L,
                                       Ipopt::Number* z_U, Ipopt::Index m, bool init_lambda, Ipopt::Number* lambda) {
   if (init_x) Eigen::Map<VecX>(x, n) = d_.x0;
+  // IPOPT asks for multipliers only with warm_start_init_point 'yes'; without given ones, zeros
   if (init_z) {
-    if (d_.z_lower0.size() != n || d_.z_upper0.size() != n) return false;
-    Eigen::Map<VecX>(z_L, n) = d_.z_lower0;
-    Eigen::Map<VecX>(z_U, n) = d_.z_upper0;
+    Eigen::Map<VecX>(z_L, n) = d_.z_lower0.size() == n ? d_.z_lower0 : VecX::Zero(n);
+    Eigen::Map<VecX>(z_U, n) = d_.z_upper0.size() == n ? d_.z_upper0 : VecX::Zero(n);
   }
-  if (init_lambda) {
-    if (d_.lambda0.size() != m) return false;
-    Eigen::Map<VecX>(lambda, m) = d_.lambda0;
-  }
+  if (init_lambda) Eigen::Map<VecX>(lambda, m) = d_.lambda0.size() == m ? d_.lambda0 : VecX::Zero(m);
   return true;
 }
 

@@ -6,6 +6,7 @@
 #include <IpTNLP.hpp>
 #include <exception>
 #include <functional>
+#include <limits>
 #include <string>
 
 #include "hovi/trajopt/lagrangian_hessian.hpp"
@@ -23,7 +24,7 @@ struct IpoptProblemData {
 struct IpoptOutcome {
   int status = 0;                     // IPOPT's ApplicationReturnStatus
   int iterations = 0;
-  double cost = 0.0;
+  double cost = std::numeric_limits<double>::quiet_NaN();   // NaN if IPOPT stopped before a solution
   VecX x, lambda, z_lower, z_upper;
   double seconds = 0.0;               // wall time of OptimizeTNLP
   double callback_seconds = 0.0;      // time in the callbacks (evaluations and the hook)

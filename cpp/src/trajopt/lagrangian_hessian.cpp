@@ -61,7 +61,7 @@ std::pair<Eigen::VectorXi, Eigen::VectorXi> probed_pattern(const NlpProgram& pro
 }
 
 LagrangianHessian::LagrangianHessian(const NlpProgram& program, HessianColouring colouring, int threads)
-    : p_(program), c_(std::move(colouring)), threads_(program.has_extra() ? 1 : thread_count(threads)) {
+    : p_(program), c_(std::move(colouring)), threads_(thread_count(threads)) {
   const int n = p_.n_variables();
   const long e = c_.rows.size();
   if (c_.colour.size() != n)
@@ -88,30 +88,37 @@ LagrangianHessian::LagrangianHessian(const NlpProgram& program, HessianColouring
 }
 
 void LagrangianHessian::values(const VecX& x, const VecX& lambda, double sigma, Eigen::Ref<VecX> values) const {
+  using Part = NlpProgram::Part;
   const int n = p_.n_variables();
   const double root_eps = std::sqrt(std::numeric_limits<double>::epsilon());
   const int threads = std::max(1, std::min(threads_, n_colours_));
   std::vector<VecX> xh(threads, x), g(threads, VecX(n)), jac(threads);
-  VecX g0(n);
+  VecX g0(n), read = VecX::Zero(nnz());   // read[k]: the gradient component entry k reads, at its colour's point
   p_.curved_gradient(x, lambda, sigma, g0, jac[0]);
-  values = sigma * cost_values_;
-  // each colour writes only its own entries: the same values on any number of threads
-  const auto colour = [&](int c, int t) {
+  // one colour's part of the gradient at its point; each colour adds only to its own entries, in
+  // the same order on any number of threads (the transcription's part, then the caller's)
+  const auto colour = [&](int c, int t, Part part) {
     for (int j : by_colour_[c]) xh[t][j] = x[j] + root_eps * std::max(1.0, std::abs(x[j]));
-    p_.curved_gradient(xh[t], lambda, sigma, g[t], jac[t]);
-    for (int k : entries_[c]) {
-      const int j = c_.read_col[k];
-      values[k] += (g[t][c_.read_row[k]] - g0[c_.read_row[k]]) / (xh[t][j] - x[j]);
-    }
+    p_.curved_gradient(xh[t], lambda, sigma, g[t], jac[t], part);
+    for (int k : entries_[c]) read[k] += g[t][c_.read_row[k]];
     for (int j : by_colour_[c]) xh[t][j] = x[j];
   };
   if (threads == 1) {
-    for (int c = 0; c < n_colours_; ++c) colour(c, 0);
-    return;
+    for (int c = 0; c < n_colours_; ++c) colour(c, 0, Part::Transcription);
+  } else {
+    const std::vector<std::string> errors =
+        parallel_for(n_colours_, threads, [&](int c, int t) { colour(c, t, Part::Transcription); });
+    for (const std::string& e : errors)
+      if (!e.empty()) throw std::runtime_error("the Hessian's differences failed: " + e);
   }
-  const std::vector<std::string> errors = parallel_for(n_colours_, threads, colour);
-  for (const std::string& e : errors)
-    if (!e.empty()) throw std::runtime_error("the Hessian's differences failed: " + e);
+  if (p_.has_extra())   // the caller's part (Python) on this thread
+    for (int c = 0; c < n_colours_; ++c) colour(c, 0, Part::Extra);
+  values = sigma * cost_values_;
+  for (int k = 0; k < nnz(); ++k) {
+    const int j = c_.read_col[k];
+    const double step = (x[j] + root_eps * std::max(1.0, std::abs(x[j]))) - x[j];
+    values[k] += (read[k] - g0[c_.read_row[k]]) / step;
+  }
 }
 
 }  // namespace hovi

@@ -88,28 +88,30 @@ void NlpProgram::jacobian(const VecX& x, Eigen::Ref<VecX> values) const {
   values.tail(A_.nonZeros()) = Eigen::Map<const VecX>(A_.valuePtr(), A_.nonZeros());
 }
 
-void NlpProgram::curved_gradient(const VecX& x, const VecX& lambda, double sigma, Eigen::Ref<VecX> out,
-                                 VecX& jac) const {
+void NlpProgram::curved_gradient(const VecX& x, const VecX& lambda, double sigma, Eigen::Ref<VecX> out, VecX& jac,
+                                 Part part) const {
   jac.resize(nnz());
   out.setZero();
-  if (extra_.cost) {
+  const bool mine = part != Part::Extra, theirs = part != Part::Transcription;
+  if (theirs && extra_.cost) {
     VecX g = VecX::Zero(n_);
     const auto t0 = Clock::now();
     extra_.cost(x, g);
     add_since(ns_extra_, t0);
     out = sigma * g;
   }
-  auto t0 = Clock::now();
-  tr_.jacobian(x, jac.head(core_nnz_));
-  add_since(ns_core_, t0);
-  int end = core_nnz_;
-  if (extra_.rows > 0) {
-    t0 = Clock::now();
+  if (mine) {
+    const auto t0 = Clock::now();
+    tr_.jacobian(x, jac.head(core_nnz_));
+    add_since(ns_core_, t0);
+    for (int k = 0; k < core_nnz_; ++k) out[jac_cols_[k]] += jac[k] * lambda[jac_rows_[k]];
+  }
+  if (theirs && extra_.rows > 0) {
+    const auto t0 = Clock::now();
     extra_.jacobian(x, jac.segment(core_nnz_, extra_.nnz));
     add_since(ns_extra_, t0);
-    end += extra_.nnz;
+    for (int k = core_nnz_; k < core_nnz_ + extra_.nnz; ++k) out[jac_cols_[k]] += jac[k] * lambda[jac_rows_[k]];
   }
-  for (int k = 0; k < end; ++k) out[jac_cols_[k]] += jac[k] * lambda[jac_rows_[k]];
 }
 
 }  // namespace hovi

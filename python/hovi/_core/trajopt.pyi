@@ -154,7 +154,7 @@ class Program:
         """
     def set_colouring(self, colour: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], rows: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], cols: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], read_row: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], read_col: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], threads: int | None = 1) -> None:
         """
-        colour (n_variables,); the lower triangle's entries rows >= cols (E,) and where each is read: component read_row of the difference of read_col's colour (hovi.trajopt.hessian.LagrangianHessian); threads: for the colours' differences (None: HOVI_NUM_THREADS or every core; 1 with extra terms).
+        colour (n_variables,); the lower triangle's entries rows >= cols (E,) and where each is read: component read_row of the difference of read_col's colour (hovi.trajopt.hessian.LagrangianHessian); threads: for the colours' differences of the transcription (None: HOVI_NUM_THREADS or every core; the extra terms on the calling thread).
         """
     def set_hessian_threads(self, threads: int | None) -> None:
         """

@@ -27,8 +27,9 @@ std::pair<Eigen::VectorXi, Eigen::VectorXi> probed_pattern(const NlpProgram& pro
 class LagrangianHessian {
  public:
   // Throws InputError for colours or entries out of range or of different lengths. The colours'
-  // differences run on `threads` threads (parallel_for.hpp's thread_count; 1 for a program with
-  // extra terms, which hold the GIL); the values do not depend on the number of threads.
+  // differences of the transcription's part run on `threads` threads (parallel_for.hpp's
+  // thread_count), the caller's extra terms (Python, the GIL) on the calling thread; the values do
+  // not depend on the number of threads.
   LagrangianHessian(const NlpProgram& program, HessianColouring colouring, int threads = 1);
   int nnz() const { return static_cast<int>(c_.rows.size()); }
   int n_colours() const { return n_colours_; }

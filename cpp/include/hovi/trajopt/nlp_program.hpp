@@ -48,10 +48,12 @@ class NlpProgram {
   void constraints(const VecX& x, Eigen::Ref<VecX> g) const;
   void jacobian(const VecX& x, Eigen::Ref<VecX> values) const;
   // The gradient of the non-quadratic part of the Lagrangian, sigma grad f_extra + J(x)^T lambda
-  // without the linear rows (whose part is constant): what the Hessian differences. `jac` holds
-  // the Jacobian's values (resized to nnz()): one per thread, as calls may run concurrently when
-  // the program has no extra terms.
-  void curved_gradient(const VecX& x, const VecX& lambda, double sigma, Eigen::Ref<VecX> out, VecX& jac) const;
+  // without the linear rows (whose part is constant): what the Hessian differences; or only its
+  // transcription's part (C++, may run concurrently) or only the caller's part. `jac` holds the
+  // Jacobian's values (resized to nnz()): one per thread.
+  enum class Part { All, Transcription, Extra };
+  void curved_gradient(const VecX& x, const VecX& lambda, double sigma, Eigen::Ref<VecX> out, VecX& jac,
+                       Part part = Part::All) const;
   // Seconds spent in the transcription's and in the caller's evaluations since the last reset.
   double transcription_seconds() const { return 1e-9 * static_cast<double>(ns_core_.load()); }
   double extra_seconds() const { return 1e-9 * static_cast<double>(ns_extra_.load()); }

@@ -21,10 +21,12 @@ from .example import Example
 
 def ipopt_totals(result: Result) -> Tuple[int, float]:
     """(iterations, seconds in IPOPT) of the whole solve: for a contact-implicit one, of all its
-    relaxed and exact solves."""
+    relaxed and exact solves; with order continuation, its first stage's iterations and time too."""
     if result.contact:
         return int(result.contact["iterations"]), float(result.contact["wall_seconds"])
-    return int(result.iterations), float(result.wall_seconds)
+    first = result.solver.get("continuation", {})
+    return (int(result.iterations) + int(first.get("iterations", 0)),
+            float(result.wall_seconds) + float(first.get("seconds", 0.0)))
 
 
 REPLAY_TOLERANCE = 1e-6  # m or rad: a stage is reproduced when the integrator's step lands this close to q^{k+1}

@@ -161,17 +161,18 @@ def solve_contact(problem: Problem, transcription: TranscriptionMethod = DEFAULT
                   epsilons: Sequence[float] = DEFAULT_EPSILONS, *, s: int | None = None, guess: Guess = "rollout",
                   finish_below: float = FINISH_BELOW, options: dict[str, Any] | None = None, verbose: bool = False,
                   hessian: str = "lbfgs", time_limit: float | None = None,
-                  checkpoint: str | os.PathLike | None = None, sides_from: Result | None = None) -> Result:
+                  checkpoint: str | os.PathLike | None = None, sides_from: Result | None = None,
+                  threads: int | None = 1) -> Result:
     """Solve ``problem`` (with ``add_contacts``) with ``transcription`` (as in ``solve``; use
     ``VI(s=1)``, the contact model that is inelastic and well posed (see hovi.contact): with s >= 2
     an impact inside a stage rebounds; ``HermiteSimpson`` puts the same contact conditions on its
-    knots and midpoints): ``ContactHomotopy(Ipopt(options, verbose=verbose, hessian=hessian),
+    knots and midpoints): ``ContactHomotopy(Ipopt(options, verbose=verbose, hessian=hessian, threads=threads),
     epsilons, finish_below=finish_below, time_limit=time_limit).solve(problem, transcription,
     guess, checkpoint=checkpoint, sides_from=sides_from)``: the relaxation homotopy over
     ``epsilons`` (positive, decreasing), and after each relaxed solve with epsilon <=
     ``finish_below`` the exact solve on the sides of the complementarity pairs it shows, until one
     succeeds (finish_below = 0: relaxed solves only). ``options`` go to every IPOPT solve (the
-    relaxed ones default to tol = RELAXED_TOL); ``hessian`` as in ``solve``. ``time_limit``
+    relaxed ones default to tol = RELAXED_TOL); ``hessian`` and ``threads`` as in ``solve``. ``time_limit``
     (seconds, default none): a budget for all the solves together; each IPOPT solve gets what is
     left (at least 1 s) as its max_cpu_time, and no solve starts once it is spent
     (``result.contact['out_of_time']``).
@@ -212,7 +213,7 @@ def solve_contact(problem: Problem, transcription: TranscriptionMethod = DEFAULT
     if problem.contacts is None:
         raise ValueError("the problem has no contacts: call problem.add_contacts(contacts)")
     method = resolve(transcription, s, old_default_s=1, caller="solve_contact")
-    homotopy = ContactHomotopy(Ipopt(options, verbose=verbose, hessian=hessian), epsilons,
+    homotopy = ContactHomotopy(Ipopt(options, verbose=verbose, hessian=hessian, threads=threads), epsilons,
                                finish_below=finish_below, time_limit=time_limit)
     return homotopy.solve(problem, method, guess, checkpoint=checkpoint, sides_from=sides_from)
 
