@@ -370,3 +370,24 @@ def test_ipopt_solve_refuses_bad_arrays():
         run.solve(program, **{**args, "cl": nlp.cl[:-1]})
     with pytest.raises(ValueError, match="set_colouring"):
         run.solve(program, **args, exact_hessian=True)
+
+
+def test_program_construction_refuses_bad_matrices_and_terms():
+    """The quadratic costs' S and the linear rows' A come as (indptr, indices, data); inconsistent
+    arrays, a column out of range, or extra rows without their functions are refused by name."""
+    from hovi import _core
+    from hovi.examples.swingups import pendulum_swingup
+    nlp = trajopt.NLP(pendulum_swingup(N=4), trajopt.VI(s=1))
+    nv = nlp.n_variables
+    empty = (np.zeros(1, np.int32), np.zeros(0, np.int32), np.zeros(0))
+    rows, cols = nlp.core.structure
+    args = (nlp.core, 0.0, empty, np.zeros(0), np.zeros(0), empty, np.asarray(rows, np.int32), np.asarray(cols, np.int32))
+    assert _core.trajopt.Program(*args).n_constraints == nlp.core.n_constraints
+    bad = [((np.array([0, 2], np.int32), np.array([0, nv], np.int32), np.ones(2)), "column indices out of range"),
+           ((np.array([0, 3], np.int32), np.array([0, 1], np.int32), np.ones(2)), "indptr"),
+           ("not a matrix", "tuple")]
+    for S, message in bad:
+        with pytest.raises(ValueError, match=message):
+            _core.trajopt.Program(nlp.core, 0.0, S, np.zeros(1), np.ones(1), *args[5:])
+    with pytest.raises(ValueError, match="extra_constraints and extra_jacobian"):
+        _core.trajopt.Program(*args, extra_rows=2, extra_nnz=2)

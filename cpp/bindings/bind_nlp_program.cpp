@@ -1,8 +1,7 @@
 // Binding of the NLP program (hovi._core.trajopt.Program): python/hovi/trajopt/nlp.py builds it
 // once per NLP; a solver (hovi._ipopt) then evaluates it without Python, except for the terms
-// written in Python (the `extra` object), one call per evaluation.
+// written in Python (the extra_* functions), one call per evaluation.
 #include <Eigen/SparseCore>
-#include <pybind11/eigen.h>
 
 #include "hovi/errors.hpp"
 #include "hovi/trajopt/colouring.hpp"
@@ -34,37 +33,60 @@ void copy_into(const py::handle& result, Eigen::Ref<VecX> out, const char* what)
 
 py::array_t<double> view(const VecX& x) { return py::array_t<double>(x.size(), x.data()); }
 
-// The extra terms as C++ hooks that take the GIL and call the Python object.
-ExtraTerms extra_hooks(const py::object& extra, int rows, int nnz, bool cost) {
+// The extra terms as C++ hooks that take the GIL and call the Python functions (each None or a
+// callable of x; kept alive by PyProgram).
+ExtraTerms extra_hooks(const PyProgram& p, int rows, int nnz) {
   ExtraTerms e;
-  if (extra.is_none()) {
-    if (rows != 0 || nnz != 0 || cost) throw InputError("extra rows or costs need an extra object");
-    return e;
-  }
+  if ((rows != 0 || nnz != 0) && (p.extra_constraints.is_none() || p.extra_jacobian.is_none()))
+    throw InputError("extra rows need extra_constraints and extra_jacobian functions");
   e.rows = rows;
   e.nnz = nnz;
-  const PyObject* raw = extra.ptr();   // kept alive by PyProgram::extra
-  const auto obj = [raw] { return py::reinterpret_borrow<py::object>(const_cast<PyObject*>(raw)); };
-  if (cost)
-    e.cost = [obj](const VecX& x, Eigen::Ref<VecX> grad) {
+  const auto borrowed = [](const py::object& f) {
+    const PyObject* raw = f.ptr();
+    return [raw] { return py::reinterpret_borrow<py::object>(const_cast<PyObject*>(raw)); };
+  };
+  if (!p.extra_cost.is_none()) {
+    const auto f = borrowed(p.extra_cost);
+    e.cost = [f](const VecX& x, Eigen::Ref<VecX> grad) {
       py::gil_scoped_acquire gil;
-      py::tuple r = obj().attr("cost")(view(x));
+      py::tuple r = f()(view(x));
       VecX g(grad.size());
       copy_into(r[1], g, "the extra cost's gradient");
       grad += g;
       return r[0].cast<double>();
     };
+  }
   if (rows > 0) {
-    e.constraints = [obj](const VecX& x, Eigen::Ref<VecX> g) {
+    const auto fc = borrowed(p.extra_constraints), fj = borrowed(p.extra_jacobian);
+    e.constraints = [fc](const VecX& x, Eigen::Ref<VecX> g) {
       py::gil_scoped_acquire gil;
-      copy_into(obj().attr("constraints")(view(x)), g, "the extra constraints");
+      copy_into(fc()(view(x)), g, "the extra constraints");
     };
-    e.jacobian = [obj](const VecX& x, Eigen::Ref<VecX> v) {
+    e.jacobian = [fj](const VecX& x, Eigen::Ref<VecX> v) {
       py::gil_scoped_acquire gil;
-      copy_into(obj().attr("jacobian")(view(x)), v, "the extra Jacobian values");
+      copy_into(fj()(view(x)), v, "the extra Jacobian values");
     };
   }
   return e;
+}
+
+// A matrix in compressed rows given as (indptr (rows+1,), indices, data) with `cols` columns (a
+// scipy.sparse.csr_matrix's arrays); InputError naming `name` unless consistent.
+SparseRowMatrix csr_of(const py::handle& arrays, const char* name, int cols) {
+  const std::string what(name);
+  if (!py::isinstance<py::tuple>(arrays) || py::len(arrays) != 3)
+    throw InputError(what + " must be a tuple (indptr, indices, data) of a matrix in compressed rows");
+  const py::tuple t = py::reinterpret_borrow<py::tuple>(arrays);
+  const Eigen::VectorXi indptr = t[0].cast<Eigen::VectorXi>(), indices = t[1].cast<Eigen::VectorXi>();
+  const VecX data = as_vector(t[2], (what + " data").c_str(), indices.size());
+  if (indptr.size() < 1 || indptr[0] != 0 || indptr[indptr.size() - 1] != indices.size())
+    throw InputError(what + ": indptr must start at 0 and end at len(indices)");
+  for (long i = 0; i + 1 < indptr.size(); ++i)
+    if (indptr[i + 1] < indptr[i]) throw InputError(what + ": indptr must not decrease");
+  if (indices.size() > 0 && (indices.minCoeff() < 0 || indices.maxCoeff() >= cols))
+    throw InputError(what + ": column indices out of range");
+  return Eigen::Map<const SparseRowMatrix>(static_cast<long>(indptr.size()) - 1, cols, static_cast<long>(indices.size()),
+                                           indptr.data(), indices.data(), data.data());
 }
 
 const NlpProgram& program_of(const PyProgram& p) { return *p.program; }
@@ -106,27 +128,32 @@ void bind_nlp_program(py::module_& t) {
 The NLP of a transcribed problem evaluated in C++ (nlp_program.hpp), as hovi.trajopt.NLP lays it
 out: the quadratic costs c + sum_i d_i (S x - r)_i^2 / 2, rows [transcription | extra | A x], the Jacobian
 in `jac_rows`, `jac_cols` order, and the Lagrangian's Hessian by coloured differences once
-`set_colouring` gave the colours. `extra` (None, or an object with cost(x) -> (value, gradient),
-constraints(x) -> (extra_rows,) and jacobian(x) -> (extra_nnz,)) evaluates the terms written in
+`set_colouring` gave the colours. The terms written in Python come through functions of x (each
+None when absent): extra_cost(x) -> (value, gradient), extra_constraints(x) -> (extra_rows,),
+extra_jacobian(x) -> (extra_nnz,); they evaluate the terms written in
 Python, one call per evaluation.
 )doc")
-      .def(py::init([](AnyTranscription transcription, double c, const SparseRowMatrix& S, const ArrayLike& r,
-                       const ArrayLike& d, const SparseRowMatrix& A, const Eigen::VectorXi& jac_rows, const Eigen::VectorXi& jac_cols,
-                       OptPythonTerms extra, int extra_rows, int extra_nnz, bool extra_cost) {
+      .def(py::init([](AnyTranscription transcription, double c, const CsrArrays& S_csr, const ArrayLike& r,
+                       const ArrayLike& d, const CsrArrays& A_csr, const Eigen::VectorXi& jac_rows,
+                       const Eigen::VectorXi& jac_cols, OptArrayFunction extra_cost, OptArrayFunction extra_constraints,
+                       OptArrayFunction extra_jacobian, int extra_rows, int extra_nnz) {
              const Transcription& tr = transcription_of(transcription);
+             const SparseRowMatrix S = csr_of(S_csr, "S", tr.n_variables()), A = csr_of(A_csr, "A", tr.n_variables());
              auto p = std::make_unique<PyProgram>();
              p->transcription = transcription;
-             p->extra = extra;
+             p->extra_cost = extra_cost;
+             p->extra_constraints = extra_constraints;
+             p->extra_jacobian = extra_jacobian;
              p->program = std::make_unique<NlpProgram>(tr, c, S, as_vector(r, "r", S.rows()), as_vector(d, "d", S.rows()), A,
-                                                       extra_hooks(p->extra, extra_rows, extra_nnz, extra_cost),
-                                                       jac_rows, jac_cols);
+                                                       extra_hooks(*p, extra_rows, extra_nnz), jac_rows, jac_cols);
              return p;
            }),
            py::arg("transcription"), py::arg("c"), py::arg("S"), py::arg("r"), py::arg("d"), py::arg("A"), py::arg("jac_rows"),
-           py::arg("jac_cols"), py::arg("extra") = OptPythonTerms(py::none()), py::arg("extra_rows") = 0, py::arg("extra_nnz") = 0,
-           py::arg("extra_cost") = false,
-           "transcription: the C++ transcription; c, S (k, n) scipy CSR, r (k,), d (k,): the quadratic costs; A (a, n) "
-           "CSR: the linear rows; jac_rows, jac_cols (nnz,): the whole Jacobian's structure; the extra terms (see the class).")
+           py::arg("jac_cols"), py::arg("extra_cost") = OptArrayFunction(py::none()),
+           py::arg("extra_constraints") = OptArrayFunction(py::none()),
+           py::arg("extra_jacobian") = OptArrayFunction(py::none()), py::arg("extra_rows") = 0, py::arg("extra_nnz") = 0,
+           "transcription: the C++ transcription; c, S (k, n), r (k,), d (k,): the quadratic costs; A (a, n): the "
+           "linear rows (S, A as (indptr, indices, data) in compressed rows); jac_rows, jac_cols (nnz,): the whole Jacobian's structure; the extra terms (see the class).")
       .def_property_readonly("n_variables", [](const PyProgram& p) { return p.program->n_variables(); }, "Length of x.")
       .def_property_readonly("n_constraints", [](const PyProgram& p) { return p.program->n_constraints(); }, "Length of g(x).")
       .def_property_readonly("nnz", [](const PyProgram& p) { return p.program->nnz(); }, "Jacobian nonzeros.")

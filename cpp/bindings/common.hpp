@@ -28,7 +28,8 @@ HOVI_PY_HINTED_OBJECT(PathOrXml)     // str | os.PathLike[str]: a URDF path or X
 HOVI_PY_HINTED_OBJECT(OptInt)        // int | None
 HOVI_PY_HINTED_OBJECT(AnyIntegrator) // hovi._core.Integrator | hovi._core.ContactIntegrator
 HOVI_PY_HINTED_OBJECT(AnyTranscription)  // hovi._core.trajopt.VariationalTranscription | ...HermiteSimpsonTranscription
-HOVI_PY_HINTED_OBJECT(OptPythonTerms)     // hovi.trajopt.nlp.PythonTerms | None
+HOVI_PY_HINTED_OBJECT(OptArrayFunction)   // a Python function of an array, or None
+HOVI_PY_HINTED_OBJECT(CsrArrays)     // (indptr, indices, data) of a matrix in compressed rows
 #undef HOVI_PY_HINTED_OBJECT
 
 // Typed containers for return values: py::typing::Tuple<MatX, VecX> is `tuple[NDArray, NDArray]`.
@@ -83,6 +84,8 @@ HOVI_PY_TYPE_NAME(OptInt, "int | None")
 HOVI_PY_TYPE_NAME(AnyIntegrator, "hovi._core.Integrator | hovi._core.ContactIntegrator")
 HOVI_PY_TYPE_NAME(AnyTranscription,
                   "hovi._core.trajopt.VariationalTranscription | hovi._core.trajopt.HermiteSimpsonTranscription")
-HOVI_PY_TYPE_NAME(OptPythonTerms, "hovi.trajopt.nlp.PythonTerms | None")
+HOVI_PY_TYPE_NAME(CsrArrays, "tuple[numpy.typing.ArrayLike, numpy.typing.ArrayLike, numpy.typing.ArrayLike]")
+HOVI_PY_TYPE_NAME(OptArrayFunction,
+                  "collections.abc.Callable[[numpy.typing.NDArray[numpy.float64]], typing.Any] | None")
 #undef HOVI_PY_TYPE_NAME
 }  // namespace pybind11::detail

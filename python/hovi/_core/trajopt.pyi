@@ -2,11 +2,10 @@
 Transcriptions of trajectory-optimisation problems
 """
 from __future__ import annotations
+import collections.abc
 import hovi._core
-import hovi.trajopt.nlp
 import numpy
 import numpy.typing
-import scipy.sparse
 import typing
 __all__: list[str] = ['HermiteSimpsonTranscription', 'Program', 'VariationalTranscription', 'distance2_colouring', 'gram_pattern', 'star_colouring']
 class VariationalTranscription:
@@ -120,13 +119,14 @@ class Program:
     The NLP of a transcribed problem evaluated in C++ (nlp_program.hpp), as hovi.trajopt.NLP lays it
     out: the quadratic costs c + sum_i d_i (S x - r)_i^2 / 2, rows [transcription | extra | A x], the Jacobian
     in `jac_rows`, `jac_cols` order, and the Lagrangian's Hessian by coloured differences once
-    `set_colouring` gave the colours. `extra` (None, or an object with cost(x) -> (value, gradient),
-    constraints(x) -> (extra_rows,) and jacobian(x) -> (extra_nnz,)) evaluates the terms written in
+    `set_colouring` gave the colours. The terms written in Python come through functions of x (each
+    None when absent): extra_cost(x) -> (value, gradient), extra_constraints(x) -> (extra_rows,),
+    extra_jacobian(x) -> (extra_nnz,); they evaluate the terms written in
     Python, one call per evaluation.
     """
-    def __init__(self, transcription: VariationalTranscription | HermiteSimpsonTranscription, c: typing.SupportsFloat | typing.SupportsIndex, S: scipy.sparse.csr_matrix, r: numpy.typing.ArrayLike, d: numpy.typing.ArrayLike, A: scipy.sparse.csr_matrix, jac_rows: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], jac_cols: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], extra: hovi.trajopt.nlp.PythonTerms | None = None, extra_rows: typing.SupportsInt | typing.SupportsIndex = 0, extra_nnz: typing.SupportsInt | typing.SupportsIndex = 0, extra_cost: bool = False) -> None:
+    def __init__(self, transcription: VariationalTranscription | HermiteSimpsonTranscription, c: typing.SupportsFloat | typing.SupportsIndex, S: tuple[numpy.typing.ArrayLike, numpy.typing.ArrayLike, numpy.typing.ArrayLike], r: numpy.typing.ArrayLike, d: numpy.typing.ArrayLike, A: tuple[numpy.typing.ArrayLike, numpy.typing.ArrayLike, numpy.typing.ArrayLike], jac_rows: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], jac_cols: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], extra_cost: collections.abc.Callable[[numpy.typing.NDArray[numpy.float64]], typing.Any] | None = None, extra_constraints: collections.abc.Callable[[numpy.typing.NDArray[numpy.float64]], typing.Any] | None = None, extra_jacobian: collections.abc.Callable[[numpy.typing.NDArray[numpy.float64]], typing.Any] | None = None, extra_rows: typing.SupportsInt | typing.SupportsIndex = 0, extra_nnz: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
         """
-        transcription: the C++ transcription; c, S (k, n) scipy CSR, r (k,), d (k,): the quadratic costs; A (a, n) CSR: the linear rows; jac_rows, jac_cols (nnz,): the whole Jacobian's structure; the extra terms (see the class).
+        transcription: the C++ transcription; c, S (k, n), r (k,), d (k,): the quadratic costs; A (a, n): the linear rows (S, A as (indptr, indices, data) in compressed rows); jac_rows, jac_cols (nnz,): the whole Jacobian's structure; the extra terms (see the class).
         """
     def constraints(self, x: numpy.typing.ArrayLike) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         """

@@ -250,10 +250,13 @@ class NLP:
                     part.append(where)
             extra_rows = self.n_constraints - self.core.n_constraints - self.A.shape[0]
             extra_nnz = self.nnz - self.core.nnz - self.A.nnz
+            terms = PythonTerms(self, others)
+            csr = [(M.indptr.astype(np.int32), M.indices.astype(np.int32), M.data) for M in (sp.vstack(S).tocsr(), self.A)]
             self._program = _core.trajopt.Program(
-                self.core, c0, sp.vstack(S).tocsr(), np.concatenate(r), np.concatenate(d), self.A,
+                self.core, c0, csr[0], np.concatenate(r), np.concatenate(d), csr[1],
                 self.jac_rows.astype(np.int32), self.jac_cols.astype(np.int32),
-                PythonTerms(self, others) if (others or extra_rows) else None, extra_rows, extra_nnz, bool(others))
+                terms.cost if others else None, terms.constraints if extra_rows else None,
+                terms.jacobian if extra_rows else None, extra_rows, extra_nnz)
         return self._program
 
     def _squares(self, cost, i: int, zero):
