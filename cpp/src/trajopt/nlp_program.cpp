@@ -9,8 +9,11 @@ namespace hovi {
 
 namespace {
 using Clock = std::chrono::steady_clock;
-// Adds the nanoseconds since t0 to a timer.
-void add_since(std::atomic<long long>& timer, Clock::time_point t0) {
+// f(), its nanoseconds added to a timer.
+template <class F>
+void timed(std::atomic<long long>& timer, F&& f) {
+  const auto t0 = Clock::now();
+  f();
   timer += std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - t0).count();
 }
 }  // namespace
@@ -46,44 +49,26 @@ double NlpProgram::objective(const VecX& x) const {
   const VecX e = S_ * x - r_;
   double f = c_ + 0.5 * e.dot(d_.cwiseProduct(e));
   if (extra_.cost) {
-    const auto t0 = Clock::now();
     VecX unused = VecX::Zero(n_);
-    f += extra_.cost(x, unused);
-    add_since(ns_extra_, t0);
+    timed(ns_extra_, [&] { f += extra_.cost(x, unused); });
   }
   return f;
 }
 
 void NlpProgram::gradient(const VecX& x, Eigen::Ref<VecX> grad) const {
   grad = S_.transpose() * d_.cwiseProduct(S_ * x - r_);
-  if (extra_.cost) {
-    const auto t0 = Clock::now();
-    extra_.cost(x, grad);
-    add_since(ns_extra_, t0);
-  }
+  if (extra_.cost) timed(ns_extra_, [&] { extra_.cost(x, grad); });
 }
 
 void NlpProgram::constraints(const VecX& x, Eigen::Ref<VecX> g) const {
-  auto t0 = Clock::now();
-  tr_.constraints(x, g.head(core_rows_));
-  add_since(ns_core_, t0);
-  if (extra_.rows > 0) {
-    t0 = Clock::now();
-    extra_.constraints(x, g.segment(core_rows_, extra_.rows));
-    add_since(ns_extra_, t0);
-  }
+  timed(ns_core_, [&] { tr_.constraints(x, g.head(core_rows_)); });
+  if (extra_.rows > 0) timed(ns_extra_, [&] { extra_.constraints(x, g.segment(core_rows_, extra_.rows)); });
   g.tail(A_.rows()) = A_ * x;
 }
 
 void NlpProgram::jacobian(const VecX& x, Eigen::Ref<VecX> values) const {
-  auto t0 = Clock::now();
-  tr_.jacobian(x, values.head(core_nnz_));
-  add_since(ns_core_, t0);
-  if (extra_.rows > 0) {
-    t0 = Clock::now();
-    extra_.jacobian(x, values.segment(core_nnz_, extra_.nnz));
-    add_since(ns_extra_, t0);
-  }
+  timed(ns_core_, [&] { tr_.jacobian(x, values.head(core_nnz_)); });
+  if (extra_.rows > 0) timed(ns_extra_, [&] { extra_.jacobian(x, values.segment(core_nnz_, extra_.nnz)); });
   // A's values in its coordinate order (row-major, as python/hovi/trajopt/nlp.py lists them)
   values.tail(A_.nonZeros()) = Eigen::Map<const VecX>(A_.valuePtr(), A_.nonZeros());
 }
@@ -95,22 +80,20 @@ void NlpProgram::curved_gradient(const VecX& x, const VecX& lambda, double sigma
   const bool mine = part != Part::Extra, theirs = part != Part::Transcription;
   if (theirs && extra_.cost) {
     VecX g = VecX::Zero(n_);
-    const auto t0 = Clock::now();
-    extra_.cost(x, g);
-    add_since(ns_extra_, t0);
+    timed(ns_extra_, [&] { extra_.cost(x, g); });
     out = sigma * g;
   }
+  // J^T lambda over the Jacobian's entries [begin, end)
+  const auto add_jt_lambda = [&](int begin, int end) {
+    for (int k = begin; k < end; ++k) out[jac_cols_[k]] += jac[k] * lambda[jac_rows_[k]];
+  };
   if (mine) {
-    const auto t0 = Clock::now();
-    tr_.jacobian(x, jac.head(core_nnz_));
-    add_since(ns_core_, t0);
-    for (int k = 0; k < core_nnz_; ++k) out[jac_cols_[k]] += jac[k] * lambda[jac_rows_[k]];
+    timed(ns_core_, [&] { tr_.jacobian(x, jac.head(core_nnz_)); });
+    add_jt_lambda(0, core_nnz_);
   }
   if (theirs && extra_.rows > 0) {
-    const auto t0 = Clock::now();
-    extra_.jacobian(x, jac.segment(core_nnz_, extra_.nnz));
-    add_since(ns_extra_, t0);
-    for (int k = core_nnz_; k < core_nnz_ + extra_.nnz; ++k) out[jac_cols_[k]] += jac[k] * lambda[jac_rows_[k]];
+    timed(ns_extra_, [&] { extra_.jacobian(x, jac.segment(core_nnz_, extra_.nnz)); });
+    add_jt_lambda(core_nnz_, core_nnz_ + extra_.nnz);
   }
 }
 

@@ -234,8 +234,8 @@ class NLP:
     def program(self) -> _core.trajopt.Program:
         """This NLP as a C++ program (``hovi._core.trajopt.Program``, built once): the costs that give
         their ``curvature`` as weighted squares c + sum_i d_i (S x - r)_i^2 / 2, the transcription and
-        the linear rows in C++; the other costs, the path constraints and the contact rows through one
-        Python object, one call per evaluation. What hovi._ipopt solves."""
+        the linear rows in C++; the other costs, the path constraints and the contact rows through the
+        methods of a ``PythonTerms``, one call per evaluation. What hovi._ipopt solves."""
         if self._program is None:
             nv, s = self.n_variables, self.samples
             zero = s.evaluate(np.zeros(nv))
