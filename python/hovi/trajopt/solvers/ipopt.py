@@ -301,7 +301,8 @@ class Ipopt(NLPSolver):
 
     threads: threads for the coloured Hessian's differences of the transcription (1 by default,
     None: HOVI_NUM_THREADS or every core; costs, path constraints and contact rows written in
-    Python are differenced on the calling thread); the values do not depend on it.
+    Python are differenced on the calling thread); the values do not depend on it. With threads,
+    ``timing['evaluations']`` sums the threads' times (it can exceed the wall time).
 
     The result's ``timing`` splits the wall time: 'setup' (before IPOPT starts: building the NLP,
     the starting point and, with 'fd', the Hessian's pattern and colouring; not in wall_seconds),
