@@ -71,6 +71,29 @@ def test_hessian_threads_give_the_same_values_and_solve():
         trajopt.Ipopt(threads=0)
 
 
+def test_pattern_functions_refuse_bad_patterns():
+    """The colourings, gram_pattern, probed_pattern and the Hessian's threads name what is wrong."""
+    from hovi import _core
+    i32 = lambda *a: np.array(a, np.int32)                     # noqa: E731
+    bad = [((i32(0, 2, 1, 2), i32(0, 1)), "indptr must not decrease"),
+           ((i32(1, 2), i32(0, 1)), "indptr must start at 0"),
+           ((i32(0, 1, 2), i32(0, 2)), "column indices out of range")]
+    for (indptr, indices), message in bad:
+        for f in (_core.trajopt.star_colouring, _core.trajopt.distance2_colouring):
+            with pytest.raises(ValueError, match=message):
+                f(indptr, indices)
+        with pytest.raises(ValueError, match=message):
+            _core.trajopt.gram_pattern(indptr, indices, 2)
+    with pytest.raises(ValueError, match="n must be >= 0"):
+        _core.trajopt.gram_pattern(i32(0), i32(), -1)
+    nlp = trajopt.NLP(pendulum_swingup(N=4), trajopt.VI(s=1))
+    program = nlp.program()
+    with pytest.raises(ValueError, match="one row per variable"):
+        program.probed_pattern(i32(0, 1), i32(0), np.zeros(nlp.n_variables))
+    with pytest.raises(ValueError, match="set_colouring first"):
+        program.set_hessian_threads(2)
+
+
 def test_colours_do_not_grow_with_the_horizon():
     colours = [LagrangianHessian(trajopt.NLP(cartpole_swingup(N=N), trajopt.VI(s=2))).n_colours
                for N in (8, 32)]

@@ -70,6 +70,22 @@ ExtraTerms extra_hooks(const PyProgram& p, int rows, int nnz) {
   return e;
 }
 
+// Checks a pattern in compressed rows (indptr (rows+1,), indices < cols); InputError naming `what`.
+void check_compressed(const Eigen::VectorXi& indptr, const Eigen::VectorXi& indices, long cols, const std::string& what) {
+  if (indptr.size() < 1 || indptr[0] != 0 || indptr[indptr.size() - 1] != indices.size())
+    throw InputError(what + ": indptr must start at 0 and end at len(indices)");
+  for (long i = 0; i + 1 < indptr.size(); ++i)
+    if (indptr[i + 1] < indptr[i]) throw InputError(what + ": indptr must not decrease");
+  if (indices.size() > 0 && (indices.minCoeff() < 0 || indices.maxCoeff() >= cols))
+    throw InputError(what + ": column indices out of range");
+}
+
+// A symmetric pattern's (indptr, indices): square, so its columns are its rows.
+Pattern square_pattern(const Eigen::VectorXi& indptr, const Eigen::VectorXi& indices) {
+  check_compressed(indptr, indices, static_cast<long>(indptr.size()) - 1, "the pattern");
+  return Pattern{indptr, indices};
+}
+
 // A matrix in compressed rows given as (indptr (rows+1,), indices, data) with `cols` columns (a
 // scipy.sparse.csr_matrix's arrays); InputError naming `name` unless consistent.
 SparseRowMatrix csr_of(const py::handle& arrays, const char* name, int cols) {
@@ -79,12 +95,7 @@ SparseRowMatrix csr_of(const py::handle& arrays, const char* name, int cols) {
   const py::tuple t = py::reinterpret_borrow<py::tuple>(arrays);
   const Eigen::VectorXi indptr = t[0].cast<Eigen::VectorXi>(), indices = t[1].cast<Eigen::VectorXi>();
   const VecX data = as_vector(t[2], (what + " data").c_str(), indices.size());
-  if (indptr.size() < 1 || indptr[0] != 0 || indptr[indptr.size() - 1] != indices.size())
-    throw InputError(what + ": indptr must start at 0 and end at len(indices)");
-  for (long i = 0; i + 1 < indptr.size(); ++i)
-    if (indptr[i + 1] < indptr[i]) throw InputError(what + ": indptr must not decrease");
-  if (indices.size() > 0 && (indices.minCoeff() < 0 || indices.maxCoeff() >= cols))
-    throw InputError(what + ": column indices out of range");
+  check_compressed(indptr, indices, cols, what);
   return Eigen::Map<const SparseRowMatrix>(static_cast<long>(indptr.size()) - 1, cols, static_cast<long>(indices.size()),
                                            indptr.data(), indices.data(), data.data());
 }
@@ -96,32 +107,19 @@ VecX vector_of(const PyProgram& p, const ArrayLike& x) { return as_vector(x, "x"
 }  // namespace
 
 void bind_nlp_program(py::module_& t) {
-  const auto pattern = [](const Eigen::VectorXi& indptr, const Eigen::VectorXi& indices) {
-    if (indptr.size() < 1 || indptr[0] != 0 || indptr[indptr.size() - 1] != indices.size())
-      throw InputError("indptr must start at 0 and end at len(indices)");
-    const int nv = static_cast<int>(indptr.size()) - 1;
-    for (int j = 0; j < nv; ++j)
-      if (indptr[j + 1] < indptr[j]) throw InputError("indptr must not decrease");
-    if (indices.size() > 0 && (indices.minCoeff() < 0 || indices.maxCoeff() >= nv))
-      throw InputError("indices out of range");
-  };
-  t.def("star_colouring", [pattern](const Eigen::VectorXi& indptr, const Eigen::VectorXi& indices) {
-         pattern(indptr, indices);
-         return star_colouring(Pattern{indptr, indices});
+  t.def("star_colouring", [](const Eigen::VectorXi& indptr, const Eigen::VectorXi& indices) {
+         return star_colouring(square_pattern(indptr, indices));
        }, py::arg("indptr"), py::arg("indices"),
        "Star colours (nv,) of the symmetric pattern in compressed rows (indptr (nv + 1,), indices) (colouring.hpp).");
   t.def("gram_pattern", [](const Eigen::VectorXi& indptr, const Eigen::VectorXi& indices, int n) {
-         if (n < 0 || indptr.size() < 1 || indptr[0] != 0 || indptr[indptr.size() - 1] != indices.size())
-           throw InputError("indptr must start at 0 and end at len(indices), n >= 0");
-         if (indices.size() > 0 && (indices.minCoeff() < 0 || indices.maxCoeff() >= n))
-           throw InputError("indices out of range");
+         if (n < 0) throw InputError("n must be >= 0, got " + std::to_string(n));
+         check_compressed(indptr, indices, n, "the pattern");
          return gram_pattern(Pattern{indptr, indices}, n);
        }, py::arg("indptr"), py::arg("indices"), py::arg("n"),
        "The symmetric pattern (indptr (n+1,), indices) of A^T A + I for the pattern A in compressed rows "
        "(indptr, indices < n) (colouring.hpp).");
-  t.def("distance2_colouring", [pattern](const Eigen::VectorXi& indptr, const Eigen::VectorXi& indices) {
-         pattern(indptr, indices);
-         return distance2_colouring(Pattern{indptr, indices});
+  t.def("distance2_colouring", [](const Eigen::VectorXi& indptr, const Eigen::VectorXi& indices) {
+         return distance2_colouring(square_pattern(indptr, indices));
        }, py::arg("indptr"), py::arg("indices"),
        "Distance-2 colours (nv,) of the symmetric pattern in compressed rows (indptr (nv + 1,), indices) (colouring.hpp).");
   py::class_<PyProgram>(t, "Program", R"doc(
@@ -191,13 +189,12 @@ Python, one call per evaluation.
            }, py::arg("threads"), "The Hessian's colours differenced on `threads` threads (as set_colouring).")
       .def_property_readonly("hessian_threads", [](const PyProgram& p) { return p.hessian ? p.hessian->threads() : 0; },
                              "Threads of the Hessian's differences (0 without a Hessian).")
-      .def("probed_pattern", [pattern](const PyProgram& p, const Eigen::VectorXi& indptr, const Eigen::VectorXi& indices,
-                                       const ArrayLike& x, unsigned seed) {
-             pattern(indptr, indices);
+      .def("probed_pattern", [](const PyProgram& p, const Eigen::VectorXi& indptr, const Eigen::VectorXi& indices,
+                                const ArrayLike& x, unsigned seed) {
              if (indptr.size() != p.program->n_variables() + 1)
                throw InputError("the pattern must have one row per variable");
              const VecX xv = vector_of(p, x);
-             return probed_pattern(*p.program, Pattern{indptr, indices}, xv, seed);
+             return probed_pattern(*p.program, square_pattern(indptr, indices), xv, seed);
            }, py::arg("indptr"), py::arg("indices"), py::arg("x"), py::arg("seed") = 0,
            "The entries (indptr, indices) of the symmetric coupling pattern (indptr (n_variables + 1,), indices) where "
            "the Lagrangian's Hessian is not identically zero, probed at a random point near x (n_variables,) "

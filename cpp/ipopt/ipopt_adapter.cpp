@@ -61,12 +61,12 @@ bool IpoptAdapter::get_bounds_info(Ipopt::Index n, Ipopt::Number* x_l, Ipopt::Nu
 bool IpoptAdapter::get_starting_point(Ipopt::Index n, bool init_x, Ipopt::Number* x, bool init_z, Ipopt::Number* z_L,
                                       Ipopt::Number* z_U, Ipopt::Index m, bool init_lambda, Ipopt::Number* lambda) {
   if (init_x) Eigen::Map<VecX>(x, n) = d_.x0;
-  // IPOPT asks for multipliers only with warm_start_init_point 'yes'; without given ones, zeros
+  // IPOPT asks for multipliers only with the option warm_start_init_point 'yes': zeros
   if (init_z) {
-    Eigen::Map<VecX>(z_L, n) = d_.z_lower0.size() == n ? d_.z_lower0 : VecX::Zero(n);
-    Eigen::Map<VecX>(z_U, n) = d_.z_upper0.size() == n ? d_.z_upper0 : VecX::Zero(n);
+    Eigen::Map<VecX>(z_L, n).setZero();
+    Eigen::Map<VecX>(z_U, n).setZero();
   }
-  if (init_lambda) Eigen::Map<VecX>(lambda, m) = d_.lambda0.size() == m ? d_.lambda0 : VecX::Zero(m);
+  if (init_lambda) Eigen::Map<VecX>(lambda, m).setZero();
   return true;
 }
 
@@ -101,7 +101,6 @@ bool IpoptAdapter::eval_h(Ipopt::Index n, const Ipopt::Number* x, bool, Ipopt::N
     Eigen::Map<Eigen::VectorXi>(cols, nnz) = H_->colouring().cols;
     return true;
   }
-  ++out_.hessian_evaluations;
   return guarded([&] {
     H_->values(Eigen::Map<const VecX>(x, n), Eigen::Map<const VecX>(lambda, m), sigma, Eigen::Map<VecX>(values, nnz));
   }, &out_.hessian_seconds);

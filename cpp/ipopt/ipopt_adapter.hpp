@@ -18,7 +18,6 @@ using IterationCallback = std::function<bool(int, double, double, double, double
 
 struct IpoptProblemData {
   VecX lower, upper, cl, cu, x0;
-  VecX lambda0, z_lower0, z_upper0;   // a warm start of the multipliers (empty: IPOPT's own)
 };
 
 struct IpoptOutcome {
@@ -29,7 +28,6 @@ struct IpoptOutcome {
   double seconds = 0.0;               // wall time of OptimizeTNLP
   double callback_seconds = 0.0;      // time in the callbacks (evaluations and the hook)
   double hessian_seconds = 0.0;       // of which in the Hessian
-  int hessian_evaluations = 0;
 };
 
 class IpoptAdapter : public Ipopt::TNLP {

@@ -37,10 +37,6 @@ VecX bounds_vector(const py::handle& obj, const char* name, long n) {
   return v;
 }
 
-VecX optional_vector(const py::handle& obj, const char* name, long n) {
-  return obj.is_none() ? VecX() : as_vector(obj, name, n);
-}
-
 // The options of one IPOPT run: add_option checks each against IPOPT as it is added.
 struct PyIpoptRun {
   std::vector<IpoptOption> options;
@@ -60,14 +56,12 @@ void bind_ipopt(py::module_& m) {
            "TypeError for another type).")
       .def("solve", [](const PyIpoptRun& r, const PyProgram& p, const ArrayLike& x0, const ArrayLike& lower,
                        const ArrayLike& upper, const ArrayLike& cl, const ArrayLike& cu, bool exact_hessian,
-                       py::object callback, py::object lambda0, py::object z_lower0, py::object z_upper0) {
+                       py::object callback) {
              const NlpProgram& prog = *p.program;
              const long n = prog.n_variables(), mc = prog.n_constraints();
              if (exact_hessian && !p.hessian) throw InputError("exact_hessian needs Program.set_colouring first");
              IpoptProblemData d{bounds_vector(lower, "lower", n), bounds_vector(upper, "upper", n),
-                                bounds_vector(cl, "cl", mc), bounds_vector(cu, "cu", mc), as_vector(x0, "x0", n),
-                                optional_vector(lambda0, "lambda0", mc), optional_vector(z_lower0, "z_lower0", n),
-                                optional_vector(z_upper0, "z_upper0", n)};
+                                bounds_vector(cl, "cl", mc), bounds_vector(cu, "cu", mc), as_vector(x0, "x0", n)};
              // after each iteration: a pending signal (Ctrl-C) raised, then the callback if any
              IterationCallback cb = [callback](int it, double f, double pr, double du, double mu) {
                py::gil_scoped_acquire gil;
@@ -92,17 +86,14 @@ void bind_ipopt(py::module_& m) {
              res["seconds"] = out.seconds;
              res["callback_seconds"] = out.callback_seconds;
              res["hessian_seconds"] = out.hessian_seconds;
-             res["hessian_evaluations"] = out.hessian_evaluations;
              res["transcription_seconds"] = prog.transcription_seconds();
              res["extra_seconds"] = prog.extra_seconds();
              return res;
            }, py::arg("program"), py::arg("x0"), py::arg("lower"), py::arg("upper"), py::arg("cl"), py::arg("cu"),
-           py::arg("exact_hessian") = false, py::arg("callback") = py::none(), py::arg("lambda0") = py::none(),
-           py::arg("z_lower0") = py::none(), py::arg("z_upper0") = py::none(),
+           py::arg("exact_hessian") = false, py::arg("callback") = py::none(),
            "Solve `program` from x0 (n,) within lower <= x <= upper, cl <= g(x) <= cu, with the program's coloured "
            "Hessian (exact_hessian) or IPOPT's limited-memory one; callback(iteration, cost, inf_pr, inf_du, mu) -> "
-           "bool after each iteration (False stops); lambda0 (m,), z_lower0, z_upper0 (n,): a warm start of the "
-           "multipliers (with the option warm_start_init_point 'yes'). Returns a dict: status (IPOPT's return "
+           "bool after each iteration (False stops). Returns a dict: status (IPOPT's return "
            "code), iterations, cost, x, lambda, z_lower, z_upper and the timings in seconds.");
 }
 
