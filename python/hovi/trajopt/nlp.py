@@ -161,12 +161,14 @@ class NLP:
         self.eval_seconds += time.perf_counter() - t0
         return out
 
-    def _cost_terms(self, x: np.ndarray, finite: bool = False):
-        """Each cost term's (value, dq, dv, du) at x, checked (``costs.checked_cost``: a real value and
-        gradients of the samples' shapes; all finite with ``finite``)."""
+    def _cost_terms(self, x: np.ndarray, finite: bool = False, which: list[int] | None = None):
+        """Each cost term's (value, dq, dv, du) at x (the terms of indices ``which``, default all),
+        checked (``costs.checked_cost``: a real value and gradients of the samples' shapes; all finite
+        with ``finite``)."""
         s = self.samples.evaluate(x)
-        return [checked_cost(c, s, f"cost {i} ({type(c).__name__})", finite=finite)
-                for i, c in enumerate(self.problem.costs)]
+        costs = self.problem.costs
+        return [checked_cost(costs[i], s, f"cost {i} ({type(costs[i]).__name__})", finite=finite)
+                for i in (range(len(costs)) if which is None else which)]
 
     def objective(self, x: np.ndarray) -> float:
         """The total cost at x (n_variables,)."""
@@ -174,8 +176,12 @@ class NLP:
 
     def gradient(self, x: np.ndarray) -> np.ndarray:
         """The cost's gradient (n_variables,) at x (n_variables,)."""
+        return self._pulled_back(self._cost_terms(x))
+
+    def _pulled_back(self, terms) -> np.ndarray:
+        """The gradient (n_variables,) in x of cost terms' (value, dq, dv, du)."""
         g = np.zeros(self.n_variables)
-        for _, dq, dv, du in self._cost_terms(x):
+        for _, dq, dv, du in terms:
             g += self.samples.pullback(dq, dv, du)
         return g
 
@@ -296,15 +302,8 @@ class PythonTerms:
         return nlp
 
     def cost(self, x: np.ndarray) -> tuple[float, np.ndarray]:
-        nlp = self.nlp
-        smp = nlp.samples.evaluate(x)
-        value, grad = 0.0, np.zeros(nlp.n_variables)
-        for i in self.costs:
-            c = nlp.problem.costs[i]
-            v, dq, dv, du = checked_cost(c, smp, f"cost {i} ({type(c).__name__})")
-            value += v
-            grad += nlp.samples.pullback(dq, dv, du)
-        return value, grad
+        terms = self.nlp._cost_terms(x, which=self.costs)
+        return float(sum(value for value, _, _, _ in terms)), self.nlp._pulled_back(terms)
 
     def constraints(self, x: np.ndarray) -> np.ndarray:
         nlp = self.nlp

@@ -9,6 +9,7 @@ released; costs and path constraints are vectorised numpy over all samples.
 from __future__ import annotations
 
 import difflib
+import functools
 import numbers
 import contextlib
 import time
@@ -69,6 +70,14 @@ STATUS_MESSAGES = {
     -102: "Not enough memory.",
     -199: "INTERNAL ERROR: Unknown SolverReturn value - Notify IPOPT Authors.",
 }
+
+
+def _start(nlp: NLP, guess: Guess) -> np.ndarray:
+    """The starting point x0 of a solve of ``nlp`` from ``guess``, within the bounds; the errors of
+    user costs and path constraints are raised here, before IPOPT runs."""
+    x0 = np.clip(nlp.transcription.initial_guess(guess), nlp.lower, nlp.upper)
+    nlp.check_start(x0)
+    return x0
 
 
 def _cpp_ipopt():
@@ -212,6 +221,18 @@ class _OptionProbe:
         return np.zeros_like(x)
 
 
+def after_iteration(verbose: bool, iteration: int, cost: float, inf_pr: float, inf_du: float, mu: float) -> bool:
+    """After an IPOPT iteration (either way of solving): the ``on_iteration`` hooks and, verbose, a
+    line of progress; True (go on). A hook's exception propagates."""
+    for hook in tuple(_ITERATION_HOOKS):
+        hook(iteration, cost, inf_pr, inf_du)
+    if verbose:
+        if iteration % 20 == 0:
+            print(f"{'iter':>5} {'cost':>14} {'primal inf':>11} {'dual inf':>10} {'log mu':>7}", flush=True)
+        print(f"{iteration:5d} {cost:14.7e} {inf_pr:11.3e} {inf_du:10.3e} {np.log10(mu):7.2f}", flush=True)
+    return True
+
+
 class IpoptCallbacks:
     """The cyipopt problem object: forwards to the NLP, times the callbacks, prints progress.
 
@@ -260,17 +281,11 @@ class IpoptCallbacks:
         self.iterations = iter_count
         if self.error is not None:
             return False
-        for hook in tuple(_ITERATION_HOOKS):
-            try:
-                hook(iter_count, obj_value, inf_pr, inf_du)
-            except Exception as e:  # kept and raised by solve_nlp(), like a callback's
-                self.error = e
-                return False
-        if self.verbose:
-            if iter_count % 20 == 0:
-                print(f"{'iter':>5} {'cost':>14} {'primal inf':>11} {'dual inf':>10} {'log mu':>7}", flush=True)
-            print(f"{iter_count:5d} {obj_value:14.7e} {inf_pr:11.3e} {inf_du:10.3e} {np.log10(mu):7.2f}", flush=True)
-        return True
+        try:
+            return after_iteration(self.verbose, iter_count, obj_value, inf_pr, inf_du, mu)
+        except Exception as e:  # kept and raised by solve_nlp(), like a callback's
+            self.error = e
+            return False
 
 
 class IpoptCallbacksWithHessian(IpoptCallbacks):
@@ -409,9 +424,7 @@ class Ipopt(NLPSolver):
             raise ImportError("hovi.trajopt.solve needs cyipopt: pip install 'hovi[trajopt]' (it builds against "
                               "IPOPT: apt-get install coinor-libipopt-dev pkg-config, or `make trajopt-deps`)") from e
         t_setup = time.perf_counter()
-        tr = nlp.transcription
-        x0 = np.clip(tr.initial_guess(guess), nlp.lower, nlp.upper)
-        nlp.check_start(x0)  # user costs and path constraints raise their errors here, before IPOPT runs
+        x0 = _start(nlp, guess)
         nlp.eval_seconds = 0.0
         if self.hessian == "lbfgs":
             cb = IpoptCallbacks(nlp, self.verbose, cyipopt.CyIpoptEvaluationError)
@@ -431,17 +444,22 @@ class Ipopt(NLPSolver):
         if cb.error is not None:
             raise cb.error
         status = info["status_msg"].decode() if isinstance(info["status_msg"], bytes) else str(info["status_msg"])
-        result = Result(status=status, success=info["status"] in (0, 1), cost=float(info["obj_val"]),
-                        constraint_violation=nlp.violation(x), iterations=cb.iterations, wall_seconds=wall,
-                        trajectory=tr.trajectory(x), x=x,
-                        timing={"setup": setup, "evaluations": nlp.eval_seconds, "callbacks": cb.callback_seconds,
-                                "ipopt": wall - cb.callback_seconds,
-                                "per_iteration": wall / max(cb.iterations, 1)},
+        return self._result(nlp, x, status, info["status"] in (0, 1), float(info["obj_val"]), cb.iterations, wall,
+                            {"setup": setup, "evaluations": nlp.eval_seconds, "callbacks": cb.callback_seconds})
+
+    def _result(self, nlp: NLP, x: np.ndarray, status: str, success: bool, cost: float, iterations: int,
+                wall: float, timing: dict[str, float], solver: dict | None = None) -> Result:
+        """The Result of a solve of ``nlp`` ending at x (either way of solving); ``timing`` gets
+        'ipopt' (the wall time outside the callbacks) and 'per_iteration'. Verbose, a summary line."""
+        tr = nlp.transcription
+        timing = {**timing, "ipopt": wall - timing["callbacks"], "per_iteration": wall / max(iterations, 1)}
+        result = Result(status=status, success=success, cost=cost, constraint_violation=nlp.violation(x),
+                        iterations=iterations, wall_seconds=wall, trajectory=tr.trajectory(x), x=x, timing=timing,
                         sizes={"variables": nlp.n_variables, "constraints": nlp.n_constraints, "nonzeros": nlp.nnz,
                                "dynamics_constraints": tr.core.n_constraints},
-                        transcription=tr)
+                        transcription=tr, solver=solver or {})
         if self.verbose:
-            print(f"{tr.name}: {status} after {cb.iterations} iterations, {wall:.3f} s; cost {result.cost:.8g}, "
+            print(f"{tr.name}: {status} after {iterations} iterations, {wall:.3f} s; cost {cost:.8g}, "
                   f"constraint violation {result.constraint_violation:.2e}")
         return result
 
@@ -450,9 +468,7 @@ class Ipopt(NLPSolver):
         """solve_nlp through hovi._ipopt: every callback in C++ (Python only for the NLP's terms
         written in Python, and after an iteration when verbose or an ``on_iteration`` hook asks)."""
         t_setup = time.perf_counter()
-        tr = nlp.transcription
-        x0 = np.clip(tr.initial_guess(guess), nlp.lower, nlp.upper)
-        nlp.check_start(x0)
+        x0 = _start(nlp, guess)
         program = nlp.program()
         if self.hessian == "fd" and not program.has_hessian:   # probed once per NLP, near its first start
             H = LagrangianHessian(nlp, x0)
@@ -462,7 +478,7 @@ class Ipopt(NLPSolver):
             program.set_hessian_threads(self.threads)
         run = cpp.Ipopt()
         apply_options(run, self.ipopt_options())
-        progress = _Progress(self.verbose) if self.verbose or _ITERATION_HOOKS else None
+        progress = functools.partial(after_iteration, self.verbose) if self.verbose or _ITERATION_HOOKS else None
         setup = time.perf_counter() - t_setup
         _SOLVING[0] += 1
         try:
@@ -470,39 +486,13 @@ class Ipopt(NLPSolver):
                             callback=progress)
         finally:
             _SOLVING[0] -= 1
-        x, wall, status = out["x"], out["seconds"], int(out["status"])
-        message = STATUS_MESSAGES.get(status, f"IPOPT returned status {status}")
-        result = Result(status=message, success=status in (0, 1), cost=float(out["cost"]),
-                        constraint_violation=nlp.violation(x), iterations=int(out["iterations"]), wall_seconds=wall,
-                        trajectory=tr.trajectory(x), x=x,
-                        timing={"setup": setup, "evaluations": out["transcription_seconds"],
-                                "callbacks": out["callback_seconds"], "python": out["extra_seconds"],
-                                "hessian": out["hessian_seconds"], "ipopt": wall - out["callback_seconds"],
-                                "per_iteration": wall / max(int(out["iterations"]), 1)},
-                        sizes={"variables": nlp.n_variables, "constraints": nlp.n_constraints, "nonzeros": nlp.nnz,
-                               "dynamics_constraints": tr.core.n_constraints},
-                        transcription=tr,
-                        solver={"lambda": out["lambda"], "z_lower": out["z_lower"], "z_upper": out["z_upper"]})
-        if self.verbose:
-            print(f"{tr.name}: {message} after {result.iterations} iterations, {wall:.3f} s; cost {result.cost:.8g}, "
-                  f"constraint violation {result.constraint_violation:.2e}")
-        return result
-
-
-class _Progress:
-    """After each iteration of a C++ solve: the ``on_iteration`` hooks and, verbose, a line of progress."""
-
-    def __init__(self, verbose: bool):
-        self.verbose = verbose
-
-    def __call__(self, iteration: int, cost: float, inf_pr: float, inf_du: float, mu: float) -> bool:
-        for hook in tuple(_ITERATION_HOOKS):
-            hook(iteration, cost, inf_pr, inf_du)
-        if self.verbose:
-            if iteration % 20 == 0:
-                print(f"{'iter':>5} {'cost':>14} {'primal inf':>11} {'dual inf':>10} {'log mu':>7}", flush=True)
-            print(f"{iteration:5d} {cost:14.7e} {inf_pr:11.3e} {inf_du:10.3e} {np.log10(mu):7.2f}", flush=True)
-        return True
+        status = int(out["status"])
+        return self._result(nlp, out["x"], STATUS_MESSAGES.get(status, f"IPOPT returned status {status}"),
+                            status in (0, 1), float(out["cost"]), int(out["iterations"]), out["seconds"],
+                            {"setup": setup, "evaluations": out["transcription_seconds"],
+                             "callbacks": out["callback_seconds"], "python": out["extra_seconds"],
+                             "hessian": out["hessian_seconds"]},
+                            {"lambda": out["lambda"], "z_lower": out["z_lower"], "z_upper": out["z_upper"]})
 
 
 def solve(problem: Problem, transcription: TranscriptionMethod = DEFAULT_TRANSCRIPTION, *, s: int | None = None,
