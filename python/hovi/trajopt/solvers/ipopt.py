@@ -311,8 +311,8 @@ class Ipopt(NLPSolver):
     hessian.py, its pattern probed near the starting point: a few Jacobian evaluations per
     iteration, far fewer iterations), 'lbfgs' (IPOPT's limited-memory approximation: cheap
     iterations, many of them) or 'auto' (the default: 'fd' unless a CallbackCost, which may couple
-    any variables, needs 'lbfgs'). 'fd' took 3.5-11x less time than 'lbfgs' on the pendulum and
-    cart-pole swing-ups (bench/README.md, issue 33).
+    any variables, needs 'lbfgs'). 'fd' took 3.5-4.3x less time than 'lbfgs' on the pendulum and
+    cart-pole swing-ups (bench/results/ipopt_options.json, issue 33).
 
     threads: threads for the coloured Hessian's differences of the transcription (1 by default,
     None: HOVI_NUM_THREADS or every core; costs, path constraints and contact rows written in
