@@ -13,6 +13,7 @@ SCRIPTS = ["speed.py", "linearization.py", "constraints.py", "constrained_energy
            "contact_sim.py",  # hovi's contact simulation against MuJoCo (issue 31)
            "contact_order.py",  # impacts located on the step's polynomial: order 2s kept (issue 31)
            "ipopt_options.py",  # IPOPT's Hessian and barrier options on the swing-ups (issue 33)
+           "acrobot_basins.py",  # which acrobot optimum each pipeline reaches (issue 33)
            # the studies over many states, on local threads and on a Dask LocalCluster
            "fig2_quasi_newton.py --workers 2", "stability.py --scheduler local --workers 2"]
 
@@ -40,6 +41,20 @@ def test_pareto_time_to_reach_takes_the_cheapest_crossing():
     assert time_to_reach(curve, 1e-1) == (1.0, True)
     slow_then_fast = np.array([[5.0, 1e-2], [8.0, 5e-4], [3.0, 1e-4]])  # the smaller dt is cheaper
     assert time_to_reach(slow_then_fast, 1e-3)[0] == 3.0
+
+
+def test_acrobot_basins_smooth_guess():
+    """bench/acrobot_basins.py's perturbed straight line: its ends are q0 and qT, and its q̇ is the
+    derivative of its q (central differences)."""
+    import numpy as np
+    smooth_guess = bench_module("acrobot_basins").smooth_guess
+    a = np.random.default_rng(1).normal(0.0, 1.5, size=(3, 2))
+    q0, qT, T = np.array([0.0, 0.0]), np.array([np.pi, 0.0]), 4.0
+    q, qdot, u = smooth_guess(a, T, q0, qT)
+    np.testing.assert_allclose(q(np.array([0.0, T])), [q0, qT], atol=1e-14)
+    t, eps = np.linspace(0.1, 3.9, 17), 1e-6
+    np.testing.assert_allclose(qdot(t), (q(t + eps) - q(t - eps)) / (2 * eps), rtol=1e-8, atol=1e-8)
+    assert u(t).shape == (17, 1) and not u(t).any()
 
 
 def test_control_quick_mode():
