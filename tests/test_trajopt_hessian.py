@@ -47,8 +47,9 @@ def test_gram_pattern_is_the_pattern_of_a_transpose_a_plus_identity():
 
 
 def test_hessian_threads_give_the_same_values_and_solve():
-    """The colours' differences on two threads: bitwise the values of one thread, so the same solve;
-    also with a path constraint, whose Python part is differenced on the calling thread."""
+    """The colours' differences (fd) and the VI's own Hessian (directional, by stages) on two threads:
+    bitwise the values of one thread, so the same solve; also with a path constraint, whose Python
+    part is differenced on the calling thread."""
     with_path = pendulum_swingup(N=10)
     with_path.add_constraint(trajopt.BodyPoint(0, [0, 0, -0.5], axes="z", lower=-0.45, window=(1.5, 2.0)))
     for prob in (cartpole_swingup(N=12), with_path):
@@ -57,14 +58,17 @@ def test_hessian_threads_give_the_same_values_and_solve():
         program = nlp.program()
         rng = np.random.default_rng(3)
         x, lam = rng.uniform(-1, 1, nlp.n_variables), rng.normal(size=nlp.n_constraints)
-        values = []
-        for threads in (1, 2, None):
-            program.set_colouring(H.colour.astype(np.int32), H.rows.astype(np.int32), H.cols.astype(np.int32),
-                                  H.read_row.astype(np.int32), H.read_col.astype(np.int32), threads)
-            values.append(program.hessian(x, lam, 0.3))
-        assert program.hessian_threads >= 1
-        assert np.array_equal(values[0], values[1]) and np.array_equal(values[0], values[2])
-        np.testing.assert_allclose(values[0], H.values(x, lam, 0.3), rtol=1e-5, atol=1e-5 * np.abs(values[0]).max())
+        for difference_transcription in (True, False):
+            values = []
+            for threads in (1, 2, None):
+                program.set_colouring(H.colour.astype(np.int32), H.rows.astype(np.int32), H.cols.astype(np.int32),
+                                      H.read_row.astype(np.int32), H.read_col.astype(np.int32), threads,
+                                      difference_transcription)
+                values.append(program.hessian(x, lam, 0.3))
+            assert program.hessian_threads >= 1
+            assert np.array_equal(values[0], values[1]) and np.array_equal(values[0], values[2])
+            np.testing.assert_allclose(values[0], H.values(x, lam, 0.3), rtol=1e-5,
+                                       atol=1e-5 * np.abs(values[0]).max())
     one, two = (trajopt.solve(cartpole_swingup(N=12), trajopt.VI(s=3), verbose=False, threads=t) for t in (1, 2))
     assert one.success and one.iterations == two.iterations and np.array_equal(one.x, two.x)
     with pytest.raises(ValueError, match="threads"):
@@ -91,7 +95,7 @@ def test_pattern_functions_refuse_bad_patterns():
     with pytest.raises(ValueError, match="one row per variable"):
         program.probed_pattern(i32(0, 1), i32(0), np.zeros(nlp.n_variables))
     with pytest.raises(ValueError, match="set_colouring first"):
-        program.set_hessian_threads(2)
+        program.set_hessian_options(2, False)
 
 
 def test_colours_do_not_grow_with_the_horizon():
@@ -152,7 +156,9 @@ def test_hessian_choice_is_checked():
     prob.add_cost(trajopt.CallbackCost(lambda t, w, q, v, u: (0.0, 0 * q, 0 * v, 0 * u)))
     with pytest.raises(ValueError, match="CallbackCost"):
         trajopt.solve(prob, verbose=False, hessian="fd")
-    # the default, 'auto', takes the limited-memory Hessian for a CallbackCost, the coloured one otherwise
+    with pytest.raises(ValueError, match="CallbackCost"):
+        trajopt.solve(prob, verbose=False, hessian="directional")
+    # the default, 'auto', takes the limited-memory Hessian for a CallbackCost, the directional one otherwise
     assert trajopt.Ipopt().hessian_for(trajopt.NLP(prob)) == "lbfgs"
-    assert trajopt.Ipopt().hessian_for(trajopt.NLP(pendulum_swingup(N=4))) == "fd"
+    assert trajopt.Ipopt().hessian_for(trajopt.NLP(pendulum_swingup(N=4))) == "directional"
     assert trajopt.solve(prob, trajopt.VI(s=2), verbose=False).success

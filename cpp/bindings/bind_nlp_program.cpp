@@ -174,21 +174,28 @@ Python, one call per evaluation.
            }, py::arg("x"), "x: (n_variables,); the Jacobian's values (nnz,) in (jac_rows, jac_cols) order.")
       .def("set_colouring", [](PyProgram& p, const Eigen::VectorXi& colour, const Eigen::VectorXi& rows,
                                const Eigen::VectorXi& cols, const Eigen::VectorXi& read_row,
-                               const Eigen::VectorXi& read_col, const OptInt& threads) {
-             p.hessian = std::make_unique<LagrangianHessian>(
-                 *p.program, HessianColouring{colour, rows, cols, read_row, read_col}, threads_arg(threads));
+                               const Eigen::VectorXi& read_col, const OptInt& threads, bool difference_transcription) {
+             p.hessian = std::make_unique<LagrangianHessian>(*p.program,
+                                                             HessianColouring{colour, rows, cols, read_row, read_col},
+                                                             threads_arg(threads), difference_transcription);
            }, py::arg("colour"), py::arg("rows"), py::arg("cols"), py::arg("read_row"), py::arg("read_col"),
-           py::arg("threads") = OptInt(py::int_(1)),
+           py::arg("threads") = OptInt(py::int_(1)), py::arg("difference_transcription") = false,
            "colour (n_variables,); the lower triangle's entries rows >= cols (E,) and where each is read: component "
            "read_row of the difference of read_col's colour (hovi.trajopt.hessian.LagrangianHessian); threads: for "
-           "the colours' differences of the transcription (None: HOVI_NUM_THREADS or every core; the extra terms "
-           "on the calling thread).")
-      .def("set_hessian_threads", [](PyProgram& p, const OptInt& threads) {
+           "the transcription's Hessian or its colours' differences (None: HOVI_NUM_THREADS or every core; the extra "
+           "terms on the calling thread); difference_transcription: difference the transcription's part even where it "
+           "has a Hessian of its own (the VI's, del_hessian.hpp).")
+      .def("set_hessian_options", [](PyProgram& p, const OptInt& threads, bool difference_transcription) {
              if (!p.hessian) throw InputError("the program has no Hessian: call set_colouring first");
-             p.hessian = std::make_unique<LagrangianHessian>(*p.program, p.hessian->colouring(), threads_arg(threads));
-           }, py::arg("threads"), "The Hessian's colours differenced on `threads` threads (as set_colouring).")
+             p.hessian = std::make_unique<LagrangianHessian>(*p.program, p.hessian->colouring(), threads_arg(threads),
+                                                             difference_transcription);
+           }, py::arg("threads"), py::arg("difference_transcription"),
+           "The Hessian's threads and whether it differences the transcription's part (as set_colouring), its colours kept.")
       .def_property_readonly("hessian_threads", [](const PyProgram& p) { return p.hessian ? p.hessian->threads() : 0; },
-                             "Threads of the Hessian's differences (0 without a Hessian).")
+                             "Threads of the Hessian (0 without a Hessian).")
+      .def_property_readonly("transcription_hessian",
+                             [](const PyProgram& p) { return p.hessian && p.hessian->transcription_hessian(); },
+                             "Whether the Hessian takes the transcription's part from its own Hessian (not differenced).")
       .def("probed_pattern", [](const PyProgram& p, const Eigen::VectorXi& indptr, const Eigen::VectorXi& indices,
                                 const ArrayLike& x, unsigned seed) {
              if (indptr.size() != p.program->n_variables() + 1)

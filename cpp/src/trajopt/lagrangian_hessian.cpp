@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <vector>
 #include <string>
+#include <unordered_map>
 
 #include "hovi/errors.hpp"
 #include "hovi/parallel/parallel_for.hpp"
@@ -60,8 +61,10 @@ std::pair<Eigen::VectorXi, Eigen::VectorXi> probed_pattern(const NlpProgram& pro
   return {indptr, Eigen::Map<Eigen::VectorXi>(indices.data(), static_cast<long>(indices.size()))};
 }
 
-LagrangianHessian::LagrangianHessian(const NlpProgram& program, HessianColouring colouring, int threads)
-    : p_(program), c_(std::move(colouring)), threads_(thread_count(threads)) {
+LagrangianHessian::LagrangianHessian(const NlpProgram& program, HessianColouring colouring, int threads,
+                                     bool difference_transcription)
+    : p_(program), c_(std::move(colouring)), threads_(thread_count(threads)),
+      own_(!difference_transcription && program.transcription().has_hessian()) {
   const int n = p_.n_variables();
   const long e = c_.rows.size();
   if (c_.colour.size() != n)
@@ -85,6 +88,17 @@ LagrangianHessian::LagrangianHessian(const NlpProgram& program, HessianColouring
   const SparseRowMatrix& H = p_.cost_hessian();
   cost_values_.resize(e);
   for (int k = 0; k < e; ++k) cost_values_[k] = H.coeff(c_.rows[k], c_.cols[k]);
+  if (!own_) return;
+  // where the transcription's entries land: entries outside the (probed) pattern are zero there
+  std::unordered_map<long long, int> entry;
+  entry.reserve(e);
+  for (int k = 0; k < e; ++k) entry[static_cast<long long>(c_.rows[k]) * n + c_.cols[k]] = k;
+  const SparsityStructure& T = p_.transcription().hessian_structure();
+  own_entry_.resize(T.nnz());
+  for (int i = 0; i < T.nnz(); ++i) {
+    const auto it = entry.find(static_cast<long long>(T.rows[i]) * n + T.cols[i]);
+    own_entry_[i] = it == entry.end() ? -1 : it->second;
+  }
 }
 
 void LagrangianHessian::values(const VecX& x, const VecX& lambda, double sigma, Eigen::Ref<VecX> values) const {
@@ -93,8 +107,9 @@ void LagrangianHessian::values(const VecX& x, const VecX& lambda, double sigma, 
   const double root_eps = std::sqrt(std::numeric_limits<double>::epsilon());
   const int threads = std::max(1, std::min(threads_, n_colours_));
   std::vector<VecX> xh(threads, x), g(threads, VecX(n)), jac(threads);
-  VecX g0(n), read = VecX::Zero(nnz());   // read[k]: the gradient component entry k reads, at its colour's point
-  p_.curved_gradient(x, lambda, sigma, g0, jac[0]);
+  VecX g0 = VecX::Zero(n), read = VecX::Zero(nnz());   // read[k]: the gradient component entry k reads, at its colour's point
+  const bool extra = p_.has_extra();
+  if (!own_ || extra) p_.curved_gradient(x, lambda, sigma, g0, jac[0], own_ ? Part::Extra : Part::All);
   // one colour's part of the gradient at its point; each colour adds only to its own entries, in
   // the same order on any number of threads (the transcription's part, then the caller's)
   const auto colour = [&](int c, int t, Part part) {
@@ -103,7 +118,8 @@ void LagrangianHessian::values(const VecX& x, const VecX& lambda, double sigma, 
     for (int k : entries_[c]) read[k] += g[t][c_.read_row[k]];
     for (int j : by_colour_[c]) xh[t][j] = x[j];
   };
-  if (threads == 1) {
+  if (own_) {
+  } else if (threads == 1) {
     for (int c = 0; c < n_colours_; ++c) colour(c, 0, Part::Transcription);
   } else {
     const std::vector<std::string> errors =
@@ -111,14 +127,20 @@ void LagrangianHessian::values(const VecX& x, const VecX& lambda, double sigma, 
     for (const std::string& e : errors)
       if (!e.empty()) throw std::runtime_error("the Hessian's differences failed: " + e);
   }
-  if (p_.has_extra())   // the caller's part (Python) on this thread
+  if (extra)   // the caller's part (Python) on this thread
     for (int c = 0; c < n_colours_; ++c) colour(c, 0, Part::Extra);
   values = sigma * cost_values_;
-  for (int k = 0; k < nnz(); ++k) {
-    const int j = c_.read_col[k];
-    const double step = (x[j] + root_eps * std::max(1.0, std::abs(x[j]))) - x[j];
-    values[k] += (read[k] - g0[c_.read_row[k]]) / step;
-  }
+  if (!own_ || extra)
+    for (int k = 0; k < nnz(); ++k) {
+      const int j = c_.read_col[k];
+      const double step = (x[j] + root_eps * std::max(1.0, std::abs(x[j]))) - x[j];
+      values[k] += (read[k] - g0[c_.read_row[k]]) / step;
+    }
+  if (!own_) return;
+  VecX own(p_.transcription().hessian_structure().nnz());
+  p_.transcription_hessian(x, lambda, own, threads_);
+  for (int i = 0; i < own.size(); ++i)
+    if (own_entry_[i] >= 0) values[own_entry_[i]] += own[i];
 }
 
 }  // namespace hovi

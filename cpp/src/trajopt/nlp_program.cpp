@@ -73,6 +73,10 @@ void NlpProgram::jacobian(const VecX& x, Eigen::Ref<VecX> values) const {
   values.tail(A_.nonZeros()) = Eigen::Map<const VecX>(A_.valuePtr(), A_.nonZeros());
 }
 
+void NlpProgram::transcription_hessian(const VecX& x, const VecX& lambda, Eigen::Ref<VecX> values, int threads) const {
+  timed(ns_core_, [&] { tr_.hessian(x, lambda.head(core_rows_), values, threads); });
+}
+
 void NlpProgram::curved_gradient(const VecX& x, const VecX& lambda, double sigma, Eigen::Ref<VecX> out, VecX& jac,
                                  Part part) const {
   jac.resize(nnz());

@@ -152,13 +152,13 @@ class Program:
         """
         The entries (indptr, indices) of the symmetric coupling pattern (indptr (n_variables + 1,), indices) where the Lagrangian's Hessian is not identically zero, probed at a random point near x (n_variables,) (lagrangian_hessian.hpp), with the quadratic costs' entries and the diagonal.
         """
-    def set_colouring(self, colour: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], rows: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], cols: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], read_row: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], read_col: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], threads: int | None = 1) -> None:
+    def set_colouring(self, colour: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], rows: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], cols: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], read_row: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], read_col: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], threads: int | None = 1, difference_transcription: bool = False) -> None:
         """
-        colour (n_variables,); the lower triangle's entries rows >= cols (E,) and where each is read: component read_row of the difference of read_col's colour (hovi.trajopt.hessian.LagrangianHessian); threads: for the colours' differences of the transcription (None: HOVI_NUM_THREADS or every core; the extra terms on the calling thread).
+        colour (n_variables,); the lower triangle's entries rows >= cols (E,) and where each is read: component read_row of the difference of read_col's colour (hovi.trajopt.hessian.LagrangianHessian); threads: for the transcription's Hessian or its colours' differences (None: HOVI_NUM_THREADS or every core; the extra terms on the calling thread); difference_transcription: difference the transcription's part even where it has a Hessian of its own (the VI's, del_hessian.hpp).
         """
-    def set_hessian_threads(self, threads: int | None) -> None:
+    def set_hessian_options(self, threads: int | None, difference_transcription: bool) -> None:
         """
-        The Hessian's colours differenced on `threads` threads (as set_colouring).
+        The Hessian's threads and whether it differences the transcription's part (as set_colouring), its colours kept.
         """
     @property
     def has_hessian(self) -> bool:
@@ -168,7 +168,7 @@ class Program:
     @property
     def hessian_threads(self) -> int:
         """
-        Threads of the Hessian's differences (0 without a Hessian).
+        Threads of the Hessian (0 without a Hessian).
         """
     @property
     def n_constraints(self) -> int:
@@ -184,6 +184,11 @@ class Program:
     def nnz(self) -> int:
         """
         Jacobian nonzeros.
+        """
+    @property
+    def transcription_hessian(self) -> bool:
+        """
+        Whether the Hessian takes the transcription's part from its own Hessian (not differenced).
         """
 def distance2_colouring(indptr: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], indices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"]) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"]:
     """

@@ -41,6 +41,7 @@ class NlpProgram {
   const Eigen::VectorXi& jac_rows() const { return jac_rows_; }
   const Eigen::VectorXi& jac_cols() const { return jac_cols_; }
   const SparseRowMatrix& cost_hessian() const { return H_; }   // S^T diag(d) S
+  const Transcription& transcription() const { return tr_; }
   bool has_extra() const { return extra_.rows > 0 || bool(extra_.cost); }
 
   double objective(const VecX& x) const;
@@ -54,6 +55,9 @@ class NlpProgram {
   enum class Part { All, Transcription, Extra };
   void curved_gradient(const VecX& x, const VecX& lambda, double sigma, Eigen::Ref<VecX> out, VecX& jac,
                        Part part = Part::All) const;
+  // The transcription's own Hessian of lambda^T g (Transcription::hessian; lambda: all the rows),
+  // timed with its evaluations.
+  void transcription_hessian(const VecX& x, const VecX& lambda, Eigen::Ref<VecX> values, int threads) const;
   // Seconds spent in the transcription's and in the caller's evaluations since the last reset.
   double transcription_seconds() const { return 1e-9 * static_cast<double>(ns_core_.load()); }
   double extra_seconds() const { return 1e-9 * static_cast<double>(ns_extra_.load()); }

@@ -5,6 +5,7 @@
 // Stages: N of equal length dt; each transcription names its variables through offsets (see the
 // concrete classes). Thread safety: constraints() and jacobian() may run concurrently.
 #pragma once
+#include "hovi/errors.hpp"
 #include "hovi/spatial/types.hpp"
 
 namespace hovi {
@@ -29,6 +30,18 @@ class Transcription {
   virtual void constraints(const Eigen::Ref<const VecX>& x, Eigen::Ref<VecX> g) const = 0;
   // The Jacobian's values in structure() order, structure().nnz() entries.
   virtual void jacobian(const Eigen::Ref<const VecX>& x, Eigen::Ref<VecX> values) const = 0;
+  // The Hessian of lambda^T g (lambda: n_constraints()) at x, if the transcription has one
+  // (has_hessian()): entries of its lower triangle (rows >= cols; an entry may repeat, the values
+  // add) in hessian_structure() order, on `threads` threads. Without one, a caller differences the
+  // Jacobian (lagrangian_hessian.hpp).
+  virtual bool has_hessian() const { return false; }
+  virtual const SparsityStructure& hessian_structure() const { return no_hessian_; }
+  virtual void hessian(const Eigen::Ref<const VecX>&, const Eigen::Ref<const VecX>&, Eigen::Ref<VecX>, int) const {
+    throw InputError("this transcription has no Hessian of its own");
+  }
+
+ private:
+  SparsityStructure no_hessian_;
 };
 
 }  // namespace hovi

@@ -19,6 +19,9 @@
 #pragma once
 #include <memory>
 
+#include <vector>
+
+#include "hovi/algorithms/del_hessian.hpp"
 #include "hovi/algorithms/del_jacobian.hpp"
 #include "hovi/algorithms/del_workspace.hpp"
 #include "hovi/model/data.hpp"
@@ -37,6 +40,13 @@ class VariationalTranscription : public Transcription {
   const SparsityStructure& structure() const override { return structure_; }
   void constraints(const Eigen::Ref<const VecX>& x, Eigen::Ref<VecX> g) const override;
   void jacobian(const Eigen::Ref<const VecX>& x, Eigen::Ref<VecX> values) const override;
+  // Per stage, the lower triangle of the dense Hessian over its variables (control points, the
+  // inputs they use, multipliers) from del_hessian.hpp; then, with holonomic constraints, per
+  // control point j that of lambda_h . h(q^j) by central differences of Dh^T lambda_h.
+  bool has_hessian() const override { return true; }
+  const SparsityStructure& hessian_structure() const override { return hessian_structure_; }
+  void hessian(const Eigen::Ref<const VecX>& x, const Eigen::Ref<const VecX>& lambda, Eigen::Ref<VecX> values,
+               int threads) const override;
 
   const Quadrature& quadrature() const { return quad_; }
   int N() const { return N_; }
@@ -57,14 +67,21 @@ class VariationalTranscription : public Transcription {
     Workspace(const Model& aug, const Model& model, const Quadrature& quad);
     DelWorkspace del;
     DelJacobianWorkspace jac;
+    DelHessianWorkspace hess;
     Data data;
-    MatX qc, u, r, Jq, Ju, Dh;
-    VecX p_next, h;
+    MatX qc, u, r, Jq, Ju, Dh, nu, Hqq, Huq, Huu, Hv;
+    VecX p_next, h, g0, gp;
   };
   // The controls [u; λ] of stage k (m + m_c) x (s+1) from x.
   void stage_inputs(const Eigen::Ref<const VecX>& x, int k, Workspace& w) const;
   int u_index(int k, int a) const;  // the control value used at point a of stage k
   void build_structure();
+  void build_hessian_structure();
+  // The variables of stage k's Hessian (increasing) and, for each of its inputs [u; λ] at each
+  // point (a (m + m_c) + r), the position among them, -1 for λ^{k,s} (not a variable).
+  std::vector<int> stage_variables(int k, std::vector<int>& input_at) const;
+  void holonomic_hessian(const Eigen::Ref<const VecX>& x, const Eigen::Ref<const VecX>& lambda, int j, Workspace& w,
+                         Eigen::Ref<VecX> values) const;
 
   Model aug_;  // the model with its constraint forces ([u; λ] as controls); the model without constraints
   Model model_;
@@ -73,7 +90,9 @@ class VariationalTranscription : public Transcription {
   double dt_;
   ControlMode controls_;
   int n_variables_, n_rows_;
-  SparsityStructure structure_;
+  SparsityStructure structure_, hessian_structure_;
+  int stage_variables_ = 0, stage_entries_ = 0;   // per stage (the same for every stage) in the Hessian
+  std::vector<int> input_at_;                     // stage_variables' input positions (the same for every stage)
   mutable WorkspacePool<Workspace> pool_;
 };
 

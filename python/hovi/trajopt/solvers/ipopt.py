@@ -42,7 +42,8 @@ DEFAULT_OPTIONS = {
     "limited_memory_max_history": 30,  # IPOPT's default is 6
 }
 
-HESSIANS = ("auto", "lbfgs", "fd")
+HESSIANS = ("auto", "lbfgs", "fd", "directional")
+EXACT_HESSIANS = ("auto", "fd", "directional")  # IPOPT gets hovi's Hessian
 CONTINUATIONS = ("lbfgs",)  # besides True (VI(s=1) with this solver's Hessian) and False
 
 # IPOPT's return codes (ApplicationReturnStatus) and their messages, as IPOPT's C interface words them.
@@ -289,17 +290,30 @@ class IpoptCallbacks:
 
 
 class IpoptCallbacksWithHessian(IpoptCallbacks):
-    """IpoptCallbacks plus the Lagrangian's Hessian (hessian.LagrangianHessian) for IPOPT's exact Newton steps."""
+    """IpoptCallbacks plus the Lagrangian's Hessian for IPOPT's exact Newton steps: 'fd', coloured
+    differences (hessian.LagrangianHessian); 'directional', the C++ program's (the transcription's
+    own Hessian where it has one)."""
 
-    def __init__(self, nlp: NLP, verbose: bool, evaluation_error: type, probe: np.ndarray):
+    def __init__(self, nlp: NLP, verbose: bool, evaluation_error: type, probe: np.ndarray, hessian: str):
         super().__init__(nlp, verbose, evaluation_error)
         self.H = LagrangianHessian(nlp, probe)
+        self.values = self.H.values
+        if hessian == "directional":
+            program = nlp.program()
+            _set_colouring(program, self.H, 1, False)
+            self.values = program.hessian
 
     def hessianstructure(self):
         return self.H.structure
 
     def hessian(self, x, lagrange, obj_factor):
-        return self.timed(lambda y: self.H.values(y, lagrange, obj_factor), x)
+        return self.timed(lambda y: self.values(y, lagrange, obj_factor), x)
+
+
+def _set_colouring(program: Any, H: LagrangianHessian, threads: int | None, difference_transcription: bool) -> None:
+    """Give the C++ program the Hessian of ``H``'s colouring."""
+    program.set_colouring(H.colour.astype(np.int32), H.rows.astype(np.int32), H.cols.astype(np.int32),
+                          H.read_row.astype(np.int32), H.read_col.astype(np.int32), threads, difference_transcription)
 
 
 class Ipopt(NLPSolver):
@@ -328,7 +342,7 @@ class Ipopt(NLPSolver):
     def __init__(self, options: dict[str, Any] | None = None, *, verbose: bool = True, hessian: str = "auto",
                  continuation: bool | str = True, threads: int | None = 1):
         if not isinstance(hessian, str) or hessian not in HESSIANS:
-            raise ValueError(f"hessian must be 'auto', 'lbfgs' or 'fd', got {hessian!r}")
+            raise ValueError(f"hessian must be 'auto', 'directional', 'fd' or 'lbfgs', got {hessian!r}")
         if options is not None and not isinstance(options, dict):
             raise TypeError(f"options must be a dict of IPOPT options, got {type(options).__name__}")
         if not isinstance(continuation, (bool, np.bool_)) and continuation not in CONTINUATIONS:
@@ -393,16 +407,16 @@ class Ipopt(NLPSolver):
         return result
 
     def hessian_for(self, nlp: NLP) -> str:
-        """The Hessian used on ``nlp``: 'auto' resolved ('fd' unless the problem has a CallbackCost)."""
+        """The Hessian used on ``nlp``: 'auto' resolved ('directional' unless the problem has a CallbackCost)."""
         if self.hessian != "auto":
             return self.hessian
-        return "lbfgs" if any(isinstance(c, CallbackCost) for c in nlp.problem.costs) else "fd"
+        return "lbfgs" if any(isinstance(c, CallbackCost) for c in nlp.problem.costs) else "directional"
 
     def ipopt_options(self, hessian: str | None = None) -> dict[str, Any]:
         """The options IPOPT gets: hovi's defaults (for hessian 'fd', and 'auto' unless told ``hessian``:
         the exact Hessian) and ``options``."""
         defaults = dict(DEFAULT_OPTIONS)
-        if (hessian or self.hessian) in ("fd", "auto"):
+        if (hessian or self.hessian) in EXACT_HESSIANS:
             defaults["hessian_approximation"] = "exact"
             del defaults["limited_memory_max_history"]
         return {**defaults, **self.options}
@@ -429,7 +443,7 @@ class Ipopt(NLPSolver):
         if self.hessian == "lbfgs":
             cb = IpoptCallbacks(nlp, self.verbose, cyipopt.CyIpoptEvaluationError)
         else:  # the Hessian's pattern probed near the start (hessian.LagrangianHessian)
-            cb = IpoptCallbacksWithHessian(nlp, self.verbose, cyipopt.CyIpoptEvaluationError, x0)
+            cb = IpoptCallbacksWithHessian(nlp, self.verbose, cyipopt.CyIpoptEvaluationError, x0, self.hessian)
         ip = cyipopt.Problem(n=nlp.n_variables, m=nlp.n_constraints, problem_obj=cb, lb=nlp.lower, ub=nlp.upper,
                              cl=nlp.cl, cu=nlp.cu)
         apply_options(ip, self.ipopt_options())
@@ -470,19 +484,18 @@ class Ipopt(NLPSolver):
         t_setup = time.perf_counter()
         x0 = _start(nlp, guess)
         program = nlp.program()
-        if self.hessian == "fd" and not program.has_hessian:   # probed once per NLP, near its first start
-            H = LagrangianHessian(nlp, x0)
-            program.set_colouring(H.colour.astype(np.int32), H.rows.astype(np.int32), H.cols.astype(np.int32),
-                                  H.read_row.astype(np.int32), H.read_col.astype(np.int32), self.threads)
-        elif self.hessian == "fd":
-            program.set_hessian_threads(self.threads)
+        exact = self.hessian in EXACT_HESSIANS
+        if exact and not program.has_hessian:   # probed once per NLP, near its first start
+            _set_colouring(program, LagrangianHessian(nlp, x0), self.threads, self.hessian == "fd")
+        elif exact:
+            program.set_hessian_options(self.threads, self.hessian == "fd")
         run = cpp.Ipopt()
         apply_options(run, self.ipopt_options())
         progress = functools.partial(after_iteration, self.verbose) if self.verbose or _ITERATION_HOOKS else None
         setup = time.perf_counter() - t_setup
         _SOLVING[0] += 1
         try:
-            out = run.solve(program, x0, nlp.lower, nlp.upper, nlp.cl, nlp.cu, exact_hessian=self.hessian == "fd",
+            out = run.solve(program, x0, nlp.lower, nlp.upper, nlp.cl, nlp.cu, exact_hessian=exact,
                             callback=progress)
         finally:
             _SOLVING[0] -= 1
