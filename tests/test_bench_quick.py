@@ -14,6 +14,7 @@ SCRIPTS = ["speed.py", "linearization.py", "constraints.py", "constrained_energy
            "contact_order.py",  # impacts located on the step's polynomial: order 2s kept (issue 31)
            "ipopt_options.py",  # IPOPT's Hessian and barrier options on the swing-ups (issue 33)
            "acrobot_basins.py",  # which acrobot optimum each pipeline reaches (issue 33)
+           "hessian_cost.py",  # the VI's own Hessian against coloured differences on the robots (issue 33)
            # the studies over many states, on local threads and on a Dask LocalCluster
            "fig2_quasi_newton.py --workers 2", "stability.py --scheduler local --workers 2"]
 

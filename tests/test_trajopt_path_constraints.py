@@ -46,23 +46,60 @@ def test_body_point_kinematics_refuses_bad_input():
 
 
 def test_shared_kinematics_equal_each_constraint_alone():
-    """Constraints on body points over the same window share one kinematics call in the NLP; its
-    rows and Jacobian values equal those of each constraint's own evaluate at the same configurations."""
+    """Constraints on body points over the same window share one kinematics call and one vectorised
+    evaluation in the NLP; its rows and Jacobian values, in the NLP's order (a CallbackPathConstraint
+    among them, evaluated on its own), equal those of each constraint's own evaluate at the same
+    configurations (to 1e-14: the sums run in another order)."""
     model = branched_model()
     prob = trajopt.Problem(model, N=4, T=0.8)
     prob.initial_state(np.zeros(model.n)).add_cost(trajopt.ControlEffort())
     window = (0.1, 0.7)
     constraints = [trajopt.Clearance(3, [0, 0.1, 0], center=[0.2, 0, -0.5], radius=0.1, window=window, between=2),
+                   trajopt.CallbackPathConstraint(lambda t, Q: np.sin(Q[:, :1]) + t[:, None],
+                                                  lambda t, Q: np.eye(Q.shape[1])[None, :1] * np.cos(Q[:, :1])[:, :, None],
+                                                  [-2.0], [2.0], window=window),
                    trajopt.BodyPoint(2, [0, 0, -0.5], axes="xz", lower=-1.0, window=window, between=2),
                    trajopt.PoseHeld(1, np.zeros(model.n), window=window, between=2),
                    trajopt.Clearance(0, [0, 0, -0.2], center=[0, 0.3, 0], radius=0.2, window=(0.3, 0.8))]
     for c in constraints:
         prob.add_constraint(c)
     nlp = trajopt.NLP(prob, trajopt.VI(s=2))
-    assert len(nlp._point_groups) < len(nlp.paths)  # some entries share a call
+    assert len(nlp._point_groups) < len(nlp.paths) - 1  # some entries share a call
     x = np.random.default_rng(0).normal(scale=0.3, size=nlp.n_variables)
-    shared_values, shared_jacobians = nlp._path(x, False), nlp._path(x, True)
-    for k, (c, t, points, weights) in enumerate(nlp.paths):
-        values, jac = c.evaluate(model, t, nlp._configurations(x, points, weights))
-        np.testing.assert_array_equal(shared_values[k], values.ravel())
-        np.testing.assert_array_equal(shared_jacobians[k], np.einsum("pk,prj->prkj", weights, jac).ravel())
+    [shared_values], [shared_jacobians] = nlp._path(x, False), nlp._path(x, True)
+    alone = [c.evaluate(model, t, nlp._configurations(x, points, weights)) + (weights,)
+             for c, t, points, weights in nlp.paths]
+    np.testing.assert_allclose(shared_values, np.concatenate([v.ravel() for v, _, _ in alone]), rtol=0, atol=1e-14)
+    np.testing.assert_allclose(shared_jacobians, np.concatenate([np.einsum("pk,prj->prkj", w, J).ravel()
+                                                                 for _, J, w in alone]), rtol=0, atol=1e-14)
+
+
+def test_body_point_rows_equal_their_closed_forms():
+    """Each OnBodyPoints constraint's rows from its form (c + L x + D x^2) against its definition
+    written out on the points' world positions (Model.joint_placements): a BodyPoint's coordinates,
+    a Clearance's squared distance, a PoseHeld's six rows (zero at its q0's pose)."""
+    model = branched_model()
+    Q = np.random.default_rng(4).normal(scale=0.5, size=(5, model.n))
+    q0 = np.zeros(model.n)
+
+    def world(body, point, q):
+        T = model.joint_placements(q)[body]
+        return T[:3, :3] @ point + T[:3, 3]
+
+    point = np.array([0.0, 0.1, -0.3])
+    cases = [(trajopt.BodyPoint(2, point, axes="xz", lower=-1.0, window=(0, 1)),
+              lambda q: world(2, point, q)[[0, 2]]),
+             (trajopt.Clearance(3, point, center=[0.2, 0.1, -0.5], radius=0.1, axes="yz", window=(0, 1)),
+              lambda q: [np.sum((world(3, point, q) - [0.2, 0.1, -0.5])[[1, 2]] ** 2)]),
+             (trajopt.PoseHeld(1, q0, point=point, size=(0.2, 0.1)),
+              None)]
+    for c, closed in cases:
+        c.bind(model)
+        values, _ = c.evaluate(model, np.zeros(len(Q)), Q)
+        if closed is None:   # the held pose: rows equal to their value at q0, moving with the body
+            np.testing.assert_allclose(c.evaluate(model, np.zeros(1), q0[None])[0][0], c.lower, atol=1e-14)
+            R = model.joint_placements(q0)[1][:3, :3]
+            closed = lambda q: np.concatenate([world(1, point, q), [R[:, 1] @ world(1, point + [0.2, 0, 0], q),
+                                                                    R[:, 2] @ world(1, point + [0.2, 0, 0], q),
+                                                                    R[:, 2] @ world(1, point + [0, 0.1, 0], q)]])
+        np.testing.assert_allclose(values, [closed(q) for q in Q], rtol=0, atol=1e-13)

@@ -89,10 +89,11 @@ def contact_problem():
     return prob.add_contacts(contacts)
 
 
-def wrench_problem():
+def wrench_problem(drag=True):
     """Three links (a spatial chain) with every kind of force that has second derivatives: drag (on the
-    velocity), a body-frame follower force scaled by a control, a world-frame point force and torque
-    scaled by another, besides a spring, a damper and an actuator (linear: no second derivatives)."""
+    velocity; without it every wrench is free of q̇, and the Hessian skips the q̇ columns), a
+    body-frame follower force scaled by a control, a world-frame point force and torque scaled by
+    another, besides a spring, a damper and an actuator (linear: no second derivatives)."""
     def below(length):
         T = np.eye(4)
         T[2, 3] = -length
@@ -106,7 +107,8 @@ def wrench_problem():
     model.add_actuator(0)
     model.add_spring(1, 3.0, 0.2)
     model.add_damper(2, 0.4)
-    model.add_drag("l1", linear=0.7, angular=0.3)
+    if drag:
+        model.add_drag("l1", linear=0.7, angular=0.3)
     model.add_point_wrench("l2", force=(0.3, -0.2, 1.0), point=(0.1, 0.05, -0.3), frame="body", control=model.add_control())
     model.add_point_wrench("l1", force=(0.0, 0.5, -0.4), torque=(0.2, 0.0, 0.1), point=(0.0, 0.1, -0.4),
                            control=model.add_control())
@@ -116,7 +118,8 @@ def wrench_problem():
     return prob.add_cost(trajopt.TerminalCost([0.5, 0.2, -0.3], weight=1.0, velocity_weight=0.1))
 
 
-PROBLEMS = {"costs": double_pendulum_problem, "wrenches": wrench_problem, "callback": callback_problem, "path": path_problem,
+PROBLEMS = {"costs": double_pendulum_problem, "wrenches": wrench_problem,
+            "point_wrenches": lambda: wrench_problem(drag=False), "callback": callback_problem, "path": path_problem,
             "slider_crank": slider_crank_problem, "contacts": contact_problem}
 
 
@@ -193,7 +196,8 @@ def dense_hessian(program, nlp, x, lam, sigma):
     return H
 
 
-HESSIAN_CASES = [(p, m) for p in ("costs", "wrenches", "slider_crank", "path", "contacts") for m in METHODS]
+HESSIAN_CASES = [(p, m) for p in ("costs", "wrenches", "point_wrenches", "slider_crank", "path", "contacts")
+                 for m in METHODS]
 HS_CONSTRAINED = pytest.mark.xfail(strict=True, reason=(
     "Hermite-Simpson's Jacobian of a constrained model (constraint_acceleration in "
     "hermite_simpson_transcription.cpp) differences d/dq (v^T D2h v) centrally with steps 1e-6: its values "
@@ -205,7 +209,7 @@ HS_CONSTRAINED = pytest.mark.xfail(strict=True, reason=(
 # the VI's own Hessian (del_hessian.hpp: central differences of D^2 L_d along the multipliers and
 # of the wrenches' gradients) where no term is differenced in Python; elsewhere the Python terms'
 # forward differences set the error
-DIRECTIONAL_TOLERANCE = {"costs": 1e-9, "wrenches": 1e-9, "slider_crank": 1e-9}
+DIRECTIONAL_TOLERANCE = {"costs": 1e-9, "wrenches": 1e-9, "point_wrenches": 1e-9, "slider_crank": 1e-9}
 
 
 @pytest.mark.parametrize("difference_transcription", [True, False], ids=["fd", "directional"])

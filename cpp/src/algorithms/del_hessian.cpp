@@ -7,7 +7,10 @@
 namespace hovi {
 
 DelHessianWorkspace::DelHessianWorkspace(const Model& model, const Quadrature& quad)
-    : jac(model, quad), forces(model) {}
+    : jac(model, quad), forces(model), on_path(model.n(), 0) {
+  for (const auto& w : model.wrenches)   // a wrench on body b moves with the joints from b to the root
+    for (int i = w->body(); i >= 0; i = model.parent[i]) on_path[i] = 1;
+}
 
 namespace {
 
@@ -44,17 +47,28 @@ void del_hessian(const Model& model, const Quadrature& quad, DelHessianWorkspace
   ws.qp = qc - e * nu;
   dlagrangian_hessian(model, quad, ws.jac, ws.qp, dt, ws.D2m);
   Hqq = (ws.D2p - ws.D2m) / (2 * e);
-  // forcing: body wrenches only (joint forces are linear)
+  // forcing: body wrenches only (joint forces are linear); columns of (q, q̇, u) differenced only
+  // where some wrench depends on them nonlinearly (q always; the others' rows come by symmetry)
   if (!model.wrenches.empty()) {
     const int Z = 2 * n + m;
-    ws.Hphi.resize(Z, Z);
+    bool velocity = false, control = false;
+    for (const auto& w : model.wrenches) {
+      velocity = velocity || !w->velocity_free();
+      control = control || !w->control_affine();
+    }
+    ws.Hphi.setZero(Z, Z);
     ws.z.resize(Z);
+    ws.d.setOnes(Z);   // 1 where a column is differenced: no wrench moves with a joint off their paths
+    for (int i = 0; i < n; ++i) ws.d[i] = ws.d[n + i] = ws.on_path[i];
+    if (!velocity) ws.d.segment(n, n).setZero();
+    if (!control) ws.d.tail(m).setZero();
     for (int a = 0; a < S1; ++a) {
       if (nu.col(a).cwiseAbs().maxCoeff() == 0) continue;
       ws.z.head(n) = qc.col(a);
       ws.z.segment(n, n).noalias() = qc * quad.b.row(a).transpose() / dt;   // q̇^a
       if (m > 0) ws.z.tail(m) = u.col(a);
       for (int j = 0; j < Z; ++j) {
+        if (ws.d[j] == 0) continue;
         const double zj = ws.z[j], step = kStep * std::max(1.0, std::abs(zj));
         const double zp = zj + step, zm = zj - step;
         ws.z[j] = zp;
@@ -64,7 +78,8 @@ void del_hessian(const Model& model, const Quadrature& quad, DelHessianWorkspace
         ws.z[j] = zj;
         ws.Hphi.col(j) = (ws.gp - ws.gm) / (zp - zm);
       }
-      ws.Gp = 0.5 * (ws.Hphi + ws.Hphi.transpose());
+      // symmetrised: an entry of two differenced columns is their mean, of one the value it has
+      ws.Gp = (ws.Hphi + ws.Hphi.transpose()).cwiseProduct(MatX::Ones(Z, Z) - 0.5 * ws.d * ws.d.transpose());
       ws.Gp *= quad.w[a] * dt;   // F_d^{k,a} = w^a dt Q
       const auto Hqq_phi = ws.Gp.topLeftCorner(n, n);
       const auto Hvq_phi = ws.Gp.block(n, 0, n, n);

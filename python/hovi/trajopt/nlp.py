@@ -116,20 +116,52 @@ class NLP:
 
     def _group_body_points(self):
         """Gathers the path constraints on body points (OnBodyPoints) by the configurations they are
-        evaluated at: ``_point_groups`` {key: (points, weights, bodies, local)} and, per entry of
-        ``paths``, its slot (key, slice of the group's points) or None (evaluated on its own)."""
-        self._point_groups, self._point_slots = {}, []
-        for c, _, points, weights in self.paths:
+        evaluated at, into ``_point_groups``: (points, weights, bodies, local, and their rows' forms
+        stacked: c (R,), the points idx (R, M) each row reads, L and D (R, M, 3)); and the orders
+        ``_path_order`` (values) and ``_path_jac_order`` (Jacobian) that take the groups' outputs,
+        then the other constraints', to the NLP's order of rows (constraint by constraint)."""
+        groups, rest, n = {}, [], self.tr.n
+        for e, (c, _, points, weights) in enumerate(self.paths):
             if not isinstance(c, OnBodyPoints):
-                self._point_slots.append(None)
+                rest.append(e)
                 continue
             key = (points.shape, points.tobytes(), weights.tobytes())
-            _, _, bodies, local = self._point_groups.setdefault(key, (points, weights, [], []))
-            self._point_slots.append((key, slice(len(bodies), len(bodies) + len(c.bodies))))
-            bodies.extend(c.bodies)
-            local.extend(c.local)
-        self._point_groups = {key: (points, weights, bodies, np.array(local))
-                              for key, (points, weights, bodies, local) in self._point_groups.items()}
+            groups.setdefault(key, (points, weights, []))[2].append(e)
+        self._point_groups, self._path_rest = [], rest
+        where = {}   # entry -> (output offset of its group, rows in the group, first row, its rows, K) or (offset,)
+        at_values = at_jac = 0
+        for points, weights, members in groups.values():
+            forms = [self.paths[e][0].form() for e in members]
+            M, R = max(L.shape[1] for _, L, _ in forms), sum(len(c) for c, _, _ in forms)
+            idx, L, D = np.zeros((R, M), np.int64), np.zeros((R, M, 3)), np.zeros((R, M, 3))
+            bodies, local, row = [], [], 0
+            for e, (c0, Le, De) in zip(members, forms):
+                r, m = Le.shape[:2]
+                idx[row:row + r, :m] = len(bodies) + np.arange(m)
+                L[row:row + r, :m], D[row:row + r, :m] = Le, De
+                where[e] = (at_values, at_jac, R, row, r)
+                bodies.extend(self.paths[e][0].bodies)
+                local.extend(self.paths[e][0].local)
+                row += r
+            c = np.concatenate([c0 for c0, _, _ in forms])
+            self._point_groups.append((points, weights, bodies, np.array(local), c, idx, L, D))
+            P, K = points.shape
+            at_values, at_jac = at_values + P * R, at_jac + P * R * K * n
+        values, jac = [], []
+        for e, (c, _, points, _) in enumerate(self.paths):
+            P, K = points.shape
+            r = len(c.lower)
+            if e in where:
+                v0, j0, R, row, _ = where[e]
+                i = (np.arange(P)[:, None] * R + row + np.arange(r)).ravel()          # (p, i) in the group's (P, R)
+                values.append(v0 + i)
+                jac.append(j0 + (i[:, None] * (K * n) + np.arange(K * n)).ravel())    # (p, i, k, j)
+            else:
+                values.append(at_values + np.arange(P * r))
+                jac.append(at_jac + np.arange(P * r * K * n))
+                at_values, at_jac = at_values + P * r, at_jac + P * r * K * n
+        self._path_order = np.concatenate([np.zeros(0, np.int64), *values]).astype(np.int64)
+        self._path_jac_order = np.concatenate([np.zeros(0, np.int64), *jac]).astype(np.int64)
 
     def _configurations(self, x, points, weights):
         """The configurations (P, n) at x: sum_k weights[p, k] q(points[p, k])."""
@@ -205,18 +237,24 @@ class NLP:
         self.jacobian(x)
 
     def _path(self, x, with_jacobian):
-        model = self.problem.model
-        kinematics = {key: _core.body_point_kinematics(model, self._configurations(x, points, weights), bodies, local)
-                      for key, (points, weights, bodies, local) in self._point_groups.items()}
-        out = []
-        for (c, t, points, weights), slot in zip(self.paths, self._point_slots):
-            if slot is None:
-                values, jac = c.evaluate(model, t, self._configurations(x, points, weights))
+        """The path constraints' values, or their Jacobian's values, in the NLP's order (a list of one
+        array, none without path constraints)."""
+        if not self.paths:
+            return []
+        model, out = self.problem.model, []
+        for points, weights, bodies, local, c, idx, L, D in self._point_groups:
+            X, J = _core.body_point_kinematics(model, self._configurations(x, points, weights), bodies, local)
+            Xr = X[:, idx]                                                        # (P, R, M, 3)
+            if with_jacobian:
+                jac = np.einsum("prmx,prmxn->prn", L + 2 * D * Xr, J[:, idx])
+                out.append(np.einsum("pk,prj->prkj", weights, jac).ravel())
             else:
-                X, J = kinematics[slot[0]]
-                values, jac = c.of_points(X[:, slot[1]], J[:, slot[1]])
+                out.append((c + np.einsum("rmx,prmx->pr", L, Xr) + np.einsum("rmx,prmx->pr", D, Xr * Xr)).ravel())
+        for e in self._path_rest:
+            c, t, points, weights = self.paths[e]
+            values, jac = c.evaluate(model, t, self._configurations(x, points, weights))
             out.append(np.einsum("pk,prj->prkj", weights, jac).ravel() if with_jacobian else values.ravel())
-        return out
+        return [np.concatenate(out)[self._path_jac_order if with_jacobian else self._path_order]]
 
     def _contacts(self, x, with_jacobian):
         return [] if self.contact_rows is None else [self.contact_rows.evaluate(x, with_jacobian)]

@@ -92,17 +92,27 @@ class PathConstraint:
 
 class OnBodyPoints(PathConstraint):
     """Base of the constraints on the world positions of body points: ``bind`` sets ``bodies`` (m,)
-    and ``local`` (m, 3) (points in the bodies' joint frames), and ``of_points`` turns their
-    kinematics, positions X (P, m, 3) and Jacobians J (P, m, 3, n), into the constraint's values.
-    The NLP computes the kinematics of all such constraints on the same configurations in one call
-    (one forward kinematics per configuration for all their points)."""
+    and ``local`` (m, 3) (points in the bodies' joint frames), and ``form`` states the rows as
+    functions of the points' world positions x_b (3,):
+
+        row i = c_i + sum_b L[i, b] . x_b + sum_b D[i, b] . (x_b * x_b)
+
+    (linear in the positions, or a weighted sum of squares: a clearance). The NLP evaluates all such
+    constraints on the same configurations together (one forward kinematics per configuration for
+    all their points, one vectorised evaluation of all their rows); ``of_points`` evaluates one."""
 
     bodies: list[int]
     local: np.ndarray
 
+    def form(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(c (r,), L (r, m, 3), D (r, m, 3)) of the rows (see the class)."""
+        raise NotImplementedError
+
     def of_points(self, X: np.ndarray, J: np.ndarray) -> PathValue:
         """(values (P, r), jacobians (P, r, n)) from the points' positions X (P, m, 3) and Jacobians J (P, m, 3, n)."""
-        raise NotImplementedError
+        c, L, D = self.form()
+        values = c + np.einsum("rbx,pbx->pr", L, X) + np.einsum("rbx,pbx->pr", D, X * X)
+        return values, np.einsum("prbx,pbxn->prn", L + 2 * D * X[:, None], J)
 
     def evaluate(self, model: _core.Model, t: np.ndarray, Q: np.ndarray) -> PathValue:
         """At configurations Q (P, n): (values (P, r), jacobians (P, r, n)); the times t do not enter."""
@@ -142,9 +152,12 @@ class BodyPoint(OnBodyPoints):
         self.bodies, self.local = [self.index], self.point[None]
         return self
 
-    def of_points(self, X: np.ndarray, J: np.ndarray) -> PathValue:
-        """The point's world coordinates `axes` (P, r) and their Jacobians (P, r, n)."""
-        return X[:, 0, self.rows], J[:, 0, self.rows, :]
+    def form(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The point's world coordinates `axes`: c (r,) = 0, L (r, 1, 3) selecting them, D (r, 1, 3) = 0."""
+        r = len(self.rows)
+        L = np.zeros((r, 1, 3))
+        L[np.arange(r), 0, self.rows] = 1.0
+        return np.zeros(r), L, np.zeros((r, 1, 3))
 
 
 class Clearance(BodyPoint):
@@ -161,11 +174,13 @@ class Clearance(BodyPoint):
             raise ValueError("radius must be positive")
         self.lower, self.upper = np.array([radius ** 2]), np.array([np.inf])
 
-    def of_points(self, X: np.ndarray, J: np.ndarray) -> PathValue:
-        """|P (x - center)|^2 (P, 1) and its Jacobian (P, 1, n)."""
-        X, J = super().of_points(X, J)
-        d = X - self.center[self.rows]
-        return np.sum(d * d, axis=1, keepdims=True), 2 * np.einsum("pr,prn->pn", d, J)[:, None, :]
+    def form(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """|P (x - center)|^2 = |P center|^2 - 2 (P center) . x + sum over the axes of x_a^2: c (1,),
+        L (1, 1, 3), D (1, 1, 3)."""
+        L, D = np.zeros((1, 1, 3)), np.zeros((1, 1, 3))
+        L[0, 0, self.rows] = -2.0 * self.center[self.rows]
+        D[0, 0, self.rows] = 1.0
+        return np.array([np.sum(self.center[self.rows] ** 2)]), L, D
 
 
 class PoseHeld(OnBodyPoints):
@@ -199,9 +214,9 @@ class PoseHeld(OnBodyPoints):
         self.lower = self.upper = np.einsum("rkx,kx->r", self.P, pose[:3, 3] + self.local @ R0.T)
         return self
 
-    def of_points(self, X: np.ndarray, J: np.ndarray) -> PathValue:
-        """The six rows (P, 6) and their Jacobians (P, 6, n) from the three points' kinematics."""
-        return np.einsum("rkx,pkx->pr", self.P, X), np.einsum("rkx,pkxn->prn", self.P, J)
+    def form(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The six rows, linear in the three points' positions: c (6,) = 0, L = P (6, 3, 3), D (6, 3, 3) = 0."""
+        return np.zeros(6), self.P, np.zeros_like(self.P)
 
 
 class CallbackPathConstraint(PathConstraint):

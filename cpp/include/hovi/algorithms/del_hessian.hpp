@@ -7,10 +7,15 @@
 //     step, whatever n), with e = eps^(1/3) max(1, |q|_inf) / |nu|_inf.
 //   Forcing part: only body wrenches have second derivatives (joint forces are linear in q, q̇,
 //     u); per control point, central differences of the gradient (Q_q^T nu^a, Q_v^T nu^a,
-//     Q_u^T nu^a) along each of (q, q̇, u), chained through q̇^a = (1/dt) sum_c b^{ac} q^c.
+//     Q_u^T nu^a) along each of q, and of q̇ and u unless every wrench is free of q̇ / affine in
+//     u (BodyWrench::velocity_free, control_affine: their rows then come by symmetry), and only
+//     for the joints on the paths from the wrenches' bodies to the root (the others move none),
+//     chained through q̇^a = (1/dt) sum_c b^{ac} q^c.
 // Both are symmetrised. Accuracy: the differences' O(e^2) and round-off, about 1e-9 relative
 // (tests/test_trajopt_program.py checks it against differences of the exact Jacobian).
 #pragma once
+#include <vector>
+
 #include "hovi/algorithms/del_jacobian.hpp"
 
 namespace hovi {
@@ -20,7 +25,8 @@ struct DelHessianWorkspace {
   DelJacobianWorkspace jac;
   ForceJacobians forces;
   MatX D2p, D2m, qp, Hphi, Gp;   // scratch
-  VecX z, gp, gm;
+  VecX z, gp, gm, d;
+  std::vector<char> on_path;   // joints on the path from some wrench's body to the root
 };
 
 // Hqq ((s+1) n square), Huq ((s+1) m x (s+1) n, block a: rows of u^a) and Huu ((s+1) m square,

@@ -19,6 +19,8 @@ class PointWrench : public BodyWrench {
   void add_derivatives(const SE3& g, const Twist& v, const VecX& u, Mat6& D1, Mat6& D2) const override;
   void add_control_jacobian(const SE3& g, const Twist& v, const VecX& u, Eigen::Ref<MatX> Du) const override;
   int max_control_index() const override { return control_; }
+  bool velocity_free() const override { return true; }
+  bool control_affine() const override { return true; }
   const char* kind() const override { return "point_wrench"; }
   void save(ByteWriter& out) const override;
   static std::shared_ptr<const PointWrench> load(ByteReader& in);
@@ -39,6 +41,7 @@ class BodyDrag : public BodyWrench {
   Wrench value(const SE3& g, const Twist& v, const VecX& u) const override;
   void add_derivatives(const SE3& g, const Twist& v, const VecX& u, Mat6& D1, Mat6& D2) const override;
   void add_control_jacobian(const SE3&, const Twist&, const VecX&, Eigen::Ref<MatX>) const override {}
+  bool control_affine() const override { return true; }
   const char* kind() const override { return "drag"; }
   void save(ByteWriter& out) const override;
   static std::shared_ptr<const BodyDrag> load(ByteReader& in);

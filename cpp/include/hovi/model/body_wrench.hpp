@@ -26,6 +26,10 @@ class BodyWrench {
   virtual void add_control_jacobian(const SE3& g, const Twist& v, const VecX& u, Eigen::Ref<MatX> Du) const = 0;
   // The largest control index used, -1 if none (the model checks it against its controls).
   virtual int max_control_index() const { return -1; }
+  // What the wrench's second derivatives can skip (del_hessian.hpp): false unless F̄ never depends on
+  // v̄ / is affine in u (then D2 = 0 / Du does not depend on u).
+  virtual bool velocity_free() const { return false; }
+  virtual bool control_affine() const { return false; }
   virtual const char* kind() const = 0;
   // Writes the parameters (body included) that the kind's load() reads back (model_serialization.hpp);
   // throws ModelError for a kind that cannot be serialised (the default).

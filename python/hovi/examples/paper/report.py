@@ -200,8 +200,7 @@ def solve(example: Example, method: str = "vi", s: int = 1, verbose: bool = Fals
     if example.problem.contacts is None:
         if time_limit is not None:
             options["max_cpu_time"] = float(time_limit)
-        return trajopt.solve(example.problem, from_name(method, s), guess=example.guess, options=options, verbose=verbose,
-                             hessian="fd")
+        return trajopt.solve(example.problem, from_name(method, s), guess=example.guess, options=options, verbose=verbose)
     epsilons = {} if example.epsilons is None else {"epsilons": example.epsilons}
     coarse = None
     if method == "vi" and s > 1 and example.sides_from_trapezoidal:
@@ -211,7 +210,7 @@ def solve(example: Example, method: str = "vi", s: int = 1, verbose: bool = Fals
         if time_limit is not None:
             time_limit = max(1.0, time_limit - (time.perf_counter() - t0))
     result = trajopt.solve_contact(example.problem, from_name(method, s), guess=example.guess,
-                                   options=options, verbose=verbose, hessian="fd", time_limit=time_limit,
+                                   options=options, verbose=verbose, hessian="auto", time_limit=time_limit,
                                    checkpoint=checkpoint, sides_from=coarse, **epsilons)
     if coarse is not None:
         c, r = coarse.contact, result.contact

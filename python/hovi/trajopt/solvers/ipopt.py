@@ -1,10 +1,12 @@
-"""IPOPT (through cyipopt, the optional dependency hovi[trajopt]) as a solver of the NLP.
+"""IPOPT as a solver of the NLP: through IPOPT's C++ interface (hovi._ipopt, built where pkg-config
+finds IPOPT: every callback in C++, the GIL released) or else through cyipopt (hovi[trajopt]).
 
-The Hessian of the Lagrangian is IPOPT's limited-memory quasi-Newton (L-BFGS) approximation by
-default (the paper gives no second derivatives of the DEL equations), or coloured differences of
-the exact gradient (``hessian='fd'``, hessian.py). Each IPOPT callback is one vectorised
-evaluation: the dynamics constraints and their Jacobian are single C++ calls with the GIL
-released; costs and path constraints are vectorised numpy over all samples.
+The Hessian of the Lagrangian is, by default, the VI's own (``hessian='directional'``: the DEL
+equations' second derivatives along the multipliers, del_hessian.hpp) with the Python terms'
+part by coloured differences (hessian.py); or coloured differences of everything
+(``hessian='fd'``); or IPOPT's limited-memory quasi-Newton approximation (``hessian='lbfgs'``).
+Python is called only for the costs, path constraints and contact rows written in Python: one
+vectorised call over all samples per evaluation.
 """
 from __future__ import annotations
 
@@ -321,20 +323,28 @@ class Ipopt(NLPSolver):
     (limited-memory Hessian, tol 1e-8, constraint violation 1e-10, bounds not relaxed);
     ``verbose`` prints one line per iteration.
 
-    hessian: 'fd' (the Lagrangian's Hessian by coloured differences of the exact gradient,
-    hessian.py, its pattern probed near the starting point: a few Jacobian evaluations per
-    iteration, far fewer iterations), 'lbfgs' (IPOPT's limited-memory approximation: cheap
-    iterations, many of them) or 'auto' (the default: 'fd' unless a CallbackCost, which may couple
-    any variables, needs 'lbfgs'). 'fd' took 3.5-4.3x less time than 'lbfgs' on the pendulum and
-    cart-pole swing-ups (bench/results/ipopt_options.json, issue 33).
+    hessian: the Lagrangian's Hessian IPOPT gets, its pattern probed near the starting point
+    (hessian.py):
+    'directional': the VI's own Hessian of its DEL equations (del_hessian.hpp: two evaluations of
+    D^2 L_d per stage and, for body wrenches, differences of their gradients per control point;
+    1e-11 relative), the quadratic costs' exact, the Python terms' by coloured differences of the
+    gradient; for Hermite-Simpson, which has no Hessian of its own, as 'fd';
+    'fd': coloured differences of the exact gradient for all of it (one Jacobian evaluation per
+    colour; 1e-8 relative);
+    'lbfgs': IPOPT's limited-memory approximation (cheap iterations, many of them);
+    'auto' (the default): 'directional' unless a CallbackCost, which may couple any variables,
+    needs 'lbfgs'. Measured (bench/README.md, issue 33): 'fd' took 3.5-4.3x less time than
+    'lbfgs' on the pendulum and cart-pole swing-ups; 'directional' computes Atlas's Hessian
+    (VI s = 2) 4x faster than 'fd'.
 
-    threads: threads for the coloured Hessian's differences of the transcription (1 by default,
-    None: HOVI_NUM_THREADS or every core; costs, path constraints and contact rows written in
-    Python are differenced on the calling thread); the values do not depend on it. With threads,
-    ``timing['evaluations']`` sums the threads' times (it can exceed the wall time).
+    threads: threads for the transcription's part of the Hessian (its stages, or the colours'
+    differences; 1 by default, None: HOVI_NUM_THREADS or every core; costs, path constraints and
+    contact rows written in Python are differenced on the calling thread); the values do not
+    depend on it. With threads, ``timing['evaluations']`` sums the threads' times (it can exceed
+    the wall time).
 
     The result's ``timing`` splits the wall time: 'setup' (before IPOPT starts: building the NLP,
-    the starting point and, with 'fd', the Hessian's pattern and colouring; not in wall_seconds),
+    the starting point and the Hessian's pattern and colouring; not in wall_seconds),
     then within the solve 'evaluations' (the C++ transcription calls), 'callbacks' (all time in
     hovi's callbacks: evaluations, costs, path constraints, Python and copies), 'ipopt' (the rest:
     IPOPT's own work, mostly the sparse linear algebra)."""
