@@ -273,15 +273,17 @@ def acrobot_from_a_straight_line():
 
 
 def test_order_continuation_starts_from_the_first_order_solution():
-    """VI(s=3) on the acrobot from a straight line: directly, IPOPT with the coloured Hessian ends
-    at local infeasibility; solving VI(s=1) first and starting from its interpolants converges in a
-    few iterations, to the solution VI(s=3) reaches from those interpolants by hand."""
+    """VI(s=3) on the acrobot from a straight line: directly, IPOPT takes hundreds of iterations
+    (measured: 409 to cost 26.30 with the default Hessian; 769 to 57.14 with 'fd'; before OpenBLAS
+    under MUMPS 'fd' ended at local infeasibility); solving VI(s=1) first (40 iterations) and
+    starting from its interpolants converges in 11, to 9.136, the solution VI(s=3) reaches from
+    those interpolants by hand."""
     prob = acrobot_from_a_straight_line()
     direct = trajopt.solve(prob, trajopt.VI(s=3), guess="linear", verbose=False, continuation=False)
     first = trajopt.solve(prob, trajopt.VI(s=1), guess="linear", verbose=False)
     by_hand = trajopt.solve(prob, trajopt.VI(s=3), guess=first.as_guess(), verbose=False)
     r = trajopt.solve(prob, trajopt.VI(s=3), guess="linear", verbose=False)
-    assert not direct.success
+    assert not direct.success or direct.iterations > 10 * r.iterations
     assert r.success and r.constraint_violation < 1e-9 and r.solver["continuation"]["used"]
     assert r.solver["continuation"]["iterations"] == first.iterations and "continuation" not in first.solver
     assert r.cost == pytest.approx(by_hand.cost, rel=1e-9) and r.iterations == by_hand.iterations
@@ -305,13 +307,17 @@ def test_continuation_falls_back_to_the_guess_when_the_continued_solve_fails():
 
 
 def test_the_first_stage_picks_the_acrobots_local_optimum():
-    """The acrobot swing-up of hovi.examples (N = 60) from a straight line: continuing VI(s=3) from
-    VI(s=1) solved with the coloured Hessian ends at cost 70.3; from 50 L-BFGS iterations of VI(s=1)
+    """The acrobot swing-up of hovi.examples (N = 60) from a straight line, with the coloured Hessian
+    ('fd'): continuing VI(s=3) from VI(s=1) ends at cost 70.3; from 50 L-BFGS iterations of VI(s=1)
     (continuation='lbfgs'), at 22.40, the optimum CasADi's Hermite-Simpson finds at N = 160
-    (bench/README.md). Both are local optima of the same NLP, replayed by the integrator."""
-    newton = trajopt.solve(examples.acrobot_swingup(N=60), trajopt.VI(s=3), guess="linear", verbose=False)
+    (bench/README.md). Both are local optima of the same NLP, replayed by the integrator. (With the
+    default Hessian the first ends at 70.3 too and the second at 27.51, a solution of the NLP to
+    2e-13 whose open-loop replay leaves it: the integrator's step finds another root of the DEL
+    equations on the way; measured.)"""
+    newton = trajopt.solve(examples.acrobot_swingup(N=60), trajopt.VI(s=3), guess="linear", verbose=False,
+                           hessian="fd")
     lbfgs = trajopt.solve(examples.acrobot_swingup(N=60), trajopt.VI(s=3), guess="linear", verbose=False,
-                          continuation="lbfgs")
+                          continuation="lbfgs", hessian="fd")
     for r in (newton, lbfgs):
         assert r.success and r.solver["continuation"]["used"] and r.constraint_violation < 1e-9
         assert np.abs(r.replay().q[-1] - [np.pi, 0.0]).max() < 1e-6
