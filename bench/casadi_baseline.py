@@ -50,7 +50,8 @@ Cost error: against a reference optimum, this transcription at N_ref = 16 x the 
 warm-started from the solution at that N (so it refines the same local optimum), cross-checked
 against hovi's VI s = 3 at 4 x that N.
 
-    python bench/casadi_baseline.py [--quick] [--no-hovi] [--fd] [--repeat R]
+    python bench/casadi_baseline.py [--quick] [--no-hovi] [--lbfgs] [--repeat R] [--reuse-references]
+                                    [--only pendulum cartpole acrobot]
 
 Writes bench/results/casadi_baseline.json (casadi_baseline_quick.json with --quick).
 """
@@ -540,12 +541,14 @@ def main():
     ap.add_argument("--reuse-references", action="store_true",
                     help="take the reference optima from the last bench/results/casadi_baseline.json")
     ap.add_argument("--repeat", type=int, default=3, help="time the fastest of this many identical solves")
+    ap.add_argument("--only", nargs="+", choices=sorted(GRIDS), help="run these swing-ups and keep the others' rows "
+                    "from the last bench/results/casadi_baseline.json (implies --reuse-references)")
     args = ap.parse_args()
     _require_casadi()
     from common import write_json
-    grids = {"pendulum": (20,)} if args.quick else GRIDS
-    references = None
-    if args.reuse_references and not args.quick:
+    grids = {"pendulum": (20,)} if args.quick else {name: GRIDS[name] for name in (args.only or GRIDS)}
+    references = last = None
+    if (args.reuse_references or args.only) and not args.quick:
         import json
         from common import RESULTS
         with open(os.path.join(RESULTS, "casadi_baseline.json")) as f:
@@ -554,6 +557,12 @@ def main():
     out = run(grids, with_hovi=not args.no_hovi, refine=8 if args.quick else 16,
               hessians=("auto", "lbfgs") if args.lbfgs else ("auto",), repeat=1 if args.quick else args.repeat,
               references=references)
+    if args.only and not args.quick:   # the other swing-ups' rows as the last run left them (its 'kept' list)
+        kept = [name for name in last["swingups"] if name not in grids]
+        out["swingups"] = {name: out["swingups"].get(name) or last["swingups"][name] for name in GRIDS}
+        out["kept_from_last_run"] = kept
+        if not args.no_hovi:
+            out["matches"] = cheapest_matches(out)
     path = write_json("casadi_baseline_quick.json" if args.quick else "casadi_baseline.json", out)
     print(report(out))
     print("wrote", path)
