@@ -118,10 +118,9 @@ void LagrangianHessian::values(const VecX& x, const VecX& lambda, double sigma, 
     for (int k : entries_[c]) read[k] += g[t][c_.read_row[k]];
     for (int j : by_colour_[c]) xh[t][j] = x[j];
   };
-  if (own_) {
-  } else if (threads == 1) {
+  if (!own_ && threads == 1) {   // the transcription's part differenced, unless it has its own (below)
     for (int c = 0; c < n_colours_; ++c) colour(c, 0, Part::Transcription);
-  } else {
+  } else if (!own_) {
     const std::vector<std::string> errors =
         parallel_for(n_colours_, threads, [&](int c, int t) { colour(c, t, Part::Transcription); });
     for (const std::string& e : errors)
