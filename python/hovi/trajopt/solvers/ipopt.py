@@ -334,8 +334,8 @@ class Ipopt(NLPSolver):
     'lbfgs': IPOPT's limited-memory approximation (cheap iterations, many of them);
     'auto' (the default): 'directional' unless a CallbackCost, which may couple any variables,
     needs 'lbfgs'. Measured (bench/README.md, issue 33): 'fd' took 3.5-4.3x less time than
-    'lbfgs' on the pendulum and cart-pole swing-ups; 'directional' computes Atlas's Hessian
-    (VI s = 2) 4x faster than 'fd'.
+    'lbfgs' on the pendulum and cart-pole swing-ups; 'directional' computes a Hessian of the
+    paper's robots 1.3-3.7x faster than 'fd' (Atlas VI s = 2: 61 against 225 ms).
 
     threads: threads for the transcription's part of the Hessian (its stages, or the colours'
     differences; 1 by default, None: HOVI_NUM_THREADS or every core; costs, path constraints and
@@ -423,8 +423,8 @@ class Ipopt(NLPSolver):
         return "lbfgs" if any(isinstance(c, CallbackCost) for c in nlp.problem.costs) else "directional"
 
     def ipopt_options(self, hessian: str | None = None) -> dict[str, Any]:
-        """The options IPOPT gets: hovi's defaults (for hessian 'fd', and 'auto' unless told ``hessian``:
-        the exact Hessian) and ``options``."""
+        """The options IPOPT gets: hovi's defaults (for hessian 'directional', 'fd' and 'auto' unless
+        told ``hessian``: IPOPT's exact-Hessian mode) and ``options``."""
         defaults = dict(DEFAULT_OPTIONS)
         if (hessian or self.hessian) in EXACT_HESSIANS:
             defaults["hessian_approximation"] = "exact"
