@@ -1,8 +1,8 @@
 #include "hovi/algorithms/del_hessian.hpp"
 
 #include <algorithm>
-#include <cmath>
-#include <limits>
+
+#include "hovi/util/central_differences.hpp"
 
 namespace hovi {
 
@@ -13,8 +13,6 @@ DelHessianWorkspace::DelHessianWorkspace(const Model& model, const Quadrature& q
 }
 
 namespace {
-
-const double kStep = std::cbrt(std::numeric_limits<double>::epsilon());  // central differences' step
 
 // (Q_q^T nu, Q_v^T nu, Q_u^T nu) at z = (q, q̇, u): the gradient of nu . Q.
 void force_gradient(const Model& model, DelHessianWorkspace& ws, const VecX& z, const Eigen::Ref<const VecX>& nu,
@@ -39,7 +37,7 @@ void del_hessian(const Model& model, const Quadrature& quad, DelHessianWorkspace
   const double size = nu.cwiseAbs().maxCoeff();
   if (size == 0) return;
   // L_d: d/de D^2 L_d(q + e nu), central
-  const double e = kStep * std::max(1.0, qc.cwiseAbs().maxCoeff()) / size;
+  const double e = kCentralStep * std::max(1.0, qc.cwiseAbs().maxCoeff()) / size;
   ws.D2p.resize(S1 * n, S1 * n);
   ws.D2m.resize(S1 * n, S1 * n);
   ws.qp = qc + e * nu;
@@ -56,7 +54,6 @@ void del_hessian(const Model& model, const Quadrature& quad, DelHessianWorkspace
       velocity = velocity || !w->velocity_free();
       control = control || !w->control_affine();
     }
-    ws.Hphi.setZero(Z, Z);
     ws.z.resize(Z);
     ws.d.setOnes(Z);   // 1 where a column is differenced: no wrench moves with a joint off their paths
     for (int i = 0; i < n; ++i) ws.d[i] = ws.d[n + i] = ws.on_path[i];
@@ -67,19 +64,9 @@ void del_hessian(const Model& model, const Quadrature& quad, DelHessianWorkspace
       ws.z.head(n) = qc.col(a);
       ws.z.segment(n, n).noalias() = qc * quad.b.row(a).transpose() / dt;   // q̇^a
       if (m > 0) ws.z.tail(m) = u.col(a);
-      for (int j = 0; j < Z; ++j) {
-        if (ws.d[j] == 0) continue;
-        const double zj = ws.z[j], step = kStep * std::max(1.0, std::abs(zj));
-        const double zp = zj + step, zm = zj - step;
-        ws.z[j] = zp;
-        force_gradient(model, ws, ws.z, nu.col(a), ws.gp);
-        ws.z[j] = zm;
-        force_gradient(model, ws, ws.z, nu.col(a), ws.gm);
-        ws.z[j] = zj;
-        ws.Hphi.col(j) = (ws.gp - ws.gm) / (zp - zm);
-      }
-      // symmetrised: an entry of two differenced columns is their mean, of one the value it has
-      ws.Gp = (ws.Hphi + ws.Hphi.transpose()).cwiseProduct(MatX::Ones(Z, Z) - 0.5 * ws.d * ws.d.transpose());
+      hessian_by_central_differences(
+          ws.z, ws.d, [&](const VecX& z, VecX& g) { force_gradient(model, ws, z, nu.col(a), g); }, ws.Gp, ws.gp, ws.gm,
+          ws.Hphi);
       ws.Gp *= quad.w[a] * dt;   // F_d^{k,a} = w^a dt Q
       const auto Hqq_phi = ws.Gp.topLeftCorner(n, n);
       const auto Hvq_phi = ws.Gp.block(n, 0, n, n);

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -12,6 +11,7 @@
 #include "hovi/errors.hpp"
 #include "hovi/parallel/parallel_for.hpp"
 #include "hovi/trajopt/jacobian_blocks.hpp"
+#include "hovi/util/central_differences.hpp"
 
 namespace hovi {
 
@@ -153,27 +153,16 @@ void VariationalTranscription::holonomic_hessian(const Eigen::Ref<const VecX>& x
   const int n = n_;
   const auto lam = lambda.segment(holonomic_row() + j * mc_, mc_);
   VecX q = x.segment(q_offset() + j * n, n);
-  w.Hv.setZero(n, n);
-  const auto gradient = [&](VecX& out) {   // Dh(q)^T lambda_h
-    forward_kinematics(model_, w.data, q);
+  const auto gradient = [&](const VecX& qj, VecX& out) {   // Dh(q)^T lambda_h
+    forward_kinematics(model_, w.data, qj);
     constraint_jacobian(model_, KinematicsView{model_, w.data.g.data(), w.data.Sbar.data(), 1}, w.Dh);
     out.noalias() = w.Dh.transpose() * lam;
   };
-  if (lam.cwiseAbs().maxCoeff() != 0) {
-    for (int i = 0; i < n; ++i) {   // central differences of the gradient, the step of del_hessian.cpp
-      const double qi = q[i], step = std::cbrt(std::numeric_limits<double>::epsilon()) * std::max(1.0, std::abs(qi));
-      const double qp = qi + step, qm = qi - step;
-      q[i] = qp;
-      gradient(w.gp);
-      q[i] = qm;
-      gradient(w.g0);
-      q[i] = qi;
-      w.Hv.col(i) = (w.gp - w.g0) / (qp - qm);
-    }
-  }
+  if (lam.cwiseAbs().maxCoeff() != 0) hessian_by_central_differences(q, VecX::Ones(n), gradient, w.Hv, w.gp, w.g0, w.Hqq);
+  else w.Hv.setZero(n, n);
   int at = 0;
   for (int i = 0; i < n; ++i)
-    for (int l = 0; l <= i; ++l) values[at++] = 0.5 * (w.Hv(i, l) + w.Hv(l, i));
+    for (int l = 0; l <= i; ++l) values[at++] = w.Hv(i, l);
 }
 
 void VariationalTranscription::hessian(const Eigen::Ref<const VecX>& x, const Eigen::Ref<const VecX>& lambda,

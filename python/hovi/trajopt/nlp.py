@@ -15,7 +15,7 @@ import scipy.sparse as sp
 from .. import _core
 from ..contact.complementarity import ComplementarityRelaxation, ContactRows
 from .costs import checked_cost
-from .path_constraints import OnBodyPoints
+from .path_constraints import OnBodyPoints, form_rows
 from .problem import Problem
 from .transcription import Transcription, TranscriptionMethod
 from .transcriptions import DEFAULT_TRANSCRIPTION
@@ -116,8 +116,8 @@ class NLP:
 
     def _group_body_points(self):
         """Gathers the path constraints on body points (OnBodyPoints) by the configurations they are
-        evaluated at, into ``_point_groups``: (points, weights, bodies, local, and their rows' forms
-        stacked: c (R,), the points idx (R, M) each row reads, L and D (R, M, 3)); and the orders
+        evaluated at, into ``_point_groups``: (points, weights, bodies, local, their rows' forms
+        stacked (c (R,), L and D (R, M, 3)), the points idx (R, M) each row reads); and the orders
         ``_path_order`` (values) and ``_path_jac_order`` (Jacobian) that take the groups' outputs,
         then the other constraints', to the NLP's order of rows (constraint by constraint)."""
         groups, rest, n = {}, [], self.tr.n
@@ -128,7 +128,7 @@ class NLP:
             key = (points.shape, points.tobytes(), weights.tobytes())
             groups.setdefault(key, (points, weights, []))[2].append(e)
         self._point_groups, self._path_rest = [], rest
-        where = {}   # entry -> (output offset of its group, rows in the group, first row, its rows, K) or (offset,)
+        where = {}   # grouped entry -> (its group's offsets in the values and the Jacobian, the group's rows, its first row)
         at_values = at_jac = 0
         for points, weights, members in groups.values():
             forms = [self.paths[e][0].form() for e in members]
@@ -139,12 +139,12 @@ class NLP:
                 r, m = Le.shape[:2]
                 idx[row:row + r, :m] = len(bodies) + np.arange(m)
                 L[row:row + r, :m], D[row:row + r, :m] = Le, De
-                where[e] = (at_values, at_jac, R, row, r)
+                where[e] = (at_values, at_jac, R, row)
                 bodies.extend(self.paths[e][0].bodies)
                 local.extend(self.paths[e][0].local)
                 row += r
             c = np.concatenate([c0 for c0, _, _ in forms])
-            self._point_groups.append((points, weights, bodies, np.array(local), c, idx, L, D))
+            self._point_groups.append((points, weights, bodies, np.array(local), (c, L, D), idx))
             P, K = points.shape
             at_values, at_jac = at_values + P * R, at_jac + P * R * K * n
         values, jac = [], []
@@ -152,7 +152,7 @@ class NLP:
             P, K = points.shape
             r = len(c.lower)
             if e in where:
-                v0, j0, R, row, _ = where[e]
+                v0, j0, R, row = where[e]
                 i = (np.arange(P)[:, None] * R + row + np.arange(r)).ravel()          # (p, i) in the group's (P, R)
                 values.append(v0 + i)
                 jac.append(j0 + (i[:, None] * (K * n) + np.arange(K * n)).ravel())    # (p, i, k, j)
@@ -242,14 +242,12 @@ class NLP:
         if not self.paths:
             return []
         model, out = self.problem.model, []
-        for points, weights, bodies, local, c, idx, L, D in self._point_groups:
+        for points, weights, bodies, local, form, idx in self._point_groups:
             X, J = _core.body_point_kinematics(model, self._configurations(x, points, weights), bodies, local)
-            Xr = X[:, idx]                                                        # (P, R, M, 3)
             if with_jacobian:
-                jac = np.einsum("prmx,prmxn->prn", L + 2 * D * Xr, J[:, idx])
-                out.append(np.einsum("pk,prj->prkj", weights, jac).ravel())
+                out.append(np.einsum("pk,prj->prkj", weights, form_rows(form, idx, X, J)).ravel())
             else:
-                out.append((c + np.einsum("rmx,prmx->pr", L, Xr) + np.einsum("rmx,prmx->pr", D, Xr * Xr)).ravel())
+                out.append(form_rows(form, idx, X).ravel())
         for e in self._path_rest:
             c, t, points, weights = self.paths[e]
             values, jac = c.evaluate(model, t, self._configurations(x, points, weights))
