@@ -6,7 +6,7 @@ include against the layer order
         -> control
 
 (the bindings above all). model/ holds the Model and the interfaces it stores (BodyWrench,
-Constraint, JointForces), so that algorithms compute through the interfaces only; forces/ and
+Constraint, JointForces) and the contact model the simulator and the optimiser share, so that algorithms compute through the interfaces only; forces/ and
 constraints/ hold the built-in kinds (a constraint's multipliers act through force elements, so
 constraints sit above forces); parsers/ read and write models (URDF, the byte format of
 model_serialization), every kind included. The baselines may include the product; the product

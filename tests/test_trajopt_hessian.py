@@ -58,12 +58,12 @@ def test_hessian_threads_give_the_same_values_and_solve():
         program = nlp.program()
         rng = np.random.default_rng(3)
         x, lam = rng.uniform(-1, 1, nlp.n_variables), rng.normal(size=nlp.n_constraints)
-        for difference_transcription in (True, False):
+        for by_differences in (True, False):
             values = []
             for threads in (1, 2, None):
                 program.set_colouring(H.colour.astype(np.int32), H.rows.astype(np.int32), H.cols.astype(np.int32),
                                       H.read_row.astype(np.int32), H.read_col.astype(np.int32), threads,
-                                      difference_transcription)
+                                      by_differences)
                 values.append(program.hessian(x, lam, 0.3))
             assert program.hessian_threads >= 1
             assert np.array_equal(values[0], values[1]) and np.array_equal(values[0], values[2])

@@ -46,10 +46,11 @@ def test_body_point_kinematics_refuses_bad_input():
 
 
 def test_shared_kinematics_equal_each_constraint_alone():
-    """Constraints on body points over the same window share one kinematics call and one vectorised
-    evaluation in the NLP; its rows and Jacobian values, in the NLP's order (a CallbackPathConstraint
-    among them, evaluated on its own), equal those of each constraint's own evaluate at the same
-    configurations (to 1e-14: the sums run in another order)."""
+    """Constraints on body points over the same configurations are one C++ block of the NLP's
+    program (trajopt/body_point_rows.cpp: one kinematics per configuration); its rows and Jacobian
+    values, placed in the NLP's order (a CallbackPathConstraint among them, evaluated in Python),
+    equal those of each constraint's own evaluate (Python, its form on body_point_kinematics) at the
+    same configurations (to 1e-14: the sums run in another order)."""
     model = branched_model()
     prob = trajopt.Problem(model, N=4, T=0.8)
     prob.initial_state(np.zeros(model.n)).add_cost(trajopt.ControlEffort())
@@ -66,7 +67,9 @@ def test_shared_kinematics_equal_each_constraint_alone():
     nlp = trajopt.NLP(prob, trajopt.VI(s=2))
     assert len(nlp._point_groups) < len(nlp.paths) - 1  # some entries share a call
     x = np.random.default_rng(0).normal(scale=0.3, size=nlp.n_variables)
-    [shared_values], [shared_jacobians] = nlp._path(x, False), nlp._path(x, True)
+    rows0, nnz0 = nlp.core.n_constraints, nlp.core.nnz
+    shared_values = nlp.constraints(x)[rows0:rows0 + len(nlp._path_order)]
+    shared_jacobians = nlp.jacobian(x)[nnz0:nnz0 + len(nlp._path_jac_order)]
     alone = [c.evaluate(model, t, nlp._configurations(x, points, weights)) + (weights,)
              for c, t, points, weights in nlp.paths]
     np.testing.assert_allclose(shared_values, np.concatenate([v.ravel() for v, _, _ in alone]), rtol=0, atol=1e-14)

@@ -12,9 +12,7 @@
 
 namespace hovi::py_bind {
 
-namespace {
-
-ContactModel contact_model(const Model& model, const std::vector<int>& bodies, const ArrayLike& points,
+ContactModel contact_model(const std::vector<int>& bodies, const ArrayLike& points,
                            double ground, const ArrayLike& gaps, const ArrayLike& boxes, double mu,
                            const ArrayLike& directions) {
   ContactModel cm;
@@ -34,11 +32,8 @@ ContactModel contact_model(const Model& model, const std::vector<int>& bodies, c
   }
   cm.mu = mu;
   cm.D = as_matrix(directions, "friction directions", -1, 3);
-  (void)model;
   return cm;
 }
-
-}  // namespace
 
 void bind_contact(py::module_& m) {
   py::class_<PyContactIntegrator>(m, "ContactIntegrator", R"doc(
@@ -51,7 +46,7 @@ joint frames, the terrain's ground, gaps (G, 3) and boxes (B, 5), mu, friction d
                        double ground, const ArrayLike& gaps, const ArrayLike& boxes, double mu,
                        const ArrayLike& directions, double contact_tol, bool locate_impacts) {
              ContactModel cm =
-                 contact_model(integrator.integ().model(), bodies, points, ground, gaps, boxes, mu, directions);
+                 contact_model(bodies, points, ground, gaps, boxes, mu, directions);
              return std::make_unique<PyContactIntegrator>(integrator, std::move(cm), contact_tol, locate_impacts);
            }),
            py::keep_alive<1, 2>(),

@@ -35,12 +35,12 @@ py::array_t<double> view(const VecX& x) { return py::array_t<double>(x.size(), x
 
 // The extra terms as C++ hooks that take the GIL and call the Python functions (each None or a
 // callable of x; kept alive by PyProgram).
-ExtraTerms extra_hooks(const PyProgram& p, int rows, int nnz) {
+ExtraTerms extra_hooks(const PyProgram& p, const Eigen::VectorXi& rows, const Eigen::VectorXi& entries) {
   ExtraTerms e;
-  if ((rows != 0 || nnz != 0) && (p.extra_constraints.is_none() || p.extra_jacobian.is_none()))
+  if ((rows.size() != 0 || entries.size() != 0) && (p.extra_constraints.is_none() || p.extra_jacobian.is_none()))
     throw InputError("extra rows need extra_constraints and extra_jacobian functions");
   e.rows = rows;
-  e.nnz = nnz;
+  e.entries = entries;
   const auto borrowed = [](const py::object& f) {
     const PyObject* raw = f.ptr();
     return [raw] { return py::reinterpret_borrow<py::object>(const_cast<PyObject*>(raw)); };
@@ -56,7 +56,7 @@ ExtraTerms extra_hooks(const PyProgram& p, int rows, int nnz) {
       return r[0].cast<double>();
     };
   }
-  if (rows > 0) {
+  if (rows.size() > 0) {
     const auto fc = borrowed(p.extra_constraints), fj = borrowed(p.extra_jacobian);
     e.constraints = [fc](const VecX& x, Eigen::Ref<VecX> g) {
       py::gil_scoped_acquire gil;
@@ -100,6 +100,18 @@ SparseRowMatrix csr_of(const py::handle& arrays, const char* name, int cols) {
                                            indptr.data(), indices.data(), data.data());
 }
 
+// The blocks as (RowBlock, rows (its rows' places in g), entries (its Jacobian values' places)) tuples.
+std::vector<PlacedRows> placed_blocks(const py::list& blocks) {
+  std::vector<PlacedRows> out;
+  for (const py::handle& item : blocks) {
+    if (!py::isinstance<py::tuple>(item) || py::len(item) != 3)
+      throw InputError("blocks must be (RowBlock, rows, entries) tuples");
+    const py::tuple t = py::reinterpret_borrow<py::tuple>(item);
+    out.push_back({t[0].cast<std::shared_ptr<RowBlock>>(), t[1].cast<Eigen::VectorXi>(), t[2].cast<Eigen::VectorXi>()});
+  }
+  return out;
+}
+
 const NlpProgram& program_of(const PyProgram& p) { return *p.program; }
 
 VecX vector_of(const PyProgram& p, const ArrayLike& x) { return as_vector(x, "x", p.program->n_variables()); }
@@ -126,15 +138,16 @@ void bind_nlp_program(py::module_& t) {
 The NLP of a transcribed problem evaluated in C++ (nlp_program.hpp), as hovi.trajopt.NLP lays it
 out: the quadratic costs c + sum_i d_i (S x - r)_i^2 / 2, rows [transcription | extra | A x], the Jacobian
 in `jac_rows`, `jac_cols` order, and the Lagrangian's Hessian by coloured differences once
-`set_colouring` gave the colours. The terms written in Python come through functions of x (each
-None when absent): extra_cost(x) -> (value, gradient), extra_constraints(x) -> (extra_rows,),
-extra_jacobian(x) -> (extra_nnz,); they evaluate the terms written in
-Python, one call per evaluation.
+`set_colouring` gave the colours. The built-in rows (path constraints on body points, contact rows)
+are RowBlocks; the terms written in Python come through functions of x (each None when absent):
+extra_cost(x) -> (value, gradient), extra_constraints(x) -> (len(extra_rows),), extra_jacobian(x) ->
+(len(extra_entries),), one call per evaluation.
 )doc")
       .def(py::init([](AnyTranscription transcription, double c, const CsrArrays& S_csr, const ArrayLike& r,
                        const ArrayLike& d, const CsrArrays& A_csr, const Eigen::VectorXi& jac_rows,
-                       const Eigen::VectorXi& jac_cols, OptArrayFunction extra_cost, OptArrayFunction extra_constraints,
-                       OptArrayFunction extra_jacobian, int extra_rows, int extra_nnz) {
+                       const Eigen::VectorXi& jac_cols, const py::list& blocks, OptArrayFunction extra_cost,
+                       OptArrayFunction extra_constraints, OptArrayFunction extra_jacobian,
+                       const Eigen::VectorXi& extra_rows, const Eigen::VectorXi& extra_entries) {
              const Transcription& tr = transcription_of(transcription);
              const SparseRowMatrix S = csr_of(S_csr, "S", tr.n_variables()), A = csr_of(A_csr, "A", tr.n_variables());
              auto p = std::make_unique<PyProgram>();
@@ -143,15 +156,20 @@ Python, one call per evaluation.
              p->extra_constraints = extra_constraints;
              p->extra_jacobian = extra_jacobian;
              p->program = std::make_unique<NlpProgram>(tr, c, S, as_vector(r, "r", S.rows()), as_vector(d, "d", S.rows()), A,
-                                                       extra_hooks(*p, extra_rows, extra_nnz), jac_rows, jac_cols);
+                                                       placed_blocks(blocks), extra_hooks(*p, extra_rows, extra_entries),
+                                                       jac_rows, jac_cols);
              return p;
            }),
            py::arg("transcription"), py::arg("c"), py::arg("S"), py::arg("r"), py::arg("d"), py::arg("A"), py::arg("jac_rows"),
-           py::arg("jac_cols"), py::arg("extra_cost") = OptArrayFunction(py::none()),
+           py::arg("jac_cols"), py::arg("blocks") = py::list(), py::arg("extra_cost") = OptArrayFunction(py::none()),
            py::arg("extra_constraints") = OptArrayFunction(py::none()),
-           py::arg("extra_jacobian") = OptArrayFunction(py::none()), py::arg("extra_rows") = 0, py::arg("extra_nnz") = 0,
+           py::arg("extra_jacobian") = OptArrayFunction(py::none()), py::arg("extra_rows") = Eigen::VectorXi(),
+           py::arg("extra_entries") = Eigen::VectorXi(),
            "transcription: the C++ transcription; c, S (k, n), r (k,), d (k,): the quadratic costs; A (a, n): the "
-           "linear rows (S, A as (indptr, indices, data) in compressed rows); jac_rows, jac_cols (nnz,): the whole Jacobian's structure; the extra terms (see the class).")
+           "linear rows (S, A as (indptr, indices, data) in compressed rows); jac_rows, jac_cols (nnz,): the whole "
+           "Jacobian's structure; blocks: (RowBlock, rows, entries) tuples, the built-in rows with the places of their "
+           "rows in g and of their Jacobian values; the extra terms (see the class), their rows at extra_rows and "
+           "Jacobian values at extra_entries. Between the transcription's rows and A's every place is taken once.")
       .def_property_readonly("n_variables", [](const PyProgram& p) { return p.program->n_variables(); }, "Length of x.")
       .def_property_readonly("n_constraints", [](const PyProgram& p) { return p.program->n_constraints(); }, "Length of g(x).")
       .def_property_readonly("nnz", [](const PyProgram& p) { return p.program->nnz(); }, "Jacobian nonzeros.")
@@ -174,23 +192,24 @@ Python, one call per evaluation.
            }, py::arg("x"), "x: (n_variables,); the Jacobian's values (nnz,) in (jac_rows, jac_cols) order.")
       .def("set_colouring", [](PyProgram& p, const Eigen::VectorXi& colour, const Eigen::VectorXi& rows,
                                const Eigen::VectorXi& cols, const Eigen::VectorXi& read_row,
-                               const Eigen::VectorXi& read_col, const OptInt& threads, bool difference_transcription) {
+                               const Eigen::VectorXi& read_col, const OptInt& threads, bool by_differences) {
              p.hessian = std::make_unique<LagrangianHessian>(*p.program,
                                                              HessianColouring{colour, rows, cols, read_row, read_col},
-                                                             threads_arg(threads), difference_transcription);
+                                                             threads_arg(threads), by_differences);
            }, py::arg("colour"), py::arg("rows"), py::arg("cols"), py::arg("read_row"), py::arg("read_col"),
-           py::arg("threads") = OptInt(py::int_(1)), py::arg("difference_transcription") = false,
+           py::arg("threads") = OptInt(py::int_(1)), py::arg("by_differences") = false,
            "colour (n_variables,); the lower triangle's entries rows >= cols (E,) and where each is read: component "
            "read_row of the difference of read_col's colour (hovi.trajopt.hessian.LagrangianHessian); threads: for "
            "the transcription's Hessian or its colours' differences (None: HOVI_NUM_THREADS or every core; the extra "
-           "terms on the calling thread); difference_transcription: difference the transcription's part even where it "
-           "has a Hessian of its own (the VI's, del_hessian.hpp).")
-      .def("set_hessian_options", [](PyProgram& p, const OptInt& threads, bool difference_transcription) {
+           "terms on the calling thread); by_differences: difference the transcription's and the built-in rows' parts "
+           "even where they have Hessians of their own (the VI's, del_hessian.hpp; the RowBlocks').")
+      .def("set_hessian_options", [](PyProgram& p, const OptInt& threads, bool by_differences) {
              if (!p.hessian) throw InputError("the program has no Hessian: call set_colouring first");
              p.hessian = std::make_unique<LagrangianHessian>(*p.program, p.hessian->colouring(), threads_arg(threads),
-                                                             difference_transcription);
-           }, py::arg("threads"), py::arg("difference_transcription"),
-           "The Hessian's threads and whether it differences the transcription's part (as set_colouring), its colours kept.")
+                                                             by_differences);
+           }, py::arg("threads"), py::arg("by_differences"),
+           "The Hessian's threads and whether it differences the parts that have Hessians of their own (as "
+           "set_colouring), its colours kept.")
       .def_property_readonly("hessian_threads", [](const PyProgram& p) { return p.hessian ? p.hessian->threads() : 0; },
                              "Threads of the Hessian (0 without a Hessian).")
       .def_property_readonly("transcription_hessian",

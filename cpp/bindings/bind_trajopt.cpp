@@ -97,6 +97,7 @@ variables q, v (and a) at the 2N + 1 knots and midpoints, controls, multipliers 
       .def_property_readonly("n_control_values", [](const PH& p) { return p.t.n_control_values(); },
                              "Number of control samples (per point or per interval).");
   bind_common(hs);
+  bind_row_blocks(t);
   bind_nlp_program(t);
 }
 

@@ -66,6 +66,7 @@ void bind_integrator(py::module_& m);
 void bind_linearizer(py::module_& m);
 void bind_trajopt(py::module_& m);
 void bind_nlp_program(py::module_& trajopt);  // into hovi._core.trajopt
+void bind_row_blocks(py::module_& trajopt);   // into hovi._core.trajopt
 void bind_contact(py::module_& m);
 void bind_control(py::module_& m);
 

@@ -6,6 +6,11 @@
 
 namespace hovi::py_bind {
 
+// The contact model of hovi.contact.Contacts' arrays: bodies (C,), points (C, 3) in the bodies' joint
+// frames, the terrain's ground, gaps (G, 3) and boxes (B, 5), mu, friction directions (d, 3).
+ContactModel contact_model(const std::vector<int>& bodies, const ArrayLike& points, double ground,
+                           const ArrayLike& gaps, const ArrayLike& boxes, double mu, const ArrayLike& directions);
+
 // The contact simulator over the model, s, dt and options of an Integrator; every call goes
 // through core(), which raises once the Integrator's model has changed.
 class PyContactIntegrator {

@@ -86,8 +86,8 @@ void bind_ipopt(py::module_& m) {
              res["seconds"] = out.seconds;
              res["callback_seconds"] = out.callback_seconds;
              res["hessian_seconds"] = out.hessian_seconds;
-             res["transcription_seconds"] = prog.transcription_seconds();
-             res["extra_seconds"] = prog.extra_seconds();
+             res["cpp_seconds"] = prog.cpp_seconds();
+             res["python_seconds"] = prog.python_seconds();
              return res;
            }, py::arg("program"), py::arg("x0"), py::arg("lower"), py::arg("upper"), py::arg("cl"), py::arg("cu"),
            py::arg("exact_hessian") = false, py::arg("callback") = py::none(),

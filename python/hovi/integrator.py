@@ -146,11 +146,9 @@ class Integrator:
                              "impact inside a step happens at its end, a first-order time-stepper that throws away "
                              "the order 2s (bench/README.md 'Contact simulation')")
         tol = real_number(tol, "contact_tol", minimum=0.0, strict_minimum=True)
-        t = contacts.terrain
-        gaps = np.array([[g.x0, g.x1, g.depth] for g in t.gaps], dtype=np.float64).reshape(-1, 3)
-        boxes = np.array([[b.x0, b.x1, b.top, b.y0, b.y1] for b in t.boxes], dtype=np.float64).reshape(-1, 5)
+        ground, gaps, boxes = contacts.terrain.arrays()
         return _core.ContactIntegrator(self._core, [c.body for c in contacts.points],
-                                       np.array([c.point for c in contacts.points]), float(t.ground), gaps, boxes,
+                                       np.array([c.point for c in contacts.points]), ground, gaps, boxes,
                                        contacts.mu, contacts.D, tol, bool(locate))
 
     # Pickling (to other processes, cluster workers): the model (which pickles in full), the

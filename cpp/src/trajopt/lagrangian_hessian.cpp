@@ -62,9 +62,11 @@ std::pair<Eigen::VectorXi, Eigen::VectorXi> probed_pattern(const NlpProgram& pro
 }
 
 LagrangianHessian::LagrangianHessian(const NlpProgram& program, HessianColouring colouring, int threads,
-                                     bool difference_transcription)
-    : p_(program), c_(std::move(colouring)), threads_(thread_count(threads)),
-      own_(!difference_transcription && program.transcription().has_hessian()) {
+                                     bool by_differences)
+    : p_(program), c_(std::move(colouring)), threads_(thread_count(threads)), by_differences_(by_differences),
+      own_(!by_differences && program.transcription().has_hessian()) {
+  using Part = NlpProgram::Part;
+  differenced_ = by_differences ? Part::Dynamics | Part::BuiltIn : (own_ ? 0 : Part::Dynamics);
   const int n = p_.n_variables();
   const long e = c_.rows.size();
   if (c_.colour.size() != n)
@@ -88,17 +90,22 @@ LagrangianHessian::LagrangianHessian(const NlpProgram& program, HessianColouring
   const SparseRowMatrix& H = p_.cost_hessian();
   cost_values_.resize(e);
   for (int k = 0; k < e; ++k) cost_values_[k] = H.coeff(c_.rows[k], c_.cols[k]);
-  if (!own_) return;
-  // where the transcription's entries land: entries outside the (probed) pattern are zero there
+  // where the transcription's and the blocks' own entries land: entries outside the (probed)
+  // pattern are zero there
   std::unordered_map<long long, int> entry;
   entry.reserve(e);
   for (int k = 0; k < e; ++k) entry[static_cast<long long>(c_.rows[k]) * n + c_.cols[k]] = k;
-  const SparsityStructure& T = p_.transcription().hessian_structure();
-  own_entry_.resize(T.nnz());
-  for (int i = 0; i < T.nnz(); ++i) {
-    const auto it = entry.find(static_cast<long long>(T.rows[i]) * n + T.cols[i]);
-    own_entry_[i] = it == entry.end() ? -1 : it->second;
-  }
+  const auto entries_of = [&](const SparsityStructure& T) {
+    std::vector<int> at(T.nnz());
+    for (int i = 0; i < T.nnz(); ++i) {
+      const auto it = entry.find(static_cast<long long>(T.rows[i]) * n + T.cols[i]);
+      at[i] = it == entry.end() ? -1 : it->second;
+    }
+    return at;
+  };
+  if (own_) own_entry_ = entries_of(p_.transcription().hessian_structure());
+  if (!by_differences_)
+    for (const PlacedRows& b : p_.blocks()) block_entry_.push_back(entries_of(b.block->hessian_structure()));
 }
 
 void LagrangianHessian::values(const VecX& x, const VecX& lambda, double sigma, Eigen::Ref<VecX> values) const {
@@ -108,38 +115,48 @@ void LagrangianHessian::values(const VecX& x, const VecX& lambda, double sigma, 
   const int threads = std::max(1, std::min(threads_, n_colours_));
   std::vector<VecX> xh(threads, x), g(threads, VecX(n)), jac(threads);
   VecX g0 = VecX::Zero(n), read = VecX::Zero(nnz());   // read[k]: the gradient component entry k reads, at its colour's point
-  const bool extra = p_.has_extra();
-  if (!own_ || extra) p_.curved_gradient(x, lambda, sigma, g0, jac[0], own_ ? Part::Extra : Part::All);
+  const int python = p_.has_python() ? Part::Python : 0;
+  const bool differences = (differenced_ | python) != 0;
+  if (differences) p_.curved_gradient(x, lambda, sigma, g0, jac[0], differenced_ | python);
   // one colour's part of the gradient at its point; each colour adds only to its own entries, in
-  // the same order on any number of threads (the transcription's part, then the caller's)
-  const auto colour = [&](int c, int t, Part part) {
+  // the same order on any number of threads (the C++ parts, then the caller's)
+  const auto colour = [&](int c, int t, int parts) {
     for (int j : by_colour_[c]) xh[t][j] = x[j] + root_eps * std::max(1.0, std::abs(x[j]));
-    p_.curved_gradient(xh[t], lambda, sigma, g[t], jac[t], part);
+    p_.curved_gradient(xh[t], lambda, sigma, g[t], jac[t], parts);
     for (int k : entries_[c]) read[k] += g[t][c_.read_row[k]];
     for (int j : by_colour_[c]) xh[t][j] = x[j];
   };
-  if (!own_ && threads == 1) {   // the transcription's part differenced, unless it has its own (below)
-    for (int c = 0; c < n_colours_; ++c) colour(c, 0, Part::Transcription);
-  } else if (!own_) {
+  if (differenced_ && threads == 1) {
+    for (int c = 0; c < n_colours_; ++c) colour(c, 0, differenced_);
+  } else if (differenced_) {
     const std::vector<std::string> errors =
-        parallel_for(n_colours_, threads, [&](int c, int t) { colour(c, t, Part::Transcription); });
+        parallel_for(n_colours_, threads, [&](int c, int t) { colour(c, t, differenced_); });
     for (const std::string& e : errors)
       if (!e.empty()) throw std::runtime_error("the Hessian's differences failed: " + e);
   }
-  if (extra)   // the caller's part (Python) on this thread
-    for (int c = 0; c < n_colours_; ++c) colour(c, 0, Part::Extra);
+  if (python)   // the caller's part (Python) on this thread
+    for (int c = 0; c < n_colours_; ++c) colour(c, 0, Part::Python);
   values = sigma * cost_values_;
-  if (!own_ || extra)
+  if (differences)
     for (int k = 0; k < nnz(); ++k) {
       const int j = c_.read_col[k];
       const double step = (x[j] + root_eps * std::max(1.0, std::abs(x[j]))) - x[j];
       values[k] += (read[k] - g0[c_.read_row[k]]) / step;
     }
-  if (!own_) return;
-  VecX own(p_.transcription().hessian_structure().nnz());
-  p_.transcription_hessian(x, lambda, own, threads_);
-  for (int i = 0; i < own.size(); ++i)
-    if (own_entry_[i] >= 0) values[own_entry_[i]] += own[i];
+  const auto add = [&](const VecX& own, const std::vector<int>& at) {
+    for (int i = 0; i < own.size(); ++i)
+      if (at[i] >= 0) values[at[i]] += own[i];
+  };
+  if (own_) {
+    VecX own(p_.transcription().hessian_structure().nnz());
+    p_.transcription_hessian(x, lambda, own, threads_);
+    add(own, own_entry_);
+  }
+  for (std::size_t b = 0; b < block_entry_.size(); ++b) {
+    VecX own(block_entry_[b].size());
+    p_.block_hessian(static_cast<int>(b), x, lambda, own);
+    add(own, block_entry_[b]);
+  }
 }
 
 }  // namespace hovi

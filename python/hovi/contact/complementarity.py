@@ -1,6 +1,6 @@
-"""The contact conditions of ``hovi.contact.Contacts`` as rows of the NLP, with their exact sparse
-Jacobian (from the contact points' positions and position Jacobians: one vectorised C++ call for
-all points and contacts).
+"""The contact conditions of ``hovi.contact.Contacts`` as rows of the NLP: their bounds and sparse
+Jacobian structure here, their values, Jacobian and exact Hessian in C++ (``ContactRows.block``,
+cpp/include/hovi/trajopt/complementarity_rows.hpp).
 
 Pairing (see ``hovi.contact.contacts`` for why): the contact inputs u_i at configuration point i
 act on the motion that follows it, so they are complementary to the gap at the next point and to
@@ -186,30 +186,15 @@ class ContactRows:
         return {"phi": phi, "psi": ct.mu * lam - beta.sum(-1), "zeta": zeta, "lambda": lam, "gamma": gam,
                 "beta": beta, "v": v}
 
-    def evaluate(self, x: np.ndarray, with_jacobian: bool) -> np.ndarray:
-        X, J = self.kinematics(x)
-        ct, D, d = self.contacts, self.contacts.D, self.d
-        k = self._quantities(x, X)
-        phi, psi, zeta, lam, gam, beta = k["phi"], k["psi"], k["zeta"], k["lambda"], k["gamma"], k["beta"]
-        last, before = self.hold_inputs()
-        if not with_jacobian:
-            return np.concatenate([phi.ravel(), psi.ravel(), zeta.transpose(2, 0, 1).ravel(), (lam * phi).ravel(),
-                                   (gam * psi).ravel(), (beta * zeta).transpose(2, 0, 1).ravel(),
-                                   x[last] - x[before]])
-        E, C = self.E, self.C
-        dphi = J[1:, :, 2, :]                                                                 # (E, C, n)
-        ones = np.ones((E, C, 1))
-        inv_dt = (1.0 / self.dt)[None, :, None, None]
-        dzeta_a = np.einsum("kd,ecdn->kecn", D, J[1:]) * inv_dt                               # (d, E, C, n)
-        dzeta_b = -np.einsum("kd,ecdn->kecn", D, J[:-1]) * inv_dt
-        values = [dphi, np.concatenate([ct.mu * ones, -np.ones((E, C, d))], -1)]
-        values += [np.concatenate([dzeta_a[i], dzeta_b[i], ones], -1) for i in range(d)]
-        values += [np.concatenate([lam[..., None] * dphi, phi[..., None]], -1),
-                   np.concatenate([psi[..., None], gam[..., None] * ct.mu, -gam[..., None] * np.ones((1, 1, d))], -1)]
-        values += [np.concatenate([beta[..., i:i + 1] * dzeta_a[i], beta[..., i:i + 1] * dzeta_b[i],
-                                   beta[..., i:i + 1], zeta[..., i:i + 1]], -1) for i in range(d)]
-        values += [np.tile([1.0, -1.0], self.n_hold)]
-        return np.concatenate([v.ravel() for v in values])
+    def block(self, n_variables: int) -> _core.trajopt.ComplementarityRows:
+        """These rows in C++ (complementarity_rows.hpp): values, the Jacobian's values in the order
+        of (rows, cols), and their exact Hessian, for the NLP's program over ``n_variables``."""
+        ct = self.contacts
+        ground, gaps, boxes = ct.terrain.arrays()
+        return _core.trajopt.ComplementarityRows(ct.model, n_variables, [c.body for c in ct.points],
+                                                 np.array([c.point for c in ct.points]), ground, gaps, boxes, ct.mu,
+                                                 ct.D, ct.first_input, self.t, self.q_off.astype(np.int32),
+                                                 self.u_off.astype(np.int32))
 
     def violations(self, x: np.ndarray) -> dict:
         """Largest penetration, friction-cone violation and complementarity product at x (the

@@ -75,6 +75,13 @@ class Terrain:
                 check(item, f"Terrain {field_name}[{i}]")
             setattr(self, field_name, items)
 
+    def arrays(self) -> Tuple[float, np.ndarray, np.ndarray]:
+        """(ground, gaps (G, 3) rows (x0, x1, depth), boxes (B, 5) rows (x0, x1, top, y0, y1)): the
+        terrain as the C++ contact models read it."""
+        gaps = np.array([[g.x0, g.x1, g.depth] for g in self.gaps], dtype=np.float64).reshape(-1, 3)
+        boxes = np.array([[b.x0, b.x1, b.top, b.y0, b.y1] for b in self.boxes], dtype=np.float64).reshape(-1, 5)
+        return float(self.ground), gaps, boxes
+
     def height(self, xy: np.ndarray) -> np.ndarray:
         """h (P,) of the surface below the points xy (P, 2)."""
         xy = np.atleast_2d(xy)

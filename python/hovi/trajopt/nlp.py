@@ -1,9 +1,10 @@
 """The nonlinear program of a Problem under a transcription: objective and gradient from the cost
-terms through the transcription's sample map, constraints and their sparse Jacobian from the C++
-transcription (one call each), path constraints (one vectorised call each; those on body points
-share one kinematics call per set of configurations) and linear boundary rows, and the contact
-complementarity rows (hovi.contact.complementarity) under the relaxation it is given. Knows
-nothing of the solver. Times its C++ evaluations for the solver's report."""
+terms through the transcription's sample map; constraints and their sparse Jacobian from its C++
+program (``program()``): the transcription, the path constraints on body points (one C++ block per
+set of configurations they share), the contact complementarity rows (hovi.contact.complementarity,
+under the relaxation it is given) and the linear boundary rows in C++, the path constraints written
+in Python one vectorised call each. Knows nothing of the solver. Times its evaluations for the
+solver's report."""
 from __future__ import annotations
 
 import time
@@ -15,7 +16,7 @@ import scipy.sparse as sp
 from .. import _core
 from ..contact.complementarity import ComplementarityRelaxation, ContactRows
 from .costs import checked_cost
-from .path_constraints import OnBodyPoints, form_rows
+from .path_constraints import OnBodyPoints
 from .problem import Problem
 from .transcription import Transcription, TranscriptionMethod
 from .transcriptions import DEFAULT_TRANSCRIPTION
@@ -107,7 +108,7 @@ class NLP:
         self.n_variables, self.n_constraints = nv, len(self.cl)
         self.tq = tq
         self.offsets = offsets
-        self.eval_seconds = 0.0  # time in the C++ transcription calls
+        self.eval_seconds = 0.0  # time in constraints() and jacobian()
         self._program = None
         bad = np.nonzero(self.lower > self.upper)[0]
         if len(bad):
@@ -117,9 +118,10 @@ class NLP:
     def _group_body_points(self):
         """Gathers the path constraints on body points (OnBodyPoints) by the configurations they are
         evaluated at, into ``_point_groups``: (points, weights, bodies, local, their rows' forms
-        stacked (c (R,), L and D (R, M, 3)), the points idx (R, M) each row reads); and the orders
-        ``_path_order`` (values) and ``_path_jac_order`` (Jacobian) that take the groups' outputs,
-        then the other constraints', to the NLP's order of rows (constraint by constraint)."""
+        stacked (c (R,), L and D (R, M, 3)), the points idx (R, M) each row reads, the group's first
+        output value and Jacobian value); and the orders ``_path_order`` (values) and
+        ``_path_jac_order`` (Jacobian) that take the groups' outputs, then the other constraints'
+        (``_rest_values``, ``_rest_jac`` on), to the NLP's order of rows (constraint by constraint)."""
         groups, rest, n = {}, [], self.tr.n
         for e, (c, _, points, weights) in enumerate(self.paths):
             if not isinstance(c, OnBodyPoints):
@@ -144,10 +146,11 @@ class NLP:
                 local.extend(self.paths[e][0].local)
                 row += r
             c = np.concatenate([c0 for c0, _, _ in forms])
-            self._point_groups.append((points, weights, bodies, np.array(local), (c, L, D), idx))
+            self._point_groups.append((points, weights, bodies, np.array(local), (c, L, D), idx, at_values, at_jac))
             P, K = points.shape
             at_values, at_jac = at_values + P * R, at_jac + P * R * K * n
         values, jac = [], []
+        self._rest_values, self._rest_jac = at_values, at_jac
         for e, (c, _, points, _) in enumerate(self.paths):
             P, K = points.shape
             r = len(c.lower)
@@ -162,6 +165,9 @@ class NLP:
                 at_values, at_jac = at_values + P * r, at_jac + P * r * K * n
         self._path_order = np.concatenate([np.zeros(0, np.int64), *values]).astype(np.int64)
         self._path_jac_order = np.concatenate([np.zeros(0, np.int64), *jac]).astype(np.int64)
+        # the inverses: a grouped or other output's place among the path rows and Jacobian values
+        self._path_place = np.argsort(self._path_order)
+        self._path_jac_place = np.argsort(self._path_jac_order)
 
     def _configurations(self, x, points, weights):
         """The configurations (P, n) at x: sum_k weights[p, k] q(points[p, k])."""
@@ -236,36 +242,23 @@ class NLP:
         self.constraints(x)
         self.jacobian(x)
 
-    def _path(self, x, with_jacobian):
-        """The path constraints' values, or their Jacobian's values, in the NLP's order (a list of one
-        array, none without path constraints)."""
-        if not self.paths:
-            return []
-        model, out = self.problem.model, []
-        for points, weights, bodies, local, form, idx in self._point_groups:
-            X, J = _core.body_point_kinematics(model, self._configurations(x, points, weights), bodies, local)
-            if with_jacobian:
-                out.append(np.einsum("pk,prj->prkj", weights, form_rows(form, idx, X, J)).ravel())
-            else:
-                out.append(form_rows(form, idx, X).ravel())
+    def _python_paths(self, x, with_jacobian):
+        """The values, or Jacobian values, of the path constraints written in Python (not on body
+        points), in their order (``_rest_values`` on)."""
+        model, out = self.problem.model, [np.zeros(0)]
         for e in self._path_rest:
             c, t, points, weights = self.paths[e]
             values, jac = c.evaluate(model, t, self._configurations(x, points, weights))
             out.append(np.einsum("pk,prj->prkj", weights, jac).ravel() if with_jacobian else values.ravel())
-        return [np.concatenate(out)[self._path_jac_order if with_jacobian else self._path_order]]
-
-    def _contacts(self, x, with_jacobian):
-        return [] if self.contact_rows is None else [self.contact_rows.evaluate(x, with_jacobian)]
+        return np.concatenate(out)
 
     def constraints(self, x: np.ndarray) -> np.ndarray:
         """g(x) (n_constraints,): dynamics, path constraints, contact rows and linear boundary rows, at x (n_variables,)."""
-        return np.concatenate([self._timed(self.core.constraints, x), *self._path(x, False),
-                               *self._contacts(x, False), self.A @ x])
+        return self._timed(self.program().constraints, x)
 
     def jacobian(self, x: np.ndarray) -> np.ndarray:
         """The Jacobian's values (nnz,) at x (n_variables,), in (jac_rows, jac_cols) order."""
-        return np.concatenate([self._timed(self.core.jacobian, x), *self._path(x, True),
-                               *self._contacts(x, True), self.A_values])
+        return self._timed(self.program().jacobian, x)
 
     def violation(self, x: np.ndarray) -> float:
         """Largest violation of the constraints and bounds at x (n_variables,)."""
@@ -275,8 +268,9 @@ class NLP:
 
     def program(self) -> _core.trajopt.Program:
         """This NLP as a C++ program (``hovi._core.trajopt.Program``, built once): the costs that give
-        their ``curvature`` as weighted squares c + sum_i d_i (S x - r)_i^2 / 2, the transcription and
-        the linear rows in C++; the other costs, the path constraints and the contact rows through the
+        their ``curvature`` as weighted squares c + sum_i d_i (S x - r)_i^2 / 2, the transcription, the
+        path constraints on body points and the contact rows (C++ row blocks with their own
+        Hessians) and the linear rows in C++; the other costs and path constraints through the
         methods of a ``PythonTerms``, one call per evaluation. What hovi._ipopt solves."""
         if self._program is None:
             nv, s = self.n_variables, self.samples
@@ -290,16 +284,37 @@ class NLP:
                 c0 += squares[0]
                 for part, where in zip((S, r, d), squares[1:]):
                     part.append(where)
-            extra_rows = self.n_constraints - self.core.n_constraints - self.A.shape[0]
-            extra_nnz = self.nnz - self.core.nnz - self.A.nnz
+            rows0, nnz0 = self.core.n_constraints, self.core.nnz
             terms = PythonTerms(self, others)
             csr = [(M.indptr.astype(np.int32), M.indices.astype(np.int32), M.data) for M in (sp.vstack(S).tocsr(), self.A)]
+            rest_rows = rows0 + self._path_place[self._rest_values:]
+            rest_entries = nnz0 + self._path_jac_place[self._rest_jac:]
+            has_rest = len(rest_rows) > 0
             self._program = _core.trajopt.Program(
                 self.core, c0, csr[0], np.concatenate(r), np.concatenate(d), csr[1],
-                self.jac_rows.astype(np.int32), self.jac_cols.astype(np.int32),
-                terms.cost if others else None, terms.constraints if extra_rows else None,
-                terms.jacobian if extra_rows else None, extra_rows, extra_nnz)
+                self.jac_rows.astype(np.int32), self.jac_cols.astype(np.int32), self._blocks(),
+                terms.cost if others else None, terms.constraints if has_rest else None,
+                terms.jacobian if has_rest else None, rest_rows.astype(np.int32), rest_entries.astype(np.int32))
         return self._program
+
+    def _blocks(self) -> list:
+        """The C++ row blocks with their places (block, rows, entries): one per group of body-point
+        path constraints, and the contact rows."""
+        model, nv, n = self.problem.model, self.n_variables, self.tr.n
+        rows0, nnz0 = self.core.n_constraints, self.core.nnz
+        blocks = []
+        for points, weights, bodies, local, (c, L, D), idx, v0, j0 in self._point_groups:
+            (P, K), R = points.shape, len(c)
+            block = _core.trajopt.BodyPointRows(model, nv, self.offsets[points].astype(np.int32), weights, bodies, local,
+                                                c, L.reshape(-1, 3), D.reshape(-1, 3), idx.astype(np.int32))
+            blocks.append((block, (rows0 + self._path_place[v0:v0 + P * R]).astype(np.int32),
+                           (nnz0 + self._path_jac_place[j0:j0 + P * R * K * n]).astype(np.int32)))
+        if self.contact_rows is not None:
+            cr = self.contact_rows
+            rows0, nnz0 = rows0 + len(self._path_order), nnz0 + len(self._path_jac_order)
+            blocks.append((cr.block(nv), np.arange(rows0, rows0 + cr.count, dtype=np.int32),
+                           np.arange(nnz0, nnz0 + len(cr.rows), dtype=np.int32)))
+        return blocks
 
     def _squares(self, cost, i: int, zero):
         """A cost term with a ``curvature`` h as weighted squares of samples less references: (c, S, r,
@@ -324,8 +339,9 @@ class NLP:
 
 class PythonTerms:
     """What the C++ program of an NLP leaves to Python: the costs without a ``curvature``
-    (``cost(x) -> (value, gradient)``), and the path-constraint and contact rows (``constraints(x)``,
-    ``jacobian(x)``), each one vectorised call. Holds its NLP weakly (the NLP holds the program)."""
+    (``cost(x) -> (value, gradient)``), and the path constraints written in Python
+    (``constraints(x)``, ``jacobian(x)``), each one vectorised call. Holds its NLP weakly (the NLP
+    holds the program)."""
 
     def __init__(self, nlp: NLP, costs: list[int]):
         self._nlp, self.costs = weakref.ref(nlp), costs
@@ -342,9 +358,7 @@ class PythonTerms:
         return float(sum(value for value, _, _, _ in terms)), self.nlp._pulled_back(terms)
 
     def constraints(self, x: np.ndarray) -> np.ndarray:
-        nlp = self.nlp
-        return np.concatenate([np.zeros(0), *nlp._path(x, False), *nlp._contacts(x, False)])
+        return self.nlp._python_paths(x, False)
 
     def jacobian(self, x: np.ndarray) -> np.ndarray:
-        nlp = self.nlp
-        return np.concatenate([np.zeros(0), *nlp._path(x, True), *nlp._contacts(x, True)])
+        return self.nlp._python_paths(x, True)

@@ -14,7 +14,7 @@
 #include <functional>
 
 #include "hovi/algorithms/del_jacobian.hpp"
-#include "hovi/contact/contact_model.hpp"
+#include "hovi/model/contact_model.hpp"
 #include "hovi/util/workspace_pool.hpp"
 
 namespace hovi {

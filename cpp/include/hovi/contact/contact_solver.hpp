@@ -20,7 +20,7 @@
 
 #include "hovi/algorithms/del_residual.hpp"
 #include "hovi/algorithms/newton_direction.hpp"
-#include "hovi/contact/contact_model.hpp"
+#include "hovi/model/contact_model.hpp"
 #include "hovi/contact/lcp.hpp"
 #include "hovi/integrators/dense_direction.hpp"
 #include "hovi/integrators/newton_solver.hpp"

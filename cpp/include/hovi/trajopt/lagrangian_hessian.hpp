@@ -1,10 +1,10 @@
 // The lower triangle of the Hessian of the Lagrangian sigma f + lambda^T g of an NlpProgram:
 //   the quadratic costs' part exact (sigma H);
 //   the transcription's part its own Hessian where it has one (the VI: del_hessian.hpp, two
-//     D^2 L_d per stage) unless told to difference it, else, like the caller's terms (Python),
-//     forward differences of the gradient along coloured directions (one difference per colour
-//     of a star colouring of the Hessian's pattern; python/hovi/trajopt/hessian.py chooses the
-//     pattern and the colours and documents the method).
+//     D^2 L_d per stage), the built-in rows' (RowBlocks) theirs, unless told to difference them;
+//   the rest, like the caller's terms (Python), forward differences of the gradient along coloured
+//     directions (one difference per colour of a star colouring of the Hessian's pattern;
+//     python/hovi/trajopt/hessian.py chooses the pattern and the colours and documents the method).
 #pragma once
 #include <utility>
 
@@ -30,17 +30,19 @@ std::pair<Eigen::VectorXi, Eigen::VectorXi> probed_pattern(const NlpProgram& pro
 class LagrangianHessian {
  public:
   // Throws InputError for colours or entries out of range or of different lengths. The colours'
-  // differences of the transcription's part run on `threads` threads (parallel_for.hpp's
-  // thread_count), the caller's extra terms (Python, the GIL) on the calling thread; the values do
-  // not depend on the number of threads.
-  // difference_transcription: difference the transcription's part even where it has a Hessian.
+  // differences of the C++ parts and the transcription's own Hessian run on `threads` threads
+  // (parallel_for.hpp's thread_count), the caller's extra terms (Python, the GIL) on the calling
+  // thread; the values do not depend on the number of threads.
+  // by_differences: difference the transcription's and the built-in rows' parts even where they
+  // have Hessians of their own.
   LagrangianHessian(const NlpProgram& program, HessianColouring colouring, int threads = 1,
-                    bool difference_transcription = false);
+                    bool by_differences = false);
   int nnz() const { return static_cast<int>(c_.rows.size()); }
   int n_colours() const { return n_colours_; }
   int threads() const { return threads_; }
   // Whether the transcription's part comes from its own Hessian (not differenced).
   bool transcription_hessian() const { return own_; }
+  bool by_differences() const { return by_differences_; }
   const HessianColouring& colouring() const { return c_; }
   // values (nnz,) at (x, lambda, sigma).
   void values(const VecX& x, const VecX& lambda, double sigma, Eigen::Ref<VecX> values) const;
@@ -49,8 +51,10 @@ class LagrangianHessian {
   const NlpProgram& p_;
   HessianColouring c_;
   int n_colours_, threads_;
-  bool own_;
+  bool by_differences_, own_;
+  int differenced_;                     // the C++ parts differenced (NlpProgram::Part flags)
   std::vector<int> own_entry_;          // the transcription's Hessian entry i -> entry, -1 outside the pattern
+  std::vector<std::vector<int>> block_entry_;   // the same for each row block's Hessian
   VecX cost_values_;                    // H at (rows, cols)
   std::vector<std::vector<int>> by_colour_;   // variables of each colour
   std::vector<std::vector<int>> entries_;     // entries read from each colour's difference

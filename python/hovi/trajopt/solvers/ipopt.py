@@ -312,10 +312,10 @@ class IpoptCallbacksWithHessian(IpoptCallbacks):
         return self.timed(lambda y: self.values(y, lagrange, obj_factor), x)
 
 
-def _set_colouring(program: Any, H: LagrangianHessian, threads: int | None, difference_transcription: bool) -> None:
+def _set_colouring(program: Any, H: LagrangianHessian, threads: int | None, by_differences: bool) -> None:
     """Give the C++ program the Hessian of ``H``'s colouring."""
     program.set_colouring(H.colour.astype(np.int32), H.rows.astype(np.int32), H.cols.astype(np.int32),
-                          H.read_row.astype(np.int32), H.read_col.astype(np.int32), threads, difference_transcription)
+                          H.read_row.astype(np.int32), H.read_col.astype(np.int32), threads, by_differences)
 
 
 class Ipopt(NLPSolver):
@@ -512,8 +512,8 @@ class Ipopt(NLPSolver):
         status = int(out["status"])
         return self._result(nlp, out["x"], STATUS_MESSAGES.get(status, f"IPOPT returned status {status}"),
                             status in (0, 1), float(out["cost"]), int(out["iterations"]), out["seconds"],
-                            {"setup": setup, "evaluations": out["transcription_seconds"],
-                             "callbacks": out["callback_seconds"], "python": out["extra_seconds"],
+                            {"setup": setup, "evaluations": out["cpp_seconds"],
+                             "callbacks": out["callback_seconds"], "python": out["python_seconds"],
                              "hessian": out["hessian_seconds"]},
                             {"lambda": out["lambda"], "z_lower": out["z_lower"], "z_upper": out["z_upper"]})
 

@@ -1,4 +1,4 @@
-#include "hovi/contact/contact_model.hpp"
+#include "hovi/model/contact_model.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,5 +1,6 @@
-// Point contacts of a model with a terrain, as the simulator's contact step reads them: the same
-// contact model as the trajectory optimiser's (python/hovi/contact): points of bodies, a terrain
+// Point contacts of a model with a terrain, as the simulator's contact step (contact/) and the
+// trajectory optimiser's complementarity rows (trajopt/complementarity_rows.hpp) read them, the
+// contact model of python/hovi/contact: points of bodies, a terrain
 // with horizontal faces (normal +z), Coulomb friction mu on a polyhedral cone of d directions.
 #pragma once
 #include <vector>

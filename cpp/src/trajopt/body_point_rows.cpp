@@ -1,0 +1,153 @@
+#include "hovi/trajopt/body_point_rows.hpp"
+
+#include <algorithm>
+#include <string>
+
+#include "hovi/algorithms/body_points.hpp"
+#include "hovi/algorithms/kinematics.hpp"
+
+namespace hovi {
+
+namespace {
+void check_size(const std::string& what, long got, long want) {
+  if (got != want)
+    throw InputError("BodyPointRows: " + what + " has " + std::to_string(got) + " entries where " +
+                     std::to_string(want) + " were expected");
+}
+void check_finite(const std::string& what, const MatX& a) {
+  if (!a.allFinite()) throw InputError("BodyPointRows: " + what + " must be finite");
+}
+}  // namespace
+
+BodyPointRows::BodyPointRows(const Model& model, int n_variables, IndexMatrix offsets, MatX weights,
+                             std::vector<int> bodies, MatX local, VecX c, MatX L, MatX D, IndexMatrix idx)
+    : model_(model), nv_(n_variables), n_(model.n()), P_(static_cast<int>(offsets.rows())),
+      K_(static_cast<int>(offsets.cols())), B_(static_cast<int>(bodies.size())), R_(static_cast<int>(c.size())),
+      M_(static_cast<int>(idx.cols())), offsets_(std::move(offsets)), idx_(std::move(idx)), weights_(std::move(weights)),
+      local_(std::move(local)), L_(std::move(L)), D_(std::move(D)), c_(std::move(c)), bodies_(std::move(bodies)),
+      pool_([this] { return std::make_unique<Workspace>(model_); }) {
+  check_size("weights' rows", weights_.rows(), P_);
+  check_size("weights' columns", weights_.cols(), K_);
+  check_size("local's rows", local_.rows(), B_);
+  check_size("local's columns", local_.cols(), 3);
+  check_size("idx's rows", idx_.rows(), R_);
+  check_size("L's rows", L_.rows(), static_cast<long>(R_) * M_);
+  check_size("D's rows", D_.rows(), static_cast<long>(R_) * M_);
+  check_size("L's columns", L_.cols(), 3);
+  check_size("D's columns", D_.cols(), 3);
+  check_finite("weights", weights_);
+  check_finite("local", local_);
+  check_finite("c", c_);
+  check_finite("L", L_);
+  check_finite("D", D_);
+  if (P_ > 0 && K_ > 0 && (offsets_.minCoeff() < 0 || offsets_.maxCoeff() + n_ > nv_))
+    throw InputError("BodyPointRows: a configuration's offset lies outside the variables");
+  if (R_ > 0 && M_ > 0 && (idx_.minCoeff() < 0 || idx_.maxCoeff() >= B_))
+    throw InputError("BodyPointRows: idx names a point out of range");
+  std::vector<char> on_path(n_, 0);
+  for (int b : bodies_) {
+    if (b < 0 || b >= n_) throw InputError("BodyPointRows: body index " + std::to_string(b) + " out of range");
+    for (int j = b; j >= 0; j = model_.parent[j]) on_path[j] = 1;
+  }
+  for (int b = 0; b < B_; ++b) local_.row(b) -= model_.spec[bodies_[b]].com.transpose();   // joint frame -> COM frame
+  for (int j = 0; j < n_; ++j)
+    if (on_path[j]) joints_.push_back(j);
+  squares_ = D_.size() > 0 && D_.cwiseAbs().maxCoeff() > 0;
+  std::vector<int> rows, cols;
+  for (int p = 0; p < P_; ++p)
+    for (int k = 0; k < K_; ++k)
+      for (int l = 0; l < K_; ++l)
+        for (int a : joints_)
+          for (int b : joints_) {
+            const int r = offsets_(p, k) + a, s = offsets_(p, l) + b;
+            if (r < s) continue;
+            rows.push_back(r);
+            cols.push_back(s);
+          }
+  hs_.rows = Eigen::Map<Eigen::VectorXi>(rows.data(), static_cast<long>(rows.size()));
+  hs_.cols = Eigen::Map<Eigen::VectorXi>(cols.data(), static_cast<long>(cols.size()));
+}
+
+void BodyPointRows::points_at(const VecX& x, int p, Workspace& w, bool jacobians) const {
+  VecX q = VecX::Zero(n_);
+  for (int k = 0; k < K_; ++k) q += weights_(p, k) * x.segment(offsets_(p, k), n_);
+  forward_kinematics(model_, w.data, q);
+  const KinematicsView kin{model_, w.data.g.data(), w.data.Sbar.data(), 1};
+  w.X.resize(3, B_);
+  w.J.setZero(3, static_cast<long>(n_) * B_);
+  for (int b = 0; b < B_; ++b) {
+    Vec3 xb;
+    if (jacobians) {
+      body_point_jacobian(kin, bodies_[b], local_.row(b).transpose(), xb, w.J.middleCols(b * n_, n_));
+    } else {
+      xb = kin.pose(bodies_[b]).act(Vec3(local_.row(b).transpose()));
+    }
+    w.X.col(b) = xb;
+  }
+}
+
+Vec3 BodyPointRows::slope(int i, int m, const MatX& X) const {
+  const int row = i * M_ + m;
+  return L_.row(row).transpose() + 2.0 * D_.row(row).transpose().cwiseProduct(X.col(idx_(i, m)));
+}
+
+void BodyPointRows::values(const VecX& x, Eigen::Ref<VecX> g) const {
+  auto w = pool_.acquire();
+  for (int p = 0; p < P_; ++p) {
+    points_at(x, p, *w, false);
+    for (int i = 0; i < R_; ++i) {
+      double v = c_[i];
+      for (int m = 0; m < M_; ++m) {
+        const Vec3 xb = w->X.col(idx_(i, m));
+        v += L_.row(i * M_ + m).dot(xb) + D_.row(i * M_ + m).dot(xb.cwiseProduct(xb));
+      }
+      g[p * R_ + i] = v;
+    }
+  }
+}
+
+void BodyPointRows::jacobian(const VecX& x, Eigen::Ref<VecX> values) const {
+  auto w = pool_.acquire();
+  VecX gi(n_);
+  for (int p = 0; p < P_; ++p) {
+    points_at(x, p, *w, true);
+    for (int i = 0; i < R_; ++i) {
+      gi.setZero();
+      for (int m = 0; m < M_; ++m) gi += w->J.middleCols(idx_(i, m) * n_, n_).transpose() * slope(i, m, w->X);
+      for (int k = 0; k < K_; ++k) values.segment(((p * R_ + i) * K_ + k) * n_, n_) = weights_(p, k) * gi;
+    }
+  }
+}
+
+void BodyPointRows::hessian(const VecX& x, const VecX& lambda, Eigen::Ref<VecX> values) const {
+  auto w = pool_.acquire();
+  MatX H(n_, n_), F(3, B_);
+  int e = 0;
+  for (int p = 0; p < P_; ++p) {
+    points_at(x, p, *w, true);
+    const KinematicsView kin{model_, w->data.g.data(), w->data.Sbar.data(), 1};
+    F.setZero();
+    H.setZero();
+    for (int i = 0; i < R_; ++i)
+      for (int m = 0; m < M_; ++m) {
+        const double li = lambda[p * R_ + i];
+        F.col(idx_(i, m)) += li * slope(i, m, w->X);
+        if (squares_) {   // 2 lambda J^T diag(D) J
+          const auto J = w->J.middleCols(idx_(i, m) * n_, n_);
+          H.noalias() += 2.0 * li * J.transpose() * D_.row(i * M_ + m).transpose().asDiagonal() * J;
+        }
+      }
+    for (int b = 0; b < B_; ++b) body_point_force_derivative(kin, bodies_[b], local_.row(b).transpose(), F.col(b), H);
+    for (int k = 0; k < K_; ++k)
+      for (int l = 0; l < K_; ++l) {
+        const double wkl = weights_(p, k) * weights_(p, l);
+        for (int a : joints_)
+          for (int b : joints_) {
+            if (offsets_(p, k) + a < offsets_(p, l) + b) continue;
+            values[e++] = 0.5 * wkl * (H(a, b) + H(b, a));
+          }
+      }
+  }
+}
+
+}  // namespace hovi
