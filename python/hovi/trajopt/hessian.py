@@ -1,7 +1,7 @@
 """The Hessian of the NLP's Lagrangian, sigma f(x) + lambda^T g(x), for IPOPT's Newton steps
 (``solve(..., hessian='fd')``; with the default, 'directional', the VI's DEL equations take their
-own Hessian, del_hessian.hpp, and only the Python terms' part is differenced this way, over the
-same pattern and colours): forward differences of its analytic gradient sigma grad f + J^T lambda
+own Hessian, del_hessian.hpp, the built-in path constraints and contact rows theirs, and only the
+Python terms' part is differenced this way, over the same pattern and colours): forward differences of its analytic gradient sigma grad f + J^T lambda
 (the exact sparse Jacobian of the transcription) along coloured directions: variables of one colour
 move together, one difference each, so a Hessian costs one gradient and Jacobian evaluation per
 colour, not per variable. The colours are a star colouring of the Hessian's pattern (Powell and

@@ -2,11 +2,12 @@
 finds IPOPT: every callback in C++, the GIL released) or else through cyipopt (hovi[trajopt]).
 
 The Hessian of the Lagrangian is, by default, the VI's own (``hessian='directional'``: the DEL
-equations' second derivatives along the multipliers, del_hessian.hpp) with the Python terms'
-part by coloured differences (hessian.py); or coloured differences of everything
-(``hessian='fd'``); or IPOPT's limited-memory quasi-Newton approximation (``hessian='lbfgs'``).
-Python is called only for the costs, path constraints and contact rows written in Python: one
-vectorised call over all samples per evaluation.
+equations' second derivatives along the multipliers, del_hessian.hpp) and the built-in rows'
+exact ones (path constraints on body points, contact rows), with the Python terms' part by
+coloured differences (hessian.py); or coloured differences of everything (``hessian='fd'``); or
+IPOPT's limited-memory quasi-Newton approximation (``hessian='lbfgs'``). Python is called only for
+the costs and path constraints written in Python: one vectorised call over all samples per
+evaluation.
 """
 from __future__ import annotations
 
@@ -327,8 +328,10 @@ class Ipopt(NLPSolver):
     (hessian.py):
     'directional': the VI's own Hessian of its DEL equations (del_hessian.hpp: two evaluations of
     D^2 L_d per stage and, for body wrenches, differences of their gradients per control point;
-    1e-11 relative), the quadratic costs' exact, the Python terms' by coloured differences of the
-    gradient; for Hermite-Simpson, which has no Hessian of its own, as 'fd';
+    1e-11 relative), the built-in path constraints' and contact rows' exact
+    (trajopt/body_point_rows.cpp, complementarity_rows.cpp), the quadratic costs' exact, the Python
+    terms' by coloured differences of the gradient; Hermite-Simpson, which has no Hessian of its
+    own, differences its transcription's part;
     'fd': coloured differences of the exact gradient for all of it (one Jacobian evaluation per
     colour; 1e-8 relative);
     'lbfgs': IPOPT's limited-memory approximation (cheap iterations, many of them);
@@ -338,8 +341,8 @@ class Ipopt(NLPSolver):
     paper's robots 1.3-3.7x faster than 'fd' (Atlas VI s = 2: 61 against 225 ms).
 
     threads: threads for the transcription's part of the Hessian (its stages, or the colours'
-    differences; 1 by default, None: HOVI_NUM_THREADS or every core; costs, path constraints and
-    contact rows written in Python are differenced on the calling thread); the values do not
+    differences; 1 by default, None: HOVI_NUM_THREADS or every core; costs and path constraints
+    written in Python are differenced on the calling thread); the values do not
     depend on it. With threads, ``timing['evaluations']`` sums the threads' times (it can exceed
     the wall time).
 
