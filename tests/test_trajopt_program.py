@@ -93,7 +93,8 @@ def wrench_problem(drag=True):
     """Three links (a spatial chain) with every kind of force that has second derivatives: drag (on the
     velocity; without it every wrench is free of q̇, and the Hessian skips the q̇ columns), a
     body-frame follower force scaled by a control, a world-frame point force and torque scaled by
-    another, besides a spring, a damper and an actuator (linear: no second derivatives)."""
+    another, a world point force scaled by a third (exact in the Hessian, like a contact force),
+    besides a spring, a damper and an actuator (linear: no second derivatives)."""
     def below(length):
         T = np.eye(4)
         T[2, 3] = -length
@@ -112,6 +113,7 @@ def wrench_problem(drag=True):
     model.add_point_wrench("l2", force=(0.3, -0.2, 1.0), point=(0.1, 0.05, -0.3), frame="body", control=model.add_control())
     model.add_point_wrench("l1", force=(0.0, 0.5, -0.4), torque=(0.2, 0.0, 0.1), point=(0.0, 0.1, -0.4),
                            control=model.add_control())
+    model.add_point_wrench("l2", force=(0.4, 0.1, -0.3), point=(0.05, -0.1, -0.2), control=model.add_control())
     prob = trajopt.Problem(model, N=3, T=0.6, u_bounds=(-3.0, 3.0))
     prob.initial_state([0.1, -0.2, 0.3])
     prob.add_cost(trajopt.ControlEffort(weight=0.5))

@@ -1,8 +1,9 @@
 // del_hessian (algorithms/del_hessian.hpp): the second derivatives of nu . (one step's DEL rows)
 // against central differences of the exact Jacobian's nu^T Jq and nu^T Ju (del_jacobian.hpp), for
 // s = 1, 2, 3, on a branched tree without forces, and on the forced pendulum with body wrenches
-// (a body-frame follower force on a control, a world force on another, drag), and with the
-// wrenches free of q̇ (no drag: the q̇ columns are not differenced). Measured: 2.5e-11 to 1.9e-10
+// (world point forces, exact, one on a control; a body-frame follower force on a control, a world
+// force with a torque on another, drag: differenced), with the wrenches free of q̇ (no drag: the q̇
+// columns are not differenced), and with the world point forces alone. Measured: 2.5e-11 to 1.9e-10
 // relative (the central differences' own noise).
 #include <gtest/gtest.h>
 
@@ -17,13 +18,23 @@ using namespace hovi;
 
 namespace {
 
-Model with_wrenches(bool drag) {
+// World point forces without torque (exact: BodyWrench::world_point_force), one on a control and
+// one constant; with `others`, a body-frame follower force and a world force with a torque on
+// controls (differenced) and, with `drag`, drag.
+Model with_wrenches(bool drag, bool others = true) {
   Model m = test_models::forced_pendulum();
-  const int follower = m.add_control(), world = m.add_control();
-  m.add_wrench(std::make_shared<PointWrench>(4, Vec3(0.1, 0.05, -0.2), Vec3(0.3, -0.2, 1.0), Vec3::Zero(),
-                                             PointWrench::Frame::Body, follower));
-  m.add_wrench(std::make_shared<PointWrench>(2, Vec3(0.0, 0.1, -0.3), Vec3(0.0, 0.5, -0.4), Vec3(0.2, 0.0, 0.1),
-                                             PointWrench::Frame::World, world));
+  const int contact = m.add_control();
+  m.add_wrench(std::make_shared<PointWrench>(4, Vec3(0.05, -0.1, 0.2), Vec3(0.4, 0.1, -0.3), Vec3::Zero(),
+                                             PointWrench::Frame::World, contact));
+  m.add_wrench(std::make_shared<PointWrench>(3, Vec3(-0.1, 0.0, 0.1), Vec3(0.0, 0.2, 0.6), Vec3::Zero(),
+                                             PointWrench::Frame::World));
+  if (others) {
+    const int follower = m.add_control(), world = m.add_control();
+    m.add_wrench(std::make_shared<PointWrench>(4, Vec3(0.1, 0.05, -0.2), Vec3(0.3, -0.2, 1.0), Vec3::Zero(),
+                                               PointWrench::Frame::Body, follower));
+    m.add_wrench(std::make_shared<PointWrench>(2, Vec3(0.0, 0.1, -0.3), Vec3(0.0, 0.5, -0.4), Vec3(0.2, 0.0, 0.1),
+                                               PointWrench::Frame::World, world));
+  }
   if (drag) m.add_wrench(std::make_shared<BodyDrag>(3, 0.7, 0.3));
   return m;
 }
@@ -85,6 +96,12 @@ TEST(DelHessian, BodyWrenchesOnControlsAndDrag) {
 
 TEST(DelHessian, WrenchesFreeOfTheVelocity) {
   for (int s = 1; s <= 3; ++s) EXPECT_LT(relative_error(with_wrenches(false), s), 1e-8) << "s = " << s;
+}
+
+TEST(DelHessian, WorldPointForcesAlone) {
+  const Model model = with_wrenches(false, false);
+  EXPECT_TRUE(DelHessianWorkspace(model, Quadrature(1)).differenced.wrenches.empty());
+  for (int s = 1; s <= 3; ++s) EXPECT_LT(relative_error(model, s), 1e-8) << "s = " << s;
 }
 
 TEST(DelHessian, ZeroMultipliersGiveZero) {

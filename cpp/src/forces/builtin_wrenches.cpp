@@ -37,6 +37,14 @@ void PointWrench::add_control_jacobian(const SE3& g, const Twist&, const VecX&, 
   if (control_ >= 0) Du.col(control_) += unit_value(g);
 }
 
+bool PointWrench::world_point_force(Vec3& point, Vec3& force, int& control) const {
+  if (frame_ != Frame::World || !torque_.isZero(0)) return false;   // a torque or a turning force has no potential
+  point = point_;
+  force = force_;
+  control = control_;
+  return true;
+}
+
 void PointWrench::save(ByteWriter& out) const {
   out.put(body());
   out.put(point_);

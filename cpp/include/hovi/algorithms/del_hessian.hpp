@@ -6,7 +6,11 @@
 //     d/de D^2 L_d(q + e nu): a central difference of Section 4's D^2 L_d (two evaluations per
 //     step, whatever n), with e = eps^(1/3) max(1, |q|_inf) / |nu|_inf.
 //   Forcing part: only body wrenches have second derivatives (joint forces are linear in q, q̇,
-//     u); per control point, central differences of the gradient (Q_q^T nu^a, Q_v^T nu^a,
+//     u). A constant world force f at a body point scaled by a control u_c (BodyWrench::
+//     world_point_force: contact forces) is the gradient of u_c f . x(q), so nu . Q has the
+//     q-Hessian u_c d/de H_f(q + e nu) with H_f = d(J^T f)/dq (body_points.hpp): one central
+//     difference of H_f per control point for all of them, and the (u_c, q) block H_f^T nu.
+//     The others: per control point, central differences of the gradient (Q_q^T nu^a, Q_v^T nu^a,
 //     Q_u^T nu^a) along each of q, and of q̇ and u unless every wrench is free of q̇ / affine in
 //     u (BodyWrench::velocity_free, control_affine: their rows then come by symmetry), and only
 //     for the joints on the paths from the wrenches' bodies to the root (the others move none),
@@ -22,11 +26,19 @@ namespace hovi {
 
 struct DelHessianWorkspace {
   DelHessianWorkspace(const Model& model, const Quadrature& quad);
+  struct PointForce {
+    int body;
+    Vec3 point, force;   // the point in the body's COM frame
+    int control;         // -1: none
+  };
   DelJacobianWorkspace jac;
   ForceJacobians forces;
-  MatX D2p, D2m, qp, Hphi, Gp;   // scratch
+  std::vector<PointForce> point_forces;   // the world point forces (exact)
+  Model differenced;                      // the model with only the other wrenches (differenced)
+  Data kin_p, kin_m;                      // the kinematics at q^a +- e nu^a
+  MatX D2p, D2m, qp, Hphi, Gp, Tp, Tm, Hf;   // scratch
   VecX z, gp, gm, d;
-  std::vector<char> on_path;   // joints on the path from some wrench's body to the root
+  std::vector<char> on_path;   // joints on the path from some differenced wrench's body to the root
 };
 
 // Hqq ((s+1) n square), Huq ((s+1) m x (s+1) n, block a: rows of u^a) and Huu ((s+1) m square,

@@ -21,6 +21,7 @@ class PointWrench : public BodyWrench {
   int max_control_index() const override { return control_; }
   bool velocity_free() const override { return true; }
   bool control_affine() const override { return true; }
+  bool world_point_force(Vec3& point, Vec3& force, int& control) const override;
   const char* kind() const override { return "point_wrench"; }
   void save(ByteWriter& out) const override;
   static std::shared_ptr<const PointWrench> load(ByteReader& in);

@@ -30,6 +30,11 @@ class BodyWrench {
   // v̄ / is affine in u (then D2 = 0 / Du does not depend on u).
   virtual bool velocity_free() const { return false; }
   virtual bool control_affine() const { return false; }
+  // A constant world force at a body point, scaled by a control (-1: none), is the gradient of
+  // u_c force . x(q): its second derivatives are the point's kinematics' (body_points.hpp), not
+  // differences (del_hessian.hpp). True for such a wrench, with its point (COM frame), force and
+  // control; false for any other.
+  virtual bool world_point_force(Vec3& point, Vec3& force, int& control) const { return false; }
   virtual const char* kind() const = 0;
   // Writes the parameters (body included) that the kind's load() reads back (model_serialization.hpp);
   // throws ModelError for a kind that cannot be serialised (the default).
