@@ -327,7 +327,8 @@ class Ipopt(NLPSolver):
     hessian: the Lagrangian's Hessian IPOPT gets, its pattern probed near the starting point
     (hessian.py):
     'directional': the VI's own Hessian of its DEL equations (del_hessian.hpp: two evaluations of
-    D^2 L_d per stage and, for body wrenches, differences of their gradients per control point;
+    D^2 L_d per stage, world point forces such as contact forces from the points' kinematics, and
+    for other body wrenches differences of their gradients per control point;
     1e-11 relative), the built-in path constraints' and contact rows' exact
     (trajopt/body_point_rows.cpp, complementarity_rows.cpp), the quadratic costs' exact, the Python
     terms' by coloured differences of the gradient; Hermite-Simpson, which has no Hessian of its
@@ -338,7 +339,7 @@ class Ipopt(NLPSolver):
     'auto' (the default): 'directional' unless a CallbackCost, which may couple any variables,
     needs 'lbfgs'. Measured (bench/README.md, issue 33): 'fd' took 3.5-4.3x less time than
     'lbfgs' on the pendulum and cart-pole swing-ups; 'directional' computes a Hessian of the
-    paper's robots 1.3-3.7x faster than 'fd' (Atlas VI s = 2: 61 against 225 ms).
+    paper's robots 5-25x faster than 'fd' (LittleDog VI s = 2: 21.9 against 544 ms).
 
     threads: threads for the transcription's part of the Hessian (its stages, or the colours'
     differences; 1 by default, None: HOVI_NUM_THREADS or every core; costs and path constraints
