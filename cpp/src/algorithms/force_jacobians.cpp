@@ -10,7 +10,7 @@ ForceJacobians::ForceJacobians(const Model& model)
 void force_jacobians(const Model& model, Data& data, const Eigen::Ref<const VecX>& q,
                      const Eigen::Ref<const VecX>& qdot, const Eigen::Ref<const VecX>& u, ForceJacobians& out,
                      bool with_u) {
-  const int n = model.n(), m = model.n_controls();
+  const int m = model.n_controls();
   const JointForces& jf = model.joint_forces;
   out.Q.setZero();
   out.Qq.setZero();

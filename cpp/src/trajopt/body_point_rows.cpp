@@ -25,7 +25,7 @@ BodyPointRows::BodyPointRows(const Model& model, int n_variables, IndexMatrix of
       K_(static_cast<int>(offsets.cols())), B_(static_cast<int>(bodies.size())), R_(static_cast<int>(c.size())),
       M_(static_cast<int>(idx.cols())), offsets_(std::move(offsets)), idx_(std::move(idx)), weights_(std::move(weights)),
       local_(std::move(local)), L_(std::move(L)), D_(std::move(D)), c_(std::move(c)), bodies_(std::move(bodies)),
-      pool_([this] { return std::make_unique<Workspace>(model_); }) {
+      pool_([this] { return std::make_unique<BodyPointWorkspace>(model_); }) {
   check_size("weights' rows", weights_.rows(), P_);
   check_size("weights' columns", weights_.cols(), K_);
   check_size("local's rows", local_.rows(), B_);
@@ -68,7 +68,7 @@ BodyPointRows::BodyPointRows(const Model& model, int n_variables, IndexMatrix of
   hs_.cols = Eigen::Map<Eigen::VectorXi>(cols.data(), static_cast<long>(cols.size()));
 }
 
-void BodyPointRows::points_at(const VecX& x, int p, Workspace& w, bool jacobians) const {
+void BodyPointRows::points_at(const VecX& x, int p, BodyPointWorkspace& w, bool jacobians) const {
   VecX q = VecX::Zero(n_);
   for (int k = 0; k < K_; ++k) q += weights_(p, k) * x.segment(offsets_(p, k), n_);
   forward_kinematics(model_, w.data, q);

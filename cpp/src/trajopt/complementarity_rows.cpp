@@ -13,7 +13,7 @@ ComplementarityRows::ComplementarityRows(const Model& model, int n_variables, Co
                                          VecX t, Eigen::VectorXi q_off, Eigen::VectorXi u_off)
     : model_(model), ct_(std::move(contacts)), nv_(n_variables), n_(model.n()), P_(static_cast<int>(t.size())),
       E_(P_ - 1), C_(ct_.size()), d_(ct_.d()), first_(first_input), hold_(ct_.unknowns()), q_off_(std::move(q_off)),
-      u_off_(std::move(u_off)), pool_([this] { return std::make_unique<Workspace>(model_); }) {
+      u_off_(std::move(u_off)), pool_([this] { return std::make_unique<BodyPointWorkspace>(model_); }) {
   const auto fail = [](const std::string& why) { throw InputError("ComplementarityRows: " + why); };
   if (P_ < 2) fail("contact conditions need at least two configuration points");
   if (q_off_.size() != P_ || u_off_.size() != P_) fail("t, q_off and u_off must have one entry per point");
@@ -67,7 +67,7 @@ int ComplementarityRows::nnz() const {
   return E_ * C_ * per_pair + 2 * hold_;
 }
 
-void ComplementarityRows::points(const VecX& x, Workspace& w, bool jacobians) const {
+void ComplementarityRows::points(const VecX& x, BodyPointWorkspace& w, bool jacobians) const {
   w.X.resize(3, C_ * P_);
   if (jacobians) w.J.setZero(3, static_cast<long>(n_) * C_ * P_);
   const KinematicsView kin{model_, w.data.g.data(), w.data.Sbar.data(), 1};

@@ -8,6 +8,14 @@
 
 namespace hovi {
 
+// Scratch of the body-point evaluations at many configurations (trajopt's row blocks): the
+// model's workspace, positions X and Jacobians J.
+struct BodyPointWorkspace {
+  explicit BodyPointWorkspace(const Model& model) : data(model) {}
+  Data data;
+  MatX X, J;
+};
+
 // Q: n x P configurations; bodies[i] and points.col(i) (in the body's COM frame) give point i of
 // m. One forward kinematics per configuration serves all m points. X: 3 x (m P), column p m + i
 // the world position of point i at Q.col(p); J: 3 x (n m P), block p m + i its dX/dq.

@@ -8,7 +8,7 @@
 #pragma once
 #include <vector>
 
-#include "hovi/model/data.hpp"
+#include "hovi/algorithms/body_points.hpp"
 #include "hovi/trajopt/row_block.hpp"
 #include "hovi/util/workspace_pool.hpp"
 
@@ -33,13 +33,8 @@ class BodyPointRows : public RowBlock {
   void hessian(const VecX& x, const VecX& lambda, Eigen::Ref<VecX> values) const override;
 
  private:
-  struct Workspace {
-    explicit Workspace(const Model& m) : data(m) {}
-    Data data;
-    MatX X, J;   // 3 x B positions, 3 x (n B) Jacobians
-  };
-  // Forward kinematics at q_p and the points' positions (and Jacobians) into w.
-  void points_at(const VecX& x, int p, Workspace& w, bool jacobians) const;
+  // Forward kinematics at q_p and the points' positions (and Jacobians) into w: X 3 x B, J 3 x (n B).
+  void points_at(const VecX& x, int p, BodyPointWorkspace& w, bool jacobians) const;
   // (L + 2 D x_b) of row i's m-th point.
   Vec3 slope(int i, int m, const MatX& X) const;
 
@@ -52,7 +47,7 @@ class BodyPointRows : public RowBlock {
   std::vector<int> joints_;      // the joints on the points' paths to the root, ascending
   bool squares_;                 // some D != 0
   SparsityStructure hs_;         // per p: (k, l, a, b) over the joints a, b, lower triangle in x
-  mutable WorkspacePool<Workspace> pool_;
+  mutable WorkspacePool<BodyPointWorkspace> pool_;
 };
 
 }  // namespace hovi

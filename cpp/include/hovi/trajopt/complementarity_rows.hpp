@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "hovi/model/contact_model.hpp"
-#include "hovi/model/data.hpp"
+#include "hovi/algorithms/body_points.hpp"
 #include "hovi/trajopt/row_block.hpp"
 #include "hovi/util/workspace_pool.hpp"
 
@@ -34,15 +34,11 @@ class ComplementarityRows : public RowBlock {
   void hessian(const VecX& x, const VecX& lambda, Eigen::Ref<VecX> values) const override;
 
  private:
-  struct Workspace {
-    explicit Workspace(const Model& m) : data(m) {}
-    Data data;
-    MatX X, J;   // 3 x (C P) positions, 3 x (n C P) Jacobians, column p C + c
-  };
-  void points(const VecX& x, Workspace& w, bool jacobians) const;
+  // The contact points' positions (and Jacobians) at every point into w: X 3 x (C P), J 3 x (n C P), column p C + c.
+  void points(const VecX& x, BodyPointWorkspace& w, bool jacobians) const;
   // x's offset of contact c's input at point e: what 0 lambda, 1 + k beta_k, 1 + d gamma.
   int input(int e, int c, int what) const { return u_off_[e] + first_ + c * (2 + d_) + what; }
-  auto jac(const Workspace& w, int p, int c) const { return w.J.middleCols((p * C_ + c) * n_, n_); }
+  auto jac(const BodyPointWorkspace& w, int p, int c) const { return w.J.middleCols((p * C_ + c) * n_, n_); }
 
   Model model_;
   ContactModel ct_;
@@ -53,7 +49,7 @@ class ComplementarityRows : public RowBlock {
   std::vector<std::vector<int>> path_;   // joints on each contact body's path to the root
   std::vector<int> joints_;              // their union, ascending
   SparsityStructure hs_;
-  mutable WorkspacePool<Workspace> pool_;
+  mutable WorkspacePool<BodyPointWorkspace> pool_;
 };
 
 }  // namespace hovi
