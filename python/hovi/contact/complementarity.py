@@ -174,9 +174,6 @@ class ContactRows:
     def quantities(self, x: np.ndarray) -> dict:
         """The pair quantities at x: phi, psi (E, C), zeta (E, C, d), lambda, gamma (E, C), beta (E, C, d)."""
         X, _ = self.kinematics(x)
-        return self._quantities(x, X)
-
-    def _quantities(self, x, X):
         ct = self.contacts
         phi = ct.terrain.gap(X[1:].reshape(-1, 3)).reshape(self.E, self.C)
         lam, gam = x[self.input_offsets("normal")], x[self.input_offsets("slack")]

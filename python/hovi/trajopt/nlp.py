@@ -102,11 +102,9 @@ class NLP:
         rows, cols = np.concatenate([rows, row0 + A.row]), np.concatenate([cols, A.col])
         cl += [b, lower_in]
         cu += [b, upper_in]
-        self.A_values = A.data
         self.jac_rows, self.jac_cols = rows, cols
         self.cl, self.cu = np.concatenate(cl), np.concatenate(cu)
         self.n_variables, self.n_constraints = nv, len(self.cl)
-        self.tq = tq
         self.offsets = offsets
         self.eval_seconds = 0.0  # time in constraints() and jacobian()
         self._program = None

@@ -90,18 +90,6 @@ class PathConstraint:
     upper: np.ndarray
 
 
-def form_rows(form: tuple[np.ndarray, np.ndarray, np.ndarray], idx: np.ndarray, X: np.ndarray,
-              J: np.ndarray | None = None) -> np.ndarray:
-    """The rows c + sum_b L . x_b + sum_b D . (x_b * x_b) (P, R) of a form (c (R,), L (R, M, 3), D
-    (R, M, 3); OnBodyPoints.form), row i reading the points idx[i] (M,) of X (P, B, 3); given their
-    Jacobians J (P, B, 3, n), the rows' Jacobians (P, R, n) instead."""
-    c, L, D = form
-    Xr = X[:, idx]                                                         # (P, R, M, 3)
-    if J is None:
-        return c + np.einsum("rmx,prmx->pr", L, Xr) + np.einsum("rmx,prmx->pr", D, Xr * Xr)
-    return np.einsum("prmx,prmxn->prn", L + 2 * D * Xr, J[:, idx])
-
-
 class OnBodyPoints(PathConstraint):
     """Base of the constraints on the world positions of body points: ``bind`` sets ``bodies`` (m,)
     and ``local`` (m, 3) (points in the bodies' joint frames), and ``form`` states the rows as
@@ -110,8 +98,9 @@ class OnBodyPoints(PathConstraint):
         row i = c_i + sum_b L[i, b] . x_b + sum_b D[i, b] . (x_b * x_b)
 
     (linear in the positions, or a weighted sum of squares: a clearance). The NLP evaluates all such
-    constraints on the same configurations together (one forward kinematics per configuration for
-    all their points, one vectorised evaluation of all their rows); ``of_points`` evaluates one."""
+    constraints on the same configurations together in C++, with their exact Hessian
+    (``hovi._core.trajopt.BodyPointRows``: one forward kinematics per configuration for all their
+    points); ``of_points`` evaluates one in Python."""
 
     bodies: list[int]
     local: np.ndarray
@@ -122,9 +111,9 @@ class OnBodyPoints(PathConstraint):
 
     def of_points(self, X: np.ndarray, J: np.ndarray) -> PathValue:
         """(values (P, r), jacobians (P, r, n)) from the points' positions X (P, m, 3) and Jacobians J (P, m, 3, n)."""
-        form = self.form()
-        every = np.broadcast_to(np.arange(X.shape[1]), form[1].shape[:2])   # each row reads all m points
-        return form_rows(form, every, X), form_rows(form, every, X, J)
+        c, L, D = self.form()
+        values = c + np.einsum("rmx,pmx->pr", L, X) + np.einsum("rmx,pmx->pr", D, X * X)
+        return values, np.einsum("prmx,pmxn->prn", L + 2 * D * X[:, None], J)
 
     def evaluate(self, model: _core.Model, t: np.ndarray, Q: np.ndarray) -> PathValue:
         """At configurations Q (P, n): (values (P, r), jacobians (P, r, n)); the times t do not enter."""

@@ -42,7 +42,6 @@ class LagrangianHessian {
   int threads() const { return threads_; }
   // Whether the transcription's part comes from its own Hessian (not differenced).
   bool transcription_hessian() const { return own_; }
-  bool by_differences() const { return by_differences_; }
   const HessianColouring& colouring() const { return c_; }
   // values (nnz,) at (x, lambda, sigma).
   void values(const VecX& x, const VecX& lambda, double sigma, Eigen::Ref<VecX> values) const;
