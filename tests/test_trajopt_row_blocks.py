@@ -194,3 +194,7 @@ def test_program_refuses_rows_placed_twice():
         hovi._core.trajopt.Program(*args, twice)
     with pytest.raises(ValueError, match="blocks must be"):
         hovi._core.trajopt.Program(*args, [first])
+    with pytest.raises(ValueError, match="must be a RowBlock"):
+        hovi._core.trajopt.Program(*args, [(1, rows, entries)] + blocks[1:])
+    with pytest.raises(ValueError, match="arrays of integers"):
+        hovi._core.trajopt.Program(*args, [(first, "rows", entries)] + blocks[1:])

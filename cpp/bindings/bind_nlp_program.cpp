@@ -107,7 +107,12 @@ std::vector<PlacedRows> placed_blocks(const py::list& blocks) {
     if (!py::isinstance<py::tuple>(item) || py::len(item) != 3)
       throw InputError("blocks must be (RowBlock, rows, entries) tuples");
     const py::tuple t = py::reinterpret_borrow<py::tuple>(item);
-    out.push_back({t[0].cast<std::shared_ptr<RowBlock>>(), t[1].cast<Eigen::VectorXi>(), t[2].cast<Eigen::VectorXi>()});
+    if (!py::isinstance<RowBlock>(t[0])) throw InputError("blocks: the first of each tuple must be a RowBlock");
+    try {
+      out.push_back({t[0].cast<std::shared_ptr<RowBlock>>(), t[1].cast<Eigen::VectorXi>(), t[2].cast<Eigen::VectorXi>()});
+    } catch (const py::cast_error&) {
+      throw InputError("blocks: a block's rows and entries must be 1-D arrays of integers");
+    }
   }
   return out;
 }
