@@ -18,7 +18,7 @@ namespace hovi {
 
 class ComplementarityRows : public RowBlock {
  public:
-  // contacts: the points, terrain, mu and friction directions (only the terrain's height is read);
+  // contacts: the points, the terrain (its height), mu and the friction directions;
   // first_input: the control index of contact 0's normal input (each contact's inputs lambda,
   // beta_1..d, gamma follow, ContactModel::per_contact()); t (P): the configuration points' times,
   // increasing; q_off, u_off (P): where their configuration and controls start in x.
