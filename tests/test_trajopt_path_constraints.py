@@ -68,8 +68,8 @@ def test_shared_kinematics_equal_each_constraint_alone():
     assert len(nlp._point_groups) < len(nlp.paths) - 1  # some entries share a call
     x = np.random.default_rng(0).normal(scale=0.3, size=nlp.n_variables)
     rows0, nnz0 = nlp.core.n_constraints, nlp.core.nnz
-    shared_values = nlp.constraints(x)[rows0:rows0 + len(nlp._path_order)]
-    shared_jacobians = nlp.jacobian(x)[nnz0:nnz0 + len(nlp._path_jac_order)]
+    shared_values = nlp.constraints(x)[rows0:rows0 + len(nlp._path_place)]
+    shared_jacobians = nlp.jacobian(x)[nnz0:nnz0 + len(nlp._path_jac_place)]
     alone = [c.evaluate(model, t, nlp._configurations(x, points, weights)) + (weights,)
              for c, t, points, weights in nlp.paths]
     np.testing.assert_allclose(shared_values, np.concatenate([v.ravel() for v, _, _ in alone]), rtol=0, atol=1e-14)

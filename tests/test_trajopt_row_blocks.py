@@ -124,7 +124,7 @@ def test_complementarity_rows_equal_the_contact_quantities(method):
     nlp = contact_nlp(method)
     cr = nlp.contact_rows
     x = np.random.default_rng(4).normal(scale=0.3, size=nlp.n_variables)
-    rows0 = nlp.core.n_constraints + len(nlp._path_order)
+    rows0 = nlp.core.n_constraints + len(nlp._path_place)
     g = nlp.constraints(x)[rows0:rows0 + cr.count]
     k = cr.quantities(x)
     EC = cr.E * cr.C

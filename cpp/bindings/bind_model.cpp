@@ -521,7 +521,7 @@ actuators plus the body wrench elements mapped to joint space (gravity not inclu
           r.col(i) -= pm.model.spec[bodies[i]].com;
         }
         MatX X, J;  // the GIL stays held: pm.ws() is the model's one shared workspace
-        body_point_kinematics(pm.model, pm.ws(), q, bodies, r, X, J);
+        body_point_kinematics(pm.model, pm.ws(), q, bodies, r, X, &J);
         const int n = pm.model.n(), P = static_cast<int>(q.cols()), m = static_cast<int>(r.cols());
         py::array_t<double> Xs(std::vector<py::ssize_t>{P, m, 3}), Js(std::vector<py::ssize_t>{P, m, 3, n});
         auto x = Xs.mutable_unchecked<3>();

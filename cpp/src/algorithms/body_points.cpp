@@ -36,20 +36,24 @@ void body_point_force_derivative(const KinematicsView& kin, int body, const Vec3
 }
 
 void body_point_kinematics(const Model& model, Data& data, const Eigen::Ref<const MatX>& Q,
-                           const std::vector<int>& bodies, const Eigen::Ref<const MatX>& points, MatX& X, MatX& J) {
+                           const std::vector<int>& bodies, const Eigen::Ref<const MatX>& points, MatX& X, MatX* J) {
   const int n = model.n(), P = static_cast<int>(Q.cols()), m = static_cast<int>(bodies.size());
   if (Q.rows() != n || points.rows() != 3 || points.cols() != m)
     throw InputError("body_point_kinematics: Q (n x P), bodies (m) and points (3 x m) do not match");
   for (int b : bodies)
     if (b < 0 || b >= n) throw ModelError("body_point_kinematics: body index " + std::to_string(b) + " out of range");
   X.resize(3, m * P);
-  J.setZero(3, n * m * P);
+  if (J) J->setZero(3, n * m * P);
   const KinematicsView kin{model, data.g.data(), data.Sbar.data(), 1};
   for (int p = 0; p < P; ++p) {
     forward_kinematics(model, data, Q.col(p));
     for (int i = 0; i < m; ++i) {
+      if (!J) {
+        X.col(p * m + i) = kin.pose(bodies[i]).act(Vec3(points.col(i)));
+        continue;
+      }
       Vec3 x;
-      body_point_jacobian(kin, bodies[i], points.col(i), x, J.middleCols((p * m + i) * n, n));
+      body_point_jacobian(kin, bodies[i], points.col(i), x, J->middleCols((p * m + i) * n, n));
       X.col(p * m + i) = x;
     }
   }

@@ -49,7 +49,8 @@ BodyPointRows::BodyPointRows(const Model& model, int n_variables, IndexMatrix of
     if (b < 0 || b >= n_) throw InputError("BodyPointRows: body index " + std::to_string(b) + " out of range");
     for (int j = b; j >= 0; j = model_.parent[j]) on_path[j] = 1;
   }
-  for (int b = 0; b < B_; ++b) local_.row(b) -= model_.spec[bodies_[b]].com.transpose();   // joint frame -> COM frame
+  local_.transposeInPlace();
+  for (int b = 0; b < B_; ++b) local_.col(b) -= model_.spec[bodies_[b]].com;   // joint frame -> COM frame
   for (int j = 0; j < n_; ++j)
     if (on_path[j]) joints_.push_back(j);
   squares_ = D_.size() > 0 && D_.cwiseAbs().maxCoeff() > 0;
@@ -68,76 +69,66 @@ BodyPointRows::BodyPointRows(const Model& model, int n_variables, IndexMatrix of
   hs_.cols = Eigen::Map<Eigen::VectorXi>(cols.data(), static_cast<long>(cols.size()));
 }
 
-void BodyPointRows::points_at(const VecX& x, int p, BodyPointWorkspace& w, bool jacobians) const {
-  VecX q = VecX::Zero(n_);
-  for (int k = 0; k < K_; ++k) q += weights_(p, k) * x.segment(offsets_(p, k), n_);
-  forward_kinematics(model_, w.data, q);
-  const KinematicsView kin{model_, w.data.g.data(), w.data.Sbar.data(), 1};
-  w.X.resize(3, B_);
-  w.J.setZero(3, static_cast<long>(n_) * B_);
-  for (int b = 0; b < B_; ++b) {
-    Vec3 xb;
-    if (jacobians) {
-      body_point_jacobian(kin, bodies_[b], local_.row(b).transpose(), xb, w.J.middleCols(b * n_, n_));
-    } else {
-      xb = kin.pose(bodies_[b]).act(Vec3(local_.row(b).transpose()));
-    }
-    w.X.col(b) = xb;
-  }
+MatX BodyPointRows::configurations(const VecX& x) const {
+  MatX Q = MatX::Zero(n_, P_);
+  for (int p = 0; p < P_; ++p)
+    for (int k = 0; k < K_; ++k) Q.col(p) += weights_(p, k) * x.segment(offsets_(p, k), n_);
+  return Q;
 }
 
-Vec3 BodyPointRows::slope(int i, int m, const MatX& X) const {
+Vec3 BodyPointRows::slope(int i, int m, const Vec3& xb) const {
   const int row = i * M_ + m;
-  return L_.row(row).transpose() + 2.0 * D_.row(row).transpose().cwiseProduct(X.col(idx_(i, m)));
+  return L_.row(row).transpose() + 2.0 * D_.row(row).transpose().cwiseProduct(xb);
 }
 
 void BodyPointRows::values(const VecX& x, Eigen::Ref<VecX> g) const {
   auto w = pool_.acquire();
-  for (int p = 0; p < P_; ++p) {
-    points_at(x, p, *w, false);
+  body_point_kinematics(model_, w->data, configurations(x), bodies_, local_, w->X, nullptr);
+  for (int p = 0; p < P_; ++p)
     for (int i = 0; i < R_; ++i) {
       double v = c_[i];
       for (int m = 0; m < M_; ++m) {
-        const Vec3 xb = w->X.col(idx_(i, m));
+        const Vec3 xb = point(i, m, p, w->X);
         v += L_.row(i * M_ + m).dot(xb) + D_.row(i * M_ + m).dot(xb.cwiseProduct(xb));
       }
       g[p * R_ + i] = v;
     }
-  }
 }
 
 void BodyPointRows::jacobian(const VecX& x, Eigen::Ref<VecX> values) const {
   auto w = pool_.acquire();
+  body_point_kinematics(model_, w->data, configurations(x), bodies_, local_, w->X, &w->J);
   VecX gi(n_);
-  for (int p = 0; p < P_; ++p) {
-    points_at(x, p, *w, true);
+  for (int p = 0; p < P_; ++p)
     for (int i = 0; i < R_; ++i) {
       gi.setZero();
-      for (int m = 0; m < M_; ++m) gi += w->J.middleCols(idx_(i, m) * n_, n_).transpose() * slope(i, m, w->X);
+      for (int m = 0; m < M_; ++m)
+        gi += w->J.middleCols((p * B_ + idx_(i, m)) * n_, n_).transpose() * slope(i, m, point(i, m, p, w->X));
       for (int k = 0; k < K_; ++k) values.segment(((p * R_ + i) * K_ + k) * n_, n_) = weights_(p, k) * gi;
     }
-  }
 }
 
 void BodyPointRows::hessian(const VecX& x, const VecX& lambda, Eigen::Ref<VecX> values) const {
   auto w = pool_.acquire();
+  const MatX Q = configurations(x);
+  body_point_kinematics(model_, w->data, Q, bodies_, local_, w->X, &w->J);
+  const KinematicsView kin{model_, w->data.g.data(), w->data.Sbar.data(), 1};
   MatX H(n_, n_), F(3, B_);
   int e = 0;
   for (int p = 0; p < P_; ++p) {
-    points_at(x, p, *w, true);
-    const KinematicsView kin{model_, w->data.g.data(), w->data.Sbar.data(), 1};
+    forward_kinematics(model_, w->data, Q.col(p));   // the view d(J^T F)/dq reads
     F.setZero();
     H.setZero();
     for (int i = 0; i < R_; ++i)
       for (int m = 0; m < M_; ++m) {
         const double li = lambda[p * R_ + i];
-        F.col(idx_(i, m)) += li * slope(i, m, w->X);
+        F.col(idx_(i, m)) += li * slope(i, m, point(i, m, p, w->X));
         if (squares_) {   // 2 lambda J^T diag(D) J
-          const auto J = w->J.middleCols(idx_(i, m) * n_, n_);
+          const auto J = w->J.middleCols((p * B_ + idx_(i, m)) * n_, n_);
           H.noalias() += 2.0 * li * J.transpose() * D_.row(i * M_ + m).transpose().asDiagonal() * J;
         }
       }
-    for (int b = 0; b < B_; ++b) body_point_force_derivative(kin, bodies_[b], local_.row(b).transpose(), F.col(b), H);
+    for (int b = 0; b < B_; ++b) body_point_force_derivative(kin, bodies_[b], local_.col(b), F.col(b), H);
     for (int k = 0; k < K_; ++k)
       for (int l = 0; l < K_; ++l) {
         const double wkl = weights_(p, k) * weights_(p, l);

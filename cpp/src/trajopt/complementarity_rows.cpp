@@ -29,7 +29,7 @@ ComplementarityRows::ComplementarityRows(const Model& model, int n_variables, Co
   for (const ContactPoint& c : ct_.points) {
     if (c.body < 0 || c.body >= n_) fail("body index " + std::to_string(c.body) + " out of range");
     if (!c.point.allFinite()) fail("a contact point must be finite");
-    r_com_.push_back(c.point - model_.spec[c.body].com);   // joint frame -> COM frame
+    bodies_.push_back(c.body);
     path_.emplace_back();
     for (int j = c.body; j >= 0; j = model_.parent[j]) {
       path_.back().push_back(j);
@@ -38,6 +38,8 @@ ComplementarityRows::ComplementarityRows(const Model& model, int n_variables, Co
   }
   for (int j = 0; j < n_; ++j)
     if (on_path[j]) joints_.push_back(j);
+  r_com_.resize(3, C_);
+  for (int c = 0; c < C_; ++c) r_com_.col(c) = ct_.points[c].point - model_.spec[bodies_[c]].com;   // joint frame -> COM frame
   std::vector<int> rows, cols;
   const auto entry = [&](int r, int s) {
     rows.push_back(std::max(r, s));
@@ -68,22 +70,9 @@ int ComplementarityRows::nnz() const {
 }
 
 void ComplementarityRows::points(const VecX& x, BodyPointWorkspace& w, bool jacobians) const {
-  w.X.resize(3, C_ * P_);
-  if (jacobians) w.J.setZero(3, static_cast<long>(n_) * C_ * P_);
-  const KinematicsView kin{model_, w.data.g.data(), w.data.Sbar.data(), 1};
-  for (int p = 0; p < P_; ++p) {
-    forward_kinematics(model_, w.data, x.segment(q_off_[p], n_));
-    for (int c = 0; c < C_; ++c) {
-      const int body = ct_.points[c].body;
-      Vec3 xc;
-      if (jacobians) {
-        body_point_jacobian(kin, body, r_com_[c], xc, w.J.middleCols((p * C_ + c) * n_, n_));
-      } else {
-        xc = kin.pose(body).act(r_com_[c]);
-      }
-      w.X.col(p * C_ + c) = xc;
-    }
-  }
+  MatX Q(n_, P_);
+  for (int p = 0; p < P_; ++p) Q.col(p) = x.segment(q_off_[p], n_);
+  body_point_kinematics(model_, w.data, Q, bodies_, r_com_, w.X, jacobians ? &w.J : nullptr);
 }
 
 void ComplementarityRows::values(const VecX& x, Eigen::Ref<VecX> g) const {
@@ -183,16 +172,12 @@ void ComplementarityRows::hessian(const VecX& x, const VecX& lambda, Eigen::Ref<
     }
   int at = 0;
   MatX H(n_, n_);
-  w->J.setZero(3, static_cast<long>(n_) * C_ * P_);
+  points(x, *w, true);   // the Jacobians, for the cross terms
+  const KinematicsView kin{model_, w->data.g.data(), w->data.Sbar.data(), 1};
   for (int p = 0; p < P_; ++p) {
-    forward_kinematics(model_, w->data, x.segment(q_off_[p], n_));
-    const KinematicsView kin{model_, w->data.g.data(), w->data.Sbar.data(), 1};
+    forward_kinematics(model_, w->data, x.segment(q_off_[p], n_));   // the view d(J^T F)/dq reads
     H.setZero();
-    for (int c = 0; c < C_; ++c) {
-      Vec3 xc;
-      body_point_jacobian(kin, ct_.points[c].body, r_com_[c], xc, w->J.middleCols((p * C_ + c) * n_, n_));
-      body_point_force_derivative(kin, ct_.points[c].body, r_com_[c], F.col(p * C_ + c), H);
-    }
+    for (int c = 0; c < C_; ++c) body_point_force_derivative(kin, bodies_[c], r_com_.col(c), F.col(p * C_ + c), H);
     for (int a : joints_)
       for (int b : joints_)
         if (a >= b) values[at++] = 0.5 * (H(a, b) + H(b, a));

@@ -117,9 +117,9 @@ class NLP:
         """Gathers the path constraints on body points (OnBodyPoints) by the configurations they are
         evaluated at, into ``_point_groups``: (points, weights, bodies, local, their rows' forms
         stacked (c (R,), L and D (R, M, 3)), the points idx (R, M) each row reads, the group's first
-        output value and Jacobian value); and the orders ``_path_order`` (values) and
-        ``_path_jac_order`` (Jacobian) that take the groups' outputs, then the other constraints'
-        (``_rest_values``, ``_rest_jac`` on), to the NLP's order of rows (constraint by constraint)."""
+        output value and Jacobian value); and where the groups' outputs, then the other constraints'
+        (``_rest_values``, ``_rest_jac`` on), go among the NLP's path rows (constraint by constraint):
+        ``_path_place`` (values) and ``_path_jac_place`` (Jacobian)."""
         groups, rest, n = {}, [], self.tr.n
         for e, (c, _, points, weights) in enumerate(self.paths):
             if not isinstance(c, OnBodyPoints):
@@ -161,11 +161,9 @@ class NLP:
                 values.append(at_values + np.arange(P * r))
                 jac.append(at_jac + np.arange(P * r * K * n))
                 at_values, at_jac = at_values + P * r, at_jac + P * r * K * n
-        self._path_order = np.concatenate([np.zeros(0, np.int64), *values]).astype(np.int64)
-        self._path_jac_order = np.concatenate([np.zeros(0, np.int64), *jac]).astype(np.int64)
-        # the inverses: a grouped or other output's place among the path rows and Jacobian values
-        self._path_place = np.argsort(self._path_order)
-        self._path_jac_place = np.argsort(self._path_jac_order)
+        # values and jac list the outputs row by row of the NLP; their inverses place each output
+        self._path_place = np.argsort(np.concatenate([np.zeros(0, np.int64), *values]))
+        self._path_jac_place = np.argsort(np.concatenate([np.zeros(0, np.int64), *jac]))
 
     def _configurations(self, x, points, weights):
         """The configurations (P, n) at x: sum_k weights[p, k] q(points[p, k])."""
@@ -309,7 +307,7 @@ class NLP:
                            (nnz0 + self._path_jac_place[j0:j0 + P * R * K * n]).astype(np.int32)))
         if self.contact_rows is not None:
             cr = self.contact_rows
-            rows0, nnz0 = rows0 + len(self._path_order), nnz0 + len(self._path_jac_order)
+            rows0, nnz0 = rows0 + len(self._path_place), nnz0 + len(self._path_jac_place)
             blocks.append((cr.block(nv), np.arange(rows0, rows0 + cr.count, dtype=np.int32),
                            np.arange(nnz0, nnz0 + len(cr.rows), dtype=np.int32)))
         return blocks

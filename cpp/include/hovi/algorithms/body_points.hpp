@@ -18,9 +18,10 @@ struct BodyPointWorkspace {
 
 // Q: n x P configurations; bodies[i] and points.col(i) (in the body's COM frame) give point i of
 // m. One forward kinematics per configuration serves all m points. X: 3 x (m P), column p m + i
-// the world position of point i at Q.col(p); J: 3 x (n m P), block p m + i its dX/dq.
+// the world position of point i at Q.col(p); J (nullptr: positions only): 3 x (n m P), block p m + i
+// its dX/dq. On return `data` holds the kinematics of the last configuration.
 void body_point_kinematics(const Model& model, Data& data, const Eigen::Ref<const MatX>& Q,
-                           const std::vector<int>& bodies, const Eigen::Ref<const MatX>& points, MatX& X, MatX& J);
+                           const std::vector<int>& bodies, const Eigen::Ref<const MatX>& points, MatX& X, MatX* J);
 
 // The world position x of the point r (in the COM frame of `body`) at the kinematics `kin` and its
 // Jacobian dx/dq into J (3 x n; only the columns of the joints from `body` to the root are written).

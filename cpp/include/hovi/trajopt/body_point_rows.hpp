@@ -33,15 +33,17 @@ class BodyPointRows : public RowBlock {
   void hessian(const VecX& x, const VecX& lambda, Eigen::Ref<VecX> values) const override;
 
  private:
-  // Forward kinematics at q_p and the points' positions (and Jacobians) into w: X 3 x B, J 3 x (n B).
-  void points_at(const VecX& x, int p, BodyPointWorkspace& w, bool jacobians) const;
-  // (L + 2 D x_b) of row i's m-th point.
-  Vec3 slope(int i, int m, const MatX& X) const;
+  // The configurations q_p at x, n x P.
+  MatX configurations(const VecX& x) const;
+  // The position of row i's m-th point at configuration p, a column of X (3 x (B P), body_points.hpp).
+  Vec3 point(int i, int m, int p, const MatX& X) const { return X.col(p * B_ + idx_(i, m)); }
+  // (L + 2 D x_b) of row i's m-th point at x_b.
+  Vec3 slope(int i, int m, const Vec3& xb) const;
 
   Model model_;
   int nv_, n_, P_, K_, B_, R_, M_;
   IndexMatrix offsets_, idx_;
-  MatX weights_, local_, L_, D_;   // local_: the points in the bodies' COM frames
+  MatX weights_, local_, L_, D_;   // local_: the points in the bodies' COM frames, 3 x B
   VecX c_;
   std::vector<int> bodies_;
   std::vector<int> joints_;      // the joints on the points' paths to the root, ascending

@@ -45,7 +45,8 @@ class ComplementarityRows : public RowBlock {
   int nv_, n_, P_, E_, C_, d_, first_, hold_;
   VecX dt_;
   Eigen::VectorXi q_off_, u_off_;
-  std::vector<Vec3> r_com_;              // the contact points in their bodies' COM frames
+  std::vector<int> bodies_;              // the contact points' bodies
+  MatX r_com_;                           // the contact points in their bodies' COM frames, 3 x C
   std::vector<std::vector<int>> path_;   // joints on each contact body's path to the root
   std::vector<int> joints_;              // their union, ascending
   SparsityStructure hs_;
