@@ -24,9 +24,7 @@ ContactIntegrator::ContactIntegrator(Model model, ContactModel contacts, int s, 
       locate_(locate_impacts),
       pool_([this] { return std::make_unique<Workspace>(free_.model(), free_.quadrature(), contacts_); }) {
   if (!(tol > 0 && tol <= 1e-3)) throw InputError("contact_tol must lie in (0, 1e-3], got " + std::to_string(tol));
-  r_com_.resize(3, contacts_.size());
-  for (int c = 0; c < contacts_.size(); ++c)
-    r_com_.col(c) = contacts_.points[c].point - free_.model().spec[contacts_.points[c].body].com;
+  r_com_ = contacts_.points_in_com_frames(free_.model());
   pool_.acquire();
 }
 

@@ -18,9 +18,7 @@ constexpr double kStickTol = 1e-12;  // m: a sliding displacement γ this small 
 ContactLinearizer::ContactLinearizer(const Model& model, const Quadrature& quad, double dt, const ContactModel& contacts)
     : model_(model), quad_(quad), dt_(dt), contacts_(contacts),
       pool_([this] { return std::make_unique<Workspace>(model_, quad_); }) {
-  r_com_.resize(3, contacts.size());
-  for (int c = 0; c < contacts.size(); ++c)
-    r_com_.col(c) = contacts.points[c].point - model.spec[contacts.points[c].body].com;
+  r_com_ = contacts.points_in_com_frames(model);
   // The tangent axes: x and/or y, those the friction directions (horizontal) reach.
   const bool x = contacts.D.col(0).cwiseAbs().maxCoeff() > 0, y = contacts.D.col(1).cwiseAbs().maxCoeff() > 0;
   T_.setZero(int(x) + int(y), 3);

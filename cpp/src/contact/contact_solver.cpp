@@ -11,8 +11,7 @@ namespace hovi {
 ContactSolver::ContactSolver(const Model& model, const Quadrature& quad, const ContactModel& contacts)
     : model_(model), quad_(quad), contacts_(contacts), n_(model.n()), s_(quad.s), C_(contacts.size()),
       d_(contacts.d()), nz_(contacts.unknowns()), data_(model), del_(model, quad), newton_(model, quad) {
-  r_com_.resize(3, C_);
-  for (int c = 0; c < C_; ++c) r_com_.col(c) = contacts.points[c].point - model.spec[contacts.points[c].body].com;
+  r_com_ = contacts.points_in_com_frames(model);
   J0_.setZero(3 * C_, n_);
 }
 

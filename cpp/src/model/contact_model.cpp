@@ -65,4 +65,10 @@ void ContactModel::check(const Model& model) const {
   terrain.check();
 }
 
+MatX ContactModel::points_in_com_frames(const Model& model) const {
+  MatX r(3, size());
+  for (int c = 0; c < size(); ++c) r.col(c) = model.point_in_com_frame(points[c].body, points[c].point);
+  return r;
+}
+
 }  // namespace hovi

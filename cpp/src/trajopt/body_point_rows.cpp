@@ -50,7 +50,7 @@ BodyPointRows::BodyPointRows(const Model& model, int n_variables, IndexMatrix of
     for (int j = b; j >= 0; j = model_.parent[j]) on_path[j] = 1;
   }
   local_.transposeInPlace();
-  for (int b = 0; b < B_; ++b) local_.col(b) -= model_.spec[bodies_[b]].com;   // joint frame -> COM frame
+  for (int b = 0; b < B_; ++b) local_.col(b) = model_.point_in_com_frame(bodies_[b], local_.col(b));
   for (int j = 0; j < n_; ++j)
     if (on_path[j]) joints_.push_back(j);
   squares_ = D_.size() > 0 && D_.cwiseAbs().maxCoeff() > 0;

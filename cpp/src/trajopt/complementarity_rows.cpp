@@ -38,8 +38,7 @@ ComplementarityRows::ComplementarityRows(const Model& model, int n_variables, Co
   }
   for (int j = 0; j < n_; ++j)
     if (on_path[j]) joints_.push_back(j);
-  r_com_.resize(3, C_);
-  for (int c = 0; c < C_; ++c) r_com_.col(c) = ct_.points[c].point - model_.spec[bodies_[c]].com;   // joint frame -> COM frame
+  r_com_ = ct_.points_in_com_frames(model_);
   std::vector<int> rows, cols;
   const auto entry = [&](int r, int s) {
     rows.push_back(std::max(r, s));

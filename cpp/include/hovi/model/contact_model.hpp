@@ -52,6 +52,8 @@ struct ContactModel {
   // ModelError / InputError naming the problem unless every point is on an existing body with mass,
   // finite, mu is finite in [0, 1e3], D holds horizontal unit vectors and the terrain is valid.
   void check(const Model& model) const;
+  // The points in their bodies' COM frames, 3 x size() (Model::point_in_com_frame).
+  MatX points_in_com_frames(const Model& model) const;
 };
 
 }  // namespace hovi

@@ -102,6 +102,8 @@ class Model {
   // finite and positive.
   void scale_mass(int body, double factor);
   bool has_armature() const { return armature.size() && armature.maxCoeff() > 0; }
+  // A point given in body i's joint frame, in its COM frame {i}, where the kinematics place points.
+  Vec3 point_in_com_frame(int i, const Vec3& point) const { return point - spec[i].com; }
 
   // Topology
   std::vector<int> parent;                 // par(i), -1 for the world {0}
