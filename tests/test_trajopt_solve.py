@@ -306,6 +306,23 @@ def test_continuation_falls_back_to_the_guess_when_the_continued_solve_fails():
         trajopt.solve(prob, verbose=False, continuation="yes")
 
 
+def test_a_continued_solve_beyond_its_iteration_cap_gives_way_to_the_direct_one(monkeypatch):
+    """With CONTINUED_MAX_ITER below what the continued solve needs (the pendulum's takes 4), the
+    direct solve replaces it: the same result as continuation=False, the first stage recorded as
+    converged but not used; an 'lbfgs' first stage's continued solve is not capped."""
+    from hovi.trajopt.solvers import ipopt as ipopt_module
+    prob = examples.pendulum_swingup(N=20)
+    free = trajopt.solve(prob, trajopt.VI(s=2), verbose=False)
+    assert free.solver["continuation"]["used"] and 1 < free.iterations < ipopt_module.CONTINUED_MAX_ITER
+    monkeypatch.setattr(ipopt_module, "CONTINUED_MAX_ITER", 1)
+    capped = trajopt.solve(prob, trajopt.VI(s=2), verbose=False)
+    plain = trajopt.solve(prob, trajopt.VI(s=2), verbose=False, continuation=False)
+    assert capped.success and capped.solver["continuation"]["success"] and not capped.solver["continuation"]["used"]
+    assert capped.iterations == plain.iterations and capped.cost == pytest.approx(plain.cost, rel=1e-12)
+    lbfgs = trajopt.solve(prob, trajopt.VI(s=2), verbose=False, continuation="lbfgs")
+    assert lbfgs.solver["continuation"]["used"] and lbfgs.iterations > 1
+
+
 def test_the_first_stage_picks_the_acrobots_local_optimum():
     """The acrobot swing-up of hovi.examples (N = 60) from a straight line, with the coloured Hessian
     ('fd'): continuing VI(s=3) from VI(s=1) ends at cost 70.3; from 50 L-BFGS iterations of VI(s=1)

@@ -48,6 +48,9 @@ DEFAULT_OPTIONS = {
 HESSIANS = ("auto", "lbfgs", "fd", "directional")
 EXACT_HESSIANS = ("auto", "fd", "directional")  # IPOPT gets hovi's Hessian
 CONTINUATIONS = ("lbfgs",)  # besides True (VI(s=1) with this solver's Hessian) and False
+# IPOPT iterations a continued solve gets before the direct solve replaces it: on the swing-ups the
+# useful ones take 4-37, the lost ones 499-3000 (bench/README.md, "Design measurements", ipopt.py)
+CONTINUED_MAX_ITER = 100
 
 # IPOPT's return codes (ApplicationReturnStatus) and their messages, as IPOPT's C interface words them.
 STATUS_MESSAGES = {
@@ -388,8 +391,9 @@ class Ipopt(NLPSolver):
         """Solve ``problem`` transcribed by ``transcription`` from ``guess``. With ``continuation`` (the
         default), a guess that is not a solution (None, 'rollout', 'linear') and a transcription other
         than VI(s=1): the VI of order 2 (s = 1) is solved first, from that guess, and the transcription
-        starts from its solution's interpolants (Result.as_guess). If either solve fails, the
-        transcription is solved from ``guess`` as without continuation. Measured (bench/README.md,
+        starts from its solution's interpolants (Result.as_guess), with at most CONTINUED_MAX_ITER
+        IPOPT iterations (not after an 'lbfgs' first stage). If either solve fails, the transcription is solved from ``guess`` as
+        without continuation. Measured (bench/README.md,
         issue 33): it halved the cart-pole's time, turned a failed acrobot solve into 11 iterations,
         and cost the pendulum a quarter more than a direct solve. The first solve (and a
         failed continued one) is reported in ``timing['continuation']`` (seconds) and
@@ -409,7 +413,9 @@ class Ipopt(NLPSolver):
                       continuation=False) if quasi_newton else self
         first = NLPSolver.solve(stage, problem, first_order, guess)
         started = first.success or (quasi_newton and np.all(np.isfinite(first.x)))
-        result = super().solve(problem, transcription, first.as_guess()) if started else None
+        continued = self if quasi_newton else self.with_options(   # from a converged first stage only
+            {"max_iter": min(self.ipopt_options()["max_iter"], CONTINUED_MAX_ITER)})
+        result = NLPSolver.solve(continued, problem, transcription, first.as_guess()) if started else None
         used = result is not None and result.success
         seconds = time.perf_counter() - t0 - (result.timing["setup"] + result.wall_seconds if used else 0.0)
         if not used:
