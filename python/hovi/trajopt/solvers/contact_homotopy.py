@@ -179,9 +179,10 @@ def solve_contact(problem: Problem, transcription: TranscriptionMethod = DEFAULT
     ``epsilons`` (positive, decreasing), and after each relaxed solve with epsilon <=
     ``finish_below`` the exact solve on the sides of the complementarity pairs it shows, until one
     succeeds (finish_below = 0: relaxed solves only). ``options`` go to every IPOPT solve (the
-    relaxed ones default to tol = RELAXED_TOL); ``hessian`` and ``threads`` as in ``solve`` (the default 'auto' over 'lbfgs':
-    on the robot examples L-BFGS does not converge, and on the contact tests' eight small problems
-    the two take 10.9 and 10.1 s in all: bench/README.md, "Design measurements"). ``time_limit``
+    relaxed ones default to tol = RELAXED_TOL); ``hessian`` and ``threads`` as in ``solve`` (the
+    default 'auto' over 'lbfgs': on the robot examples L-BFGS does not converge, and on the contact
+    tests' eight small problems the two take 10.9 and 10.1 s in all: bench/README.md, "Design
+    measurements"). ``time_limit``
     (seconds, default none): a budget for all the solves together; each IPOPT solve gets what is
     left (at least 1 s) as its max_cpu_time, and no solve starts once it is spent
     (``result.contact['out_of_time']``).

@@ -392,8 +392,8 @@ class Ipopt(NLPSolver):
         default), a guess that is not a solution (None, 'rollout', 'linear') and a transcription other
         than VI(s=1): the VI of order 2 (s = 1) is solved first, from that guess, and the transcription
         starts from its solution's interpolants (Result.as_guess), with at most CONTINUED_MAX_ITER
-        IPOPT iterations (not after an 'lbfgs' first stage). If either solve fails, the transcription is solved from ``guess`` as
-        without continuation. Measured (bench/README.md,
+        IPOPT iterations (not after an 'lbfgs' first stage). If either solve fails, the
+        transcription is solved from ``guess`` as without continuation. Measured (bench/README.md,
         issue 33): it halved the cart-pole's time, turned a failed acrobot solve into 11 iterations,
         and cost the pendulum a quarter more than a direct solve. The first solve (and a
         failed continued one) is reported in ``timing['continuation']`` (seconds) and
