@@ -312,7 +312,7 @@ Metadata only: the dynamics and existing integrators are unaffected. Raises Mode
       .def("add_point_wrench", [](PyModel& s, const Index& body, const ArrayLike& force, const ArrayLike& torque,
                                   const OptArrayLike& point, const std::string& frame, const OptInt& control) {
             const int i = body_arg(s.model, body);
-            const Vec3 r = point.is_none() ? Vec3::Zero() : Vec3(as_vector(point, "point", 3) - s.model.spec[i].com);
+            const Vec3 r = point.is_none() ? Vec3::Zero() : s.model.point_in_com_frame(i, as_vector(point, "point", 3));
             PointWrench::Frame f;
             if (frame == "world") f = PointWrench::Frame::World;
             else if (frame == "body") f = PointWrench::Frame::Body;
@@ -344,7 +344,7 @@ body (a follower force). control=k scales the wrench by the control input u[k].
                                       const OptArrayLike& target, const std::string& axes) {
             if (target.is_none()) throw InputError("add_point_constraint: target (a world point, (3,)) is required");
             const int i = body_arg(s.model, body);
-            const Vec3 r = point.is_none() ? Vec3::Zero() : Vec3(as_vector(point, "point", 3) - s.model.spec[i].com);
+            const Vec3 r = point.is_none() ? Vec3::Zero() : s.model.point_in_com_frame(i, as_vector(point, "point", 3));
             s.model.add_constraint(std::make_shared<PointConstraint>(i, r, as_vector(target, "target", 3), axes));
             s.changed("add_point_constraint");
           }, py::arg("body"), py::arg("point") = py::none(), py::arg("target") = py::none(), py::arg("axes") = "xyz", R"doc(
@@ -354,7 +354,8 @@ h = P (x(q) - target) with P the rows of `axes` ('xyz', or e.g. 'xz' for planar 
       .def("add_loop_constraint", [](PyModel& s, const Index& b1, const ArrayLike& p1, const Index& b2,
                                      const ArrayLike& p2, const std::string& axes) {
             const int i = body_arg(s.model, b1), j = body_arg(s.model, b2);
-            const Vec3 r1 = as_vector(p1, "point1", 3) - s.model.spec[i].com, r2 = as_vector(p2, "point2", 3) - s.model.spec[j].com;
+            const Vec3 r1 = s.model.point_in_com_frame(i, as_vector(p1, "point1", 3)),
+                       r2 = s.model.point_in_com_frame(j, as_vector(p2, "point2", 3));
             s.model.add_constraint(std::make_shared<LoopConstraint>(i, r1, j, r2, axes));
             s.changed("add_loop_constraint");
           }, py::arg("body1"), py::arg("point1"), py::arg("body2"), py::arg("point2"), py::arg("axes") = "xyz",
@@ -518,7 +519,7 @@ actuators plus the body wrench elements mapped to joint space (gravity not inclu
         for (int i = 0; i < r.cols(); ++i) {  // joint frame -> COM frame
           if (bodies[i] < 0 || bodies[i] >= pm.model.n())
             throw ModelError("body index " + std::to_string(bodies[i]) + " out of range");
-          r.col(i) -= pm.model.spec[bodies[i]].com;
+          r.col(i) = pm.model.point_in_com_frame(bodies[i], r.col(i));
         }
         MatX X, J;  // the GIL stays held: pm.ws() is the model's one shared workspace
         body_point_kinematics(pm.model, pm.ws(), q, bodies, r, X, &J);
