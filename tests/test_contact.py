@@ -218,6 +218,30 @@ def test_sides_from_a_trapezoidal_solution_lead_the_higher_order_solves():
         check_contact_result(refined)
 
 
+def test_solves_on_another_solutions_sides_start_with_a_small_barrier(monkeypatch):
+    """With sides_from every IPOPT solve gets NEAR_START_OPTIONS under the caller's options (a
+    caller's mu_strategy is kept); without it none does."""
+    from hovi.trajopt.solvers.contact_homotopy import NEAR_START_OPTIONS
+    from hovi.trajopt.solvers.ipopt import Ipopt
+    seen, solve_nlp = [], Ipopt.solve_nlp
+
+    def spy(self, nlp, guess=None):
+        seen.append(dict(self.options))
+        return solve_nlp(self, nlp, guess)
+
+    contacts, prob = contact_problem(planar_point_mass(), [0.0, 0.0], [1.0, 0.0], 0.4, 40, 0.5)
+    coarse = trajopt.solve_contact(prob, VI1)
+    monkeypatch.setattr(Ipopt, "solve_nlp", spy)
+    trajopt.solve_contact(prob, trajopt.VI(2), sides_from=coarse)
+    assert seen and all(o.items() >= NEAR_START_OPTIONS.items() for o in seen)
+    seen.clear()
+    trajopt.solve_contact(prob, trajopt.VI(2), sides_from=coarse, options={"mu_strategy": "adaptive"})
+    assert seen and all(o["mu_strategy"] == "adaptive" and o["mu_init"] == NEAR_START_OPTIONS["mu_init"] for o in seen)
+    seen.clear()
+    trajopt.solve_contact(prob, trajopt.VI(2))
+    assert seen and not any(k in o for o in seen for k in NEAR_START_OPTIONS)
+
+
 def test_least_slack_lowers_only_the_free_sliding_slacks():
     """gamma raised where the mass flies (no force: psi = 0, gamma free above its bound) comes back to
     the least value its rows allow; the other variables and every row's feasibility are untouched."""
