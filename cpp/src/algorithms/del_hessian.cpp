@@ -9,8 +9,9 @@
 namespace hovi {
 
 DelHessianWorkspace::DelHessianWorkspace(const Model& model, const Quadrature& quad)
-    : jac(model, quad), forces(model), differenced(model), kin_p(model), kin_m(model), on_path(model.n(), 0) {
+    : jac(model, quad), forces(model), differenced(model), kin_p(model), kin_m(model) {
   differenced.wrenches.clear();
+  std::vector<int> bodies;
   for (const auto& w : model.wrenches) {
     PointForce f{w->body(), Vec3::Zero(), Vec3::Zero(), -1};
     if (w->world_point_force(f.point, f.force, f.control)) {
@@ -18,8 +19,9 @@ DelHessianWorkspace::DelHessianWorkspace(const Model& model, const Quadrature& q
       continue;
     }
     differenced.wrenches.push_back(w);
-    for (int i = w->body(); i >= 0; i = model.parent[i]) on_path[i] = 1;   // it moves with the joints from its body to the root
+    bodies.push_back(w->body());
   }
+  moving = model.joints_moving(bodies);
 }
 
 namespace {
@@ -99,7 +101,8 @@ void del_hessian(const Model& model, const Quadrature& quad, DelHessianWorkspace
     }
     ws.z.resize(Z);
     ws.d.setOnes(Z);   // 1 where a column is differenced: no wrench moves with a joint off their paths
-    for (int i = 0; i < n; ++i) ws.d[i] = ws.d[n + i] = ws.on_path[i];
+    ws.d.head(2 * n).setZero();
+    for (int j : ws.moving) ws.d[j] = ws.d[n + j] = 1;
     if (!velocity) ws.d.segment(n, n).setZero();
     if (!control) ws.d.tail(m).setZero();
     for (int a = 0; a < S1; ++a) {

@@ -198,6 +198,16 @@ double Model::total_mass() const {
   return m;
 }
 
+std::vector<int> Model::joints_moving(const std::vector<int>& bodies) const {
+  std::vector<char> on_path(n(), 0);
+  for (int b : bodies)
+    for (int j = b; j >= 0; j = parent[j]) on_path[j] = 1;
+  std::vector<int> joints;
+  for (int j = 0; j < n(); ++j)
+    if (on_path[j]) joints.push_back(j);
+  return joints;
+}
+
 int Model::body_index(const std::string& name) const {
   for (int i = 0; i < n(); ++i)
     if (spec[i].name == name) return i;

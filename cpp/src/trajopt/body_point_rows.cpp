@@ -44,15 +44,11 @@ BodyPointRows::BodyPointRows(const Model& model, int n_variables, IndexMatrix of
     throw InputError("BodyPointRows: a configuration's offset lies outside the variables");
   if (R_ > 0 && M_ > 0 && (idx_.minCoeff() < 0 || idx_.maxCoeff() >= B_))
     throw InputError("BodyPointRows: idx names a point out of range");
-  std::vector<char> on_path(n_, 0);
-  for (int b : bodies_) {
+  for (int b : bodies_)
     if (b < 0 || b >= n_) throw InputError("BodyPointRows: body index " + std::to_string(b) + " out of range");
-    for (int j = b; j >= 0; j = model_.parent[j]) on_path[j] = 1;
-  }
   local_.transposeInPlace();
   for (int b = 0; b < B_; ++b) local_.col(b) = model_.point_in_com_frame(bodies_[b], local_.col(b));
-  for (int j = 0; j < n_; ++j)
-    if (on_path[j]) joints_.push_back(j);
+  joints_ = model_.joints_moving(bodies_);
   squares_ = D_.size() > 0 && D_.cwiseAbs().maxCoeff() > 0;
   std::vector<int> rows, cols;
   for (int p = 0; p < P_; ++p)

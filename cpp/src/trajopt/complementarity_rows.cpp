@@ -25,19 +25,14 @@ ComplementarityRows::ComplementarityRows(const Model& model, int n_variables, Co
   if (first_ < 0 || u_off_.minCoeff() < 0 || u_off_.maxCoeff() + first_ + hold_ > nv_)
     fail("a contact input lies outside the variables");
   ct_.terrain.check();
-  std::vector<char> on_path(n_, 0);
   for (const ContactPoint& c : ct_.points) {
     if (c.body < 0 || c.body >= n_) fail("body index " + std::to_string(c.body) + " out of range");
     if (!c.point.allFinite()) fail("a contact point must be finite");
     bodies_.push_back(c.body);
     path_.emplace_back();
-    for (int j = c.body; j >= 0; j = model_.parent[j]) {
-      path_.back().push_back(j);
-      on_path[j] = 1;
-    }
+    for (int j = c.body; j >= 0; j = model_.parent[j]) path_.back().push_back(j);
   }
-  for (int j = 0; j < n_; ++j)
-    if (on_path[j]) joints_.push_back(j);
+  joints_ = model_.joints_moving(bodies_);
   r_com_ = ct_.points_in_com_frames(model_);
   std::vector<int> rows, cols;
   const auto entry = [&](int r, int s) {

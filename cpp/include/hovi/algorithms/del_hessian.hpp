@@ -38,7 +38,7 @@ struct DelHessianWorkspace {
   Data kin_p, kin_m;                      // the kinematics at q^a +- e nu^a
   MatX D2p, D2m, qp, Hphi, Gp, Tp, Tm, Hf;   // scratch
   VecX z, gp, gm, d;
-  std::vector<char> on_path;   // joints on the path from some differenced wrench's body to the root
+  std::vector<int> moving;   // the joints that move some differenced wrench's body (Model::joints_moving)
 };
 
 // Hqq ((s+1) n square), Huq ((s+1) m x (s+1) n, block a: rows of u^a) and Huu ((s+1) m square,

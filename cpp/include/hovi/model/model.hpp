@@ -104,6 +104,8 @@ class Model {
   bool has_armature() const { return armature.size() && armature.maxCoeff() > 0; }
   // A point given in body i's joint frame, in its COM frame {i}, where the kinematics place points.
   Vec3 point_in_com_frame(int i, const Vec3& point) const { return point - spec[i].com; }
+  // The joints on the paths from `bodies` (valid indices) to the root, ascending: the ones that move them.
+  std::vector<int> joints_moving(const std::vector<int>& bodies) const;
 
   // Topology
   std::vector<int> parent;                 // par(i), -1 for the world {0}
