@@ -5,8 +5,10 @@ import pytest
 import scipy.sparse as sp
 
 from hovi import trajopt
+from hovi.contact.complementarity import ComplementarityRelaxation
 from hovi.examples.swingups import cartpole_swingup, pendulum_swingup, slider_crank_to_target
 from hovi.trajopt.hessian import LagrangianHessian, distance2_colouring, star_colouring
+from test_trajopt_jacobian import tumbling_block
 
 
 def test_coloured_hessian_equals_dense_central_differences_of_the_lagrangian_gradient():
@@ -162,3 +164,27 @@ def test_hessian_choice_is_checked():
     assert trajopt.Ipopt().hessian_for(trajopt.NLP(prob)) == "lbfgs"
     assert trajopt.Ipopt().hessian_for(trajopt.NLP(pendulum_swingup(N=4))) == "directional"
     assert trajopt.solve(prob, trajopt.VI(s=2), verbose=False).success
+
+
+def test_nlps_over_one_transcription_that_differ_in_bounds_probe_once(monkeypatch):
+    """A contact homotopy's solves (relaxed, then exact on sides) share the probed pattern, which is
+    the one a fresh probe finds; another cost probes again."""
+    _, prob = tumbling_block()
+    tr = trajopt.VI(s=1).transcribe(prob)
+    probes = []
+    original = LagrangianHessian.probed_pattern
+    monkeypatch.setattr(LagrangianHessian, "probed_pattern",
+                        lambda self, P, x, seed=0: probes.append(1) or original(self, P, x, seed))
+    x0 = tr.initial_guess(None)
+    first = LagrangianHessian(trajopt.NLP(prob, tr, relaxation=ComplementarityRelaxation(1e-1)), probe=x0)
+    nlp = trajopt.NLP(prob, tr, relaxation=ComplementarityRelaxation(1e-3))
+    again = LagrangianHessian(nlp, probe=x0 + 0.01)
+    assert len(probes) == 1
+    fresh = LagrangianHessian(nlp, probe=x0 + 0.01, seed=1)   # another seed: its own probe
+    assert len(probes) == 2
+    for H in (again, fresh):
+        np.testing.assert_array_equal(H.rows, first.rows)
+        np.testing.assert_array_equal(H.cols, first.cols)
+    prob.add_cost(trajopt.StateTracking(np.zeros(prob.model.n), weight=1.0))
+    LagrangianHessian(trajopt.NLP(prob, tr, relaxation=ComplementarityRelaxation(1e-3)), probe=x0)
+    assert len(probes) == 3

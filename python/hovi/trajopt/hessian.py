@@ -88,7 +88,7 @@ class LagrangianHessian:
         indptr, indices = _core.trajopt.gram_pattern(*_compressed(A), nv)
         P = sp.csr_matrix((np.ones(len(indices)), indices, indptr), (nv, nv))
         if probe is not None:
-            P = self.probed_pattern(P, np.asarray(probe, float), seed)
+            P = self._probed_once(P, np.asarray(probe, float), seed)
         P.sort_indices()
         key = (nv, P.indptr.tobytes(), P.indices.tobytes())
         cached = _COLOURINGS.pop(key, None)
@@ -116,6 +116,17 @@ class LagrangianHessian:
         alone = count[rows, colour[cols]] == 1
         # entry e is component read_row[e] of the difference of read_col[e]'s colour
         return colour, rows, cols, np.where(alone, rows, cols), np.where(alone, cols, rows)
+
+    def _probed_once(self, P: sp.csr_matrix, x: np.ndarray, seed: int) -> sp.csr_matrix:
+        """``probed_pattern``, kept on the transcription by coupling pattern and terms: the NLPs over
+        it that differ only in bounds (a contact homotopy's relaxed and exact solves) probe once."""
+        nlp = self.nlp
+        terms = tuple(map(id, nlp.problem.costs)) + tuple(id(c) for c, *_ in nlp.paths) + (id(nlp.problem.contacts),)
+        key = (P.indptr.tobytes(), P.indices.tobytes(), seed, terms)
+        cache = nlp.transcription.probed_patterns
+        if key not in cache:
+            cache[key] = self.probed_pattern(P, x, seed)
+        return cache[key]
 
     def probed_pattern(self, P: sp.csr_matrix, x: np.ndarray, seed: int = 0) -> sp.csr_matrix:
         """The entries of the coupling pattern P (symmetric, with the diagonal) where the Hessian is

@@ -45,6 +45,9 @@ class Transcription:
         problem.check()
         self.problem, self.core = problem, core
         self.model = problem.model
+        # Hessian patterns probed on NLPs over this transcription (hessian.py): NLPs that differ only
+        # in bounds, such as a contact homotopy's solves, probe once
+        self.probed_patterns: dict[tuple, Any] = {}
         self.n, self.m, self.mc = self.model.n, self.model.n_controls, self.model.n_constraints
 
     # --- implemented by each transcription ----------------------------------------------------

@@ -505,7 +505,7 @@ class Ipopt(NLPSolver):
         x0 = _start(nlp, guess)
         program = nlp.program()
         exact = self.hessian in EXACT_HESSIANS
-        if exact and not program.has_hessian:   # probed once per NLP, near its first start
+        if exact and not program.has_hessian:   # probed near its first start, once per transcription and terms
             _set_colouring(program, LagrangianHessian(nlp, x0), self.threads, self.hessian == "fd")
         elif exact:
             program.set_hessian_options(self.threads, self.hessian == "fd")
