@@ -7,6 +7,7 @@ import pytest
 import hovi
 from hovi import trajopt
 from hovi.contact import Box, ContactRows, Contacts, Gap, Terrain, least_slack
+from hovi.contact.sides import branches_from, branches_of, canonical
 from hovi.trajopt.solvers.contact_homotopy import FINISH_BELOW
 
 pytest.importorskip("cyipopt")
@@ -260,6 +261,23 @@ def test_least_slack_lowers_only_the_free_sliding_slacks():
     np.testing.assert_allclose(k["gamma"], np.maximum(0, (-k["v"] @ contacts.D.T).max(-1)), atol=1e-12)
     assert k["zeta"].min() >= -1e-12 and rows.violations(lowered)["complementarity"] <= 1e-8
     np.testing.assert_array_less(lowered[slack], raised[slack] + 1e-15)
+
+
+def test_branches_from_give_each_pair_the_sides_of_the_coarse_pair_holding_its_point():
+    """The sides of a trapezoidal solution at the pairs of s = 2, 3 and Hermite-Simpson: each fine
+    pair's are those the coarse solution shows at the pair whose interval holds the fine point."""
+    contacts, prob = contact_problem(planar_point_mass(), [0.0, 0.3], [0.5, 0.0], 0.5, 25, mu=0.5)
+    coarse = trajopt.solve_contact(prob, VI1)
+    crow = ContactRows(contacts, coarse.transcription, 0.0)
+    B = branches_of(crow, canonical(crow, coarse.x))
+    assert B.normal.any() and not B.normal.all()   # the mass flies, then lands
+    for method in (trajopt.VI(2), trajopt.VI(3), trajopt.HermiteSimpson("implicit")):
+        rows = ContactRows(contacts, method.transcribe(prob), 0.0)
+        mapped = branches_from(rows, coarse)
+        for e, t in enumerate(rows.t[:-1]):
+            k = max(i for i in range(crow.E) if crow.t[i] <= t + 1e-12)
+            assert mapped.normal[e].tolist() == B.normal[k].tolist() and mapped.cone[e].tolist() == B.cone[k].tolist()
+            assert mapped.friction[e].tolist() == B.friction[k].tolist()
 
 
 def hermite_simpson_defects(result, contacts, mass=1.0):

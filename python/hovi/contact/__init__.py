@@ -6,9 +6,9 @@ schedule). Nothing here imports hovi.trajopt."""
 from .complementarity import Branches, ComplementarityRelaxation, ContactRows
 from .contacts import ContactPoint, Contacts, friction_directions
 from .flat_foot import FlatFoot, Stance, WrenchCone, flat_feet_contacts, wrench_cone
-from .sides import branches_of, canonical, least_slack, opposite_pairs
+from .sides import branches_from, branches_of, canonical, least_slack, opposite_pairs
 from .terrain import Box, Gap, Terrain
 
 __all__ = ["Terrain", "Gap", "Box", "Contacts", "ContactPoint", "friction_directions", "FlatFoot", "flat_feet_contacts", "wrench_cone",
-           "Stance", "WrenchCone", "ContactRows", "Branches", "ComplementarityRelaxation", "branches_of", "canonical",
+           "Stance", "WrenchCone", "ContactRows", "Branches", "ComplementarityRelaxation", "branches_of", "branches_from", "canonical",
            "least_slack", "opposite_pairs"]

@@ -1,7 +1,8 @@
 """Reading the sides of the complementarity pairs off a (relaxed) solution, for the exact solve of
 a contact-implicit problem (``hovi.trajopt.solve_contact``): which side of every pair is zero
-(``branches_of``), the friction inputs reduced to one direction where the contact sticks
-(``canonical``), and the least sliding slacks of a solution (``least_slack``)."""
+(``branches_of``), another transcription's sides at these pairs (``branches_from``), the
+friction inputs reduced to one direction where the contact sticks (``canonical``), and the least
+sliding slacks of a solution (``least_slack``)."""
 from __future__ import annotations
 
 from typing import List, Tuple
@@ -50,6 +51,20 @@ def branches_of(rows: ContactRows, x: np.ndarray) -> Branches:
     friction = k["zeta"] < np.maximum(k["beta"], 0) * w_t * dt[..., None]
     cone = np.maximum(k["psi"], 0) * w_t.max(-1) * dt < k["gamma"]
     return Branches(normal=normal, cone=cone, friction=friction)
+
+
+def branches_from(rows: ContactRows, result) -> Branches:
+    """The sides of the pairs of ``result`` (a solution of the same contacts with another
+    transcription or order, e.g. the trapezoidal VI's) at the pairs of ``rows``: each pair takes the
+    sides of the result's pair whose interval holds its point. Read at the result's own points,
+    where its forces and gaps belong together; read at its interpolation instead, a fine point in
+    an interval with a force gets its interpolated force and a side of its own, which disagree
+    (bench/README.md, "Design measurements")."""
+    coarse = ContactRows(rows.contacts, result.transcription, 0.0)
+    B = branches_of(coarse, canonical(coarse, result.x))
+    slack = 1e-9 * coarse.dt.min()                                 # a fine point on a coarse one is in its pair
+    j = np.clip(np.searchsorted(coarse.t, rows.t[:-1] + slack, side="right") - 1, 0, coarse.E - 1)
+    return Branches(B.normal[j], B.cone[j], B.friction[j])
 
 
 def least_slack(rows: ContactRows, x: np.ndarray) -> np.ndarray:
