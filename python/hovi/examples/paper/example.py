@@ -36,8 +36,8 @@ class Example:
     in ``bounds``);
     ``contact_forces(u (P, m))`` the contact forces (P, k) named by ``force_labels``; ``epsilons`` the
     relaxation homotopy of a contact-implicit problem (``trajopt.solve_contact``; None: its default);
-    ``sides_from_trapezoidal``: VI orders above 2 start on the contact sides of the trapezoidal VI's
-    solution (``report.solve``), else the homotopy runs from ``guess``."""
+    ``sides_from_trapezoidal``: VI orders above 2 and Hermite-Simpson start on the contact sides of
+    the trapezoidal VI's solution (``report.solve``), else the homotopy runs from ``guess``."""
     name: str
     description: str
     robot: Robot

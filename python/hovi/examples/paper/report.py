@@ -193,9 +193,9 @@ def solve(example: Example, method: str = "vi", s: int = 1, verbose: bool = Fals
     (IPOPT's max_cpu_time; a contact-implicit solve starts no further solve once it is spent);
     ``checkpoint`` (a path) lets a contact-implicit solve resume its homotopy (trajopt.solve_contact).
 
-    With ``example.sides_from_trapezoidal`` and the VI of order 2s > 2, the trapezoidal VI is solved
-    first (its contact model is well posed and its solves cheap) and the order-2s solve starts on
-    the sides of the complementarity pairs it found (``solve_contact(sides_from=...)``); the
+    With ``example.sides_from_trapezoidal`` and the VI of order 2s > 2 or Hermite-Simpson, the
+    trapezoidal VI is solved first (its contact model is well posed and its solves cheap) and the
+    solve starts on the sides of the complementarity pairs it found (``solve_contact(sides_from=...)``); the
     result's ``contact['solves']``, 'iterations' and 'wall_seconds' count both, and
     ``contact['coarse']`` holds the trapezoidal solve's (iterations, seconds in IPOPT). Iterations and
     times of both ways on the quick problems: bench/README.md ("Design measurements", report.py)."""
@@ -206,7 +206,7 @@ def solve(example: Example, method: str = "vi", s: int = 1, verbose: bool = Fals
         return trajopt.solve(example.problem, from_name(method, s), guess=example.guess, options=options, verbose=verbose)
     epsilons = {} if example.epsilons is None else {"epsilons": example.epsilons}
     coarse = None
-    if method == "vi" and s > 1 and example.sides_from_trapezoidal:
+    if (method != "vi" or s > 1) and example.sides_from_trapezoidal:
         t0 = time.perf_counter()
         coarse = solve(example, "vi", 1, verbose, time_limit,
                        None if checkpoint is None else f"{os.path.splitext(checkpoint)[0]}_s1.npz")
