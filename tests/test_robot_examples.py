@@ -241,6 +241,8 @@ def test_littledog_walks_over_a_gap(tmp_path, capsys):
     s = json.loads((tmp_path / "littledog.json").read_text())
     assert s["success"] and s["feasible"], s["failures"]
     assert s["exact_solve"] == 1.0 and s["constraint_violation"] <= 1e-6
+    # the warm-up (feet half a radius below the ground between the points) first, then the walk on its sides
+    assert [e for e, _, ok in s["contact_solves"] if ok] == [1e-3, 0.0, 0.0]
     assert s["complementarity"] <= 1e-6 and s["penetration"] <= 1e-6 and s["normal_complementarity"] <= 1e-6
     assert s["past_last_gap"] >= 0 and s["foothold_gap_margin"] >= 0
     assert s["edge_clearance"] >= 0                           # no foot clips a gap's edge between the points

@@ -37,7 +37,10 @@ class Example:
     ``contact_forces(u (P, m))`` the contact forces (P, k) named by ``force_labels``; ``epsilons`` the
     relaxation homotopy of a contact-implicit problem (``trajopt.solve_contact``; None: its default);
     ``sides_from_trapezoidal``: VI orders above 2 and Hermite-Simpson start on the contact sides of
-    the trapezoidal VI's solution (``report.solve``), else the homotopy runs from ``guess``."""
+    the trapezoidal VI's solution (``report.solve``), else the homotopy runs from ``guess``;
+    ``warm_up``: an easier version of the example (the same variables and contacts, looser
+    constraints), solved first with the trapezoidal VI: the trapezoidal solve starts on its
+    solution's contact sides."""
     name: str
     description: str
     robot: Robot
@@ -52,6 +55,7 @@ class Example:
     epsilons: Optional[Tuple[float, ...]] = None
     sides_from_trapezoidal: bool = False
     simulation: Optional[Contacts] = None  # the contacts (on robot.model) the contact simulator executes it with
+    warm_up: Optional["Example"] = None
 
     def failures(self, figures: Dict[str, float]) -> List[str]:
         """The figures that miss their bounds, as readable sentences (empty: feasible)."""

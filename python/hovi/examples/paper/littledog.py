@@ -28,7 +28,7 @@ from ...contact import Contacts, Gap, Terrain
 from ..robots import Robot, littledog
 from ...trajopt import Problem, Result
 from .statics import static_controls
-from .contact_figures import CONTACT_BOUNDS, contact_figures, path_configurations
+from .contact_figures import BETWEEN_TOLERANCE, CONTACT_BOUNDS, contact_figures, path_configurations
 from .example import Example, Scenery, samples_between
 
 MU = 0.8              # friction coefficient of the feet
@@ -215,17 +215,18 @@ class Gait:
 
 
 SAMPLE_SPACING = 0.01  # s: the gap circles hold at least this often between the configuration points
+FEET_BELOW = BETWEEN_TOLERANCE / 2  # m: feet_above_ground lets a foot-sphere centre this far below its rest
 
 
-def feet_above_ground(robot: Robot, terrain: Terrain, T: float, dt: float) -> List[trajopt.BodyPoint]:
-    """Every foot-sphere centre no lower than half a radius below its resting height on the ground
+def feet_above_ground(robot: Robot, terrain: Terrain, T: float, dt: float, below: float) -> List[trajopt.BodyPoint]:
+    """Every foot-sphere centre no lower than ``below`` under its resting height on the ground
     (``terrain.ground``), gaps included, at every configuration point and every SAMPLE_SPACING
-    between each two: the sphere never reaches below the ground's surface. The contact rows act at
-    the configuration points only; between them a swing foot follows the trajectory's polynomial,
-    which without this bound swung through the ground and a gap's wall. Half a radius below the
-    resting height, not at it, so as not to duplicate the contact rows (bench/README.md, "Design
-    measurements", littledog.py)."""
-    return [trajopt.BodyPoint(body, point, axes="z", lower=[terrain.ground - robot.contact_radius / 2],
+    between each two. The contact rows act at the configuration points only; between them a swing
+    foot follows the trajectory's polynomial, which without this bound swung through the ground and
+    a gap's wall. Below the resting height, not at it, so as not to duplicate the contact rows: the
+    example's FEET_BELOW (half the between-knot tolerance, as the Flamingo's), its warm-up's half a
+    radius (bench/README.md, "Design measurements", littledog.py)."""
+    return [trajopt.BodyPoint(body, point, axes="z", lower=[terrain.ground - below],
                               window=(0.0, T), between=samples_between(dt, SAMPLE_SPACING))
             for body, point in robot.contact_points]
 
@@ -312,11 +313,33 @@ def scenery(robot: Robot, terrain: Terrain, x_range: Tuple[float, float]) -> Sce
 
 def build(quick: bool = False) -> Example:
     """The walk over both gaps in 3.2 s (N = 64) or, ``quick``, over one gap in 1.2 s (N = 16, one
-    relaxed solve before the exact one: QUICK_EPSILONS)."""
+    relaxed solve before the exact one: QUICK_EPSILONS). The feet keep within FEET_BELOW of the
+    ground between the points; from the trot guess that bound cost the first relaxed solve its
+    convergence (3000 iterations), so the example's ``warm_up`` is the same walk with half a radius
+    (about 5 mm), and the walk starts on its solution's contact sides (``report.solve``), with the
+    constraints held to 1e-10 (at 1e-8 the integrator's replay of some stages lands 1.6e-6 rad away)."""
     robot, course = littledog(), (QUICK if quick else FULL)
     ground = terrain(robot, course)
     q0 = standing_pose(robot)
     contacts = Contacts(robot.model, robot.contact_points, ground, mu=MU)
+    labels = [f"{f} normal" for f in FEET]
+
+    def walk(below: float, options: Dict[str, float], warm_up: Example | None) -> Example:
+        prob = problem(robot, course, ground, contacts, q0, below)
+        return Example("littledog", f"walks over {len(course.gaps)} gap{'s' if len(course.gaps) > 1 else ''} "
+                       f"at {SPEED} m/s", robot, prob, Gait(robot, course, q0, ground).guess(contacts, prob.dt),
+                       options, lambda result: figures(robot, contacts, course, result), BOUNDS,
+                       lambda u: contacts.forces(u)[:, :, 2], labels,
+                       scenery(robot, ground, (-0.2, course.distance + 0.25)), QUICK_EPSILONS if quick else None,
+                       sides_from_trapezoidal=True, simulation=contacts, warm_up=warm_up)
+
+    return walk(FEET_BELOW, {"constr_viol_tol": 1e-10},
+                walk(robot.contact_radius / 2, {"constr_viol_tol": 1e-8}, None))
+
+
+def problem(robot: Robot, course: Course, ground: Terrain, contacts: Contacts, q0: np.ndarray,
+            below: float) -> Problem:
+    """The walk's problem, its feet within ``below`` of the ground between the points."""
     model = contacts.model
     prob = Problem(model, N=course.N, T=course.T)
     prob.initial_state(q0)
@@ -325,16 +348,7 @@ def build(quick: bool = False) -> Example:
     prob.add_cost(trajopt.StateTracking(q0, weight=posture, velocity_weight=1e-3))
     prob.add_contacts(contacts)
     for constraint in gap_clearances(robot, ground, course.T, prob.dt) + feet_above_ground(robot, ground, course.T,
-                                                                                          prob.dt):
+                                                                                          prob.dt, below):
         prob.add_constraint(constraint)
     prob.add_constraint(trajopt.BodyPoint("body", lower=q0[0] + course.distance, axes="x", at=course.T))
-    gait = Gait(robot, course, q0, ground)
-    guess = gait.guess(contacts, prob.dt)
-    options = {"constr_viol_tol": 1e-8}
-    labels = [f"{f} normal" for f in FEET]
-    return Example("littledog", f"walks over {len(course.gaps)} gap{'s' if len(course.gaps) > 1 else ''} "
-                   f"at {SPEED} m/s", robot, prob, guess, options,
-                   lambda result: figures(robot, contacts, course, result), BOUNDS,
-                   lambda u: contacts.forces(u)[:, :, 2], labels,
-                   scenery(robot, ground, (-0.2, course.distance + 0.25)), QUICK_EPSILONS if quick else None,
-                   sides_from_trapezoidal=True, simulation=contacts)
+    return prob

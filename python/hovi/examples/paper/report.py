@@ -195,7 +195,8 @@ def solve(example: Example, method: str = "vi", s: int = 1, verbose: bool = Fals
 
     With ``example.sides_from_trapezoidal`` and the VI of order 2s > 2 or Hermite-Simpson, the
     trapezoidal VI is solved first (its contact model is well posed and its solves cheap) and the
-    solve starts on the sides of the complementarity pairs it found (``solve_contact(sides_from=...)``); the
+    solve starts on the sides of the complementarity pairs it found (``solve_contact(sides_from=...)``);
+    with ``example.warm_up``, the trapezoidal solve itself starts on the sides of the warm-up's; the
     result's ``contact['solves']``, 'iterations' and 'wall_seconds' count both, and
     ``contact['coarse']`` holds the trapezoidal solve's (iterations, seconds in IPOPT). Iterations and
     times of both ways on the quick problems: bench/README.md ("Design measurements", report.py)."""
@@ -205,11 +206,15 @@ def solve(example: Example, method: str = "vi", s: int = 1, verbose: bool = Fals
             options["max_cpu_time"] = float(time_limit)
         return trajopt.solve(example.problem, from_name(method, s), guess=example.guess, options=options, verbose=verbose)
     epsilons = {} if example.epsilons is None else {"epsilons": example.epsilons}
-    coarse = None
-    if (method != "vi" or s > 1) and example.sides_from_trapezoidal:
+    coarse, first = None, None
+    if method == "vi" and s == 1 and example.warm_up is not None:
+        first, tag = example.warm_up, "_warm_up"
+    elif (method != "vi" or s > 1) and example.sides_from_trapezoidal:
+        first, tag = example, "_s1"
+    if first is not None:
         t0 = time.perf_counter()
-        coarse = solve(example, "vi", 1, verbose, time_limit,
-                       None if checkpoint is None else f"{os.path.splitext(checkpoint)[0]}_s1.npz")
+        coarse = solve(first, "vi", 1, verbose, time_limit,
+                       None if checkpoint is None else f"{os.path.splitext(checkpoint)[0]}{tag}.npz")
         if time_limit is not None:
             time_limit = max(1.0, time_limit - (time.perf_counter() - t0))
     result = trajopt.solve_contact(example.problem, from_name(method, s), guess=example.guess,
