@@ -121,12 +121,12 @@ class LagrangianHessian:
         """``probed_pattern``, kept on the transcription by coupling pattern and terms: the NLPs over
         it that differ only in bounds (a contact homotopy's relaxed and exact solves) probe once."""
         nlp = self.nlp
-        terms = tuple(map(id, nlp.problem.costs)) + tuple(id(c) for c, *_ in nlp.paths) + (id(nlp.problem.contacts),)
-        key = (P.indptr.tobytes(), P.indices.tobytes(), seed, terms)
+        terms = (*nlp.problem.costs, *(c for c, *_ in nlp.paths), nlp.problem.contacts)
+        key = (P.indptr.tobytes(), P.indices.tobytes(), seed, tuple(map(id, terms)))
         cache = nlp.transcription.probed_patterns
-        if key not in cache:
-            cache[key] = self.probed_pattern(P, x, seed)
-        return cache[key]
+        if key not in cache:   # the terms kept with it: their ids cannot pass to other objects
+            cache[key] = (self.probed_pattern(P, x, seed), terms)
+        return cache[key][0]
 
     def probed_pattern(self, P: sp.csr_matrix, x: np.ndarray, seed: int = 0) -> sp.csr_matrix:
         """The entries of the coupling pattern P (symmetric, with the diagonal) where the Hessian is
