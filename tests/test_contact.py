@@ -146,6 +146,10 @@ def test_bad_contact_input_is_refused_with_a_reason():
         trajopt.solve_contact(prob, trajopt.VI(s=0))
     with pytest.raises(TypeError, match="sides_from must be a Result"):
         trajopt.solve_contact(prob, VI1, sides_from=np.zeros(3))
+    _, longer = contact_problem(planar_point_mass(), [0.0, 0.3], [0.5, 0.0], 0.6, 6, mu=0.5)
+    other = trajopt.solve_contact(longer, VI1, epsilons=(1e-1,), finish_below=0)
+    with pytest.raises(ValueError, match="sides_from must solve a problem with the same horizon T"):
+        trajopt.solve_contact(prob, trajopt.VI(2), sides_from=other)
     prob.initial_state([0.0, -0.01])
     with pytest.raises(ValueError, match="initial configuration puts contact point 0 0.01 below the terrain"):
         trajopt.solve_contact(prob, VI1)

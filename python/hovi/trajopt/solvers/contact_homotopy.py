@@ -85,6 +85,13 @@ class ContactHomotopy(Solver):
         if sides_from is not None and not (isinstance(sides_from, Result)
                                            and hasattr(sides_from.transcription, "interpolants")):
             raise TypeError(f"sides_from must be a Result of solve_contact, got {type(sides_from).__name__}")
+        if sides_from is not None:   # its pairs are mapped onto these by time, its inputs by index
+            other, ct = sides_from.transcription.problem, problem.contacts
+            if (other.contacts is None or not np.isclose(other.T, problem.T)
+                    or (other.model.n, other.model.n_controls) != (problem.model.n, problem.model.n_controls)
+                    or (other.contacts.n_contacts, other.contacts.d) != (ct.n_contacts, ct.d)):
+                raise ValueError("sides_from must solve a problem with the same horizon T, configuration, "
+                                 "controls and contacts as this one")
         eps, finish_below = self.epsilons, self.finish_below
         deadline = None if self.time_limit is None else time.perf_counter() + self.time_limit
         solves, wall, resumed = [], 0.0, None
