@@ -260,6 +260,28 @@ def test_littledog_walks_over_a_gap(tmp_path, capsys):
         assert (tmp_path / name).stat().st_size > 10_000
 
 
+def test_littledog_holds_only_its_reported_vi_solve_to_the_replay_options(monkeypatch):
+    """report.solve: the reported VI solve gets ``replay_options`` (constraints to 1e-10); the solves
+    that only start another (the warm-up, the trapezoidal VI before VI s = 2 or Hermite-Simpson) and
+    Hermite-Simpson itself keep the example's 1e-8."""
+    from types import SimpleNamespace
+    from hovi.examples.paper import report
+    tolerances = []
+
+    def solve_contact(problem, method, options=None, **kwargs):
+        tolerances.append((method.name if hasattr(method, "name") else "vi", options["constr_viol_tol"]))
+        return SimpleNamespace(contact={"iterations": 1, "wall_seconds": 0.0, "solves": [(0.0, 1, True)]})
+
+    monkeypatch.setattr(report.trajopt, "solve_contact", solve_contact)
+    example = littledog_example.build(quick=True)
+    for method, s, expected in [("vi", 1, [1e-8, 1e-10]), ("vi", 2, [1e-8, 1e-8, 1e-10]),
+                                ("hs-implicit", 2, [1e-8, 1e-8, 1e-8])]:
+        tolerances.clear()
+        r = report.solve(example, method, s)
+        assert [t for _, t in tolerances] == expected, (method, s, tolerances)
+        assert r.contact["iterations"] == len(expected)
+
+
 @pytest.mark.parametrize("make", ["pendulum", "slider_crank"])
 def test_replay_figures_measure_how_far_the_stages_are_from_integrator_steps(make):
     import dataclasses

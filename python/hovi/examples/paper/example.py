@@ -40,7 +40,9 @@ class Example:
     the trapezoidal VI's solution (``report.solve``), else the homotopy runs from ``guess``;
     ``warm_up``: an easier version of the example (the same variables and contacts, looser
     constraints), solved first with the trapezoidal VI: the trapezoidal solve starts on its
-    solution's contact sides."""
+    solution's contact sides; ``replay_options``: IPOPT options over ``options`` for a VI solve
+    whose answer is reported, hence replayed (``report.replay_figures``), not for the solves that
+    only start another (the warm-up, the trapezoidal VI before a higher order or Hermite-Simpson)."""
     name: str
     description: str
     robot: Robot
@@ -56,6 +58,7 @@ class Example:
     sides_from_trapezoidal: bool = False
     simulation: Optional[Contacts] = None  # the contacts (on robot.model) the contact simulator executes it with
     warm_up: Optional["Example"] = None
+    replay_options: Dict[str, Any] = field(default_factory=dict)
 
     def failures(self, figures: Dict[str, float]) -> List[str]:
         """The figures that miss their bounds, as readable sentences (empty: feasible)."""

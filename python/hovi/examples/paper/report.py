@@ -183,7 +183,7 @@ def animate(example: Example, result: Result, output: str, fps: float, progress:
 
 
 def solve(example: Example, method: str = "vi", s: int = 1, verbose: bool = False,
-          time_limit: float | None = None, checkpoint: str | None = None) -> Result:
+          time_limit: float | None = None, checkpoint: str | None = None, *, reported: bool = True) -> Result:
     """Solve the example's problem with ``method`` ('vi' of order 2s, 'hs-implicit', 'hs-explicit') by
     IPOPT with the Lagrangian's Hessian (L-BFGS does not converge on these robots: see
     trajopt.hessian; 'auto': the VI's own and the built-in rows' exact Hessians; through contact
@@ -199,8 +199,9 @@ def solve(example: Example, method: str = "vi", s: int = 1, verbose: bool = Fals
     with ``example.warm_up``, the trapezoidal solve itself starts on the sides of the warm-up's; the
     result's ``contact['solves']``, 'iterations' and 'wall_seconds' count both, and
     ``contact['coarse']`` holds the trapezoidal solve's (iterations, seconds in IPOPT). Iterations and
-    times of both ways on the quick problems: bench/README.md ("Design measurements", report.py)."""
-    options = dict(example.options)
+    times of both ways on the quick problems: bench/README.md ("Design measurements", report.py).
+    ``reported``: a VI solve gets ``example.replay_options`` too (False: a solve that only starts another)."""
+    options = {**example.options, **(example.replay_options if reported and method == "vi" else {})}
     if example.problem.contacts is None:
         if time_limit is not None:
             options["max_cpu_time"] = float(time_limit)
@@ -214,7 +215,7 @@ def solve(example: Example, method: str = "vi", s: int = 1, verbose: bool = Fals
     if first is not None:
         t0 = time.perf_counter()
         coarse = solve(first, "vi", 1, verbose, time_limit,
-                       None if checkpoint is None else f"{os.path.splitext(checkpoint)[0]}{tag}.npz")
+                       None if checkpoint is None else f"{os.path.splitext(checkpoint)[0]}{tag}.npz", reported=False)
         if time_limit is not None:
             time_limit = max(1.0, time_limit - (time.perf_counter() - t0))
     result = trajopt.solve_contact(example.problem, from_name(method, s), guess=example.guess,
