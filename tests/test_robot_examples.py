@@ -269,7 +269,7 @@ def test_littledog_holds_only_its_reported_vi_solve_to_the_replay_options(monkey
     tolerances = []
 
     def solve_contact(problem, method, options=None, **kwargs):
-        tolerances.append((method.name if hasattr(method, "name") else "vi", options["constr_viol_tol"]))
+        tolerances.append(options["constr_viol_tol"])
         return SimpleNamespace(contact={"iterations": 1, "wall_seconds": 0.0, "solves": [(0.0, 1, True)]})
 
     monkeypatch.setattr(report.trajopt, "solve_contact", solve_contact)
@@ -278,8 +278,41 @@ def test_littledog_holds_only_its_reported_vi_solve_to_the_replay_options(monkey
                                 ("hs-implicit", 2, [1e-8, 1e-8, 1e-8])]:
         tolerances.clear()
         r = report.solve(example, method, s)
-        assert [t for _, t in tolerances] == expected, (method, s, tolerances)
+        assert tolerances == expected, (method, s, tolerances)
         assert r.contact["iterations"] == len(expected)
+
+
+def test_atlas_higher_orders_start_from_the_trapezoidal_solution(monkeypatch):
+    """report.solve without contacts (Atlas, from_trapezoidal): VI s = 2 and Hermite-Simpson start from
+    the trapezoidal VI's solution (its interpolants), which is reported as their continuation's first
+    stage and counted in the totals; the trapezoidal VI starts from the example's guess; a failed
+    first stage leaves the example's guess."""
+    from types import SimpleNamespace
+    from hovi.examples.paper import atlas, report
+    from hovi.trajopt import VI
+    calls, first_success = [], [True]
+
+    def solve(problem, method, guess=None, **kwargs):
+        calls.append((method, guess))
+        ok = first_success[0] if method == VI(1) else True
+        return SimpleNamespace(success=ok, iterations=10 * len(calls), cost=1.0, wall_seconds=0.5, solver={}, contact={},
+                               transcription=SimpleNamespace(method=method), as_guess=lambda: "first's interpolants")
+
+    monkeypatch.setattr(report.trajopt, "solve", solve)
+    example = atlas.build(quick=True)
+    report.solve(example, "vi", 1)
+    assert calls == [(VI(1), example.guess)]
+    for method, s in [("vi", 2), ("hs-implicit", 2)]:
+        calls.clear()
+        r = report.solve(example, method, s)
+        assert [m for m, _ in calls] == [VI(1), report.from_name(method, s)]
+        assert calls[0][1] is example.guess and calls[1][1] == "first's interpolants"
+        assert r.solver["continuation"]["iterations"] == 10 and r.solver["continuation"]["used"]
+        assert report.ipopt_totals(r)[0] == 10 + 20
+    calls.clear()
+    first_success[0] = False
+    r = report.solve(example, "hs-implicit", 2)
+    assert calls[1][1] is example.guess and not r.solver["continuation"]["used"]
 
 
 @pytest.mark.parametrize("make", ["pendulum", "slider_crank"])

@@ -128,5 +128,6 @@ def build(quick: bool = False) -> Example:
     labels = ["f_x", "f_y", "f_z"]
     return Example("atlas", "picks a ball with its left hand while balancing on its right foot", robot, prob, guess,
                    options, checks, bounds, lambda u: foot.wrench(u)[:, :3], labels, scenery,
-                   simulation=Contacts(robot.model, robot.contact_points, Terrain(), mu=MU))  # both soles' corners:
-    # the stance foot as the simulator takes a FlatFoot (flat_feet_contacts), the other able to land
+                   from_trapezoidal=True, simulation=Contacts(robot.model, robot.contact_points, Terrain(), mu=MU))
+    # the simulation's contacts are both soles' corners: the stance foot as the simulator takes a
+    # FlatFoot (flat_feet_contacts), the other able to land

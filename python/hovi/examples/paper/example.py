@@ -36,8 +36,9 @@ class Example:
     in ``bounds``);
     ``contact_forces(u (P, m))`` the contact forces (P, k) named by ``force_labels``; ``epsilons`` the
     relaxation homotopy of a contact-implicit problem (``trajopt.solve_contact``; None: its default);
-    ``sides_from_trapezoidal``: VI orders above 2 and Hermite-Simpson start on the contact sides of
-    the trapezoidal VI's solution (``report.solve``), else the homotopy runs from ``guess``;
+    ``from_trapezoidal``: VI orders above 2 and Hermite-Simpson start from the trapezoidal VI's
+    solution (``report.solve``: on its contact sides, or without contacts from its interpolants),
+    else from ``guess`` (through contact, the homotopy runs from it);
     ``warm_up``: an easier version of the example (the same variables and contacts, looser
     constraints), solved first with the trapezoidal VI: the trapezoidal solve starts on its
     solution's contact sides; ``replay_options``: IPOPT options over ``options`` for a VI solve
@@ -55,7 +56,7 @@ class Example:
     force_labels: List[str]
     scenery: Scenery = field(default_factory=Scenery)
     epsilons: Optional[Tuple[float, ...]] = None
-    sides_from_trapezoidal: bool = False
+    from_trapezoidal: bool = False
     simulation: Optional[Contacts] = None  # the contacts (on robot.model) the contact simulator executes it with
     warm_up: Optional["Example"] = None
     replay_options: Dict[str, Any] = field(default_factory=dict)

@@ -223,5 +223,5 @@ def build(quick: bool = False) -> Example:
     labels = [c.name for c in robot.contacts]
     return Example("flamingo", "jumps over an obstacle 0.16 m high on its way to a goal", robot, prob,
                    (plan.configurations, plan.velocities, inputs), {"constr_viol_tol": 1e-8}, checks, bounds,
-                   lambda u: contacts.forces(u)[:, :, 2], labels, scenery, sides_from_trapezoidal=True,
+                   lambda u: contacts.forces(u)[:, :, 2], labels, scenery, from_trapezoidal=True,
                    simulation=contacts)

@@ -333,7 +333,7 @@ def build(quick: bool = False) -> Example:
                        {"constr_viol_tol": 1e-8}, lambda result: figures(robot, contacts, course, result), BOUNDS,
                        lambda u: contacts.forces(u)[:, :, 2], labels,
                        scenery(robot, ground, (-0.2, course.distance + 0.25)), QUICK_EPSILONS if quick else None,
-                       sides_from_trapezoidal=True, simulation=contacts, warm_up=warm_up,
+                       from_trapezoidal=True, simulation=contacts, warm_up=warm_up,
                        replay_options=replay_options)
 
     return walk(FEET_BELOW, {"constr_viol_tol": 1e-10}, walk(robot.contact_radius / 2, {}, None))

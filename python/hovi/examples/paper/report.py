@@ -193,31 +193,42 @@ def solve(example: Example, method: str = "vi", s: int = 1, verbose: bool = Fals
     (IPOPT's max_cpu_time; a contact-implicit solve starts no further solve once it is spent);
     ``checkpoint`` (a path) lets a contact-implicit solve resume its homotopy (trajopt.solve_contact).
 
-    With ``example.sides_from_trapezoidal`` and the VI of order 2s > 2 or Hermite-Simpson, the
-    trapezoidal VI is solved first (its contact model is well posed and its solves cheap) and the
-    solve starts on the sides of the complementarity pairs it found (``solve_contact(sides_from=...)``);
-    with ``example.warm_up``, the trapezoidal solve itself starts on the sides of the warm-up's; the
-    result's ``contact['solves']``, 'iterations' and 'wall_seconds' count both, and
-    ``contact['coarse']`` holds the trapezoidal solve's (iterations, seconds in IPOPT). Iterations and
-    times of both ways on the quick problems: bench/README.md ("Design measurements", report.py).
-    ``reported``: a VI solve gets ``example.replay_options`` too (False: a solve that only starts another)."""
+    With ``example.from_trapezoidal`` and the VI of order 2s > 2 or Hermite-Simpson, the
+    trapezoidal VI is solved first (its solves are cheap and, through contact, its contact model
+    well posed) and the solve starts from its solution: on the sides of the complementarity pairs
+    it found (``solve_contact(sides_from=...)``), or without contacts from its interpolants (the
+    default pipeline's order continuation, which ``trajopt.solve`` applies only to a guess by name,
+    here without its cap on the continued solve's iterations; its first stage is reported in
+    ``solver['continuation']``); with ``example.warm_up``, the trapezoidal solve itself starts on
+    the sides of the warm-up's; a contact-implicit result's ``contact['solves']``, 'iterations' and
+    'wall_seconds' count both, and ``contact['coarse']`` holds the trapezoidal solve's (iterations,
+    seconds in IPOPT). Iterations and times of both ways: bench/README.md ("Design measurements",
+    report.py). ``reported``: a VI solve gets ``example.replay_options`` too (False: a solve that
+    only starts another)."""
     options = {**example.options, **(example.replay_options if reported and method == "vi" else {})}
-    if example.problem.contacts is None:
-        if time_limit is not None:
-            options["max_cpu_time"] = float(time_limit)
-        return trajopt.solve(example.problem, from_name(method, s), guess=example.guess, options=options, verbose=verbose)
-    epsilons = {} if example.epsilons is None else {"epsilons": example.epsilons}
     coarse, first = None, None
     if method == "vi" and s == 1 and example.warm_up is not None:
         first, tag = example.warm_up, "_warm_up"
-    elif (method != "vi" or s > 1) and example.sides_from_trapezoidal:
+    elif (method != "vi" or s > 1) and example.from_trapezoidal:
         first, tag = example, "_s1"
     if first is not None:
         t0 = time.perf_counter()
         coarse = solve(first, "vi", 1, verbose, time_limit,
                        None if checkpoint is None else f"{os.path.splitext(checkpoint)[0]}{tag}.npz", reported=False)
+        first_seconds = time.perf_counter() - t0
         if time_limit is not None:
-            time_limit = max(1.0, time_limit - (time.perf_counter() - t0))
+            time_limit = max(1.0, time_limit - first_seconds)
+    if example.problem.contacts is None:
+        if time_limit is not None:
+            options["max_cpu_time"] = float(time_limit)
+        guess = coarse.as_guess() if coarse is not None and coarse.success else example.guess
+        result = trajopt.solve(example.problem, from_name(method, s), guess=guess, options=options, verbose=verbose)
+        if coarse is not None:
+            result.solver["continuation"] = {"transcription": coarse.transcription.method, "success": coarse.success,
+                                             "iterations": coarse.iterations, "cost": coarse.cost,
+                                             "seconds": first_seconds, "used": coarse.success}
+        return result
+    epsilons = {} if example.epsilons is None else {"epsilons": example.epsilons}
     result = trajopt.solve_contact(example.problem, from_name(method, s), guess=example.guess,
                                    options=options, verbose=verbose, hessian="auto", time_limit=time_limit,
                                    checkpoint=checkpoint, sides_from=coarse, **epsilons)
