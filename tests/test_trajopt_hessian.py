@@ -174,7 +174,7 @@ def test_nlps_over_one_transcription_that_differ_in_bounds_probe_once(monkeypatc
     probes = []
     original = LagrangianHessian.probed_pattern
     monkeypatch.setattr(LagrangianHessian, "probed_pattern",
-                        lambda self, P, x, seed=0: probes.append(1) or original(self, P, x, seed))
+                        lambda self, P, x, seed=0, own=False: probes.append(1) or original(self, P, x, seed, own))
     x0 = tr.initial_guess(None)
     first = LagrangianHessian(trajopt.NLP(prob, tr, relaxation=ComplementarityRelaxation(1e-1)), probe=x0)
     nlp = trajopt.NLP(prob, tr, relaxation=ComplementarityRelaxation(1e-3))

@@ -221,15 +221,17 @@ extra_cost(x) -> (value, gradient), extra_constraints(x) -> (len(extra_rows),), 
                              [](const PyProgram& p) { return p.hessian && p.hessian->transcription_hessian(); },
                              "Whether the Hessian takes the transcription's part from its own Hessian (not differenced).")
       .def("probed_pattern", [](const PyProgram& p, const Eigen::VectorXi& indptr, const Eigen::VectorXi& indices,
-                                const ArrayLike& x, unsigned seed) {
+                                const ArrayLike& x, unsigned seed, bool own_structures) {
              if (indptr.size() != p.program->n_variables() + 1)
                throw InputError("the pattern must have one row per variable");
              const VecX xv = vector_of(p, x);
-             return probed_pattern(*p.program, square_pattern(indptr, indices), xv, seed);
-           }, py::arg("indptr"), py::arg("indices"), py::arg("x"), py::arg("seed") = 0,
+             return probed_pattern(*p.program, square_pattern(indptr, indices), xv, seed, own_structures);
+           }, py::arg("indptr"), py::arg("indices"), py::arg("x"), py::arg("seed") = 0, py::arg("own_structures") = false,
            "The entries (indptr, indices) of the symmetric coupling pattern (indptr (n_variables + 1,), indices) where "
            "the Lagrangian's Hessian is not identically zero, probed at a random point near x (n_variables,) "
-           "(lagrangian_hessian.hpp), with the quadratic costs' entries and the diagonal.")
+           "(lagrangian_hessian.hpp), with the quadratic costs' entries and the diagonal; own_structures: the "
+           "transcription's (if it has one) and the built-in rows' entries from their own Hessians' structures, "
+           "only the rest probed.")
       .def_property_readonly("has_hessian", [](const PyProgram& p) { return bool(p.hessian); },
                              "Whether set_colouring gave the Hessian its colours.")
       .def("hessian", [](const PyProgram& p, const ArrayLike& x, const ArrayLike& lam, double sigma) {

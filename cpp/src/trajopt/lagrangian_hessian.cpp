@@ -15,38 +15,62 @@
 namespace hovi {
 
 std::pair<Eigen::VectorXi, Eigen::VectorXi> probed_pattern(const NlpProgram& program, const Pattern& P,
-                                                           const VecX& x0, unsigned seed) {
+                                                           const VecX& x0, unsigned seed, bool own_structures) {
+  using Part = NlpProgram::Part;
   const int nv = program.n_variables();
   if (P.size() != nv || x0.size() != nv) throw InputError("the pattern and x must have one entry per variable");
-  const Eigen::VectorXi colour = distance2_colouring(P);
-  const int n_colours = nv == 0 ? 0 : colour.maxCoeff() + 1;
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> normal;
-  const VecX scale = 0.1 * x0.cwiseAbs().cwiseMax(1.0);
-  VecX x(nv), lambda(program.n_constraints()), g0(nv), g(nv), jac;
-  for (int j = 0; j < nv; ++j) x[j] = x0[j] + scale[j] * normal(rng);
-  for (int i = 0; i < lambda.size(); ++i) lambda[i] = normal(rng);
-  program.curved_gradient(x, lambda, 1.0, g0, jac);
-  std::vector<std::vector<int>> members(n_colours);
-  for (int j = 0; j < nv; ++j) members[colour[j]].push_back(j);
+  const bool own_dynamics = own_structures && program.transcription().has_hessian();
+  const int probed = own_structures ? (own_dynamics ? 0 : Part::Dynamics) | (program.has_python() ? Part::Python : 0)
+                                    : Part::All;
   std::vector<std::vector<int>> entries(nv);          // entries[i]: columns k of row i found so far
   for (int j = 0; j < nv; ++j) entries[j].push_back(j);
   const SparseRowMatrix& H = program.cost_hessian();
   for (int i = 0; i < nv; ++i)
     for (SparseRowMatrix::InnerIterator it(H, i); it; ++it) entries[i].push_back(it.col());
-  VecX xc = x;
-  for (int c = 0; c < n_colours; ++c) {
-    for (int j : members[c]) xc[j] = x[j] + scale[j] * normal(rng);
-    program.curved_gradient(xc, lambda, 1.0, g, jac);
-    for (int i = 0; i < nv; ++i) {
-      if (!(std::abs(g[i] - g0[i]) > 1e-12 * (1.0 + std::abs(g0[i])))) continue;
-      for (int a = P.indptr[i]; a < P.indptr[i + 1]; ++a)   // at most one of colour c (distance-2 colours)
-        if (colour[P.indices[a]] == c) {
-          entries[i].push_back(P.indices[a]);
-          entries[P.indices[a]].push_back(i);
-        }
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> normal;
+  const VecX scale = 0.1 * x0.cwiseAbs().cwiseMax(1.0);
+  VecX x(nv), lambda(program.n_constraints()), g0(nv), g(nv), jac, values;
+  for (int j = 0; j < nv; ++j) x[j] = x0[j] + scale[j] * normal(rng);
+  for (int i = 0; i < lambda.size(); ++i) lambda[i] = normal(rng);
+  const auto add_nonzero = [&](const SparsityStructure& T) {   // the own Hessian's entries not zero at (x, lambda)
+    for (int k = 0; k < T.nnz(); ++k)
+      if (values[k] != 0.0) {
+        entries[T.rows[k]].push_back(T.cols[k]);
+        entries[T.cols[k]].push_back(T.rows[k]);
+      }
+  };
+  if (own_dynamics) {
+    values.resize(program.transcription().hessian_structure().nnz());
+    program.transcription_hessian(x, lambda, values, 1);
+    add_nonzero(program.transcription().hessian_structure());
+  }
+  for (int b = 0; own_structures && b < static_cast<int>(program.blocks().size()); ++b) {
+    const SparsityStructure& T = program.blocks()[b].block->hessian_structure();
+    values.resize(T.nnz());
+    program.block_hessian(b, x, lambda, values);
+    add_nonzero(T);
+  }
+  if (probed != 0) {
+    const Eigen::VectorXi colour = distance2_colouring(P);
+    const int n_colours = nv == 0 ? 0 : colour.maxCoeff() + 1;
+    program.curved_gradient(x, lambda, 1.0, g0, jac, probed);
+    std::vector<std::vector<int>> members(n_colours);
+    for (int j = 0; j < nv; ++j) members[colour[j]].push_back(j);
+    VecX xc = x;
+    for (int c = 0; c < n_colours; ++c) {
+      for (int j : members[c]) xc[j] = x[j] + scale[j] * normal(rng);
+      program.curved_gradient(xc, lambda, 1.0, g, jac, probed);
+      for (int i = 0; i < nv; ++i) {
+        if (!(std::abs(g[i] - g0[i]) > 1e-12 * (1.0 + std::abs(g0[i])))) continue;
+        for (int a = P.indptr[i]; a < P.indptr[i + 1]; ++a)   // at most one of colour c (distance-2 colours)
+          if (colour[P.indices[a]] == c) {
+            entries[i].push_back(P.indices[a]);
+            entries[P.indices[a]].push_back(i);
+          }
+      }
+      for (int j : members[c]) xc[j] = x[j];
     }
-    for (int j : members[c]) xc[j] = x[j];
   }
   Eigen::VectorXi indptr(nv + 1);
   std::vector<int> indices;

@@ -199,9 +199,9 @@ class Program:
         """
         x: (n_variables,); the total cost.
         """
-    def probed_pattern(self, indptr: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], indices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], x: numpy.typing.ArrayLike, seed: typing.SupportsInt | typing.SupportsIndex = 0) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"]]:
+    def probed_pattern(self, indptr: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], indices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], x: numpy.typing.ArrayLike, seed: typing.SupportsInt | typing.SupportsIndex = 0, own_structures: bool = False) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"]]:
         """
-        The entries (indptr, indices) of the symmetric coupling pattern (indptr (n_variables + 1,), indices) where the Lagrangian's Hessian is not identically zero, probed at a random point near x (n_variables,) (lagrangian_hessian.hpp), with the quadratic costs' entries and the diagonal.
+        The entries (indptr, indices) of the symmetric coupling pattern (indptr (n_variables + 1,), indices) where the Lagrangian's Hessian is not identically zero, probed at a random point near x (n_variables,) (lagrangian_hessian.hpp), with the quadratic costs' entries and the diagonal; own_structures: the transcription's (if it has one) and the built-in rows' entries from their own Hessians' structures, only the rest probed.
         """
     def set_colouring(self, colour: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], rows: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], cols: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], read_row: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], read_col: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], threads: int | None = 1, by_differences: bool = False) -> None:
         """

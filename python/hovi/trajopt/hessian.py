@@ -70,9 +70,12 @@ class LagrangianHessian:
     and the momenta the dynamics). Given ``probe``, a point (n_variables,) where the NLP's functions
     can be evaluated, the pattern is narrowed to the entries found there (``probed_pattern``) and
     coloured again: fewer colours and nonzeros (bench/README.md, "Design measurements").
-    ``solve(hessian='fd')`` probes near its starting point."""
+    ``solve(hessian='fd')`` probes near its starting point. ``own_structures``: the parts with
+    Hessians of their own (the VI's, the built-in rows') give their entries from those Hessians'
+    structures and only the rest is probed ('directional' and 'auto': nothing is probed without
+    terms written in Python)."""
 
-    def __init__(self, nlp: NLP, probe: np.ndarray | None = None, seed: int = 0):
+    def __init__(self, nlp: NLP, probe: np.ndarray | None = None, seed: int = 0, own_structures: bool = False):
         if any(isinstance(c, CallbackCost) for c in nlp.problem.costs):
             raise ValueError("hessian='fd' needs costs that couple variables only within a sample; a CallbackCost "
                              "may couple any of them (use hessian='lbfgs')")
@@ -88,7 +91,7 @@ class LagrangianHessian:
         indptr, indices = _core.trajopt.gram_pattern(*_compressed(A), nv)
         P = sp.csr_matrix((np.ones(len(indices)), indices, indptr), (nv, nv))
         if probe is not None:
-            P = self._probed_once(P, np.asarray(probe, float), seed)
+            P = self._probed_once(P, np.asarray(probe, float), seed, own_structures)
         P.sort_indices()
         key = (nv, P.indptr.tobytes(), P.indices.tobytes())
         cached = _COLOURINGS.pop(key, None)
@@ -117,18 +120,18 @@ class LagrangianHessian:
         # entry e is component read_row[e] of the difference of read_col[e]'s colour
         return colour, rows, cols, np.where(alone, rows, cols), np.where(alone, cols, rows)
 
-    def _probed_once(self, P: sp.csr_matrix, x: np.ndarray, seed: int) -> sp.csr_matrix:
+    def _probed_once(self, P: sp.csr_matrix, x: np.ndarray, seed: int, own_structures: bool) -> sp.csr_matrix:
         """``probed_pattern``, kept on the transcription by coupling pattern and terms: the NLPs over
         it that differ only in bounds (a contact homotopy's relaxed and exact solves) probe once."""
         nlp = self.nlp
         terms = (*nlp.problem.costs, *(c for c, *_ in nlp.paths), nlp.problem.contacts)
-        key = (P.indptr.tobytes(), P.indices.tobytes(), seed, tuple(map(id, terms)))
+        key = (P.indptr.tobytes(), P.indices.tobytes(), seed, own_structures, tuple(map(id, terms)))
         cache = nlp.transcription.probed_patterns
         if key not in cache:   # the terms kept with it: their ids cannot pass to other objects
-            cache[key] = (self.probed_pattern(P, x, seed), terms)
+            cache[key] = (self.probed_pattern(P, x, seed, own_structures), terms)
         return cache[key][0]
 
-    def probed_pattern(self, P: sp.csr_matrix, x: np.ndarray, seed: int = 0) -> sp.csr_matrix:
+    def probed_pattern(self, P: sp.csr_matrix, x: np.ndarray, seed: int = 0, own_structures: bool = False) -> sp.csr_matrix:
         """The entries of the coupling pattern P (symmetric, with the diagonal) where the Hessian is
         not identically zero, found at a random point near x with random multipliers (in C++,
         ``Program.probed_pattern``): for each distance-2 colour of P, the gradient's change when that
@@ -138,9 +141,9 @@ class LagrangianHessian:
         somewhere, it does near x (no piece of a piecewise function on which the dependence
         vanishes). An entry missed there leaves IPOPT's Newton steps inexact, not its answer: IPOPT's
         convergence tests use the exact gradient and Jacobian, so a wrong Hessian costs iterations,
-        never feasibility."""
+        never feasibility. ``own_structures`` as in the constructor."""
         indptr, indices = _compressed(P)
-        indptr, indices = self.nlp.program().probed_pattern(indptr, indices, np.asarray(x, float), seed)
+        indptr, indices = self.nlp.program().probed_pattern(indptr, indices, np.asarray(x, float), seed, own_structures)
         nv = self.nlp.n_variables
         return sp.csr_matrix((np.ones(len(indices)), indices, indptr), (nv, nv))
 

@@ -302,7 +302,7 @@ class IpoptCallbacksWithHessian(IpoptCallbacks):
 
     def __init__(self, nlp: NLP, verbose: bool, evaluation_error: type, probe: np.ndarray, hessian: str):
         super().__init__(nlp, verbose, evaluation_error)
-        self.H = LagrangianHessian(nlp, probe)
+        self.H = LagrangianHessian(nlp, probe, own_structures=hessian == "directional")
         self.values = self.H.values
         if hessian == "directional":
             program = nlp.program()
@@ -506,7 +506,8 @@ class Ipopt(NLPSolver):
         program = nlp.program()
         exact = self.hessian in EXACT_HESSIANS
         if exact and not program.has_hessian:   # probed near its first start, once per transcription and terms
-            _set_colouring(program, LagrangianHessian(nlp, x0), self.threads, self.hessian == "fd")
+            H = LagrangianHessian(nlp, x0, own_structures=self.hessian != "fd")
+            _set_colouring(program, H, self.threads, self.hessian == "fd")
         elif exact:
             program.set_hessian_options(self.threads, self.hessian == "fd")
         run = cpp.Ipopt()
