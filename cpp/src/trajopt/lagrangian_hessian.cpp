@@ -33,9 +33,12 @@ std::pair<Eigen::VectorXi, Eigen::VectorXi> probed_pattern(const NlpProgram& pro
   VecX x(nv), lambda(program.n_constraints()), g0(nv), g(nv), jac, values;
   for (int j = 0; j < nv; ++j) x[j] = x0[j] + scale[j] * normal(rng);
   for (int i = 0; i < lambda.size(); ++i) lambda[i] = normal(rng);
-  const auto add_nonzero = [&](const SparsityStructure& T) {   // the own Hessian's entries not zero at (x, lambda)
+  // the own Hessian's entries above its round-off at (x, lambda): its differences leave entries that
+  // are zero at about 1e-18 of the largest, which the gradient differences did not see either
+  const auto add_nonzero = [&](const SparsityStructure& T) {
+    const double floor = 1e-14 * values.cwiseAbs().maxCoeff();
     for (int k = 0; k < T.nnz(); ++k)
-      if (values[k] != 0.0) {
+      if (std::abs(values[k]) > floor) {
         entries[T.rows[k]].push_back(T.cols[k]);
         entries[T.cols[k]].push_back(T.rows[k]);
       }
