@@ -230,8 +230,8 @@ extra_cost(x) -> (value, gradient), extra_constraints(x) -> (len(extra_rows),), 
            "The entries (indptr, indices) of the symmetric coupling pattern (indptr (n_variables + 1,), indices) where "
            "the Lagrangian's Hessian is not identically zero, probed at a random point near x (n_variables,) "
            "(lagrangian_hessian.hpp), with the quadratic costs' entries and the diagonal; own_structures: the "
-           "transcription's (if it has one) and the built-in rows' entries from their own Hessians' structures, "
-           "only the rest probed.")
+           "transcription's (if it has one) and the built-in rows' entries from their own Hessians' values at "
+           "that point, only the rest probed.")
       .def_property_readonly("has_hessian", [](const PyProgram& p) { return bool(p.hessian); },
                              "Whether set_colouring gave the Hessian its colours.")
       .def("hessian", [](const PyProgram& p, const ArrayLike& x, const ArrayLike& lam, double sigma) {

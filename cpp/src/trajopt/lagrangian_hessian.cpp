@@ -36,7 +36,7 @@ std::pair<Eigen::VectorXi, Eigen::VectorXi> probed_pattern(const NlpProgram& pro
   // the own Hessian's entries above its round-off at (x, lambda): its differences leave entries that
   // are zero at about 1e-18 of the largest, which the gradient differences did not see either
   const auto add_nonzero = [&](const SparsityStructure& T) {
-    const double floor = 1e-14 * values.cwiseAbs().maxCoeff();
+    const double floor = values.size() == 0 ? 0.0 : 1e-14 * values.cwiseAbs().maxCoeff();
     for (int k = 0; k < T.nnz(); ++k)
       if (std::abs(values[k]) > floor) {
         entries[T.rows[k]].push_back(T.cols[k]);

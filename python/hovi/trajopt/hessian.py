@@ -71,9 +71,9 @@ class LagrangianHessian:
     can be evaluated, the pattern is narrowed to the entries found there (``probed_pattern``) and
     coloured again: fewer colours and nonzeros (bench/README.md, "Design measurements").
     ``solve(hessian='fd')`` probes near its starting point. ``own_structures``: the parts with
-    Hessians of their own (the VI's, the built-in rows') give their entries from those Hessians'
-    structures and only the rest is probed ('directional' and 'auto': nothing is probed without
-    terms written in Python)."""
+    Hessians of their own (the VI's, the built-in rows') give the entries of those Hessians that
+    are above 1e-14 of their largest at the probe point, and only the rest is probed
+    ('directional' and 'auto': nothing is probed without Hermite-Simpson or terms written in Python)."""
 
     def __init__(self, nlp: NLP, probe: np.ndarray | None = None, seed: int = 0, own_structures: bool = False):
         if any(isinstance(c, CallbackCost) for c in nlp.problem.costs):

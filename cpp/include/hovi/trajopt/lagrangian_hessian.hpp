@@ -24,8 +24,9 @@ struct HessianColouring {
 // random point near x (each variable moved by 10% of max(1, |x_j|), random multipliers) by one
 // gradient change per distance-2 colour of P (python/hovi/trajopt/hessian.py documents it), plus
 // the quadratic costs' entries and the diagonal. own_structures: the parts with Hessians of their
-// own (the transcription's, if it has one; the built-in rows') add their structures' entries
-// instead of being probed, and only the rest is probed (nothing, if nothing is left).
+// own (the transcription's, if it has one; the built-in rows') add the entries of those Hessians
+// above 1e-14 of their largest at that point instead of being probed, and only the rest is probed
+// (nothing, if nothing is left).
 std::pair<Eigen::VectorXi, Eigen::VectorXi> probed_pattern(const NlpProgram& program, const Pattern& P,
                                                            const VecX& x, unsigned seed, bool own_structures = false);
 
