@@ -295,7 +295,8 @@ def test_atlas_higher_orders_start_from_the_trapezoidal_solution(monkeypatch):
     def solve(problem, method, guess=None, **kwargs):
         calls.append((method, guess))
         ok = first_success[0] if method == VI(1) else True
-        return SimpleNamespace(success=ok, iterations=10 * len(calls), cost=1.0, wall_seconds=0.5, solver={}, contact={},
+        return SimpleNamespace(success=ok, iterations=10 * len(calls), cost=1.0, wall_seconds=0.5, solver={},
+                               timing={}, contact={},
                                transcription=SimpleNamespace(method=method), as_guess=lambda: "first's interpolants")
 
     monkeypatch.setattr(report.trajopt, "solve", solve)

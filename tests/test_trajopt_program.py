@@ -256,7 +256,7 @@ def test_hessian_equals_central_differences_of_the_lagrangian_gradient(problem, 
 
 
 @pytest.mark.parametrize("problem, method", HESSIAN_CASES)
-def test_own_structures_pattern_holds_every_entry_of_the_probed_one(problem, method):
+def test_own_structures_pattern_misses_no_entry_of_the_dense_differences(problem, method):
     """LagrangianHessian(nlp, x0, own_structures=True) ('directional' and 'auto'): the entries of the
     parts with Hessians of their own (the VI's, the built-in rows') are read from those Hessians'
     values at the probe point instead of probed by gradient differences. No entry of the dense

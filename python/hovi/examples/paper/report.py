@@ -13,6 +13,7 @@ import numpy as np
 
 from ... import trajopt
 from ...trajopt import Result
+from ...trajopt.solvers.ipopt import with_continuation
 from ...trajopt.transcriptions import from_name
 from .contact_figures import between_knot_text
 from .contact_replay import simulated_figures, simulated_text
@@ -198,13 +199,13 @@ def solve(example: Example, method: str = "vi", s: int = 1, verbose: bool = Fals
     well posed) and the solve starts from its solution: on the sides of the complementarity pairs
     it found (``solve_contact(sides_from=...)``), or without contacts from its interpolants (the
     default pipeline's order continuation, which ``trajopt.solve`` applies only to a guess by name,
-    here without its cap on the continued solve's iterations; its first stage is reported in
-    ``solver['continuation']``); with ``example.warm_up``, the trapezoidal solve itself starts on
-    the sides of the warm-up's; a contact-implicit result's ``contact['solves']``, 'iterations' and
-    'wall_seconds' count both, and ``contact['coarse']`` holds the trapezoidal solve's (iterations,
-    seconds in IPOPT). Iterations and times of both ways: bench/README.md ("Design measurements",
-    report.py). ``reported``: a VI solve gets ``example.replay_options`` too (False: a solve that
-    only starts another)."""
+    here without its cap on the continued solve's iterations; its first stage is reported as there,
+    in ``timing['continuation']`` and ``solver['continuation']``); with ``example.warm_up``, the
+    trapezoidal solve itself starts on the sides of the warm-up's; a contact-implicit result's
+    ``contact['solves']``, 'iterations' and 'wall_seconds' count both, and ``contact['coarse']``
+    holds the trapezoidal solve's (iterations, seconds in IPOPT). Iterations and times of both ways:
+    bench/README.md ("Design measurements", report.py). ``reported``: a VI solve gets
+    ``example.replay_options`` too (False: a solve that only starts another)."""
     options = {**example.options, **(example.replay_options if reported and method == "vi" else {})}
     coarse, first = None, None
     if method == "vi" and s == 1 and example.warm_up is not None:
@@ -223,11 +224,7 @@ def solve(example: Example, method: str = "vi", s: int = 1, verbose: bool = Fals
             options["max_cpu_time"] = float(time_limit)
         guess = coarse.as_guess() if coarse is not None and coarse.success else example.guess
         result = trajopt.solve(example.problem, from_name(method, s), guess=guess, options=options, verbose=verbose)
-        if coarse is not None:
-            result.solver["continuation"] = {"transcription": coarse.transcription.method, "success": coarse.success,
-                                             "iterations": coarse.iterations, "cost": coarse.cost,
-                                             "seconds": first_seconds, "used": coarse.success}
-        return result
+        return result if coarse is None else with_continuation(result, coarse, first_seconds, coarse.success)
     epsilons = {} if example.epsilons is None else {"epsilons": example.epsilons}
     result = trajopt.solve_contact(example.problem, from_name(method, s), guess=example.guess,
                                    options=options, verbose=verbose, hessian="auto", time_limit=time_limit,

@@ -322,6 +322,17 @@ def _set_colouring(program: Any, H: LagrangianHessian, threads: int | None, by_d
                           H.read_row.astype(np.int32), H.read_col.astype(np.int32), threads, by_differences)
 
 
+def with_continuation(result: Result, first: Result, seconds: float, used: bool) -> Result:
+    """``result`` with the first stage of an order continuation recorded: ``timing['continuation']``
+    (its seconds) and ``solver['continuation']`` (its transcription, success, iterations, cost,
+    seconds, and whether ``result`` started from it)."""
+    result.timing["continuation"] = seconds
+    result.solver["continuation"] = {"transcription": first.transcription.method, "success": first.success,
+                                     "iterations": first.iterations, "cost": first.cost, "seconds": seconds,
+                                     "used": used}
+    return result
+
+
 class Ipopt(NLPSolver):
     """IPOPT on the NLP. ``options`` are passed to IPOPT over hovi's ``DEFAULT_OPTIONS``
     (limited-memory Hessian, tol 1e-8, constraint violation 1e-10, bounds not relaxed);
@@ -420,11 +431,7 @@ class Ipopt(NLPSolver):
         seconds = time.perf_counter() - t0 - (result.timing["setup"] + result.wall_seconds if used else 0.0)
         if not used:
             result = super().solve(problem, transcription, guess)
-        result.timing["continuation"] = seconds
-        result.solver["continuation"] = {"transcription": first_order, "success": first.success,
-                                         "iterations": first.iterations, "cost": first.cost, "seconds": seconds,
-                                         "used": used}
-        return result
+        return with_continuation(result, first, seconds, used)
 
     def hessian_for(self, nlp: NLP) -> str:
         """The Hessian used on ``nlp``: 'auto' resolved ('directional' unless the problem has a CallbackCost)."""
@@ -506,7 +513,7 @@ class Ipopt(NLPSolver):
         program = nlp.program()
         exact = self.hessian in EXACT_HESSIANS
         if exact and not program.has_hessian:   # probed near its first start, once per transcription and terms
-            H = LagrangianHessian(nlp, x0, own_structures=self.hessian != "fd")
+            H = LagrangianHessian(nlp, x0, own_structures=self.hessian == "directional")
             _set_colouring(program, H, self.threads, self.hessian == "fd")
         elif exact:
             program.set_hessian_options(self.threads, self.hessian == "fd")
