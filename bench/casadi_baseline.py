@@ -550,8 +550,8 @@ def main():
     references = last = None
     if (args.reuse_references or args.only) and not args.quick:
         import json
-        from common import RESULTS
-        with open(os.path.join(RESULTS, "casadi_baseline.json")) as f:
+        from common import COMMITTED
+        with open(os.path.join(COMMITTED, "casadi_baseline.json")) as f:
             last = json.load(f)
         references = {name: d["reference"] for name, d in last["swingups"].items()}
     out = run(grids, with_hovi=not args.no_hovi, refine=8 if args.quick else 16,

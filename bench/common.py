@@ -12,7 +12,11 @@ import sysconfig
 import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-RESULTS = os.path.join(ROOT, "bench", "results")
+# The committed full runs (what a study reads of another's, or re-tabulates), and where the studies
+# write their JSON files and figures: the same folder, or HOVI_BENCH_RESULTS (the quick runs of
+# tests/test_bench_quick.py write into a temporary folder and read what they wrote there).
+COMMITTED = os.path.join(ROOT, "bench", "results")
+RESULTS = os.environ.get("HOVI_BENCH_RESULTS") or COMMITTED
 
 
 def machine() -> dict:
@@ -59,6 +63,12 @@ def parallel(args):
 def parallel_description(args) -> dict:
     """How the states were spread, for the JSON files."""
     return {"workers": args.workers, "scheduler": args.scheduler}
+
+
+def hovi_commit() -> str:
+    """The short hash of the checkout's HEAD (empty outside a git checkout), for the JSON files."""
+    done = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True, text=True)
+    return done.stdout.strip()
 
 
 def write_json(name: str, payload: dict) -> str:

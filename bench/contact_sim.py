@@ -40,7 +40,6 @@ from __future__ import annotations
 
 import argparse
 import os
-import subprocess
 import time
 import xml.etree.ElementTree as ET
 
@@ -51,7 +50,7 @@ import hovi
 from hovi import _core
 from hovi.contact import Contacts, Terrain
 from hovi.examples.standing import standing
-from common import RESULTS, loglog_slope, update_readme_section, write_json
+from common import RESULTS, hovi_commit, loglog_slope, update_readme_section, write_json
 
 mujoco = mjm.mujoco
 G = 9.81
@@ -739,7 +738,7 @@ def main():
 
     load = os.getloadavg()
     name = "contact_sim_quick" if quick else "contact_sim"
-    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=RESULTS, capture_output=True, text=True).stdout.strip()
+    commit = hovi_commit()
     payload = {"quick": quick, "hovi_commit": commit, "repeats": repeats, "bisection_steps": bisect, "horizons_s": horizon,
                "load_average_start": load_start, "load_average_end": load, "mujoco_version": mujoco.__version__,
                "mujoco_settings": mujoco_settings(), "model_agreement": agreement, "criteria": CRITERIA,

@@ -39,7 +39,6 @@ from __future__ import annotations
 
 import argparse
 import os
-import subprocess
 import sys
 import time
 
@@ -50,7 +49,7 @@ from hovi import _core, control, trajopt
 from hovi.control import Policy
 
 import crocoddyl_baseline as cb
-from common import RESULTS, update_readme_section, write_json
+from common import COMMITTED, RESULTS, hovi_commit, update_readme_section, write_json
 
 LEVELS = (1e-3, 1e-5)             # re-simulation errors for "time at equal accuracy"
 HOVI_TOL, CROC_TH_STOP, MAX_ITER = 1e-9, 1e-10, 2000
@@ -689,7 +688,7 @@ def main():
     args = ap.parse_args()
     if args.tables:
         import json
-        with open(os.path.join(RESULTS, "control.json")) as f:
+        with open(os.path.join(COMMITTED, "control.json")) as f:
             update_readme_section("control", tables(json.load(f)["results"]))
         return
     repeats = args.repeats or (1 if args.quick else 5)
@@ -707,7 +706,7 @@ def main():
         res[key]["load_average_1min"] = [load, os.getloadavg()[0]]  # at the part's start and end
     res["repeats"] = repeats
     name = "control_quick" if args.quick else "control"
-    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=RESULTS, capture_output=True, text=True).stdout.strip()
+    commit = hovi_commit()
     payload = {"quick": args.quick, "parts": args.only, "hovi_commit": commit, "versions": versions(),
                "threads": "one core per solve (Crocoddyl nthreads = 1; hovi FDDP threads = 1; batches threads = 1)",
                "load_average_start": list(load_start), "load_average_end": list(os.getloadavg()),

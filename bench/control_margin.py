@@ -33,13 +33,12 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import subprocess
 import time
 from typing import Any, Dict, Optional, Tuple
 
 import numpy as np
 
-from common import RESULTS, write_json
+from common import hovi_commit, write_json
 from hovi import _core
 from hovi.examples.paper import build, report
 from hovi.examples.paper import closed_loop as CL
@@ -237,8 +236,7 @@ def main() -> None:
             nominal = dict(np.load(os.path.join(args.solutions, f"{name}.npz")))
         results[name] = study(name, args.margin, args.solutions, nominal)
         print(text(name, results[name]), flush=True)
-    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=RESULTS, capture_output=True,
-                            text=True).stdout.strip()
+    commit = hovi_commit()
     path = write_json("control_margin.json", {"hovi_commit": commit, "examples": "quick", "margin": args.margin,
                                               "mass_factor": CL.MASS_FACTOR, "results": results,
                                               "load_average_end": os.getloadavg(),

@@ -26,13 +26,12 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import os
-import subprocess
 import time
 
 import numpy as np
 
 import control_videos
-from common import RESULTS, write_json
+from common import hovi_commit, write_json
 from hovi.control import Push
 from hovi.examples.paper import build, report
 from hovi.examples.paper import closed_loop as CL
@@ -226,8 +225,7 @@ def main() -> None:
         results[name] = entry
     text = table(results)
     print(text)
-    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=RESULTS, capture_output=True,
-                            text=True).stdout.strip()
+    commit = hovi_commit()
     payload = {"quick": args.quick, "hovi_commit": commit, "examples": "quick", "robots": robots,
                "load_average_start": load_start, "load_average_end": os.getloadavg(),
                "departed": CL.DEPARTED, "results": results, "table": text,

@@ -24,7 +24,7 @@ from tqdm import tqdm
 import mujoco_model as mjm
 import hovi
 from hovi.baselines import HermiteSimpson
-from common import RESULTS, update_readme_section, write_json
+from common import COMMITTED, RESULTS, update_readme_section, write_json
 from fig4_hermite_simpson import dop853, mean_error
 
 # Keyword options of each hovi method, in one place (a new solver option is one more entry). The
@@ -223,7 +223,7 @@ def envelope(curves):
 
 def replot():
     """Table, plot and README section from the committed full run (after a change to the table's rules)."""
-    with open(f"{RESULTS}/pareto.json") as f:
+    with open(f"{COMMITTED}/pareto.json") as f:
         data = json.load(f)
     problems = {int(n): T for n, T in data["problems"].items()}
     text, rows = table(data["runs"], list(problems), data.get("conditions", LOADED))

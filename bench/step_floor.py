@@ -21,7 +21,7 @@ import json
 import numpy as np
 
 import hovi
-from common import RESULTS, update_readme_section, write_json
+from common import COMMITTED, update_readme_section, write_json
 
 LEVELS = [1e-3, 1e-4]
 ORDERS = [2, 3, 4]
@@ -57,7 +57,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--quick", action="store_true", help="n = 12, s = 2, 1e-3 only, 20 steps")
     args = ap.parse_args()
-    with open(f"{RESULTS}/pareto.json") as f:
+    with open(f"{COMMITTED}/pareto.json") as f:
         pareto = json.load(f)
     rk4 = {(r["n"], r["level"]): r["rk4_seconds"] for r in pareto["equal_error_table"]}
     ns, orders, levels = ([12], [2], [1e-3]) if args.quick else ([int(n) for n in pareto["problems"]], ORDERS, LEVELS)

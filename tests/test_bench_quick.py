@@ -10,24 +10,38 @@ SCRIPTS = ["speed.py", "linearization.py", "constraints.py", "constrained_energy
            "fig4_hermite_simpson.py", "stability.py", "trajopt.py", "pareto.py", "energy_runtime.py",
            "direction_crossover.py", "jacobian_reuse.py", "step_floor.py", "fuzz_urdf.py", "soak_threads.py", "robot_sweep.py", "long_run.py",
            "robot_examples.py --only flamingo atlas", "scaling.py",  # LittleDog's quick solve: tests/test_robot_examples.py
-           "contact_sim.py",  # hovi's contact simulation against MuJoCo (issue 31)
-           "contact_order.py",  # impacts located on the step's polynomial: order 2s kept (issue 31)
-           "ipopt_options.py",  # IPOPT's Hessian and barrier options on the swing-ups (issue 33)
-           "acrobot_basins.py",  # which acrobot optimum each pipeline reaches (issue 33)
-           "hessian_cost.py",  # the VI's own Hessian against coloured differences on the robots (issue 33)
+           "contact_sim.py",  # hovi's contact simulation against MuJoCo
+           "contact_order.py",  # impacts located on the step's polynomial: order 2s kept
+           "ipopt_options.py",  # IPOPT's Hessian and barrier options on the swing-ups
+           "acrobot_basins.py",  # which acrobot optimum each pipeline reaches
+           "hessian_cost.py",  # the VI's own Hessian against coloured differences on the robots
            # the studies over many states, on local threads and on a Dask LocalCluster
            "fig2_quasi_newton.py --workers 2", "stability.py --scheduler local --workers 2"]
 
 
-@pytest.mark.parametrize("command", SCRIPTS)
-def test_bench_script_quick_mode(command):
-    script, *args = command.split()
-    done = subprocess.run([sys.executable, os.path.join(BENCH, script), "--quick", *args], cwd=BENCH,
+def run_quick(script: str, args: list, results) -> str:
+    """Runs bench/<script> --quick writing into the folder ``results`` (HOVI_BENCH_RESULTS); its output."""
+    env = dict(os.environ, HOVI_BENCH_RESULTS=str(results))
+    done = subprocess.run([sys.executable, os.path.join(BENCH, script), "--quick", *args], cwd=BENCH, env=env,
                           capture_output=True, text=True, timeout=600)
     assert done.returncode == 0, done.stdout[-2000:] + done.stderr[-4000:]
-    stem = script[:-3]
-    results = os.listdir(os.path.join(BENCH, "results"))
-    assert any(f.startswith(stem.split("_")[0]) and "quick" in f and f.endswith(".json") for f in results), results
+    return done.stdout
+
+
+@pytest.mark.parametrize("command", SCRIPTS)
+def test_bench_script_quick_mode(command, tmp_path):
+    """Each study's quick run writes its quick JSON into the folder it is given, with the machine it ran
+    on and results; a file already in bench/results cannot stand in for it."""
+    import json
+    script, *args = command.split()
+    run_quick(script, args, tmp_path)
+    stem = script[:-3].split("_")[0]
+    written = [f for f in os.listdir(tmp_path) if f.startswith(stem) and "quick" in f and f.endswith(".json")]
+    assert written, os.listdir(tmp_path)
+    for name in written:
+        with open(tmp_path / name) as f:
+            payload = json.load(f)
+        assert payload["machine"]["cores"] >= 1 and len(payload) > 1, name
 
 
 def test_pareto_time_to_reach_takes_the_cheapest_crossing():
@@ -58,8 +72,8 @@ def test_acrobot_basins_smooth_guess():
     assert u(t).shape == (17, 1) and not u(t).any()
 
 
-def test_control_quick_mode():
-    """bench/control.py --quick (issue 32): FDDP on the VI against Crocoddyl's (RK4), TVLQR Monte-Carlo,
+def test_control_quick_mode(tmp_path):
+    """bench/control.py --quick: FDDP on the VI against Crocoddyl's (RK4), TVLQR Monte-Carlo,
     the upright LQR's region of attraction, MPC's solve times and FDDP through contact, in one small run."""
     pytest.importorskip("crocoddyl")
     pytest.importorskip("pinocchio")
@@ -68,11 +82,9 @@ def test_control_quick_mode():
         cb.build_problem("pendulum", N=2)
     except cb.CrocoddylPinocchioMismatch as e:
         pytest.skip(str(e))
-    done = subprocess.run([sys.executable, os.path.join(BENCH, "control.py"), "--quick"], cwd=BENCH,
-                          capture_output=True, text=True, timeout=600)
-    assert done.returncode == 0, done.stdout[-2000:] + done.stderr[-4000:]
+    run_quick("control.py", [], tmp_path)
     import json
-    with open(os.path.join(BENCH, "results", "control_quick.json")) as f:
+    with open(tmp_path / "control_quick.json") as f:
         res = json.load(f)["results"]
     rows = res["A"]["swingups"]["pendulum"]["rows"]
     by = {(r["N"], r["solver"]): r for r in rows}

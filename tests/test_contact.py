@@ -412,11 +412,10 @@ def test_dropped_planar_hopper_lands_on_its_foot_and_settles_on_its_spring():
     np.testing.assert_allclose(normal[end], (m_body + m_leg) * G, rtol=1e-3)                # ground carries all
 
 
-def test_solve_contact_leaves_the_problem_unchanged_and_old_spellings_warn():
+def test_solve_contact_leaves_the_problem_unchanged():
     """The homotopy gives each NLP its relaxation (hovi.contact.ComplementarityRelaxation) and never
-    writes to the Problem; solve_contact(problem, s=1) and transcription='vi' (the old spellings,
-    whose order defaulted to s = 1) warn and give the same solve as VI(s=1); the exact conditions
-    straight to an NLP are refused."""
+    writes to the Problem; the transcription must be a VI or HermiteSimpson (the old string spellings
+    are gone); the exact conditions straight to an NLP are refused."""
     contacts, prob = contact_problem(planar_point_mass(), [0.0, 0.3], [0.0, 0.0], 0.5, 25, mu=0.5)
     before = {k: (v.copy() if isinstance(v, np.ndarray) else v) for k, v in vars(prob).items()}
     new = trajopt.solve_contact(prob, VI1)
@@ -427,28 +426,9 @@ def test_solve_contact_leaves_the_problem_unchanged_and_old_spellings_warn():
             np.testing.assert_array_equal(after[key], value)
         else:
             assert after[key] is value or after[key] == value, key
-    for kwargs in ({"s": 1}, {"transcription": "vi"}):
-        with pytest.warns(DeprecationWarning, match="solve_contact"):
-            old = trajopt.solve_contact(prob, **kwargs)
-        assert old.transcription.method == VI1 and old.contact["solves"] == new.contact["solves"]
-        np.testing.assert_array_equal(old.x, new.x)
+    assert new.transcription.method == VI1
+    with pytest.raises(ValueError, match="not a string"):
+        trajopt.solve_contact(prob, "vi")
     with pytest.raises(ValueError, match="solve_contact"):
         trajopt.NLP(prob, VI1, relaxation=hovi.contact.ComplementarityRelaxation(0.0))
     assert trajopt.NLP(prob, VI1, relaxation=hovi.contact.ComplementarityRelaxation(1e-2)).contact_rows.epsilon == 1e-2
-
-
-def test_moved_contact_names_keep_deprecated_aliases():
-    """hovi.trajopt.complementarity and hovi.trajopt.contact_solve (moved to hovi.contact and
-    hovi.trajopt.solvers.contact_homotopy) still give the same objects for one release, with a warning."""
-    import hovi.contact.sides
-    import hovi.trajopt.solvers.contact_homotopy as homotopy
-    with pytest.warns(DeprecationWarning, match="hovi.contact.ContactRows"):
-        from hovi.trajopt.complementarity import ContactRows as OldRows
-    with pytest.warns(DeprecationWarning, match="hovi.contact.least_slack"):
-        from hovi.trajopt.contact_solve import least_slack as old_least_slack
-    with pytest.warns(DeprecationWarning, match="hovi.trajopt.solve_contact"):
-        from hovi.trajopt.contact_solve import solve_contact as old_solve_contact
-    with pytest.warns(DeprecationWarning, match="FINISH_BELOW"):
-        from hovi.trajopt.contact_solve import FINISH_BELOW as old_finish_below
-    assert OldRows is ContactRows and old_least_slack is hovi.contact.sides.least_slack
-    assert old_solve_contact is trajopt.solve_contact and old_finish_below == homotopy.FINISH_BELOW == FINISH_BELOW

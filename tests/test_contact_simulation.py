@@ -1,4 +1,4 @@
-"""The contact simulator (hovi.Integrator(..., contacts=...), cpp/include/hovi/contact/) against
+"""The contact simulator (hovi.Integrator(..., contacts=...), cpp/include/hovi/integrators/contact_stages, contact_solver) against
 closed forms at s = 1: a dropped block falls as z0 - g t^2/2 and rests with normal force m g; a
 pushed block sticks or accelerates at (F - mu m g)/m; a sliding block stops after v0^2/(2 mu g);
 a block on an incline sticks for tan(theta) < mu and slides at g (sin theta - mu cos theta)

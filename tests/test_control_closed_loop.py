@@ -328,7 +328,7 @@ def pd_pull(integ, m=2.0, mu=0.5, g=9.81):
 
 
 def test_feedback_on_a_block_with_friction_is_a_python_loop_of_steps_and_its_rollout():
-    """The hook sees (q^k, p^k) before the knot's contact impulse (contact_integrator.hpp): the state
+    """The hook sees (q^k, p^k) before the knot's contact impulse (galerkin_integrator.hpp): the state
     the step starts from, the p that Integrator.step returns; a Python loop of steps under
     Policy.control is the same run."""
     integ = block_on_ground()

@@ -2,7 +2,7 @@
 cpp/baselines): no include cycle at header level (a .cpp counts as the .hpp it implements), and no
 include against the layer order
 
-    spatial -> model -> {algorithms, forces} -> constraints -> parsers -> integrators -> {trajopt, contact}
+    spatial -> model -> {algorithms, forces} -> constraints -> parsers -> integrators -> trajopt
         -> control
 
 (the bindings above all). model/ holds the Model and the interfaces it stores (BodyWrench,
@@ -12,8 +12,9 @@ constraints sit above forces); parsers/ read and write models (URDF, the byte fo
 model_serialization), every kind included. The baselines may include the product; the product
 never includes the baselines. Directories outside the named layers (util, quadrature, parallel,
 errors.hpp) sit at the bottom, beside spatial; models (built-in models) is a peer of algorithms.
-control (Riccati, policies, FDDP, MPC) steps the integrator and the contact simulator, so it sits
-above both."""
+integrators/ holds the one stepper with its contact stages (contact is a stage of the step, not a
+second simulator) and its linearisation. control (Riccati, policies, FDDP, MPC) steps the integrator
+and solves with its linearisation, so it sits above it."""
 from __future__ import annotations
 
 import re
@@ -28,7 +29,7 @@ INCLUDE = re.compile(r'^\s*#\s*include\s+"(hovi/[^"]+)"', re.M)
 # (algorithms, forces, models) may not include each other.
 LAYERS = {"errors.hpp": 0, "spatial": 1, "util": 2, "quadrature": 2, "parallel": 2, "model": 3,
           "algorithms": 4, "forces": 4, "models": 4, "constraints": 5, "parsers": 6,
-          "integrators": 7, "trajopt": 8, "contact": 8, "control": 9, "baselines": 10}
+          "integrators": 7, "trajopt": 8, "control": 9, "baselines": 10}
 # Arrows against the order and cycles that the tree is allowed to keep: none (a new one fails).
 KNOWN: set[str] = set()
 KNOWN_CYCLES: set[str] = set()

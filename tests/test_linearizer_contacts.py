@@ -1,5 +1,5 @@
 """Step Jacobians through contact (hovi.Linearizer of an Integrator with contacts; the C++
-ContactLinearizer) against central differences of the contact step, away from contact switches:
+ContactJacobians, its contact part) against central differences of the contact step, away from contact switches:
 a planar body on two contact points in stance (four rows on three freedoms: the friction
 impulses undetermined, the motion not), sliding and flight, and a box sliding. A box flat on four
 corners is at a switch (the LCP loads two, a tilt loads the others), as a flat sole is: not

@@ -61,21 +61,9 @@ def test_a_trajectory_carries_its_discretization_not_the_integrator():
     assert d is integ.discretization and (d.s, d.dt, d.model) == (3, 0.01, integ.model)
     np.testing.assert_array_equal(traj.energy, integ.energies(traj.q, traj.p))
     np.testing.assert_array_equal(traj.qdot[5], integ.velocity(traj.q[5], traj.p[5]))
-    with pytest.warns(DeprecationWarning, match="Trajectory.integrator is deprecated"):
-        assert traj.integrator is d
     # every configuration sample in time order: q^{k,0..s-1} of each step, then q^K
     Q = traj.configuration_points
     assert Q.shape == (50 * 3 + 1, 3)
     np.testing.assert_array_equal(Q[3 * 7:3 * 8], traj.control_points[7, :3])
     np.testing.assert_array_equal(Q[3 * 8], traj.q[8])
     np.testing.assert_array_equal(Q[-1], traj.q[-1])
-
-
-def test_the_old_module_still_loads(tmp_path):
-    integ, traj = rollout(hovi.examples.models.pendulum(2))
-    traj.save(tmp_path / "t.npz")
-    import importlib, sys
-    sys.modules.pop("hovi.trajectory_io", None)
-    with pytest.warns(DeprecationWarning, match="hovi.trajectory_io is deprecated"):
-        old = importlib.import_module("hovi.trajectory_io")
-    np.testing.assert_array_equal(old.load_trajectory(tmp_path / "t.npz", integ).q, traj.q)

@@ -165,8 +165,8 @@ def test_blocks_refuse_bad_input():
     block = cn.contact_rows.block(cn.n_variables)
     assert block.rows == cn.contact_rows.count and block.nnz == len(cn.contact_rows.rows)
     ct, cr = cn.contact_rows.contacts, cn.contact_rows
-    ground, gaps, boxes = ct.terrain.arrays()
-    args = (ct.model, cn.n_variables, [4, 4], np.zeros((2, 3)), ground, gaps, boxes, ct.mu, ct.D, ct.first_input)
+    two = hovi._core.ContactModel([4, 4], np.zeros((2, 3)), ct.terrain.core(), ct.mu, ct.D)
+    args = (ct.model, cn.n_variables, two, ct.first_input)
     ComplementarityRows = hovi._core.trajopt.ComplementarityRows
     q_off, u_off = cr.q_off.astype(np.int32), cr.u_off.astype(np.int32)
     with pytest.raises(ValueError, match="increase"):
@@ -175,9 +175,9 @@ def test_blocks_refuse_bad_input():
         ComplementarityRows(*args, cr.t[:1], q_off[:1], u_off[:1])
     with pytest.raises(ValueError, match="contact input lies outside"):
         ComplementarityRows(*args, cr.t, q_off, u_off + cn.n_variables)
+    bad = hovi._core.ContactModel([7, 4], np.zeros((2, 3)), ct.terrain.core(), ct.mu, ct.D)
     with pytest.raises(ValueError, match="body index 7"):
-        ComplementarityRows(ct.model, cn.n_variables, [7, 4], *args[3:], cr.t, q_off, u_off)
-
+        ComplementarityRows(ct.model, cn.n_variables, bad, ct.first_input, cr.t, q_off, u_off)
 
 def test_program_refuses_rows_placed_twice():
     """Between the transcription's rows and the linear rows every place is taken once."""

@@ -247,26 +247,6 @@ def test_transcriptions_are_small_immutable_specs():
     assert tr.method == trajopt.HermiteSimpson("explicit") and tr.name == tr.method.name == "hs-explicit"
 
 
-def test_deprecated_string_spellings_warn_and_give_the_same_result():
-    """solve(problem, 'vi', s=...), solve(problem, 'hs-implicit'), solve(problem, s=...) and
-    transcribe(problem, 'vi', s) keep working for one release, with a DeprecationWarning, and give
-    what the new spelling gives."""
-    for old, new in (((("vi",), {"s": 1}), trajopt.VI(1)), ((("hs-implicit",), {}), trajopt.HermiteSimpson()),
-                     (((), {"s": 3}), trajopt.VI(3))):
-        args, kwargs = old
-        with pytest.warns(DeprecationWarning, match="deprecated"):
-            r_old = trajopt.solve(examples.pendulum_swingup(N=8), *args, verbose=False, **kwargs)
-        r_new = trajopt.solve(examples.pendulum_swingup(N=8), new, verbose=False)
-        assert r_old.transcription.method == new and r_old.iterations == r_new.iterations
-        np.testing.assert_array_equal(r_old.x, r_new.x)
-    with pytest.warns(DeprecationWarning, match="transcribe"):
-        tr = trajopt.transcribe(examples.pendulum_swingup(N=8), "vi", 2)
-    assert tr.method == trajopt.VI(2)
-    with pytest.warns(DeprecationWarning, match="hovi.trajopt.solve"):
-        from hovi.trajopt import ipopt
-        assert ipopt.solve is trajopt.solve
-
-
 def acrobot_from_a_straight_line():
     prob = trajopt.Problem(hovi.examples.models.acrobot(), 100, 5.0, u_bounds=(-10, 10))
     return prob.initial_state([0.0, 0.0]).final_state([np.pi, 0.0], qdot=[0.0, 0.0]).add_cost(trajopt.ControlEffort())

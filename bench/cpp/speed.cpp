@@ -129,7 +129,7 @@ struct Bench {
     SolveInfo info;
     const double t_step = time_per_call([&] {
       qc = guess;
-      info = integ.step(p0, u, qc, pn);
+      info = integ.solve(p0, u, qc, pn);
     });
     const int N = 1000;
     MatX U(N, (s + 1) * model.n_controls());
@@ -153,13 +153,13 @@ struct Bench {
     GalerkinIntegrator integ(model, s, dt);
     const Quadrature& quad = integ.quadrature();
     DelJacobianWorkspace ws(model, quad);
-    Linearizer lin(model, quad, dt);
+    Linearizer lin(integ);
     const VecX q0 = random(n, M_PI / 12), qd0 = VecX::Zero(n);
     MatX qc(n, s + 1), u = MatX::Zero(model.n_controls(), s + 1), H((s + 1) * n, (s + 1) * n), Jq, A, B;
     VecX pn(n);
     qc.col(0) = q0;
     integ.guess_from_velocity(qd0, qc);
-    integ.step(integ.momentum(q0, qd0), u, qc, pn);  // converged control points
+    integ.solve(integ.momentum(q0, qd0), u, qc, pn);  // converged control points
     const double t_d2l = time_per_call([&] { dlagrangian_hessian(model, quad, ws, qc, dt, H); });
     const double t_jac = time_per_call([&] { lin.del_jacobian(qc, u, Jq, nullptr); });
     const double t_A = time_per_call([&] { lin.step_jacobians(qc, u, &A, nullptr); });

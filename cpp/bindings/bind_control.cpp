@@ -14,7 +14,7 @@
 #include "hovi/control/riccati.hpp"
 #include "hovi/control/state_map.hpp"
 #include "hovi/errors.hpp"
-#include "py_contact.hpp"
+#include "py_integrator.hpp"
 
 namespace hovi::py_bind {
 namespace {
@@ -66,19 +66,19 @@ Policy policy_arg(const ArrayLike& x_ref, const ArrayLike& u_ref, const ArrayLik
   return p;
 }
 
-template <class PyPlant, class Plant, class Result>
+// B closed-loop runs (closed_loop_batch) on the plants' integrators, as rollout dicts.
 py::tuple run_batch(const py::list& plants, const Policy& policy, const py::list& pushes, const MatX& Q0, const MatX& P0,
-                    int steps, int threads, const Plant& (*core)(const PyPlant&)) {
-  std::vector<const Plant*> ps;
-  for (const py::handle& h : plants) ps.push_back(&core(h.cast<const PyPlant&>()));
+                    int steps, int threads) {
+  std::vector<const GalerkinIntegrator*> ps;
+  for (const py::handle& h : plants) ps.push_back(&h.cast<const PyIntegrator&>().integ());
   const auto push = pushes_arg(pushes);
-  std::vector<Result> out;
+  std::vector<Rollout> out;
   std::vector<std::string> errors;
   std::vector<double> seconds(Q0.rows());
   {
     py::gil_scoped_release release;
     const auto t0 = std::chrono::steady_clock::now();
-    errors = closed_loop_batch<Plant, Result>(ps, policy, push, Q0, P0, steps, out, threads);
+    errors = closed_loop_batch(ps, policy, push, Q0, P0, steps, out, threads);
     seconds.assign(Q0.rows(), std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   }
   py::list items;
@@ -87,25 +87,19 @@ py::tuple run_batch(const py::list& plants, const Policy& policy, const py::list
   return py::make_tuple(items, error_list(errors));
 }
 
-const GalerkinIntegrator& free_core(const PyIntegrator& p) { return p.integ(); }
-
-// A ShootingProblem with the Integrator (or contact simulator) it steps kept alive (py::keep_alive)
-// and its model watched.
+// A ShootingProblem with the Integrator it steps kept alive (py::keep_alive) and its model watched.
 class PyShootingProblem {
  public:
   PyShootingProblem(const PyIntegrator& integ, int N, const VecX& x0, std::vector<SampleCost> costs, const VecX& lo,
-                    const VecX& hi)
-      : watch_([&integ] { integ.integ(); }), core_(integ.integ(), N, x0, std::move(costs), lo, hi) {}
-  PyShootingProblem(const PyContactIntegrator& contact, double kappa, int N, const VecX& x0,
-                    std::vector<SampleCost> costs, const VecX& lo, const VecX& hi)
-      : watch_([&contact] { contact.core(); }), core_(contact.core(), kappa, N, x0, std::move(costs), lo, hi) {}
+                    const VecX& hi, double kappa)
+      : integ_(integ), core_(integ.integ(), N, x0, std::move(costs), lo, hi, kappa) {}
   ShootingProblem& core() {
-    watch_();  // raises once the model changed
+    integ_.integ();  // raises once the model changed
     return core_;
   }
 
  private:
-  std::function<void()> watch_;
+  const PyIntegrator& integ_;
   ShootingProblem core_;
 };
 
@@ -202,7 +196,6 @@ StrDict fddp_dict(const FddpResult& r) {
   d["seconds"] = r.seconds;
   return d;
 }
-const ContactIntegrator& contact_core(const PyContactIntegrator& p) { return p.core(); }
 
 }  // namespace
 
@@ -248,25 +241,18 @@ The VI as the dynamics of an optimal control problem (control/shooting_problem.h
 Integrator from x0 = (q, p) (2n,), held controls within u_lower, u_upper (m,), and quadratic cost terms
 on the steps' control points (hovi.trajopt.FDDP builds it from a Problem).
 )doc")
-      .def(py::init([](const AnyIntegrator& integrator, int N, const ArrayLike& x0, const py::list& costs,
+      .def(py::init([](const PyIntegrator& integ, int N, const ArrayLike& x0, const py::list& costs,
                        const ArrayLike& u_lower, const ArrayLike& u_upper, double smoothing) {
-             const bool contact = py::isinstance<PyContactIntegrator>(integrator);
-             const PyIntegrator& integ = contact ? integrator.cast<const PyContactIntegrator&>().py()
-                                                 : integrator.cast<const PyIntegrator&>();
              const int n = integ.n(), m = integ.m();
              const RealArray lo = real_array(u_lower, "u_lower"), hi = real_array(u_upper, "u_upper");
              const VecX x = as_vector(x0, "x0", 2 * n);
              const VecX l = Eigen::Map<const VecX>(lo.data(), lo.size()), h = Eigen::Map<const VecX>(hi.data(), hi.size());
-             if (contact)
-               return std::make_unique<PyShootingProblem>(integrator.cast<const PyContactIntegrator&>(), smoothing, N, x,
-                                                          sample_costs(costs, n, m), l, h);
-             if (smoothing != 0) throw InputError("smoothing is for shooting through contact");
-             return std::make_unique<PyShootingProblem>(integ, N, x, sample_costs(costs, n, m), l, h);
+             return std::make_unique<PyShootingProblem>(integ, N, x, sample_costs(costs, n, m), l, h, smoothing);
            }),
            py::keep_alive<1, 2>(), py::arg("integrator"), py::arg("N"), py::arg("x0"), py::arg("costs"),
            py::arg("u_lower"), py::arg("u_upper"), py::arg("smoothing") = 0.0, R"doc(
-integrator: a _core.Integrator, or a _core.ContactIntegrator (s = 1) to shoot through contact with its
-Jacobians held (smoothing = 0) or smoothed (kappa > 0, ContactLinearizer).
+integrator: a _core.Integrator; with contacts (s = 1) the problem shoots through contact with its
+Jacobians held (smoothing = 0) or smoothed (kappa > 0, contact_jacobians.hpp).
 costs: a list of dicts, each a term with `terminal` (bool) and diagonal weights and references per sample,
 Wq, q_ref, Wv, v_ref (rows, n), R, u_ref (rows, m): rows = S (s+1) for a running term (S stages; step k
 uses stage min(offset + k, S - 1)), 1 for a terminal term (the horizon's last sample).
@@ -340,7 +326,7 @@ step's (vec(q^{k,0..s}) by points, u^k)); an exception it raises is raised. Retu
 control_points (N, (s+1) n), K (N, m, 2n) (u = us + K (x - xs)), cost, stop, gaps, iterations, converged,
 feasible, status, trace (iterations, 5: cost, stop, step, regularisation, gaps), seconds.
 )doc");
-  m.def("mpc", [](const AnyIntegrator& plant, PyShootingProblem& problem, const ArrayLike& q0, const ArrayLike& p0, int steps,
+  m.def("mpc", [](const PyIntegrator& plant, PyShootingProblem& problem, const ArrayLike& q0, const ArrayLike& p0, int steps,
                   int period, int max_iterations, double tol, const py::list& pushes, const OptArrayLike& us_init) {
         ShootingProblem& pb = problem.core();
         const int n = pb.nx() / 2;
@@ -353,27 +339,20 @@ feasible, status, trace (iterations, 5: cost, stop, step, regularisation, gaps),
         const auto push = pushes_arg(pushes);
         const std::vector<Push> none;
         const std::vector<Push>& mine = push.empty() ? none : push[0];
-        const bool contact = py::isinstance<PyContactIntegrator>(plant);
-        const GalerkinIntegrator& free = contact ? plant.cast<const PyContactIntegrator&>().core().integrator()
-                                                 : plant.cast<const PyIntegrator&>().integ();
-        if (std::abs(free.dt() - pb.integrator().dt()) > 1e-12 * pb.integrator().dt())
+        const GalerkinIntegrator& integ = plant.integ();
+        if (std::abs(integ.dt() - pb.integrator().dt()) > 1e-12 * pb.integrator().dt())
           throw InputError("the plant's dt must be the controller's (the problem's T / N)");
-        check_pushes(free.model(), mine);
-        MpcHook hook(pb, opt, period, free.model(), mine, U);
-        auto timed = [](auto&& run) {  // the plant's rollout, GIL released, and its time
-          decltype(run()) r;
-          double seconds;
-          {
-            py::gil_scoped_release release;
-            const auto t0 = std::chrono::steady_clock::now();
-            r = run();
-            seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-          }
-          return rollout_dict(r, seconds);
-        };
-        StrDict d = contact ? timed([&] {
-          return plant.cast<const PyContactIntegrator&>().core().rollout(q, mom, steps, MatX(), VecX(), &hook);
-        }) : timed([&] { return free.rollout(q, mom, steps, MatX(), MatX(), MatX(), &hook); });
+        check_pushes(integ.model(), mine);
+        MpcHook hook(pb, opt, period, integ.model(), mine, U);
+        Rollout r;
+        double seconds;
+        {
+          py::gil_scoped_release release;
+          const auto t0 = std::chrono::steady_clock::now();
+          r = integ.rollout(q, mom, steps, MatX(), StepHistory(), &hook);
+          seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        }
+        StrDict d = rollout_dict(r, seconds);
         const MpcStats& st = hook.stats();
         d["solve_seconds"] = VecX(Eigen::Map<const VecX>(st.solve_seconds.data(), st.solve_seconds.size()));
         d["solve_iterations"] = Eigen::VectorXi(Eigen::Map<const Eigen::VectorXi>(st.iterations.data(), st.iterations.size()));
@@ -381,7 +360,7 @@ feasible, status, trace (iterations, 5: cost, stop, step, regularisation, gaps),
         return d;
       }, py::arg("plant"), py::arg("problem"), py::arg("q0"), py::arg("p0"), py::arg("steps"), py::arg("period"),
       py::arg("max_iterations"), py::arg("tol"), py::arg("pushes"), py::arg("us_init") = py::none(), R"doc(
-`steps` steps of plant (a _core.Integrator or _core.ContactIntegrator with the problem's dt) from q0, p0
+`steps` steps of plant (a _core.Integrator, with or without contacts, with the problem's dt) from q0, p0
 (n,) under MPC (control/mpc.hpp): FDDP on `problem` re-solved every `period` steps (at most max_iterations,
 tol), warm-started from the last plan shifted; pushes: a list with one list of (step, body, point,
 impulse). Returns the plant's rollout dict with controls, and per solve solve_seconds, solve_iterations,
@@ -395,14 +374,11 @@ solve_converged.
         const MatX Q0 = as_matrix(q0s, "q0s", -1, -1), P0 = as_matrix(p0s, "p0s", Q0.rows(), Q0.cols());
         if (steps < 0) throw InputError("steps must be non-negative");
         const int nthreads = threads_arg(threads);
-        if (py::isinstance<PyIntegrator>(plants[0]))
-          return run_batch<PyIntegrator, GalerkinIntegrator, Rollout>(plants, policy, pushes, Q0, P0, steps, nthreads, free_core);
-        return run_batch<PyContactIntegrator, ContactIntegrator, ContactRollout>(plants, policy, pushes, Q0, P0, steps,
-                                                                               nthreads, contact_core);
+        return run_batch(plants, policy, pushes, Q0, P0, steps, nthreads);
       }, py::arg("plants"), py::arg("x_ref"), py::arg("u_ref"), py::arg("gains"), py::arg("lower"), py::arg("upper"),
       py::arg("pushes"), py::arg("q0s"), py::arg("p0s"), py::arg("steps"), py::arg("threads") = py::none(), R"doc(
 B closed-loop runs of `steps` steps in C++ (GIL released, `threads` threads): plants, a list of one or
-B _core.Integrator or _core.ContactIntegrator; the policy u^{k,a} = clamp(u_ref^{k,a} - K^k (x - x_ref^k))
+B _core.Integrator (with or without contacts); the policy u^{k,a} = clamp(u_ref^{k,a} - K^k (x - x_ref^k))
 from x_ref (S, 2n), u_ref (S, (s+1) m), gains (S, m, 2n), lower, upper (m,); pushes: a list of one or
 B lists of (step, body, point (3,) in the joint frame, world impulse (3,)[, world angular impulse (3,)]);
 q0s, p0s (B, n). Returns

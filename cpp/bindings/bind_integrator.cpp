@@ -1,6 +1,6 @@
-// Bindings of the Galerkin integrator (hovi._core.Integrator). The Pythonic layer (argument
-// normalisation, Trajectory, exceptions) is python/hovi/integrator.py. Arrays of control points
-// are (s+1, n) on the Python side (row a = q^{k,a}); controls (s+1, m).
+// Bindings of the Galerkin integrator (hovi._core.Integrator), with or without contacts. The
+// Pythonic layer (argument normalisation, Trajectory, exceptions) is python/hovi/integrator.py.
+// Arrays of control points are (s+1, n) on the Python side (row a = q^{k,a}); controls (s+1, m).
 #include <optional>
 #include <chrono>
 
@@ -37,6 +37,13 @@ MatX batch_states(const PyIntegrator& p, const py::handle& x, const char* name, 
   return as_matrix(x, name, rows, p.n());
 }
 
+// A step's guess of its impulses (C (2 + d),) or none (empty: none active).
+VecX impulses_arg(const PyIntegrator& p, const py::handle& impulses) {
+  if (impulses.is_none()) return VecX();
+  if (!p.nz()) throw InputError("impulses are for an integrator with contacts");
+  return as_vector(impulses, "impulses", p.nz());
+}
+
 }  // namespace
 
 void bind_integrator(py::module_& m) {
@@ -57,7 +64,8 @@ held over the step or (s+1, m) per control point; multipliers (s, n_constraints)
 )doc")
       .def(py::init([](std::shared_ptr<PyModel> model, int s, double dt, double tol, double step_tol, int max_iterations,
                        int max_backtracks, bool line_search, const std::string& direction, bool reuse_jacobian,
-                       double reuse_contraction, const std::string& predictor) {
+                       double reuse_contraction, const std::string& predictor,
+                       const std::optional<ContactModel>& contacts, double contact_tol, bool locate_impacts) {
              SolverOptions opt;
              if (predictor == "history") opt.predictor = Predictor::History;
              else if (predictor == "flow") opt.predictor = Predictor::Flow;
@@ -74,12 +82,19 @@ held over the step or (s+1, m) per control point; multipliers (s, n_constraints)
              opt.max_iterations = max_iterations;
              opt.max_backtracks = max_backtracks;
              opt.line_search = line_search;
-             return new PyIntegrator(model, s, dt, opt);
+             return new PyIntegrator(model, s, dt, opt, contacts ? *contacts : ContactModel(),
+                                     ContactOptions{contact_tol, locate_impacts});
            }),
            py::arg("model"), py::arg("s"), py::arg("dt"), py::arg("tol"), py::arg("step_tol"), py::arg("max_iterations"),
            py::arg("max_backtracks"), py::arg("line_search"), py::arg("direction"), py::arg("reuse_jacobian"),
-           py::arg("reuse_contraction"), py::arg("predictor"),
-           "A Galerkin integrator of order 2s with step dt on a copy of `model` (options as hovi.Integrator's).")
+           py::arg("reuse_contraction"), py::arg("predictor"), py::arg("contacts") = py::none(),
+           py::arg("contact_tol") = 1e-10, py::arg("locate_impacts") = false,
+           "A Galerkin integrator of order 2s with step dt on a copy of `model` (options as hovi.Integrator's); with "
+           "`contacts` (a ContactModel) its steps have the contact stages (galerkin_integrator.hpp).")
+      .def_property_readonly("n_contacts", [](const PyIntegrator& p) { return p.integ().contacts().size(); },
+                             "The number of contact points C (0 without contacts).")
+      .def_property_readonly("per_contact", [](const PyIntegrator& p) { return p.integ().contacts().per_contact(); },
+                             "The unknowns per contact, 2 + d (with contacts).")
       .def_property_readonly("s", &PyIntegrator::s, "Number of Lobatto intervals; s+1 control points.")
       .def_property_readonly("direction_path", [](const PyIntegrator& p) {
             const auto& g = p.integ();
@@ -161,54 +176,69 @@ None. Raises ValueError as rollout_controls.)")
           }, py::arg("control_points"), py::arg("p"), py::arg("u") = py::none(),
           "control_points (s+1, n), p (n,); returns the Newton direction dq (s, n) with J dq = -r.")
       .def("step", [](PyIntegrator& p, const ArrayLike& q, const ArrayLike& mom, const OptArrayLike& u,
-                      const OptArrayLike& guess, const OptArrayLike& multipliers) {
+                      const OptArrayLike& guess, const OptArrayLike& multipliers, const OptArrayLike& impulses) {
             const GalerkinIntegrator& integ = p.integ();
             const VecX qk = as_vector(q, "q", p.n()), pk = as_vector(mom, "p", p.n());
             const MatX uk = p.controls(u);
+            if (integ.has_contacts() && !(guess.is_none() && multipliers.is_none()))
+              throw InputError("guess and multipliers are not taken with contacts (the contact step makes its own guesses)");
             MatX qc(p.n(), p.s() + 1);
             if (!guess.is_none()) qc = p.control_points(guess, "guess");
             qc.col(0) = qk;
-            MatX lambda = multipliers.is_none() ? MatX::Zero(p.mc(), p.s()) : p.multipliers_arg(multipliers);
+            StepHistory h;
+            h.lambda = multipliers.is_none() ? MatX::Zero(p.mc(), p.s()) : p.multipliers_arg(multipliers);
+            h.z = impulses_arg(p, impulses);
             VecX p_next(p.n());
+            ContactReport report;
             SolveInfo info;
             {
               py::gil_scoped_release release;
-              info = guess.is_none() ? integ.robust_step(pk, uk, MatX(), qc, p_next, &lambda)
-                                     : integ.step(pk, uk, qc, p_next, &lambda);
+              info = guess.is_none() ? integ.step(pk, uk, qc, p_next, h, &report) : integ.solve(pk, uk, qc, p_next, &h.lambda);
             }
             StrDict d = info_dict(info);
-            d["multipliers"] = MatX(lambda.transpose());
+            d["multipliers"] = MatX(h.lambda.transpose());
+            if (integ.has_contacts()) {
+              d["impulses"] = h.z;
+              d["gaps"] = report.phi;
+              d["pivots"] = report.pivots;
+              d["impact"] = report.impact;
+            }
             return py::make_tuple(MatX(qc.transpose()), p_next, d);
           }, py::arg("q"), py::arg("p"), py::arg("u") = py::none(), py::arg("guess") = py::none(),
-          py::arg("multipliers") = py::none(), R"doc(
-One step from q, p (n,) (GIL released): guess (s+1, n) for a single Newton solve, else the robust
-fallbacks of hovi.Integrator.step; returns (control points (s+1, n), p_next (n,), info dict with
-status, converged, iterations, factorizations, residual_evaluations, residual, multipliers (s, m_c)).
+          py::arg("multipliers") = py::none(), py::arg("impulses") = py::none(), R"doc(
+One step from q, p (n,) (GIL released): guess (s+1, n) for a single Newton solve of the DEL equations
+(no contacts), else every stage with its fallbacks (hovi.Integrator.step); multipliers (s, m_c) and
+impulses (C (2 + d),) the first guesses. Returns (control points (s+1, n), p_next (n,), info dict with
+status, converged, iterations, factorizations, residual_evaluations, residual, multipliers (s, m_c), and
+with contacts impulses (C (2 + d),), gaps at the end (C,), pivots and impact).
 )doc")
       .def("rollout", [](PyIntegrator& p, const ArrayLike& q0, const ArrayLike& p0, int steps, const OptArrayLike& u,
-                         const OptArrayLike& previous, const OptArrayLike& multipliers) {
+                         const OptArrayLike& previous, const OptArrayLike& multipliers, const OptArrayLike& impulses) {
             const GalerkinIntegrator& integ = p.integ();
             const VecX q = as_vector(q0, "q0", p.n()), mom = as_vector(p0, "p0", p.n());
-            MatX U(0, 0), prev;
+            MatX U(0, 0);
             if (!u.is_none()) U = as_matrix(u, "u", steps, (p.s() + 1) * p.m());
             else if (p.m() > 0) U = MatX::Zero(steps, (p.s() + 1) * p.m());
-            if (!previous.is_none()) prev = p.control_points(previous, "previous");
-            const MatX lambda0 = multipliers.is_none() ? MatX() : p.multipliers_arg(multipliers);
+            StepHistory start;
+            if (!previous.is_none()) start.previous = p.control_points(previous, "previous");
+            if (!multipliers.is_none()) start.lambda = p.multipliers_arg(multipliers);
+            start.z = impulses_arg(p, impulses);
             Rollout r;
             double seconds;
             {
               py::gil_scoped_release release;
               const auto t0 = std::chrono::steady_clock::now();
-              r = integ.rollout(q, mom, steps, U, prev, lambda0);
+              r = integ.rollout(q, mom, steps, U, std::move(start));
               seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
             }
             return rollout_dict(r, seconds);
           }, py::arg("q0"), py::arg("p0"), py::arg("steps"), py::arg("u") = py::none(), py::arg("previous") = py::none(),
-          py::arg("multipliers") = py::none(), R"doc(
-`steps` steps from q0, p0 (n,) in C++ (GIL released); u (steps, (s+1) m), previous: the control
-points (s+1, n) of the step before (for the predictor), multipliers (s, m_c) to start from.
-Returns a dict: q, p (K+1, n), control_points (K, (s+1) n), iterations, factorizations, residual,
-status (per attempted step), multipliers (K, s m_c), steps K, seconds.
+          py::arg("multipliers") = py::none(), py::arg("impulses") = py::none(), R"doc(
+`steps` steps from q0, p0 (n,) in C++ (GIL released); u (steps, (s+1) m); what the step before left:
+previous, its control points (s+1, n) (for the predictor), multipliers (s, m_c), impulses (C (2 + d),)
+(default none active). Returns a dict: q, p (K+1, n), control_points (K, (s+1) n), iterations,
+factorizations, residual, status (per attempted step), multipliers (K, s m_c), steps K, seconds, and
+with contacts pivots, impulses (K, C (2 + d)), gaps (K, C), impact (K,) and step_p (K+1, n).
 )doc")
       .def("rollout_batch", [](PyIntegrator& p, const ArrayLike& q0, const ArrayLike& second, bool velocities, int steps,
                                const OptArrayLike& u, const OptInt& threads) {
@@ -230,8 +260,10 @@ status (per attempted step), multipliers (K, s m_c), steps K, seconds.
             const double nan = std::numeric_limits<double>::quiet_NaN();
             auto q = filled<double>({B, steps + 1, n}, nan), mom = filled<double>({B, steps + 1, n}, nan);
             auto cp = filled<double>({B, steps, S1 * n}, nan), lam = filled<double>({B, steps, s * mc}, nan);
-            MatX res = MatX::Constant(B, steps, nan);
-            Eigen::MatrixXi its = Eigen::MatrixXi::Constant(B, steps, -1), facs = its;
+            MatX res = MatX::Constant(B, steps, nan), impact = res;
+            Eigen::MatrixXi its = Eigen::MatrixXi::Constant(B, steps, -1), facs = its, piv = its;
+            const int nz = p.nz(), C = integ.contacts().size();
+            auto z = filled<double>({B, steps, nz}, nan), gaps = filled<double>({B, steps, C}, nan);
             Eigen::VectorXi done = Eigen::VectorXi::Zero(B);
             py::list status;
             for (int b = 0; b < B; ++b) {
@@ -248,6 +280,12 @@ status (per attempted step), multipliers (K, s m_c), steps K, seconds.
               res.row(b).head(attempted) = ro.residual.head(attempted).transpose();
               its.row(b).head(attempted) = ro.iterations.head(attempted).transpose();
               facs.row(b).head(attempted) = ro.factorizations.head(attempted).transpose();
+              if (nz) {
+                put_rows(z, b, ro.contact.impulses, ro.steps);
+                put_rows(gaps, b, ro.contact.gaps, ro.steps);
+                piv.row(b).head(attempted) = ro.contact.pivots.head(attempted).transpose();
+                impact.row(b).head(ro.steps) = ro.contact.impact.head(ro.steps).transpose();
+              }
               done[b] = ro.steps;
               status.append(attempted > ro.steps ? to_string(ro.status.back()) : std::string("converged"));
             }
@@ -263,6 +301,12 @@ status (per attempted step), multipliers (K, s m_c), steps K, seconds.
             d["status"] = status;
             d["seconds"] = VecX(Eigen::Map<const VecX>(r.seconds.data(), B));
             d["errors"] = error_list(r.errors);
+            if (nz) {
+              d["impulses"] = z;
+              d["gaps"] = gaps;
+              d["pivots"] = piv;
+              d["impact"] = impact;
+            }
             return d;
           }, py::arg("q0s"), py::arg("second"), py::arg("velocities"), py::arg("steps"), py::arg("u") = py::none(),
           py::arg("threads") = py::none(), R"doc(
@@ -273,7 +317,8 @@ core), GIL released; each state exactly as rollout. Returns a dict: q, p (B, ste
 control_points (B, steps, (s+1) n), multipliers (B, steps, s m_c), residual (B, steps) (NaN
 where not reached), iterations, factorizations (B, steps) (-1 where not attempted), steps (B,)
 completed, status (B,) ('converged', the failed step's status, or 'error'), seconds (B,) and
-errors (B,) (an exception's message, or None).
+errors (B,) (an exception's message, or None); with contacts impulses (B, steps, C (2 + d)), gaps (B,
+steps, C), impact (B, steps) (NaN where not reached) and pivots (B, steps) (-1 where not attempted).
 )doc")
       .def("step_batch", [](PyIntegrator& p, const ArrayLike& q, const ArrayLike& second, bool velocities,
                             const OptArrayLike& u, const OptInt& threads) {
@@ -293,7 +338,9 @@ errors (B,) (an exception's message, or None).
             auto cp = filled<double>({B, S1, n}, nan), lam = filled<double>({B, s, mc}, nan);
             MatX p_next = MatX::Constant(B, n, nan);
             VecX res = VecX::Constant(B, nan), seconds = VecX::Zero(B);
-            Eigen::VectorXi its = Eigen::VectorXi::Constant(B, -1), facs = its, evals = its;
+            Eigen::VectorXi its = Eigen::VectorXi::Constant(B, -1), facs = its, evals = its, piv = its;
+            const int nz = p.nz(), C = integ.contacts().size();
+            MatX z = MatX::Constant(B, nz, nan), gaps = MatX::Constant(B, C, nan);
             Eigen::Matrix<bool, Eigen::Dynamic, 1> converged = Eigen::Matrix<bool, Eigen::Dynamic, 1>::Zero(B);
             py::list status;
             for (int b = 0; b < B; ++b) {
@@ -310,6 +357,11 @@ errors (B,) (an exception's message, or None).
               facs[b] = it.info.factorizations;
               evals[b] = it.info.residual_evaluations;
               converged[b] = it.info.converged();
+              if (nz) {
+                z.row(b) = it.z.transpose();
+                gaps.row(b) = it.contact.phi.transpose();
+                piv[b] = it.contact.pivots;
+              }
               status.append(to_string(it.info.status));
               seconds[b] = it.seconds;
             }
@@ -325,6 +377,11 @@ errors (B,) (an exception's message, or None).
             d["status"] = status;
             d["seconds"] = seconds;
             d["errors"] = error_list(r.errors);
+            if (nz) {
+              d["impulses"] = z;
+              d["gaps"] = gaps;
+              d["pivots"] = piv;
+            }
             return d;
           }, py::arg("qs"), py::arg("second"), py::arg("velocities"), py::arg("u") = py::none(),
           py::arg("threads") = py::none(), R"doc(
@@ -334,7 +391,8 @@ controls per control point. In C++ on `threads` threads (None: HOVI_NUM_THREADS 
 GIL released; each state exactly as step. Returns a dict: control_points (B, s+1, n) (the last
 iterate where a solve failed), p_next (B, n), multipliers (B, s, m_c), residual (B,), iterations,
 factorizations, residual_evaluations (B,), converged (B,), status (B,) (or 'error'), seconds (B,)
-and errors (B,) (an exception's message, or None).
+and errors (B,) (an exception's message, or None); with contacts impulses (B, C (2 + d)), gaps (B, C)
+and pivots (B,).
 )doc");
 }
 

@@ -59,20 +59,16 @@ transcription's configuration points (body_point_rows.hpp): row (p, i) = c_i + s
 The contact complementarity rows of hovi.contact.ContactRows (complementarity_rows.hpp), values,
 Jacobian in its structure's order and exact Hessian.
 )doc")
-      .def(py::init([](std::shared_ptr<PyModel> model, int n_variables, const std::vector<int>& bodies,
-                       const ArrayLike& points, double ground, const ArrayLike& gaps, const ArrayLike& boxes, double mu,
-                       const ArrayLike& directions, int first_input, const ArrayLike& t, const Eigen::VectorXi& q_off,
-                       const Eigen::VectorXi& u_off) {
-             return std::make_shared<ComplementarityRows>(
-                 model->model, n_variables, contact_model(bodies, points, ground, gaps, boxes, mu, directions), first_input,
-                 as_vector(t, "t", q_off.size()), q_off, u_off);
+      .def(py::init([](std::shared_ptr<PyModel> model, int n_variables, const ContactModel& contacts, int first_input,
+                       const ArrayLike& t, const Eigen::VectorXi& q_off, const Eigen::VectorXi& u_off) {
+             return std::make_shared<ComplementarityRows>(model->model, n_variables, contacts, first_input,
+                                                          as_vector(t, "t", q_off.size()), q_off, u_off);
            }),
-           py::arg("model"), py::arg("n_variables"), py::arg("bodies"), py::arg("points"), py::arg("ground"),
-           py::arg("gaps"), py::arg("boxes"), py::arg("mu"), py::arg("directions"), py::arg("first_input"), py::arg("t"),
+           py::arg("model"), py::arg("n_variables"), py::arg("contacts"), py::arg("first_input"), py::arg("t"),
            py::arg("q_off"), py::arg("u_off"),
-           "The contacts as hovi.contact.Contacts' arrays (bodies (C,), points (C, 3), the terrain's ground, gaps (G, 3), "
-           "boxes (B, 5), mu, directions (d, 3)) on `model` (Contacts.model); first_input: the control index of the first "
-           "contact input; t, q_off, u_off (P,): the configuration points' times and offsets of q and u in x.");
+           "The contacts (hovi.contact.Contacts.core_model()) on `model` (Contacts.model); first_input: the control "
+           "index of the first contact input; t, q_off, u_off (P,): the configuration points' times and offsets of q "
+           "and u in x.");
 }
 
 }  // namespace hovi::py_bind

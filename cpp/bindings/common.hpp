@@ -26,7 +26,6 @@ HOVI_PY_HINTED_OBJECT(Index)         // int | str: a joint or body by index or n
 HOVI_PY_HINTED_OBJECT(OptIndex)      // int | str | None
 HOVI_PY_HINTED_OBJECT(PathOrXml)     // str | os.PathLike[str]: a URDF path or XML string
 HOVI_PY_HINTED_OBJECT(OptInt)        // int | None
-HOVI_PY_HINTED_OBJECT(AnyIntegrator) // hovi._core.Integrator | hovi._core.ContactIntegrator
 HOVI_PY_HINTED_OBJECT(AnyTranscription)  // hovi._core.trajopt.VariationalTranscription | ...HermiteSimpsonTranscription
 HOVI_PY_HINTED_OBJECT(OptArrayFunction)   // a Python function of an array, or None
 HOVI_PY_HINTED_OBJECT(CsrArrays)     // (indptr, indices, data) of a matrix in compressed rows
@@ -82,7 +81,6 @@ HOVI_PY_TYPE_NAME(Index, "int | str")
 HOVI_PY_TYPE_NAME(OptIndex, "int | str | None")
 HOVI_PY_TYPE_NAME(PathOrXml, "str | os.PathLike[str]")
 HOVI_PY_TYPE_NAME(OptInt, "int | None")
-HOVI_PY_TYPE_NAME(AnyIntegrator, "hovi._core.Integrator | hovi._core.ContactIntegrator")
 HOVI_PY_TYPE_NAME(AnyTranscription,
                   "hovi._core.trajopt.VariationalTranscription | hovi._core.trajopt.HermiteSimpsonTranscription")
 HOVI_PY_TYPE_NAME(CsrArrays, "tuple[numpy.typing.ArrayLike, numpy.typing.ArrayLike, numpy.typing.ArrayLike]")

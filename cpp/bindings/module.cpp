@@ -32,9 +32,9 @@ PYBIND11_MODULE(_core, m) {
       "for complex numbers (never cast to real), text, Python objects (None is not NaN), booleans, None or a ragged "
       "list. The values are not checked (NaN passes).");
   hovi::py_bind::bind_model(m);
+  hovi::py_bind::bind_contact(m);  // before the integrator and the rows, whose signatures name ContactModel
   hovi::py_bind::bind_integrator(m);
   hovi::py_bind::bind_linearizer(m);
   hovi::py_bind::bind_trajopt(m);
-  hovi::py_bind::bind_contact(m);
   hovi::py_bind::bind_control(m);
 }

@@ -24,7 +24,8 @@ inline StrDict info_dict(const SolveInfo& info) {
 }
 
 // A rollout as the Python dict hovi.Integrator reads: q, p, control_points, iterations,
-// factorizations, residual, status, multipliers, steps, seconds (and controls, chosen by a StepHook).
+// factorizations, residual, status, multipliers, steps, seconds (and controls, chosen by a StepHook;
+// with contacts pivots, impulses, gaps, impact and step_p, RolloutContacts).
 inline StrDict rollout_dict(const Rollout& r, double seconds) {
   StrDict d;
   const int attempted = static_cast<int>(r.status.size());
@@ -41,6 +42,14 @@ inline StrDict rollout_dict(const Rollout& r, double seconds) {
   d["steps"] = r.steps;
   d["seconds"] = seconds;
   if (r.controls.size()) d["controls"] = MatX(r.controls.topRows(attempted));
+  const RolloutContacts& c = r.contact;
+  if (c.pivots.size() || c.step_p.size()) {
+    d["pivots"] = Eigen::VectorXi(c.pivots.head(attempted));
+    d["impulses"] = MatX(c.impulses.topRows(r.steps));
+    d["gaps"] = MatX(c.gaps.topRows(r.steps));
+    d["impact"] = VecX(c.impact.head(r.steps));
+    d["step_p"] = MatX(c.step_p.topRows(r.steps + 1));
+  }
   return d;
 }
 
@@ -48,12 +57,15 @@ inline StrDict rollout_dict(const Rollout& r, double seconds) {
 // the model it copied: every call goes through integ(), which raises once the model has changed.
 class PyIntegrator {
  public:
-  PyIntegrator(std::shared_ptr<const PyModel> m, int s, double dt, const SolverOptions& opt)
-      : integ_(m->model, s, dt, opt), watch_(std::move(m), "Integrator") {}
+  PyIntegrator(std::shared_ptr<const PyModel> m, int s, double dt, const SolverOptions& opt, ContactModel contacts,
+               const ContactOptions& contact_options)
+      : integ_(m->model, s, dt, opt, std::move(contacts), contact_options), watch_(std::move(m), "Integrator") {}
   const GalerkinIntegrator& integ() const {
     watch_.check();
     return integ_;
   }
+  // The contact unknowns of one step (0 without contacts).
+  int nz() const { return integ_.contacts().unknowns(); }
   // Fixed at construction, readable even after the model changed (repr, sizes).
   double dt() const { return integ_.dt(); }
   const Quadrature& quad() const { return integ_.quadrature(); }

@@ -62,8 +62,9 @@ TEST(Batch, StepsAreTheSingleSteps) {
     qc.col(0) = x.q.row(b).transpose();
     VecX p_next(n);
     const MatX ub = Eigen::Map<const MatX>(MatX(u.row(b)).data(), x.integ.model().n_controls(), 3);
+    StepHistory h;
     const SolveInfo info =
-        x.integ.robust_step(x.integ.momentum(x.q.row(b).transpose(), x.v.row(b).transpose()), ub, MatX(), qc, p_next);
+        x.integ.step(x.integ.momentum(x.q.row(b).transpose(), x.v.row(b).transpose()), ub, qc, p_next, h);
     EXPECT_EQ(r.items[b].info.status, info.status);
     EXPECT_EQ(r.items[b].info.iterations, info.iterations);
     EXPECT_EQ(r.items[b].qc, qc);
@@ -77,9 +78,9 @@ TEST(Batch, TrajectoryJacobiansAreTheSingleOnes) {
   const RolloutBatch r = rollout_batch(x.integ, {x.q.topRows(B), x.v.topRows(B), true}, kSteps, x.u.topRows(B * kSteps), 2);
   MatX C(B * kSteps, 3 * n);
   for (int b = 0; b < B; ++b) C.middleRows(b * kSteps, kSteps) = r.items[b].control_points;
-  const Linearizer lin(x.integ.model(), x.integ.quadrature(), x.integ.dt());
+  const Linearizer lin(x.integ);
   std::vector<double> As(std::size_t(B) * kSteps * 4 * n * n), Bs(std::size_t(B) * kSteps * 2 * n * 3 * m);
-  const auto errors = trajectory_jacobians_batch(lin, B, kSteps, C, x.u.topRows(B * kSteps), MatX(), As.data(), Bs.data(), 3);
+  const auto errors = trajectory_jacobians_batch(lin, B, kSteps, C, x.u.topRows(B * kSteps), MatX(), As.data(), Bs.data(), 0, 3);
   std::vector<double> A1(std::size_t(kSteps) * 4 * n * n), B1(std::size_t(kSteps) * 2 * n * 3 * m);
   for (int b = 0; b < B; ++b) {
     ASSERT_EQ(errors[b], "");

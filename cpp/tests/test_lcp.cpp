@@ -6,7 +6,7 @@
 #include <Eigen/LU>
 #include <random>
 
-#include "hovi/contact/lcp.hpp"
+#include "hovi/integrators/lcp.hpp"
 
 using namespace hovi;
 

@@ -266,7 +266,7 @@ TEST(StepContinuation, FoldEndsWithAnExplicitFailure) {
   EXPECT_EQ(f.continuation(st, dt, qc, p_next).status, SolveStatus::NonFinite);
 }
 
-// robust_step tries the continuation last: every step ends converged (with a small residual) or
+// step tries the continuation last: every step ends converged (with a small residual) or
 // with ContinuationStalled.
 TEST(StepContinuation, RobustStepEndsWithContinuation) {
   Fig2 f;
@@ -278,7 +278,8 @@ TEST(StepContinuation, RobustStepEndsWithContinuation) {
     MatX qc(32, 2);
     qc.col(0) = st.q;
     VecX p_next(32);
-    const SolveInfo info = vi.robust_step(st.p, f.u, MatX(), qc, p_next);
+    StepHistory h;
+    const SolveInfo info = vi.step(st.p, f.u, qc, p_next, h);
     if (info.converged()) {
       EXPECT_LE(f.residual(st, qc, 0.06), 1e-10 * (1 + inf_norm(st.p)));  // converged (at round-off)
     } else {

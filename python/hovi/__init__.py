@@ -4,9 +4,6 @@ An Eigen C++ core with pybind11 bindings implementing Fan, Schultz and Murphey, 
 Computation of Higher-Order Variational Integrators in Robotic Simulation and Trajectory
 Optimization" (WAFR 2018).
 """
-import warnings as _warnings
-from typing import Any as _Any
-
 from ._core import Model, ModelError, URDFError
 from . import examples
 from .batch import JacobianBatch, StepBatch, TrajectoryBatch
@@ -18,12 +15,3 @@ __all__ = ["Model", "ModelError", "URDFError", "examples", "Integrator", "Conver
            "Trajectory", "TrajectoryBatch", "StepBatch", "Linearizer", "DelJacobian", "StepLinearization",
            "JacobianBatch", "load_trajectory", "Discretization"]
 __version__ = "0.1.0"  # the one place the version is kept: pyproject.toml reads it from here
-
-
-def __getattr__(name: str) -> _Any:
-    """The deprecated ``hovi.models`` and ``hovi.robots`` (now hovi.examples.models, hovi.examples.robots)."""
-    if name in ("models", "robots"):
-        _warnings.warn(f"hovi.{name} is deprecated: use hovi.examples.{name}", DeprecationWarning, stacklevel=2)
-        from importlib import import_module
-        return import_module(f"{__name__}.examples.{name}")
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -5,7 +5,6 @@ a leading axis of length B, with a status per item (one failed item does not fai
 from __future__ import annotations
 
 import dataclasses
-import warnings
 from dataclasses import dataclass, field
 from typing import Any, List, Optional, Sequence, Type, TypeVar
 
@@ -72,13 +71,6 @@ class TrajectoryBatch:
     def converged(self) -> BoolArray:
         """(B,) whether every step of each item converged."""
         return np.array([s == "converged" for s in self.status], dtype=bool)
-
-    @property
-    def integrator(self) -> Optional[Discretization]:
-        """Deprecated: ``discretization``."""
-        warnings.warn("TrajectoryBatch.integrator is deprecated: use TrajectoryBatch.discretization",
-                      DeprecationWarning, stacklevel=2)
-        return self.discretization
 
     def trajectory(self, b: int) -> Trajectory:
         """Item b as a Trajectory (what ``Integrator.rollout(..., raise_on_failure=False)`` returns

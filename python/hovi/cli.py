@@ -14,7 +14,7 @@ from typing import List, Optional, Tuple
 import numpy as np
 
 from . import Model, __version__
-from .contact import Contacts
+from .contact import DEFAULT_FRICTION, Contacts
 from .examples import MODEL, OPTIMIZATION, ROBOT, ROBOT_EXAMPLE, entries, get, names
 from .integrator import ConvergenceError, Integrator
 
@@ -98,7 +98,6 @@ def initial_state(model: Model, spread: float, seed: int):
 #: (``hovi.examples.standing``: joint PD about the nominal pose and static feed-forward torques).
 STANDING = ("spring_flamingo", "littledog", "atlas")
 DROP = 0.03      # m: how far above the ground the lowest contact point starts (--drop)
-MU = 0.8         # the friction coefficient of --contact points without --mu (the robot examples' ground)
 GROUND_DT = 0.005  # s: the time step with the ground without --dt (the standing scenes')
 
 
@@ -157,17 +156,16 @@ def ground_scene(args, model: Model, base: str, robot_name: Optional[str]) -> Gr
     from .contact import Terrain
     from .contact.contacts import friction_coefficient
     order = 2 if args.order is None else args.order  # above 2: impacts located on the step's polynomial
-    mu = MU if args.mu is None else friction_coefficient(args.mu, "--mu")
+    mu = DEFAULT_FRICTION if args.mu is None else friction_coefficient(args.mu, "--mu")
     plane = "xz" if base == "planar" else ""
     rng = np.random.default_rng(args.seed)
     nb, _ = base_coordinates(base)
     if robot_name is not None:
-        from .examples.standing import MU as STANDING_MU, standing
+        from .examples.standing import standing
         if args.contact:
             raise ValueError(f"argument --contact: the built-in robot '{robot_name}' has its feet as its contact "
                              f"points; --contact is for a URDF file or another model")
         st = standing(robot_name, dt=args.dt)
-        mu = STANDING_MU if args.mu is None else mu
         radius = float(st.robot.contact_radius)
         integ, contacts = st.integrator, st.contacts
         if args.mu is not None or args.ground_height != 0.0 or order != 2:
@@ -183,7 +181,7 @@ def ground_scene(args, model: Model, base: str, robot_name: Optional[str]) -> Gr
                            f"torques, hovi.examples.standing), dropped from {args.drop:g} m; mu = {mu:g}")
     if not args.contact:
         raise ValueError(f"the ground needs contact points: give --contact LINK:x,y,z (repeatable; a point of a link "
-                         f"in the link's frame, m) and optionally --mu (default {MU:g}); the model's links: "
+                         f"in the link's frame, m) and optionally --mu (default {DEFAULT_FRICTION:g}); the model's links: "
                          f"{', '.join(model.body_names)}")
     for link, _ in args.contact:
         if link not in model.body_names:
@@ -700,7 +698,7 @@ def main(argv=None) -> int:
                      help="a contact point of a link, in the link's frame (m) (repeatable; implies --ground): e.g. "
                           "--contact foot:0,0,-0.05; the built-in robots have theirs")
     sim.add_argument("--mu", type=friction, default=None,
-                     help=f"friction coefficient of the ground (default: {MU:g}; implies --ground)")
+                     help=f"friction coefficient of the ground (default: {DEFAULT_FRICTION:g}; implies --ground)")
     sim.add_argument("--drop", type=non_negative, default=DROP,
                      help=f"on the ground, the lowest contact point starts this high above it, m (default: {DROP:g}); "
                           "a fixed base is not moved")

@@ -167,16 +167,16 @@ def _solve_task(problem: Problem, transcription: TranscriptionMethod, guess: Any
 
 
 def solve_trajopt(problems: Sequence[Problem], transcription: Optional[TranscriptionMethod] = None, *,
-                  s: Optional[int] = None, guess: Any = None, options: Optional[dict[str, Any]] = None,
+                  guess: Any = None, options: Optional[dict[str, Any]] = None,
                   client: ClientLike = None) -> list[Result]:
     """``hovi.trajopt.solve(problem, transcription, guess=guess, options=options)`` for every problem
     (``transcription`` a ``hovi.trajopt.VI`` or ``HermiteSimpson``, default
-    ``hovi.trajopt.DEFAULT_TRANSCRIPTION``; the old spelling, a string and ``s=``, warns),
+    ``hovi.trajopt.DEFAULT_TRANSCRIPTION``),
     one task each (a trajectory optimisation is thousands of solves), on a Dask cluster; the
     Results in the order of the problems, as the local solves give them (their transcription made
     again here, so that ``replay`` and ``as_guess`` work)."""
-    from .trajopt.transcriptions import resolve
-    method = resolve(transcription, s, old_default_s=2, caller="solve_trajopt")
+    from .trajopt.transcriptions import DEFAULT_TRANSCRIPTION, transcription_method
+    method = transcription_method(DEFAULT_TRANSCRIPTION if transcription is None else transcription)
     problems = list(problems)
     with _connect(client) as c:
         futures = [c.submit(_solve_task, p, method, guess, options, pure=False) for p in problems]

@@ -2,7 +2,7 @@
 from __future__ import annotations
 
 import os
-from typing import Any, Dict, List, Optional, Tuple, Union
+from typing import Any, Dict, List, Optional, Tuple
 
 import numpy as np
 import numpy.typing as npt
@@ -93,7 +93,7 @@ class Integrator:
 
     Contacts: ``contacts`` (a ``hovi.contact.Contacts`` built on this model: points, terrain,
     friction) makes every step a contact step, the trajectory optimiser's contact model solved in
-    C++ (cpp/include/hovi/contact/contact_solver.hpp): hard contact, no penetration of the
+    C++ (cpp/include/hovi/integrators/contact_solver.hpp): hard contact, no penetration of the
     terrain at the configuration points and Coulomb friction on the polyhedral cone, each
     complementarity condition to ``contact_tol`` (m and N s). A step whose contacts were all
     inactive before is first solved without them, so flight costs what it costs without contacts.
@@ -123,33 +123,33 @@ class Integrator:
             s=int(s), dt=float(dt), tol=float(tol), step_tol=float(step_tol), max_iterations=int(max_iterations),
             max_backtracks=int(max_backtracks), line_search=bool(line_search), direction=direction,
             reuse_jacobian=bool(reuse_jacobian), reuse_contraction=float(reuse_contraction), predictor=predictor)
-        self._core = _core.Integrator(model, **self._options)
         self.model = model
         self.contacts = contacts
         self.contact_tol = contact_tol
         self.locate_impacts = locate_impacts
-        self._contact = None if contacts is None else self._contact_core(model, contacts, contact_tol, locate_impacts)
+        self._core = _core.Integrator(model, **self._options, **self._contact_arguments(model, contacts, contact_tol,
+                                                                                        locate_impacts))
         self.discretization = Discretization(model, self._options, self._core)
         """What this integrator's trajectories carry: the model, s and dt, velocity and energies."""
 
-    def _contact_core(self, model: _core.Model, contacts: Any, tol: Any, locate: Any) -> _core.ContactIntegrator:
-        """The C++ contact simulator of ``contacts`` on this integrator; errors naming the argument."""
+    def _contact_arguments(self, model: _core.Model, contacts: Any, tol: Any, locate: Any) -> Dict[str, Any]:
+        """The C++ integrator's contact arguments (none without contacts); errors naming the argument."""
+        if contacts is None:
+            return {}
         if not isinstance(contacts, Contacts):
             raise TypeError(f"contacts must be a hovi.contact.Contacts, got {type(contacts).__name__}")
         contacts.check_model(model)
+        s = self._options["s"]
         if locate is None:
-            locate = self.s > 1
+            locate = s > 1
         if not isinstance(locate, (bool, np.bool_)):
             raise ValueError(f"locate_impacts must be True, False or None, got {locate!r}")
-        if self.s > 1 and not locate:
-            raise ValueError(f"contacts with s = {self.s} need locate_impacts (the default for s > 1): without it an "
+        if s > 1 and not locate:
+            raise ValueError(f"contacts with s = {s} need locate_impacts (the default for s > 1): without it an "
                              "impact inside a step happens at its end, a first-order time-stepper that throws away "
-                             "the order 2s (bench/README.md 'Contact simulation')")
+                             "the order 2s (bench/README.md, \"Contact simulation\")")
         tol = real_number(tol, "contact_tol", minimum=0.0, strict_minimum=True)
-        ground, gaps, boxes = contacts.terrain.arrays()
-        return _core.ContactIntegrator(self._core, [c.body for c in contacts.points],
-                                       np.array([c.point for c in contacts.points]), ground, gaps, boxes,
-                                       contacts.mu, contacts.D, tol, bool(locate))
+        return dict(contacts=contacts.core_model(), contact_tol=tol, locate_impacts=bool(locate))
 
     # Pickling (to other processes, cluster workers): the model (which pickles in full), the
     # options and the contacts; the copy is made anew from them and computes exactly what this one does.
@@ -166,10 +166,10 @@ class Integrator:
 
     # --- properties -------------------------------------------------------------------------
     @property
-    def core(self) -> Union[_core.Integrator, _core.ContactIntegrator]:
-        """The C++ object that steps this integrator: hovi._core.Integrator, or with contacts
-        hovi._core.ContactIntegrator (what hovi's C++ loops take: closed loops, FDDP, MPC)."""
-        return self._core if self._contact is None else self._contact
+    def core(self) -> _core.Integrator:
+        """The C++ object that steps this integrator, hovi._core.Integrator (what hovi's C++ loops take:
+        closed loops, FDDP, MPC)."""
+        return self._core
 
     @property
     def s(self) -> int:
@@ -311,37 +311,26 @@ class Integrator:
         active), e.g. a known solution's: the contact step's equations can have more than one solution.
         Raises ConvergenceError if the solve fails and raise_on_failure (else check info.converged).
         """
-        if self._contact is not None:
-            return self._contact_step(q, p, u, guess, multipliers, impulses, raise_on_failure)
-        if impulses is not None:
-            raise ValueError("impulses are for an integrator with contacts")
-        qc, p_next, raw = self._core.step(q, p, u, guess, multipliers)
+        z0 = None if impulses is None else _core.real_array(impulses, "impulses").ravel()
+        qc, p_next, raw = self._core.step(q, p, u, guess, multipliers, z0)
         lam = raw.pop("multipliers")
+        contact = {k: raw.pop(k) for k in ("impulses", "gaps", "pivots", "impact") if k in raw}
         info = StepInfo(**raw)
         if not info.converged and raise_on_failure:
-            raise ConvergenceError(f"Newton solve did not converge ({info.status}) after {info.iterations} "
+            raise ConvergenceError(f"{self._what} did not converge ({info.status}) after {info.iterations} "
                                    f"iterations, residual {info.residual:.3e}; try a smaller dt", info=info)
         info.control_points = qc
         if self.n_constraints:
             info.multipliers = lam
+        if contact:
+            info.impulses, info.gaps = contact["impulses"].reshape(-1, self._core.per_contact), contact["gaps"]
+            info.pivots, info.impact = int(contact["pivots"]), float(contact["impact"])
         return qc[-1].copy(), p_next, info
 
-    def _contact_step(self, q: npt.ArrayLike, p: npt.ArrayLike, u: Optional[npt.ArrayLike], guess: Any,
-                      multipliers: Any, impulses: Any, raise_on_failure: bool) -> Tuple[FloatArray, FloatArray, StepInfo]:
-        """``step`` with contacts: info.impulses (C, 2 + d), info.gaps (C,), info.pivots."""
-        if guess is not None or multipliers is not None:
-            raise ValueError("guess and multipliers are not taken with contacts (the contact step makes its own guesses)")
-        assert self._contact is not None
-        z0 = None if impulses is None else _core.real_array(impulses, "impulses").ravel()
-        qc, p_next, z, phi, raw = self._contact.step(q, p, u, z0)
-        pivots, impact = raw.pop("pivots"), raw.pop("impact")
-        info = StepInfo(**raw)
-        info.control_points, info.pivots, info.impact = qc, int(pivots), float(impact)
-        info.impulses, info.gaps = z.reshape(-1, self._contact.per_contact), phi
-        if not info.converged and raise_on_failure:
-            raise ConvergenceError(f"contact step did not converge ({info.status}) after {info.iterations} iterations, "
-                                   f"residual {info.residual:.3e}; try a smaller dt", info=info)
-        return qc[-1].copy(), p_next, info
+    @property
+    def _what(self) -> str:
+        """What a step solves, for the messages of failed steps."""
+        return "Newton solve" if self.contacts is None else "contact step"
 
     def rollout(self, q0: npt.ArrayLike, steps: int, *, p0: Optional[npt.ArrayLike] = None,
                 qdot0: Optional[npt.ArrayLike] = None, u: Optional[npt.ArrayLike] = None,
@@ -380,8 +369,7 @@ class Integrator:
         traj = self.trajectory_of(parts)
         if not traj.converged and raise_on_failure:
             k = traj.steps
-            what = "contact step" if self._contact is not None else "Newton solve"
-            raise ConvergenceError(f"{what} did not converge at step {k} (t = {k * self.dt:.6g} s): "
+            raise ConvergenceError(f"{self._what} did not converge at step {k} (t = {k * self.dt:.6g} s): "
                                    f"{traj.status[-1]}, residual {traj.residuals[-1]:.3e}; try a smaller dt",
                                    trajectory=traj)
         return traj
@@ -396,13 +384,12 @@ class Integrator:
         while True:
             n_chunk = min(chunk, steps - done) if bar is not None else steps - done
             U_chunk = None if U is None else U[done:done + n_chunk]
-            if self._contact is not None:
-                res = self._contact.rollout(q, p, n_chunk, U_chunk, None if last is None else last["impulses"][-1])
-            else:
-                previous = None if last is None else last["control_points"][-1].reshape(self.s + 1, self.n)
-                lam = None if last is None or not self.n_constraints else \
-                    last["multipliers"][-1].reshape(self.s, self.n_constraints)
-                res = self._core.rollout(q, p, n_chunk, U_chunk, previous, lam)
+            previous = lam = z = None
+            if last is not None:  # what the last chunk's last step left
+                previous = last["control_points"][-1].reshape(self.s + 1, self.n)
+                lam = last["multipliers"][-1].reshape(self.s, self.n_constraints) if self.n_constraints else None
+                z = last["impulses"][-1] if "impulses" in last else None
+            res = self._core.rollout(q, p, n_chunk, U_chunk, previous, lam, z)
             parts.append(res)
             done += res["steps"]
             if bar is not None:
@@ -458,17 +445,20 @@ class Integrator:
         Q, second, velocities = self._batch_states(q0s, p0s, qdot0s, ("q0s", "p0s", "qdot0s"))
         _check_trajectory_memory(steps, self.s, self.n, 2 * len(Q))  # the C++ results and the stacked arrays
         U = self._core.rollout_controls(u, steps, len(Q))
-        if self._contact is not None:
-            return self._contact_rollout_batch(Q, second, velocities, steps, U, threads)
         raw = self._core.rollout_batch(Q, second, velocities, steps, None if U is None else U.reshape(-1, U.shape[-1]),
                                        threads)
         B, S1 = len(Q), self.s + 1
+        contact = None
+        if "impulses" in raw:
+            contact = ContactRecord(raw["impulses"].reshape(B, steps, -1, self._core.per_contact), raw["gaps"],
+                                    self._directions(), raw["pivots"], raw["impact"])
         return TrajectoryBatch(
             t=np.arange(steps + 1, dtype=np.float64) * self.dt, q=raw["q"], p=raw["p"],
             control_points=raw["control_points"].reshape(B, steps, S1, self.n), iterations=raw["iterations"],
             residuals=raw["residual"], factorizations=raw["factorizations"], steps=raw["steps"], status=raw["status"],
             errors=raw["errors"], solve_seconds=raw["seconds"], discretization=self.discretization,
-            multipliers=raw["multipliers"].reshape(B, steps, self.s, self.n_constraints) if self.n_constraints else None)
+            multipliers=raw["multipliers"].reshape(B, steps, self.s, self.n_constraints) if self.n_constraints else None,
+            contact=contact)
 
     def step_batch(self, qs: npt.ArrayLike, ps: Optional[npt.ArrayLike] = None, u: Optional[npt.ArrayLike] = None, *,
                    qdots: Optional[npt.ArrayLike] = None, threads: Optional[int] = None) -> StepBatch:
@@ -483,101 +473,34 @@ class Integrator:
         """
         Q, second, velocities = self._batch_states(qs, ps, qdots, ("qs", "ps", "qdots"))
         U = self._core.step_controls(u, len(Q))
-        if self._contact is not None:
-            return self._contact_step_batch(Q, second, velocities, U, threads)
         raw = self._core.step_batch(Q, second, velocities, U, threads)
         cp = raw["control_points"]
+        contact = {}
+        if "impulses" in raw:
+            contact = dict(impulses=raw["impulses"].reshape(len(Q), -1, self._core.per_contact), gaps=raw["gaps"],
+                           pivots=raw["pivots"])
         return StepBatch(q_next=cp[:, -1].copy(), p_next=raw["p_next"], control_points=cp, converged=raw["converged"],
                          iterations=raw["iterations"], factorizations=raw["factorizations"],
                          residual_evaluations=raw["residual_evaluations"], residuals=raw["residual"],
                          status=raw["status"], errors=raw["errors"], solve_seconds=raw["seconds"],
-                         multipliers=raw["multipliers"] if self.n_constraints else None)
+                         multipliers=raw["multipliers"] if self.n_constraints else None, **contact)
 
-    def contact_jacobians(self, control_points: FloatArray, u: Optional[FloatArray], impulses: FloatArray, *,
-                          A: bool = True, B: bool = True, smoothing: float = 0.0
-                          ) -> Tuple[Optional[FloatArray], Optional[FloatArray]]:
-        """The step Jacobians of K converged contact steps (``hovi.Linearizer`` calls it): control
-        points (K, (s+1) n), u (K, (s+1) m) or None, impulses (K, C (2 + d)); smoothing: the central-path
-        parameter kappa ((N s)^2, >= 0; 0: each contact's state held); (A (K, 2n, 2n), B (K, 2n, (s+1) m)),
-        None for what was not asked for. ValueError without contacts."""
-        if self._contact is None:
-            raise ValueError("this integrator has no contacts")
-        kappa = real_number(smoothing, "smoothing", minimum=0.0)
-        result: Tuple[Optional[FloatArray], Optional[FloatArray]] = self._contact.rollout_jacobians(
-            control_points, u, impulses, A, B, kappa)
-        return result
-
-    def _momenta(self, Q: FloatArray, second: FloatArray, velocities: bool) -> FloatArray:
-        """The momenta of a batch of states given with velocities or momenta."""
-        return np.array([self.momentum(q, v) for q, v in zip(Q, second)]) if velocities else second
-
-    def _contact_rollout_batch(self, Q: FloatArray, second: FloatArray, velocities: bool, steps: int,
-                               U: Optional[FloatArray], threads: Optional[int]) -> TrajectoryBatch:
-        """``rollout_batch`` with contacts: the C++ rollouts on threads, stacked (NaN where not reached)."""
-        assert self._contact is not None and self.contacts is not None
-        B, S1, n = len(Q), self.s + 1, self.n
-        C, pc = self._contact.n_contacts, self._contact.per_contact
-        items, errors = self._contact.rollout_batch(Q, self._momenta(Q, second, velocities), steps,
-                                                    None if U is None else U.reshape(-1, U.shape[-1]), threads)
-        nan = np.nan
-        q, p = np.full((B, steps + 1, n), nan), np.full((B, steps + 1, n), nan)
-        cp, res = np.full((B, steps, S1 * n), nan), np.full((B, steps), nan)
-        its, facs, piv = (np.full((B, steps), -1, dtype=np.int32) for _ in range(3))
-        z, gaps, impact = np.full((B, steps, C, pc), nan), np.full((B, steps, C), nan), np.full((B, steps), nan)
-        done, status, seconds = np.zeros(B, dtype=np.int32), [], np.zeros(B)
-        for b, r in enumerate(items):
-            if r is None:
-                status.append("error")
-                continue
-            k, a = r["steps"], len(r["status"])
-            q[b, :k + 1], p[b, :k + 1], cp[b, :k] = r["q"], r["p"], r["control_points"]
-            res[b, :a], its[b, :a], facs[b, :a], piv[b, :a] = r["residual"], r["iterations"], r["factorizations"], r["pivots"]
-            z[b, :k], gaps[b, :k], impact[b, :k] = r["impulses"].reshape(k, C, pc), r["gaps"], r["impact"]
-            done[b], seconds[b] = k, r["seconds"]
-            status.append(r["status"][-1] if a > k else "converged")
-        return TrajectoryBatch(
-            t=np.arange(steps + 1, dtype=np.float64) * self.dt, q=q, p=p, control_points=cp.reshape(B, steps, S1, n),
-            iterations=its, residuals=res, factorizations=facs, steps=done, status=status, errors=list(errors),
-            solve_seconds=seconds, discretization=self.discretization,
-            contact=ContactRecord(z, gaps, self.contacts.D.copy(), piv, impact))
-
-    def _contact_step_batch(self, Q: FloatArray, second: FloatArray, velocities: bool, U: Optional[FloatArray],
-                            threads: Optional[int]) -> StepBatch:
-        """``step_batch`` with contacts: the C++ steps on threads, stacked (NaN for an item that raised)."""
-        assert self._contact is not None
-        B, S1, n = len(Q), self.s + 1, self.n
-        C, pc = self._contact.n_contacts, self._contact.per_contact
-        items, errors = self._contact.step_batch(Q, self._momenta(Q, second, velocities), U, threads)
-        cp, p_next = np.full((B, S1, n), np.nan), np.full((B, n), np.nan)
-        z, gaps = np.full((B, C, pc), np.nan), np.full((B, C), np.nan)
-        ints = {k: np.full(B, -1, dtype=np.int32) for k in ("iterations", "factorizations", "residual_evaluations", "pivots")}
-        res, seconds, conv, status = np.full(B, np.nan), np.zeros(B), np.zeros(B, dtype=bool), []
-        for b, r in enumerate(items):
-            if r is None:
-                status.append("error")
-                continue
-            cp[b], p_next[b], z[b], gaps[b] = r["control_points"], r["p_next"], r["impulses"].reshape(C, pc), r["gaps"]
-            for k in ints:
-                ints[k][b] = r[k]
-            res[b], seconds[b], conv[b] = r["residual"], r["seconds"], r["converged"]
-            status.append(r["status"])
-        return StepBatch(q_next=cp[:, -1].copy(), p_next=p_next, control_points=cp, converged=conv,
-                         iterations=ints["iterations"], factorizations=ints["factorizations"],
-                         residual_evaluations=ints["residual_evaluations"], residuals=res, status=status,
-                         errors=list(errors), solve_seconds=seconds, impulses=z, gaps=gaps, pivots=ints["pivots"])
+    def _directions(self) -> FloatArray:
+        """The friction directions D (d, 3) of this integrator's contacts."""
+        assert self.contacts is not None
+        return self.contacts.D.copy()
 
     def trajectory_of(self, parts: List[Dict[str, Any]]) -> Trajectory:
         """The Trajectory of consecutive C++ rollouts of this integrator (``_core`` rollout dicts, each
         continuing the last: ``rollout``'s chunks, a closed loop of ``hovi.control``), with its contact
         record when the integrator has contacts."""
         traj = self._join(parts)
-        if self._contact is not None:
-            assert self.contacts is not None
-            C, pc = self._contact.n_contacts, self._contact.per_contact
+        if "impulses" in parts[0]:
+            pc = self._core.per_contact
             traj.contact = ContactRecord(
-                impulses=np.vstack([r["impulses"] for r in parts]).reshape(-1, C, pc),
-                gaps=np.vstack([r["gaps"] for r in parts]).reshape(-1, C), directions=self.contacts.D.copy(),
-                pivots=np.concatenate([r["pivots"] for r in parts]),
+                impulses=np.vstack([r["impulses"] for r in parts]).reshape(-1, self._core.n_contacts, pc),
+                gaps=np.vstack([r["gaps"] for r in parts]).reshape(-1, self._core.n_contacts),
+                directions=self._directions(), pivots=np.concatenate([r["pivots"] for r in parts]),
                 impact=np.concatenate([r["impact"] for r in parts]),
                 step_momenta=np.vstack([r["step_p"][:-1] for r in parts[:-1]] + [parts[-1]["step_p"]]))
         return traj

@@ -9,6 +9,7 @@ import numpy as np
 import numpy.typing as npt
 
 from . import _core
+from ._checks import real_number
 from ._typing import FloatArray
 from .batch import JacobianBatch, TrajectoryBatch
 from .integrator import ConvergenceError, Integrator
@@ -68,7 +69,7 @@ class Linearizer:
 
     With contacts (``Integrator(..., contacts=...)``): ``step_jacobians`` and ``rollout_jacobians``
     linearise the contact step with its contact state held (each contact in flight, sticking or
-    sliding as in the step: cpp/include/hovi/contact/contact_linearizer.hpp), exact away from
+    sliding as in the step: cpp/include/hovi/integrators/contact_jacobians.hpp), exact away from
     contact switches; the momentum is the step's state, before the next knot's impulse.
     """
 
@@ -111,33 +112,39 @@ class Linearizer:
         """Take one step from (q, p) (n,) with controls u ((m,) or (s+1, m)) and linearise it: A (2n, 2n),
         B (2n, (s+1) m) or (2n, m) with hold=True (see StepLinearization). With contacts, ``smoothing``
         > 0 (kappa, (N s)^2) linearises the complementarity on the central path (across contact switches:
-        cpp/include/hovi/contact/contact_linearizer.hpp); 0 holds each contact's state."""
+        cpp/include/hovi/integrators/contact_jacobians.hpp); 0 holds each contact's state."""
         q_next, p_next, info = self.integrator.step(q, p, u, guess=guess)
         assert info.control_points is not None
-        if self.integrator.contacts is not None:  # through the contact step, its contact state held
-            assert info.impulses is not None
-            if info.impact:
-                raise ValueError(f"the step was split at an impact (at {info.impact:.3g} of the step, locate_impacts): "
-                                 "not differentiable there (a contact switch); linearise away from impacts")
-            U = self.integrator.controls_per_point(u, 1)
-            As, Bs = self.integrator.contact_jacobians(info.control_points.reshape(1, -1),
-                                                       None if U is None else U.reshape(1, -1),
-                                                       info.impulses.reshape(1, -1), A=A, B=B, smoothing=smoothing)
-            Am, Bm = (None if As is None else As[0]), (None if Bs is None else Bs[0])
-        else:
-            if smoothing:
-                raise ValueError("smoothing is for an integrator with contacts")
-            Am, Bm = self._core.step_jacobians(info.control_points, u, A, B, info.multipliers)
+        if info.impact:
+            raise ValueError(f"the step was split at an impact (at {info.impact:.3g} of the step, locate_impacts): "
+                             "not differentiable there (a contact switch); linearise away from impacts")
+        impulses = None if info.impulses is None else info.impulses.reshape(1, -1)
+        Am, Bm = self._core.step_jacobians(info.control_points, u, A, B, info.multipliers, impulses,
+                                           real_number(smoothing, "smoothing", minimum=0.0))
         if Bm is not None and hold:
             Bm = _hold(Bm, self.integrator.model.n_controls)
         return StepLinearization(q_next, p_next, info.control_points, Am, Bm)
 
     def linearize_at(self, control_points: npt.ArrayLike, u: Optional[npt.ArrayLike] = None, *, A: bool = True,
-                     B: bool = True, hold: bool = False, multipliers: Optional[npt.ArrayLike] = None
+                     B: bool = True, hold: bool = False, multipliers: Optional[npt.ArrayLike] = None,
+                     impulses: Optional[npt.ArrayLike] = None, smoothing: float = 0.0
                      ) -> Tuple[Optional[FloatArray], Optional[FloatArray]]:
-        """(A (2n, 2n), B (2n, (s+1) m)) at given converged control points (s+1, n) of a step (and its
-        multipliers (s, m_c) for a constrained model); None for what was not asked for."""
-        Am, Bm = self._core.step_jacobians(control_points, u, A, B, multipliers)
+        """(A (2n, 2n), B (2n, (s+1) m)) at given converged control points (s+1, n) of a step, with its
+        multipliers (s, m_c) for a constrained model, or with contacts its impulses (C, 2 + d) and
+        ``smoothing`` as for ``step_jacobians``; None for what was not asked for. Control points (K, s+1, n)
+        (with u (K, s+1, m), multipliers (K, s, m_c), impulses (K, C, 2 + d)) give K steps at once, in C++:
+        (K, 2n, 2n) and (K, 2n, (s+1) m)."""
+        kappa = real_number(smoothing, "smoothing", minimum=0.0)
+        cps = _core.real_array(control_points, "control_points")
+        if cps.ndim == 3:
+            K = len(cps)
+            rows = [None if x is None else np.ascontiguousarray(_core.real_array(x, name).reshape(K, -1))
+                    for x, name in ((u, "u"), (multipliers, "multipliers"), (impulses, "impulses"))]
+            Am, Bm = self._core.rollout_jacobians(np.ascontiguousarray(cps.reshape(K, -1)), rows[0], A, B, rows[1],
+                                                  rows[2], kappa)
+        else:
+            z = None if impulses is None else _core.real_array(impulses, "impulses").reshape(1, -1)
+            Am, Bm = self._core.step_jacobians(cps, u, A, B, multipliers, z, kappa)
         if Bm is not None and hold:
             Bm = _hold(Bm, self.integrator.model.n_controls)
         return Am, Bm
@@ -156,26 +163,19 @@ class Linearizer:
         if U is not None:
             U = np.ascontiguousarray(U.reshape(K, -1))
         cps = np.ascontiguousarray(trajectory.control_points.reshape(K, -1))
-        if integ.contacts is not None:
-            if trajectory.contact is None:
-                raise ValueError("the integrator has contacts: give a trajectory it computed (with its contact impulses)")
+        impulses = mult = None
+        if trajectory.contact is not None:
             impact = trajectory.contact.impact
             if impact is not None and np.any(impact[:K] > 0):
                 k = int(np.argmax(impact[:K] > 0))
                 raise ValueError(f"step {k} was split at an impact (locate_impacts): not differentiable there (a "
                                  "contact switch); linearise the steps away from impacts, or simulate with s = 1 "
                                  "without locate_impacts (the trajectory optimiser's time-stepping)")
-            As, Bs = integ.contact_jacobians(cps, U, np.ascontiguousarray(trajectory.contact.impulses.reshape(K, -1)),
-                                             A=A, B=B, smoothing=smoothing)
-            if Bs is not None and hold:
-                Bs = _hold(Bs, integ.model.n_controls)
-            return As, Bs
-        if smoothing:
-            raise ValueError("smoothing is for an integrator with contacts")
-        mult = None
+            impulses = np.ascontiguousarray(trajectory.contact.impulses.reshape(K, -1))
         if trajectory.multipliers is not None:
             mult = np.ascontiguousarray(trajectory.multipliers.reshape(K, -1))
-        As, Bs = self._core.rollout_jacobians(cps, U, A, B, mult)
+        As, Bs = self._core.rollout_jacobians(cps, U, A, B, mult, impulses,
+                                              real_number(smoothing, "smoothing", minimum=0.0))
         if Bs is not None and hold:
             Bs = _hold(Bs, integ.model.n_controls)
         return As, Bs
@@ -197,14 +197,17 @@ class Linearizer:
             if batch.status[b] != "converged":
                 errors[b] = (batch.errors[b] or f"the rollout did not converge ({batch.status[b]}) at step "
                              f"{batch.steps[b]}: linearise the converged part only")
+            elif batch.contact is not None and batch.contact.impact is not None and np.any(batch.contact.impact[b] > 0):
+                errors[b] = "a step was split at an impact (locate_impacts): not differentiable there (a contact switch)"
         As = np.full((count, K, 2 * n, 2 * n), np.nan) if A else None
         Bs = np.full((count, K, 2 * n, S1 * m), np.nan) if B else None
         todo = np.flatnonzero([e is None for e in errors])
         if K and todo.size:
             mult = None if batch.multipliers is None else batch.multipliers[todo].reshape(todo.size * K, -1)
+            z = None if batch.contact is None else batch.contact.impulses[todo].reshape(todo.size * K, -1)
             a, b_, errs = self._core.rollout_jacobians_batch(
                 batch.control_points[todo].reshape(todo.size * K, -1), K,
-                None if U is None else U[todo].reshape(todo.size * K, -1), A, B, mult, threads)
+                None if U is None else U[todo].reshape(todo.size * K, -1), A, B, mult, z, 0.0, threads)
             for i, e in zip(todo, errs):
                 errors[i] = e
             linearised = todo[[e is None for e in errs]]

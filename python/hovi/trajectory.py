@@ -13,7 +13,6 @@ Integrator when one is given (so that ``qdot`` and ``energy`` work on the loaded
 from __future__ import annotations
 
 import os
-import warnings
 import zipfile
 import zlib
 from dataclasses import dataclass, field
@@ -80,7 +79,7 @@ class HasDiscretization(Protocol):
 class ContactRecord:
     """The contacts of a rollout with contacts (``Integrator(..., contacts=...)``), per step k and
     contact c (in the order of the Contacts' points), as the contact step solves them
-    (cpp/include/hovi/contact/contact_solver.hpp): the impulses act at q^k and decide q^{k+1}."""
+    (cpp/include/hovi/integrators/contact_solver.hpp): the impulses act at q^k and decide q^{k+1}."""
     impulses: FloatArray    # (K, C, 2 + d): the normal impulse λ (N s), friction impulses β_1..d, sliding γ (m)
     gaps: FloatArray        # (K, C): φ_c(q^{k+1}), the height of each point above the terrain (m)
     directions: FloatArray  # (d, 3): the friction directions D_i
@@ -169,13 +168,6 @@ class Trajectory:
     def converged(self) -> bool:
         """Whether every attempted step converged."""
         return all(s == "converged" for s in self.status)
-
-    @property
-    def integrator(self) -> Optional[Discretization]:
-        """Deprecated: ``discretization`` (the model, s, dt, ``velocity`` and ``energies``)."""
-        warnings.warn("Trajectory.integrator is deprecated: use Trajectory.discretization (the model, s, dt, "
-                      "velocity and energies)", DeprecationWarning, stacklevel=2)
-        return self.discretization
 
     def _discretization(self) -> Discretization:
         if self.discretization is None:

@@ -30,9 +30,10 @@ void check_cost(const SampleCost& c, int rows_unit, int n, int m, std::size_t i)
 }  // namespace
 
 ShootingProblem::ShootingProblem(const GalerkinIntegrator& integ, int N, const VecX& x0, std::vector<SampleCost> costs,
-                                 const VecX& u_lower, const VecX& u_upper)
+                                 const VecX& u_lower, const VecX& u_upper, double kappa)
     : integ_(integ),
-      lin_(integ.model(), integ.quadrature(), integ.dt()),
+      lin_(integ),
+      kappa_(kappa),
       N_(N),
       n_(integ.model().n()),
       m_(integ.model().n_controls()),
@@ -47,19 +48,11 @@ ShootingProblem::ShootingProblem(const GalerkinIntegrator& integ, int N, const V
   if (lo_.size() != m_ || hi_.size() != m_ || lo_.hasNaN() || hi_.hasNaN() || (lo_.array() > hi_.array()).any())
     throw InputError("control bounds must be m numbers with lower <= upper");
   for (std::size_t i = 0; i < costs_.size(); ++i) check_cost(costs_[i], s_ + 1, n_, m_, i);
-}
-
-ShootingProblem::ShootingProblem(const ContactIntegrator& contact, double kappa, int N, const VecX& x0,
-                                 std::vector<SampleCost> costs, const VecX& u_lower, const VecX& u_upper)
-    : ShootingProblem(contact.integrator(), N, x0, std::move(costs), u_lower, u_upper) {
-  if (s_ != 1 || contact.locate_impacts())
+  if (integ.has_contacts() && (s_ != 1 || integ.contact_options().locate_impacts))
     throw InputError("shooting through contact needs s = 1 without impact location (the trajectory optimiser's "
                      "time-stepping: a step split at an impact is not differentiable)");
   if (!(kappa >= 0) || !std::isfinite(kappa)) throw InputError("the smoothing kappa must be finite and >= 0");
-  contact_ = &contact;
-  kappa_ = kappa;
-  const GalerkinIntegrator& g = contact.integrator();
-  clin_ = std::make_unique<ContactLinearizer>(g.model(), g.quadrature(), g.dt(), contact.contacts());
+  if (kappa > 0 && !integ.has_contacts()) throw InputError("smoothing is for shooting through contact");
 }
 
 void ShootingProblem::set_x0(const VecX& x0) {
@@ -74,19 +67,15 @@ bool ShootingProblem::step(const VecX& x, const VecX& u, VecX& x_next, MatX& qc,
   qc.col(0) = x.head(n_);
   VecX p_next(n_);
   SolveInfo info;
-  if (contact_) {
-    if (z.size() != impulses()) z.setZero(impulses());
-    VecX phi(contact_->contacts().size());
-    info = contact_->step(x.tail(n_), uk, MatX(), qc, p_next, z, phi);
-    if (!info.converged()) return false;
-    x_next.resize(2 * n_);
-    x_next << qc.col(s_), p_next;
-    return true;
-  }
-  if (guessed) info = integ_.step(x.tail(n_), uk, qc, p_next);
-  if (!guessed || !info.converged()) {
+  // A guess (the free step's control points of an earlier iterate) first; else, or if it fails, every
+  // stage of the step from q^k (through contact: from the impulses z of an earlier iterate).
+  if (guessed && !has_contacts()) info = integ_.solve(x.tail(n_), uk, qc, p_next);
+  if (!guessed || has_contacts() || !info.converged()) {
     qc.rightCols(s_) = x.head(n_).replicate(1, s_);
-    info = integ_.robust_step(x.tail(n_), uk, MatX(), qc, p_next);
+    StepHistory h;
+    if (z.size() == impulses()) h.z = z;
+    info = integ_.step(x.tail(n_), uk, qc, p_next, h);
+    z = h.z;
   }
   if (!info.converged()) return false;
   x_next.resize(2 * n_);
@@ -146,15 +135,8 @@ bool ShootingProblem::derivatives(int k, const MatX& qc, const VecX& u, const Ve
   const int S1 = s_ + 1, n = n_, m = m_, sn = s_ * n;
   const MatX uk = u.replicate(1, S1);
   MatX Bp, Yx, Yu;
-  if (contact_) {  // s = 1: the only unknown control point is q^{k+1}, the top rows of A and B
-    const bool ok = kappa_ > 0 ? clin_->smoothed_jacobians(qc, uk, z, kappa_, &d.A, &Bp)
-                               : clin_->step_jacobians(qc, uk, z, &d.A, &Bp);
-    if (!ok) return false;
-    Yx = d.A.topRows(n);
-    Yu = Bp.topRows(n);
-  } else if (!lin_.step_jacobians(qc, uk, &d.A, &Bp, MatX(), &Yx, &Yu)) {
-    return false;
-  }
+  const MatX w = has_contacts() ? MatX(z) : MatX();  // the step's impulses (through contact)
+  if (!lin_.step_jacobians(qc, uk, &d.A, &Bp, w, &Yx, &Yu, kappa_)) return false;
   d.B = MatX::Zero(2 * n, m);
   MatX Yuh = MatX::Zero(sn, m);
   for (int a = 0; a < S1; ++a) {  // held controls: the sum over the control points' blocks

@@ -61,29 +61,31 @@ StepBatch step_batch(const GalerkinIntegrator& integ, const BatchStates& x, cons
     const MatX uk = Eigen::Map<const MatX>(MatX(u.row(b)).data(), m, S1);
     it.qc.resize(n, S1);
     it.qc.col(0) = x.q.row(b).transpose();
-    it.lambda = MatX::Zero(integ.n_constraints(), S1 - 1);
     it.p_next.resize(n);
-    it.info = integ.robust_step(p, uk, MatX(), it.qc, it.p_next, &it.lambda);
+    StepHistory h;
+    it.info = integ.step(p, uk, it.qc, it.p_next, h, &it.contact);
+    it.lambda = h.lambda;
+    it.z = h.z;
     it.seconds = since(t0);
   });
   return out;
 }
 
 std::vector<std::string> trajectory_jacobians_batch(const Linearizer& lin, int B, int K, const MatX& C, const MatX& U,
-                                                    const MatX& L, double* As, double* Bs, int threads) {
+                                                    const MatX& W, double* As, double* Bs, double kappa, int threads) {
   if (B < 1) throw InputError("the batch is empty (B = 0 trajectories)");
   threads = thread_count(threads);
-  const int n = lin.model().n(), s = lin.quadrature().s, m = lin.model().n_controls(), mc = lin.model().n_constraints();
+  const int n = lin.model().n(), s = lin.quadrature().s, m = lin.model().n_controls();
   const Eigen::Index rows = static_cast<Eigen::Index>(B) * K;
   if (K < 0 || C.rows() != rows || C.cols() != (s + 1) * n || U.rows() != rows || U.cols() != (s + 1) * m ||
-      (mc && (L.rows() != rows || L.cols() != s * mc)))
-    throw InputError("control points, controls and multipliers must have B K rows of (s+1) n, (s+1) m and s m_c");
+      (W.size() && W.rows() != rows))
+    throw InputError("control points, controls and the steps' multipliers or impulses must have B K rows");
   const std::size_t a_size = std::size_t(K) * 4 * n * n, b_size = std::size_t(K) * 2 * n * (s + 1) * m;
   return parallel_for(B, threads, [&](int b, int) {
     const Eigen::Index first = static_cast<Eigen::Index>(b) * K;
     const int failed = lin.trajectory_jacobians(C.middleRows(first, K), U.middleRows(first, K),
-                                                mc ? MatX(L.middleRows(first, K)) : MatX(), As ? As + b * a_size : nullptr,
-                                                Bs ? Bs + b * b_size : nullptr);
+                                                W.size() ? MatX(W.middleRows(first, K)) : MatX(),
+                                                As ? As + b * a_size : nullptr, Bs ? Bs + b * b_size : nullptr, kappa);
     if (failed >= 0) throw InputError("the DEL Jacobian is singular at step " + std::to_string(failed));
   });
 }

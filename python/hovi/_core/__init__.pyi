@@ -9,7 +9,7 @@ import os
 import typing
 from . import trajopt
 from . import control
-__all__: list[str] = ['ContactIntegrator', 'Integrator', 'Linearizer', 'Model', 'ModelError', 'URDFError', 'body_point_kinematics', 'control', 'lagrange_basis', 'march', 'pendulum', 'real_array', 'trajopt']
+__all__: list[str] = ['ContactModel', 'Integrator', 'Linearizer', 'Model', 'ModelError', 'Terrain', 'URDFError', 'body_point_kinematics', 'control', 'lagrange_basis', 'march', 'pendulum', 'real_array', 'trajopt']
 class ModelError(ValueError):
     """
     An invalid model or model input (a ValueError): a bad body, joint, force or constraint, an unknown joint or body name, or a call on an Integrator or Linearizer whose model changed after it was made.
@@ -346,15 +346,55 @@ class Model:
         package://..., or absolute), scale (3,), origin (4, 4) (the shape in the body's joint frame,
         see joint_placements) and rgba ((4,) or None).
         """
+class Terrain:
+    """
+    The terrain of the contact model (model/contact_model.hpp): a ground plane with gaps and boxes, all
+    with horizontal top faces; the one home of its height. hovi.contact.Terrain makes it (Terrain.core()).
+    """
+    def __init__(self, ground: typing.SupportsFloat | typing.SupportsIndex, gaps: numpy.typing.ArrayLike, boxes: numpy.typing.ArrayLike) -> None:
+        """
+        The ground height, gaps (G, 3) rows (x0, x1, depth), boxes (B, 5) rows (x0, x1, top, y0, y1) (y0, y1 may
+        be infinite); ValueError naming the field of a bad one.
+        """
+    def heights(self, xy: numpy.typing.ArrayLike) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        The height h(x, y) of the surface below points xy (..., 2): (...).
+        """
+class ContactModel:
+    """
+    Point contacts with a terrain and Coulomb friction on a polyhedral cone (model/contact_model.hpp),
+    fixed once made: hovi.contact.Contacts makes it (Contacts.core_model()) for hovi.Integrator(...,
+    contacts=...) and the trajectory optimiser's complementarity rows.
+    """
+    def __init__(self, bodies: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], points: numpy.typing.ArrayLike, terrain: Terrain, mu: typing.SupportsFloat | typing.SupportsIndex, directions: numpy.typing.ArrayLike) -> None:
+        """
+        bodies (C,) indices, points (C, 3) in the bodies' joint frames; the terrain; friction mu; directions (d, 3)
+        horizontal unit vectors.
+        """
+    def world_impulses(self, z: numpy.typing.ArrayLike) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        The world impulses (or forces) (K, C, 3) of the contact unknowns z (K, C (2 + d)), per contact
+        λ e_z + D^T β (the slack γ carries none).
+        """
+    @property
+    def n_contacts(self) -> int:
+        """
+        The number of contact points C.
+        """
+    @property
+    def per_contact(self) -> int:
+        """
+        The unknowns per contact, 2 + d: the normal impulse, d friction impulses, the sliding slack.
+        """
 class Integrator:
     """
     The core of hovi.Integrator (use that: it normalises arguments and returns Trajectory and
     StepInfo objects). Arrays: q, p (n,); control points (s+1, n), row a = q^{k,a}; controls u (m,)
     held over the step or (s+1, m) per control point; multipliers (s, n_constraints).
     """
-    def __init__(self, model: Model, s: typing.SupportsInt | typing.SupportsIndex, dt: typing.SupportsFloat | typing.SupportsIndex, tol: typing.SupportsFloat | typing.SupportsIndex, step_tol: typing.SupportsFloat | typing.SupportsIndex, max_iterations: typing.SupportsInt | typing.SupportsIndex, max_backtracks: typing.SupportsInt | typing.SupportsIndex, line_search: bool, direction: str, reuse_jacobian: bool, reuse_contraction: typing.SupportsFloat | typing.SupportsIndex, predictor: str) -> None:
+    def __init__(self, model: Model, s: typing.SupportsInt | typing.SupportsIndex, dt: typing.SupportsFloat | typing.SupportsIndex, tol: typing.SupportsFloat | typing.SupportsIndex, step_tol: typing.SupportsFloat | typing.SupportsIndex, max_iterations: typing.SupportsInt | typing.SupportsIndex, max_backtracks: typing.SupportsInt | typing.SupportsIndex, line_search: bool, direction: str, reuse_jacobian: bool, reuse_contraction: typing.SupportsFloat | typing.SupportsIndex, predictor: str, contacts: ContactModel | None = None, contact_tol: typing.SupportsFloat | typing.SupportsIndex = 1e-10, locate_impacts: bool = False) -> None:
         """
-        A Galerkin integrator of order 2s with step dt on a copy of `model` (options as hovi.Integrator's).
+        A Galerkin integrator of order 2s with step dt on a copy of `model` (options as hovi.Integrator's); with `contacts` (a ContactModel) its steps have the contact stages (galerkin_integrator.hpp).
         """
     def constrained_direction(self, control_points: numpy.typing.ArrayLike, multipliers: numpy.typing.ArrayLike, p: numpy.typing.ArrayLike, u: numpy.typing.ArrayLike | None = None) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]]:
         """
@@ -388,12 +428,13 @@ class Integrator:
         """
         q, qdot: (n,); returns (q, qdot), each (n,), projected onto h(q) = 0 and Dh(q) q̇ = 0.
         """
-    def rollout(self, q0: numpy.typing.ArrayLike, p0: numpy.typing.ArrayLike, steps: typing.SupportsInt | typing.SupportsIndex, u: numpy.typing.ArrayLike | None = None, previous: numpy.typing.ArrayLike | None = None, multipliers: numpy.typing.ArrayLike | None = None) -> dict[str, typing.Any]:
+    def rollout(self, q0: numpy.typing.ArrayLike, p0: numpy.typing.ArrayLike, steps: typing.SupportsInt | typing.SupportsIndex, u: numpy.typing.ArrayLike | None = None, previous: numpy.typing.ArrayLike | None = None, multipliers: numpy.typing.ArrayLike | None = None, impulses: numpy.typing.ArrayLike | None = None) -> dict[str, typing.Any]:
         """
-        `steps` steps from q0, p0 (n,) in C++ (GIL released); u (steps, (s+1) m), previous: the control
-        points (s+1, n) of the step before (for the predictor), multipliers (s, m_c) to start from.
-        Returns a dict: q, p (K+1, n), control_points (K, (s+1) n), iterations, factorizations, residual,
-        status (per attempted step), multipliers (K, s m_c), steps K, seconds.
+        `steps` steps from q0, p0 (n,) in C++ (GIL released); u (steps, (s+1) m); what the step before left:
+        previous, its control points (s+1, n) (for the predictor), multipliers (s, m_c), impulses (C (2 + d),)
+        (default none active). Returns a dict: q, p (K+1, n), control_points (K, (s+1) n), iterations,
+        factorizations, residual, status (per attempted step), multipliers (K, s m_c), steps K, seconds, and
+        with contacts pivots, impulses (K, C (2 + d)), gaps (K, C), impact (K,) and step_p (K+1, n).
         """
     def rollout_batch(self, q0s: numpy.typing.ArrayLike, second: numpy.typing.ArrayLike, velocities: bool, steps: typing.SupportsInt | typing.SupportsIndex, u: numpy.typing.ArrayLike | None = None, threads: int | None = None) -> dict[str, typing.Any]:
         """
@@ -404,7 +445,8 @@ class Integrator:
         control_points (B, steps, (s+1) n), multipliers (B, steps, s m_c), residual (B, steps) (NaN
         where not reached), iterations, factorizations (B, steps) (-1 where not attempted), steps (B,)
         completed, status (B,) ('converged', the failed step's status, or 'error'), seconds (B,) and
-        errors (B,) (an exception's message, or None).
+        errors (B,) (an exception's message, or None); with contacts impulses (B, steps, C (2 + d)), gaps (B,
+        steps, C), impact (B, steps) (NaN where not reached) and pivots (B, steps) (-1 where not attempted).
         """
     def rollout_controls(self, u: numpy.typing.ArrayLike | None, steps: typing.SupportsInt | typing.SupportsIndex, batch: typing.SupportsInt | typing.SupportsIndex | None = None) -> typing.Any:
         """
@@ -413,11 +455,13 @@ class Integrator:
         lead = () or (batch,), as an array lead + (steps, (s+1) m); None for None. Raises ValueError for a
         model without controls, another shape, NaN or infinity.
         """
-    def step(self, q: numpy.typing.ArrayLike, p: numpy.typing.ArrayLike, u: numpy.typing.ArrayLike | None = None, guess: numpy.typing.ArrayLike | None = None, multipliers: numpy.typing.ArrayLike | None = None) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], dict[str, typing.Any]]:
+    def step(self, q: numpy.typing.ArrayLike, p: numpy.typing.ArrayLike, u: numpy.typing.ArrayLike | None = None, guess: numpy.typing.ArrayLike | None = None, multipliers: numpy.typing.ArrayLike | None = None, impulses: numpy.typing.ArrayLike | None = None) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], dict[str, typing.Any]]:
         """
-        One step from q, p (n,) (GIL released): guess (s+1, n) for a single Newton solve, else the robust
-        fallbacks of hovi.Integrator.step; returns (control points (s+1, n), p_next (n,), info dict with
-        status, converged, iterations, factorizations, residual_evaluations, residual, multipliers (s, m_c)).
+        One step from q, p (n,) (GIL released): guess (s+1, n) for a single Newton solve of the DEL equations
+        (no contacts), else every stage with its fallbacks (hovi.Integrator.step); multipliers (s, m_c) and
+        impulses (C (2 + d),) the first guesses. Returns (control points (s+1, n), p_next (n,), info dict with
+        status, converged, iterations, factorizations, residual_evaluations, residual, multipliers (s, m_c), and
+        with contacts impulses (C (2 + d),), gaps at the end (C,), pivots and impact).
         """
     def step_batch(self, qs: numpy.typing.ArrayLike, second: numpy.typing.ArrayLike, velocities: bool, u: numpy.typing.ArrayLike | None = None, threads: int | None = None) -> dict[str, typing.Any]:
         """
@@ -427,7 +471,8 @@ class Integrator:
         GIL released; each state exactly as step. Returns a dict: control_points (B, s+1, n) (the last
         iterate where a solve failed), p_next (B, n), multipliers (B, s, m_c), residual (B,), iterations,
         factorizations, residual_evaluations (B,), converged (B,), status (B,) (or 'error'), seconds (B,)
-        and errors (B,) (an exception's message, or None).
+        and errors (B,) (an exception's message, or None); with contacts impulses (B, C (2 + d)), gaps (B, C)
+        and pivots (B,).
         """
     def step_controls(self, u: numpy.typing.ArrayLike | None, count: typing.SupportsInt | typing.SupportsIndex) -> typing.Any:
         """
@@ -465,6 +510,11 @@ class Integrator:
         Number of constraint equations m_c of the model.
         """
     @property
+    def n_contacts(self) -> int:
+        """
+        The number of contact points C (0 without contacts).
+        """
+    @property
     def n_controls(self) -> int:
         """
         Number of control inputs m of the model.
@@ -473,6 +523,11 @@ class Integrator:
     def nodes(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         """
         (s+1,) Lobatto nodes c^a on [0, 1].
+        """
+    @property
+    def per_contact(self) -> int:
+        """
+        The unknowns per contact, 2 + d (with contacts).
         """
     @property
     def s(self) -> int:
@@ -498,79 +553,26 @@ class Linearizer:
         control_points (s+1, n), u (m,) or (s+1, m), multipliers (s, m_c) of a constrained model; returns
         (dq ((s+1) n, (s+1) n), du ((s+1) n, (s+1) (m + m_c)) or None, dh (s m_c, (s+1) n) or None).
         """
-    def rollout_jacobians(self, control_points: numpy.typing.ArrayLike, u: numpy.typing.ArrayLike | None = None, want_A: bool = True, want_B: bool = True, multipliers: numpy.typing.ArrayLike | None = None) -> tuple[numpy.typing.NDArray[numpy.float64] | None, numpy.typing.NDArray[numpy.float64] | None]:
+    def rollout_jacobians(self, control_points: numpy.typing.ArrayLike, u: numpy.typing.ArrayLike | None = None, want_A: bool = True, want_B: bool = True, multipliers: numpy.typing.ArrayLike | None = None, impulses: numpy.typing.ArrayLike | None = None, smoothing: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> tuple[numpy.typing.NDArray[numpy.float64] | None, numpy.typing.NDArray[numpy.float64] | None]:
         """
-        control_points (K, (s+1) n) of K converged steps, u (K, (s+1) m), multipliers (K, s m_c); returns
-        (A (K, 2n, 2n) or None, B (K, 2n, (s+1) m) or None), computed in C++ (GIL released).
+        control_points (K, (s+1) n) of K converged steps, u (K, (s+1) m), multipliers (K, s m_c) of a
+        constrained model, or with contacts impulses (K, C (2 + d)) and smoothing (the central-path parameter
+        kappa, (N s)^2; 0 holds each contact's state); returns (A (K, 2n, 2n) or None, B (K, 2n, (s+1) m) or
+        None), computed in C++ (GIL released).
         """
-    def rollout_jacobians_batch(self, control_points: numpy.typing.ArrayLike, steps: typing.SupportsInt | typing.SupportsIndex, u: numpy.typing.ArrayLike | None = None, want_A: bool = True, want_B: bool = True, multipliers: numpy.typing.ArrayLike | None = None, threads: int | None = None) -> tuple[numpy.typing.NDArray[numpy.float64] | None, numpy.typing.NDArray[numpy.float64] | None, list]:
+    def rollout_jacobians_batch(self, control_points: numpy.typing.ArrayLike, steps: typing.SupportsInt | typing.SupportsIndex, u: numpy.typing.ArrayLike | None = None, want_A: bool = True, want_B: bool = True, multipliers: numpy.typing.ArrayLike | None = None, impulses: numpy.typing.ArrayLike | None = None, smoothing: typing.SupportsFloat | typing.SupportsIndex = 0.0, threads: int | None = None) -> tuple[numpy.typing.NDArray[numpy.float64] | None, numpy.typing.NDArray[numpy.float64] | None, list]:
         """
         rollout_jacobians of B trajectories of `steps` converged steps each: control_points (B steps, (s+1) n),
-        u (B steps, (s+1) m), multipliers (B steps, s m_c), trajectory b in rows b steps .. (b+1) steps - 1;
-        in C++ on `threads` threads (None: HOVI_NUM_THREADS or every core), GIL released. Returns
-        (A (B, steps, 2n, 2n) or None, B (B, steps, 2n, (s+1) m) or None, errors (B,): None, or the
-        message for a trajectory with a singular step, whose blocks are left unset).
+        u (B steps, (s+1) m), multipliers (B steps, s m_c) or impulses (B steps, C (2 + d)), trajectory b in
+        rows b steps .. (b+1) steps - 1; in C++ on `threads` threads (None: HOVI_NUM_THREADS or every core),
+        GIL released. Returns (A (B, steps, 2n, 2n) or None, B (B, steps, 2n, (s+1) m) or None, errors (B,):
+        None, or the message for a trajectory with a singular step, whose blocks are left unset).
         """
-    def step_jacobians(self, control_points: numpy.typing.ArrayLike, u: numpy.typing.ArrayLike | None = None, want_A: bool = True, want_B: bool = True, multipliers: numpy.typing.ArrayLike | None = None) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"] | None, typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"] | None]:
+    def step_jacobians(self, control_points: numpy.typing.ArrayLike, u: numpy.typing.ArrayLike | None = None, want_A: bool = True, want_B: bool = True, multipliers: numpy.typing.ArrayLike | None = None, impulses: numpy.typing.ArrayLike | None = None, smoothing: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"] | None, typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"] | None]:
         """
-        At a converged step's control points (s+1, n) (and multipliers (s, m_c)): returns (A (2n, 2n) or
-        None, B (2n, (s+1) m) or None), the Jacobians of (q^{k+1}, p^{k+1}) by (q^k, p^k) and u^{k,0..s}.
-        """
-class ContactIntegrator:
-    """
-    The variational integrator of an Integrator (its model, s, dt and Newton options) with hard point
-    contacts and Coulomb friction (cpp/include/hovi/contact/contact_solver.hpp). hovi.Integrator(...,
-    contacts=...) makes and uses it; the arguments are hovi.contact.Contacts' (bodies, points in the
-    joint frames, the terrain's ground, gaps (G, 3) and boxes (B, 5), mu, friction directions (d, 3)).
-    """
-    def __init__(self, integrator: Integrator, bodies: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], points: numpy.typing.ArrayLike, ground: typing.SupportsFloat | typing.SupportsIndex, gaps: numpy.typing.ArrayLike, boxes: numpy.typing.ArrayLike, mu: typing.SupportsFloat | typing.SupportsIndex, directions: numpy.typing.ArrayLike, contact_tol: typing.SupportsFloat | typing.SupportsIndex = 1e-10, locate_impacts: bool = False) -> None:
-        """
-        The contact simulator over `integrator` (a hovi._core.Integrator) with C contact points: bodies (C,)
-        indices, points (C, 3) in the bodies' joint frames; the terrain's ground height, gaps (G, 3) rows
-        (x0, x1, depth), boxes (B, 5) rows (x0, x1, top, y0, y1); friction mu; directions (d, 3) horizontal
-        unit vectors; contact_tol the complementarity tolerance (m and N s); locate_impacts: split a step
-        at an impact found on its polynomial (contact_integrator.hpp).
-        """
-    def rollout(self, q0: numpy.typing.ArrayLike, p0: numpy.typing.ArrayLike, steps: typing.SupportsInt | typing.SupportsIndex, u: numpy.typing.ArrayLike | None = None, impulses: numpy.typing.ArrayLike | None = None) -> dict[str, typing.Any]:
-        """
-        `steps` contact steps from q0, p0 (n,) in C++ (GIL released); u (steps, (s+1) m); impulses: those of
-        the step before (C (2 + d),), default none active. Returns a dict:
-        q, p (K+1, n), control_points (K, (s+1) n), iterations, factorizations, residual, pivots, status
-        (per attempted step), impulses (K, C (2 + d)), gaps (K, C), steps K, seconds.
-        """
-    def rollout_batch(self, q0s: numpy.typing.ArrayLike, p0s: numpy.typing.ArrayLike, steps: typing.SupportsInt | typing.SupportsIndex, u: numpy.typing.ArrayLike | None = None, threads: int | None = None) -> tuple[list, list]:
-        """
-        rollout from each of B states q0s, p0s (B, n) on `threads` C++ threads (GIL released); u (B steps,
-        (s+1) m). Returns (items: B rollout dicts, or None for an item that raised, errors (B,)).
-        """
-    def rollout_jacobians(self, control_points: numpy.typing.ArrayLike, u: numpy.typing.ArrayLike | None, impulses: numpy.typing.ArrayLike, want_A: bool = True, want_B: bool = True, smoothing: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> tuple[numpy.typing.NDArray[numpy.float64] | None, numpy.typing.NDArray[numpy.float64] | None]:
-        """
-        The step Jacobians of K converged contact steps (contact_linearizer.hpp): control_points (K, (s+1) n),
-        u (K, (s+1) m) or None, impulses (K, C (2 + d)); smoothing: the central-path parameter kappa ((N s)^2;
-        0: the contact state held); returns (A (K, 2n, 2n) or None, B (K, 2n, (s+1) m) or None), in C++
-        (GIL released).
-        """
-    def step(self, q: numpy.typing.ArrayLike, p: numpy.typing.ArrayLike, u: numpy.typing.ArrayLike | None = None, impulses: numpy.typing.ArrayLike | None = None) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], dict[str, typing.Any]]:
-        """
-        One contact step from q, p (n,) (GIL released); impulses: the first guess (C (2 + d),), default none
-        active. Returns (control points (s+1, n), p_next (n,), impulses (C (2 + d),), gaps at the end (C,),
-        info dict).
-        """
-    def step_batch(self, qs: numpy.typing.ArrayLike, ps: numpy.typing.ArrayLike, u: numpy.typing.ArrayLike | None = None, threads: int | None = None) -> tuple[list, list]:
-        """
-        One contact step from each of B states qs, ps (B, n) on `threads` C++ threads (GIL released); u (B,
-        (s+1) m). Returns (items: B dicts as step's info with control_points, p_next, impulses, gaps,
-        seconds, or None for an item that raised, errors (B,)).
-        """
-    @property
-    def n_contacts(self) -> int:
-        """
-        The number of contact points C.
-        """
-    @property
-    def per_contact(self) -> int:
-        """
-        The unknowns per contact, 2 + d: the normal impulse, d friction impulses, the sliding slack.
+        At a converged step's control points (s+1, n) (and multipliers (s, m_c), or with contacts its impulses
+        (1, C (2 + d)) and the smoothing kappa): returns (A (2n, 2n) or None, B (2n, (s+1) m) or None), the
+        Jacobians of (q^{k+1}, p^{k+1}) by (q^k, p^k) and u^{k,0..s}.
         """
 def body_point_kinematics(model: Model, q: numpy.typing.ArrayLike, bodies: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], points: numpy.typing.ArrayLike) -> tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64]]:
     """

@@ -14,10 +14,10 @@ class ShootingProblem:
     Integrator from x0 = (q, p) (2n,), held controls within u_lower, u_upper (m,), and quadratic cost terms
     on the steps' control points (hovi.trajopt.FDDP builds it from a Problem).
     """
-    def __init__(self, integrator: hovi._core.Integrator | hovi._core.ContactIntegrator, N: typing.SupportsInt | typing.SupportsIndex, x0: numpy.typing.ArrayLike, costs: list, u_lower: numpy.typing.ArrayLike, u_upper: numpy.typing.ArrayLike, smoothing: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
+    def __init__(self, integrator: hovi._core.Integrator, N: typing.SupportsInt | typing.SupportsIndex, x0: numpy.typing.ArrayLike, costs: list, u_lower: numpy.typing.ArrayLike, u_upper: numpy.typing.ArrayLike, smoothing: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
         """
-        integrator: a _core.Integrator, or a _core.ContactIntegrator (s = 1) to shoot through contact with its
-        Jacobians held (smoothing = 0) or smoothed (kappa > 0, ContactLinearizer).
+        integrator: a _core.Integrator; with contacts (s = 1) the problem shoots through contact with its
+        Jacobians held (smoothing = 0) or smoothed (kappa > 0, contact_jacobians.hpp).
         costs: a list of dicts, each a term with `terminal` (bool) and diagonal weights and references per sample,
         Wq, q_ref, Wv, v_ref (rows, n), R, u_ref (rows, m): rows = S (s+1) for a running term (S stages; step k
         uses stage min(offset + k, S - 1)), 1 for a terminal term (the horizon's last sample).
@@ -65,7 +65,7 @@ def backward_riccati(A: numpy.typing.ArrayLike, B: numpy.typing.ArrayLike, Q: nu
 def closed_loop(plants: list, x_ref: numpy.typing.ArrayLike, u_ref: numpy.typing.ArrayLike, gains: numpy.typing.ArrayLike, lower: numpy.typing.ArrayLike, upper: numpy.typing.ArrayLike, pushes: list, q0s: numpy.typing.ArrayLike, p0s: numpy.typing.ArrayLike, steps: typing.SupportsInt | typing.SupportsIndex, threads: int | None = None) -> tuple:
     """
     B closed-loop runs of `steps` steps in C++ (GIL released, `threads` threads): plants, a list of one or
-    B _core.Integrator or _core.ContactIntegrator; the policy u^{k,a} = clamp(u_ref^{k,a} - K^k (x - x_ref^k))
+    B _core.Integrator (with or without contacts); the policy u^{k,a} = clamp(u_ref^{k,a} - K^k (x - x_ref^k))
     from x_ref (S, 2n), u_ref (S, (s+1) m), gains (S, m, 2n), lower, upper (m,); pushes: a list of one or
     B lists of (step, body, point (3,) in the joint frame, world impulse (3,)[, world angular impulse (3,)]);
     q0s, p0s (B, n). Returns
@@ -76,9 +76,9 @@ def discrete_are(A: numpy.typing.ArrayLike, B: numpy.typing.ArrayLike, Q: numpy.
     The stabilising solution of the discrete algebraic Riccati equation for A (n, n), B (n, m), Q (n, n),
     R (m, m) (stage cost x^T Q x + u^T R u): returns (P (n, n), K (m, n), doublings), u = -K x.
     """
-def mpc(plant: hovi._core.Integrator | hovi._core.ContactIntegrator, problem: ShootingProblem, q0: numpy.typing.ArrayLike, p0: numpy.typing.ArrayLike, steps: typing.SupportsInt | typing.SupportsIndex, period: typing.SupportsInt | typing.SupportsIndex, max_iterations: typing.SupportsInt | typing.SupportsIndex, tol: typing.SupportsFloat | typing.SupportsIndex, pushes: list, us_init: numpy.typing.ArrayLike | None = None) -> dict[str, typing.Any]:
+def mpc(plant: hovi._core.Integrator, problem: ShootingProblem, q0: numpy.typing.ArrayLike, p0: numpy.typing.ArrayLike, steps: typing.SupportsInt | typing.SupportsIndex, period: typing.SupportsInt | typing.SupportsIndex, max_iterations: typing.SupportsInt | typing.SupportsIndex, tol: typing.SupportsFloat | typing.SupportsIndex, pushes: list, us_init: numpy.typing.ArrayLike | None = None) -> dict[str, typing.Any]:
     """
-    `steps` steps of plant (a _core.Integrator or _core.ContactIntegrator with the problem's dt) from q0, p0
+    `steps` steps of plant (a _core.Integrator, with or without contacts, with the problem's dt) from q0, p0
     (n,) under MPC (control/mpc.hpp): FDDP on `problem` re-solved every `period` steps (at most max_iterations,
     tol), warm-started from the last plan shifted; pushes: a list with one list of (step, body, point,
     impulse). Returns the plant's rollout dict with controls, and per solve solve_seconds, solve_iterations,

@@ -161,9 +161,9 @@ class ComplementarityRows(RowBlock):
     The contact complementarity rows of hovi.contact.ContactRows (complementarity_rows.hpp), values,
     Jacobian in its structure's order and exact Hessian.
     """
-    def __init__(self, model: hovi._core.Model, n_variables: typing.SupportsInt | typing.SupportsIndex, bodies: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], points: numpy.typing.ArrayLike, ground: typing.SupportsFloat | typing.SupportsIndex, gaps: numpy.typing.ArrayLike, boxes: numpy.typing.ArrayLike, mu: typing.SupportsFloat | typing.SupportsIndex, directions: numpy.typing.ArrayLike, first_input: typing.SupportsInt | typing.SupportsIndex, t: numpy.typing.ArrayLike, q_off: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], u_off: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"]) -> None:
+    def __init__(self, model: hovi._core.Model, n_variables: typing.SupportsInt | typing.SupportsIndex, contacts: hovi._core.ContactModel, first_input: typing.SupportsInt | typing.SupportsIndex, t: numpy.typing.ArrayLike, q_off: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], u_off: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"]) -> None:
         """
-        The contacts as hovi.contact.Contacts' arrays (bodies (C,), points (C, 3), the terrain's ground, gaps (G, 3), boxes (B, 5), mu, directions (d, 3)) on `model` (Contacts.model); first_input: the control index of the first contact input; t, q_off, u_off (P,): the configuration points' times and offsets of q and u in x.
+        The contacts (hovi.contact.Contacts.core_model()) on `model` (Contacts.model); first_input: the control index of the first contact input; t, q_off, u_off (P,): the configuration points' times and offsets of q and u in x.
         """
 class Program:
     """

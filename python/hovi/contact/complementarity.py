@@ -187,11 +187,8 @@ class ContactRows:
         """These rows in C++ (complementarity_rows.hpp): values, the Jacobian's values in the order
         of (rows, cols), and their exact Hessian, for the NLP's program over ``n_variables``."""
         ct = self.contacts
-        ground, gaps, boxes = ct.terrain.arrays()
-        return _core.trajopt.ComplementarityRows(ct.model, n_variables, [c.body for c in ct.points],
-                                                 np.array([c.point for c in ct.points]), ground, gaps, boxes, ct.mu,
-                                                 ct.D, ct.first_input, self.t, self.q_off.astype(np.int32),
-                                                 self.u_off.astype(np.int32))
+        return _core.trajopt.ComplementarityRows(ct.model, n_variables, ct.core_model(), ct.first_input, self.t,
+                                                 self.q_off.astype(np.int32), self.u_off.astype(np.int32))
 
     def violations(self, x: np.ndarray) -> dict:
         """Largest penetration, friction-cone violation and complementarity product at x (the

@@ -47,6 +47,8 @@ from .._checks import real_array, real_number
 from .._core import Model
 from .terrain import Terrain
 
+# The friction coefficient of the ground when none is given (the paper's robot examples', the CLI's).
+DEFAULT_FRICTION = 0.8
 # The largest friction coefficient taken: real ones are below about 2 (rubber on rough ground);
 # mu = 1e3 already means no slip, and beyond it the cone rows mu lambda - sum beta lose their scale.
 MAX_FRICTION = 1e3
@@ -90,11 +92,12 @@ class Contacts:
 
     model: the robot (not changed: ``self.model`` is a copy with the contact inputs appended).
     points: [(body name or index, point (3,) in the body's joint frame), ...].
-    mu: friction coefficient; plane: '' for 3D friction, 'xz' / 'yz' for a planar robot.
+    mu: friction coefficient (default DEFAULT_FRICTION, 0.8); plane: '' for 3D friction, 'xz' / 'yz'
+    for a planar robot.
     """
 
     def __init__(self, model: Model, points: Sequence[Tuple[Union[str, int], Sequence[float]]],
-                 terrain: Terrain, mu: float, plane: str = "") -> None:
+                 terrain: Terrain, mu: float = DEFAULT_FRICTION, plane: str = "") -> None:
         if not isinstance(model, Model):
             raise TypeError(f"model must be a hovi.Model, got {type(model).__name__}")
         if not isinstance(terrain, Terrain):
@@ -145,6 +148,12 @@ class Contacts:
         raise ValueError(f"contacts were built for another model (bodies {list(self.robot[0])[:6]}..., "
                          f"{self.robot[2]} controls), not this one (bodies {list(got[0])[:6]}..., {got[2]} controls)")
 
+    def core_model(self) -> _core.ContactModel:
+        """These contacts as the C++ contact model (the integrator's contact stages, the complementarity
+        rows): the points, the terrain, mu and the friction directions, fixed when made."""
+        return _core.ContactModel([c.body for c in self.points], np.array([c.point for c in self.points]),
+                                  self.terrain.core(), self.mu, self.D)
+
     def gaps(self, q: np.ndarray) -> np.ndarray:
         """The signed gaps (C,) of the contact points to the terrain at configuration q (n,)."""
         q = real_array(q, "q", (self.model.n,))
@@ -183,10 +192,5 @@ class Contacts:
         if u.ndim not in (1, 2) or u.shape[-1] != m:
             raise ValueError(f"u must be the controls of the contact model, (P, {m}) or ({m},) (the robot's "
                              f"{self.m_user} and {m - self.m_user} contact inputs), got shape {u.shape}")
-        u = np.atleast_2d(u)
-        out = np.zeros((len(u), self.n_contacts, 3))
-        for c in range(self.n_contacts):
-            out[:, c, 2] = u[:, self.input_index(c, "normal")]
-            beta = u[:, self.input_index(c, "friction"):self.input_index(c, "friction") + self.d]
-            out[:, c] += beta @ self.D
-        return out
+        forces: np.ndarray = self.core_model().world_impulses(np.atleast_2d(u)[:, self.first_input:])
+        return forces

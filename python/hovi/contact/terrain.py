@@ -9,6 +9,7 @@ from typing import List, Sequence, Tuple
 
 import numpy as np
 
+from .. import _core
 from .._checks import real_number
 
 
@@ -82,16 +83,14 @@ class Terrain:
         boxes = np.array([[b.x0, b.x1, b.top, b.y0, b.y1] for b in self.boxes], dtype=np.float64).reshape(-1, 5)
         return float(self.ground), gaps, boxes
 
+    def core(self) -> _core.Terrain:
+        """This terrain as C++ holds it (the one home of its height: the contact stages and rows read it)."""
+        return _core.Terrain(*self.arrays())
+
     def height(self, xy: np.ndarray) -> np.ndarray:
-        """h (P,) of the surface below the points xy (P, 2)."""
-        xy = np.atleast_2d(xy)
-        h = np.full(len(xy), float(self.ground))
-        for g in self.gaps:
-            h[(xy[:, 0] > g.x0) & (xy[:, 0] < g.x1)] = self.ground - g.depth
-        for b in self.boxes:
-            inside = (xy[:, 0] > b.x0) & (xy[:, 0] < b.x1) & (xy[:, 1] > b.y0) & (xy[:, 1] < b.y1)
-            h[inside] = np.maximum(h[inside], b.top)
-        return h
+        """h (P,) of the surface below the points xy (P, 2), in C++."""
+        heights: np.ndarray = self.core().heights(np.atleast_2d(xy))
+        return heights
 
     def gap(self, points: np.ndarray) -> np.ndarray:
         """The signed gap phi (P,) of world points (P, 3): positive above the surface."""

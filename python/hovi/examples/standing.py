@@ -18,14 +18,13 @@ from typing import Dict, Tuple
 
 import numpy as np
 
-from ..contact import Contacts, Terrain
+from ..contact import DEFAULT_FRICTION, Contacts, Terrain
 from ..integrator import Integrator
 from .._core import Model
 from .._typing import FloatArray
 from .robots import Robot, atlas, littledog, spring_flamingo
 from .paper.statics import static_controls
 
-MU = 0.8                # the ground's friction coefficient in the robot examples
 ANKLE_STIFFNESS = 300.0  # N m/rad: Spring Flamingo's ankles when it stands (the example's are 1 N m/rad)
 # (f Hz, kp_min N m/rad, legs, dt s) per robot: each actuated joint j gets kp_j = M_jj (2 pi f)^2, at
 # least kp_min on the joints whose name contains ``legs``, and kd_j = max(2 zeta M_jj 2 pi f, kp_j / 10)
@@ -78,9 +77,9 @@ def standing(name: str, dt: float | None = None, frequency: float | None = None)
     f, kp_min, legs, dt0 = GAINS[name]
     plane = "xz" if robot.base == "planar" else ""
     terrain = Terrain(ground=robot.contact_radius)  # the foot spheres' centres touch it
-    statics = Contacts(robot.model, robot.contact_points, terrain, mu=MU, plane=plane)
+    statics = Contacts(robot.model, robot.contact_points, terrain, mu=DEFAULT_FRICTION, plane=plane)
     u = static_controls(statics.model, robot.q0)[:statics.m_user]
     model = pd_model(robot, f if frequency is None else frequency, kp_min, legs)
-    contacts = Contacts(model, robot.contact_points, terrain, mu=MU, plane=plane)
+    contacts = Contacts(model, robot.contact_points, terrain, mu=DEFAULT_FRICTION, plane=plane)
     integrator = Integrator(model, s=1, dt=dt0 if dt is None else dt, contacts=contacts)
     return Standing(robot, model, contacts, integrator, robot.q0.copy(), u)

@@ -21,7 +21,7 @@ from .problem import Problem
 from .result import Result
 from .solvers import FDDP, ContactHomotopy, Ipopt, NLPSolver, Solver, solve, solve_contact
 from .transcription import Guess, Transcription, TranscriptionMethod
-from .transcriptions import DEFAULT_TRANSCRIPTION, transcribe
+from .transcriptions import DEFAULT_TRANSCRIPTION
 from .variational import VI
 
 __all__ = ["Problem", "VI", "HermiteSimpson", "DEFAULT_TRANSCRIPTION", "TranscriptionMethod", "Transcription",

@@ -8,15 +8,13 @@
 // sensitivities (Linearizer); the cost's Hessian is the Gauss-Newton one (the second derivatives of
 // the control points dropped, as FDDP drops the dynamics').
 //
-// Through contact (s = 1): the step is the contact simulator's (ContactIntegrator) and its Jacobians
-// those of ContactLinearizer, with the contact state held (kappa = 0) or smoothed on the central path
-// (kappa > 0: gradients across contact switches); each step's impulses are kept with it.
+// Through contact (an integrator with contacts, s = 1, no impact location): the step is the contact
+// step and its Jacobians the Linearizer's, with the contact state held (kappa = 0) or smoothed on the
+// central path (kappa > 0: gradients across contact switches); each step's impulses are kept with it.
 #pragma once
 #include <memory>
 #include <vector>
 
-#include "hovi/contact/contact_integrator.hpp"
-#include "hovi/contact/contact_linearizer.hpp"
 #include "hovi/integrators/galerkin_integrator.hpp"
 #include "hovi/integrators/linearizer.hpp"
 
@@ -50,15 +48,13 @@ struct StageDerivatives {
 
 class ShootingProblem {
  public:
-  // integ must outlive the problem. Throws InputError for sizes that do not fit, a model with
-  // constraints, or negative or non-finite weights.
+  // integ must outlive the problem; kappa: the smoothing of the contact step's Jacobians (contacts
+  // only). Throws InputError for sizes that do not fit, a model with constraints, negative or
+  // non-finite weights, or contacts with s > 1, impact location or a bad kappa.
   ShootingProblem(const GalerkinIntegrator& integ, int N, const VecX& x0, std::vector<SampleCost> costs,
-                  const VecX& u_lower, const VecX& u_upper);
-  // Through contact: contact must outlive the problem; its integrator must have s = 1; kappa >= 0.
-  ShootingProblem(const ContactIntegrator& contact, double kappa, int N, const VecX& x0, std::vector<SampleCost> costs,
-                  const VecX& u_lower, const VecX& u_upper);
-  bool has_contacts() const { return contact_ != nullptr; }
-  int impulses() const { return contact_ ? contact_->contacts().unknowns() : 0; }
+                  const VecX& u_lower, const VecX& u_upper, double kappa = 0);
+  bool has_contacts() const { return integ_.has_contacts(); }
+  int impulses() const { return integ_.contacts().unknowns(); }
 
   int N() const { return N_; }
   int nx() const { return 2 * n_; }
@@ -92,8 +88,6 @@ class ShootingProblem {
 
   const GalerkinIntegrator& integ_;
   Linearizer lin_;
-  const ContactIntegrator* contact_ = nullptr;
-  std::unique_ptr<ContactLinearizer> clin_;
   double kappa_ = 0;
   int N_, n_, m_, s_;
   VecX x0_, lo_, hi_;

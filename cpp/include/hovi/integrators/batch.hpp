@@ -1,6 +1,6 @@
 // B independent rollouts, steps or trajectory linearisations in one call, spread over C++
 // threads (parallel_for.hpp; threads = 0: thread_count()). Item b is exactly the single call
-// (GalerkinIntegrator::rollout, ::robust_step, Linearizer::trajectory_jacobians) on the object
+// (GalerkinIntegrator::rollout, ::step, Linearizer::trajectory_jacobians) on the object
 // shared read-only; each call leases its own workspace from the object's pool, so no more
 // workspaces exist than threads, and writes only its own result, so the results are those of the
 // same calls made one after another, bit for bit, on any number of threads. errors[b] holds the
@@ -38,6 +38,8 @@ struct StepBatchItem {
   MatX qc;      // n x (s+1): the control points (the last iterate if the solve failed)
   VecX p_next;
   MatX lambda;  // m_c x s: the multipliers of a constrained model
+  VecX z;       // the impulses (contacts)
+  ContactReport contact;
   SolveInfo info;
   double seconds = 0;
 };
@@ -47,15 +49,17 @@ struct StepBatch {
   std::vector<std::string> errors;
 };
 
-// One robust_step (no guess: the fallbacks of GalerkinIntegrator::robust_step, multipliers from
-// zero) from each state; u: B x ((s+1) m), row b = vec(u^{0..s}) column-major (m per point).
+// One step (GalerkinIntegrator::step from an empty history: the velocity guess and its fallbacks,
+// multipliers from zero, no impulses active) from each state; u: B x ((s+1) m), row b = vec(u^{0..s}) column-major (m per point).
 StepBatch step_batch(const GalerkinIntegrator& integ, const BatchStates& x, const MatX& u, int threads = 0);
 
 // trajectory_jacobians of B trajectories of K steps each: C ((B K) x (s+1) n), U ((B K) x (s+1) m),
-// L ((B K) x s m_c, or empty), the rows b K .. (b+1) K - 1 item b's; A_k of item b goes to
+// W ((B K) x the steps' other unknowns, or empty: Linearizer::trajectory_jacobians), the rows
+// b K .. (b+1) K - 1 item b's; A_k of item b goes to
 // As[b K + k] (a (B, K, 2n, 2n) row-major array), B_k to Bs likewise (null: not computed). A
 // singular step is item b's error.
 std::vector<std::string> trajectory_jacobians_batch(const Linearizer& lin, int B, int K, const MatX& C, const MatX& U,
-                                                    const MatX& L, double* As, double* Bs, int threads = 0);
+                                                    const MatX& W, double* As, double* Bs, double kappa = 0,
+                                                    int threads = 0);
 
 }  // namespace hovi

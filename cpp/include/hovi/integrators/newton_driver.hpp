@@ -42,6 +42,14 @@ struct SolveInfo {
   int residual_evaluations = 0;
   double residual = 0;       // ||r||_inf at exit
   bool converged() const { return status == SolveStatus::Converged; }
+  // A later solve of the same step (a fallback, a stage): its counters added, its status and residual kept.
+  void add(const SolveInfo& later) {
+    status = later.status;
+    iterations += later.iterations;
+    factorizations += later.factorizations;
+    residual_evaluations += later.residual_evaluations;
+    residual = later.residual;
+  }
 };
 
 // The stopping rule of every Newton iteration, on the next correction dx of an iterate x (the
@@ -91,7 +99,7 @@ struct NewtonLoop {
   bool estimate_from_contraction = true;  // the θ test of StoppingRule
 };
 
-// NoLcpSolution: the contact step's complementarity subproblem has none (contact/contact_solver.hpp).
+// NoLcpSolution: the contact step's complementarity subproblem has none (contact_solver.hpp).
 enum class Factor { Ok, Singular, NonFinite, NoLcpSolution };
 
 template <class Problem>

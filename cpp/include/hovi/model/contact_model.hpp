@@ -1,4 +1,4 @@
-// Point contacts of a model with a terrain, as the simulator's contact step (contact/) and the
+// Point contacts of a model with a terrain, as the integrator's contact stages (integrators/) and the
 // trajectory optimiser's complementarity rows (trajopt/complementarity_rows.hpp) read them, the
 // contact model of python/hovi/contact: points of bodies, a terrain
 // with horizontal faces (normal +z), Coulomb friction mu on a polyhedral cone of d directions.

@@ -10,14 +10,13 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from ... import _core, trajopt
-from ...contact import Contacts, FlatFoot, Terrain, wrench_cone
+from ...contact import DEFAULT_FRICTION, Contacts, FlatFoot, Terrain, wrench_cone
 from ..robots import Robot, atlas
 from ...trajopt import Problem, Result
 from .contact_figures import BETWEEN_TOLERANCE, between_knot_penetration
 from .example import Example, Scenery
 from .statics import static_controls
 
-MU = 0.8          # friction coefficient of the stance foot
 LIFT = 0.05       # the left sole's height above the ground at the start (m)
 BALL = (0.30, 0.05, -0.20)  # the ball relative to the left hand at the start (m)
 BALL_RADIUS = 0.06
@@ -74,7 +73,7 @@ def build(quick: bool = False) -> Example:
     qs = single_support(robot)
     centre, X, Y = sole(robot, "r")
     left_centre = sole(robot, "l")[0]
-    foot = FlatFoot(robot.model, "r_foot", centre, X, Y, mu=MU, q0=qs)
+    foot = FlatFoot(robot.model, "r_foot", centre, X, Y, mu=DEFAULT_FRICTION, q0=qs)
     model = foot.model
     hand0, _ = body_point(robot, qs, "l_hand", np.zeros(3))
     ball = hand0 + reach * np.asarray(BALL)
@@ -96,7 +95,7 @@ def build(quick: bool = False) -> Example:
              lambda t: np.tile(u0, (len(t), 1)))
     options = {"constr_viol_tol": 1e-8}  # the dynamics' round-off floor of a 174 kg robot is ~5e-10
 
-    G = wrench_cone(X, Y, MU)
+    G = wrench_cone(X, Y, DEFAULT_FRICTION)
     corners = ([robot.model.body_index(c.body) for c in robot.contacts], np.array([c.point for c in robot.contacts]))
 
     def heights(q: np.ndarray) -> np.ndarray:
@@ -128,6 +127,6 @@ def build(quick: bool = False) -> Example:
     labels = ["f_x", "f_y", "f_z"]
     return Example("atlas", "picks a ball with its left hand while balancing on its right foot", robot, prob, guess,
                    options, checks, bounds, lambda u: foot.wrench(u)[:, :3], labels, scenery,
-                   from_trapezoidal=True, simulation=Contacts(robot.model, robot.contact_points, Terrain(), mu=MU))
+                   from_trapezoidal=True, simulation=Contacts(robot.model, robot.contact_points, Terrain(), mu=DEFAULT_FRICTION))
     # the simulation's contacts are both soles' corners: the stance foot as the simulator takes a
     # FlatFoot (flat_feet_contacts), the other able to land

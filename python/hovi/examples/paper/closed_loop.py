@@ -279,9 +279,8 @@ def nominal(example: Example, motion: Motion, integ: Optional[Integrator] = None
         Z = _optimiser_impulses(example, motion, integ)
         q, p = motion.q.copy(), motion.p.copy()
         p[1:K] -= 0.5 * knot_impulses(integ, q[1:K], Z[1:K])
-        cps = np.ascontiguousarray(np.stack([q[:-1], q[1:]], axis=1).reshape(K, -1))
-        A, Bs = integ.contact_jacobians(cps, np.ascontiguousarray(U.reshape(K, -1)),
-                                        np.ascontiguousarray(Z.reshape(K, -1)), smoothing=smoothing)
+        A, Bs = Linearizer(integ).linearize_at(np.stack([q[:-1], q[1:]], axis=1), U.reshape(K, 2, m),
+                                               impulses=Z, smoothing=smoothing)
         B = Bs.reshape(K, 2 * n, 2, m).sum(axis=2)
         figures.update(_knot_steps(integ, motion, U, p, Z))
     else:

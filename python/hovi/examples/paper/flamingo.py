@@ -32,14 +32,13 @@ import numpy as np
 from scipy.interpolate import CubicHermiteSpline
 
 from ... import trajopt
-from ...contact import Contacts, Terrain
+from ...contact import DEFAULT_FRICTION, Contacts, Terrain
 from ...contact.terrain import Box
 from ..robots import Robot, spring_flamingo
 from ...trajopt import Problem, Result
 from .contact_figures import BETWEEN_TOLERANCE, CONTACT_BOUNDS, contact_figures, path_configurations
 from .example import Example, Scenery, samples_between
 
-MU = 0.8                          # friction coefficient of the ground
 T = 1.1                           # duration (s), the paper's
 START_SPEED = 0.26                # forward (-x) speed of the hip at t = 0 (m/s), the paper's
 GOAL = -0.74                      # hip x at t = T (m): 0.67 m/s on average
@@ -168,7 +167,7 @@ def build(quick: bool = False) -> Example:
     robot = spring_flamingo()
     N = 22 if quick else 44
     plan = JumpPlan(robot)
-    contacts = Contacts(robot.model, robot.contact_points, Terrain(), mu=MU, plane="xz")
+    contacts = Contacts(robot.model, robot.contact_points, Terrain(), mu=DEFAULT_FRICTION, plane="xz")
     model = contacts.model
     prob = Problem(model, N=N, T=T)
     prob.initial_state(plan.configurations(0.0)[0], plan.velocities(0.0)[0])

@@ -24,14 +24,13 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from ... import _core, trajopt
-from ...contact import Contacts, Gap, Terrain
+from ...contact import DEFAULT_FRICTION, Contacts, Gap, Terrain
 from ..robots import Robot, littledog
 from ...trajopt import Problem, Result
 from .statics import static_controls
 from .contact_figures import BETWEEN_TOLERANCE, CONTACT_BOUNDS, contact_figures, path_configurations
 from .example import Example, Scenery, samples_between
 
-MU = 0.8              # friction coefficient of the feet
 SPEED = 0.25          # the average forward speed the body must reach (m/s; the paper's)
 GAP_WIDTH = 0.04      # m
 GAP_DEPTH = 0.5       # m below the ground: out of a foot's reach
@@ -323,7 +322,7 @@ def build(quick: bool = False) -> Example:
     robot, course = littledog(), (QUICK if quick else FULL)
     ground = terrain(robot, course)
     q0 = standing_pose(robot)
-    contacts = Contacts(robot.model, robot.contact_points, ground, mu=MU)
+    contacts = Contacts(robot.model, robot.contact_points, ground, mu=DEFAULT_FRICTION)
     labels = [f"{f} normal" for f in FEET]
 
     def walk(below: float, replay_options: Dict[str, float], warm_up: Example | None) -> Example:

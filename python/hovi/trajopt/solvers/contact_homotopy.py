@@ -23,7 +23,6 @@ from __future__ import annotations
 import dataclasses
 import os
 import time
-import warnings
 import zipfile
 from typing import Any, Sequence
 
@@ -35,7 +34,7 @@ from ..nlp import NLP
 from ..problem import Problem
 from ..result import Result
 from ..transcription import Guess, Transcription, TranscriptionMethod
-from ..transcriptions import DEFAULT_TRANSCRIPTION, resolve
+from ..transcriptions import DEFAULT_TRANSCRIPTION, transcription_method
 from .base import Solver
 from .ipopt import Ipopt
 
@@ -172,7 +171,7 @@ class ContactHomotopy(Solver):
 
 
 def solve_contact(problem: Problem, transcription: TranscriptionMethod = DEFAULT_TRANSCRIPTION,
-                  epsilons: Sequence[float] = DEFAULT_EPSILONS, *, s: int | None = None, guess: Guess = "rollout",
+                  epsilons: Sequence[float] = DEFAULT_EPSILONS, *, guess: Guess = "rollout",
                   finish_below: float = FINISH_BELOW, options: dict[str, Any] | None = None, verbose: bool = False,
                   hessian: str = "auto", time_limit: float | None = None,
                   checkpoint: str | os.PathLike | None = None, sides_from: Result | None = None,
@@ -223,19 +222,12 @@ def solve_contact(problem: Problem, transcription: TranscriptionMethod = DEFAULT
     'iterations' (total), 'wall_seconds' (in IPOPT, total), 'out_of_time', 'sides_from' (the
     transcription whose sides were tried, or None)}. The exact result's sliding slacks are the
     least their rows allow (``hovi.contact.least_slack``).
-
-    The old spellings ``solve_contact(problem, s=1)``, ``solve_contact(problem, transcription='vi',
-    s=2)`` (the order defaulted to s = 1 there) still work for one release (DeprecationWarning)."""
-    if (transcription is not None and not isinstance(transcription, (str, TranscriptionMethod))
-            and np.ndim(transcription) == 1):   # the old positional epsilons
-        warnings.warn("solve_contact(problem, epsilons) is deprecated: pass epsilons=...", DeprecationWarning,
-                      stacklevel=2)
-        transcription, epsilons = DEFAULT_TRANSCRIPTION, transcription
+    """
     if not isinstance(problem, Problem):
         raise TypeError(f"problem must be a hovi.trajopt.Problem, got {type(problem).__name__}")
     if problem.contacts is None:
         raise ValueError("the problem has no contacts: call problem.add_contacts(contacts)")
-    method = resolve(transcription, s, old_default_s=1, caller="solve_contact")
+    method = transcription_method(transcription)
     homotopy = ContactHomotopy(Ipopt(options, verbose=verbose, hessian=hessian, threads=threads), epsilons,
                                finish_below=finish_below, time_limit=time_limit)
     return homotopy.solve(problem, method, guess, checkpoint=checkpoint, sides_from=sides_from)

@@ -27,7 +27,7 @@ from ..costs import CallbackCost
 from ..problem import Problem
 from ..result import Result
 from ..transcription import Guess, TranscriptionMethod
-from ..transcriptions import DEFAULT_TRANSCRIPTION, resolve
+from ..transcriptions import DEFAULT_TRANSCRIPTION, transcription_method
 from ..variational import VI
 from .base import NLPSolver
 
@@ -536,22 +536,19 @@ class Ipopt(NLPSolver):
                             {"lambda": out["lambda"], "z_lower": out["z_lower"], "z_upper": out["z_upper"]})
 
 
-def solve(problem: Problem, transcription: TranscriptionMethod = DEFAULT_TRANSCRIPTION, *, s: int | None = None,
-          guess: Guess = None, options: dict[str, Any] | None = None, verbose: bool = True,
+def solve(problem: Problem, transcription: TranscriptionMethod = DEFAULT_TRANSCRIPTION, *, guess: Guess = None, options: dict[str, Any] | None = None, verbose: bool = True,
           hessian: str = "auto", continuation: bool | str = True, threads: int | None = 1) -> Result:
     """Transcribe ``problem`` with ``transcription`` (``VI(s=2)`` by default: the Galerkin VI of order
     4; ``HermiteSimpson("implicit")`` or ``HermiteSimpson("explicit")``) and solve it with IPOPT:
     ``Ipopt(options, verbose=verbose, hessian=hessian, continuation=continuation,
-    threads=threads).solve(problem, transcription, guess)``.
+    threads=threads).solve(problem, transcription, guess)``. TypeError for a transcription that is not a
+    ``VI`` or ``HermiteSimpson``.
 
     guess: None or 'rollout' (simulate from the initial state with zero controls; if that fails,
     'linear'), 'linear', a Result (warm start from a solve of the same transcription), or
     functions (q(t), v(t), u(t)) of times t (K,) returning (K, n), (K, n), (K, m).
 
     options, hessian, verbose, continuation (solve VI(s=1) first; 'lbfgs': 50 L-BFGS iterations of
-    it), threads (of the Hessian) and the result's ``timing``: see ``Ipopt``. The old spellings
-    ``solve(problem, "vi", s=2)``, ``solve(problem, "hs-implicit")`` still work for one release
-    (DeprecationWarning)."""
-    method = resolve(transcription, s, old_default_s=2, caller="solve")
+    it), threads (of the Hessian) and the result's ``timing``: see ``Ipopt``."""
     return Ipopt(options, verbose=verbose, hessian=hessian, continuation=continuation, threads=threads).solve(
-        problem, method, guess)
+        problem, transcription_method(transcription), guess)

@@ -1,4 +1,4 @@
-#include "hovi/contact/lcp.hpp"
+#include "hovi/integrators/lcp.hpp"
 
 #include <Eigen/LU>
 #include <algorithm>

@@ -21,7 +21,7 @@
 #include "hovi/algorithms/del_residual.hpp"
 #include "hovi/algorithms/newton_direction.hpp"
 #include "hovi/model/contact_model.hpp"
-#include "hovi/contact/lcp.hpp"
+#include "hovi/integrators/lcp.hpp"
 #include "hovi/integrators/dense_direction.hpp"
 #include "hovi/integrators/newton_solver.hpp"
 

@@ -1,4 +1,4 @@
-#include "hovi/contact/contact_linearizer.hpp"
+#include "hovi/integrators/contact_jacobians.hpp"
 
 #include <Eigen/LU>
 #include <Eigen/QR>
@@ -15,7 +15,7 @@ namespace {
 constexpr double kStickTol = 1e-12;  // m: a sliding displacement γ this small over the step is a stick (round-off)
 }
 
-ContactLinearizer::ContactLinearizer(const Model& model, const Quadrature& quad, double dt, const ContactModel& contacts)
+ContactJacobians::ContactJacobians(const Model& model, const Quadrature& quad, double dt, const ContactModel& contacts)
     : model_(model), quad_(quad), dt_(dt), contacts_(contacts),
       pool_([this] { return std::make_unique<Workspace>(model_, quad_); }) {
   r_com_ = contacts.points_in_com_frames(model);
@@ -26,7 +26,7 @@ ContactLinearizer::ContactLinearizer(const Model& model, const Quadrature& quad,
   if (y) T_(int(x), 1) = 1;
 }
 
-void ContactLinearizer::point_kinematics(Workspace& w, const Eigen::Ref<const MatX>& qc,
+void ContactJacobians::point_kinematics(Workspace& w, const Eigen::Ref<const MatX>& qc,
                                          const Eigen::Ref<const MatX>& u, const Eigen::Ref<const VecX>& z,
                                          bool want_u) const {
   const int n = model_.n(), s = quad_.s, C = contacts_.size();
@@ -53,7 +53,7 @@ void ContactLinearizer::point_kinematics(Workspace& w, const Eigen::Ref<const Ma
   }
 }
 
-bool ContactLinearizer::step_maps(Workspace& w, int ny, const std::function<bool(const MatX&, MatX&)>& solve,
+bool ContactJacobians::step_maps(Workspace& w, int ny, const std::function<bool(const MatX&, MatX&)>& solve,
                                   MatX* A, MatX* B) const {
   const int n = model_.n(), s = quad_.s, S1 = s + 1, m = model_.n_controls(), sn = s * n;
   const auto P_y = w.Jq.bottomRightCorner(n, sn);  // dp^{k+1}/dy; p^{k+1} carries no impulse
@@ -78,7 +78,7 @@ bool ContactLinearizer::step_maps(Workspace& w, int ny, const std::function<bool
   return true;
 }
 
-bool ContactLinearizer::step_jacobians(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u,
+bool ContactJacobians::step_jacobians(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u,
                                        const Eigen::Ref<const VecX>& z, MatX* A, MatX* B) const {
   auto w = pool_.acquire();
   const int n = model_.n(), s = quad_.s, sn = s * n;
@@ -147,7 +147,7 @@ bool ContactLinearizer::step_jacobians(const Eigen::Ref<const MatX>& qc, const E
   return step_maps(*w, ny, solve, A, B);
 }
 
-bool ContactLinearizer::smoothed_jacobians(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u,
+bool ContactJacobians::smoothed_jacobians(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u,
                                            const Eigen::Ref<const VecX>& z, double kappa, MatX* A, MatX* B) const {
   auto w = pool_.acquire();
   const int n = model_.n(), s = quad_.s, sn = s * n;
@@ -229,25 +229,6 @@ bool ContactLinearizer::smoothed_jacobians(const Eigen::Ref<const MatX>& qc, con
   const double scale = K.cwiseAbs().maxCoeff();
   if (!(lu.matrixLU().diagonal().cwiseAbs().minCoeff() > 1e-14 * scale)) return false;
   return step_maps(*w, ny, [&](const MatX& b, MatX& x) { x = -lu.solve(b); return true; }, A, B);
-}
-
-int ContactLinearizer::trajectory_jacobians(const Eigen::Ref<const MatX>& C, const Eigen::Ref<const MatX>& U,
-                                            const Eigen::Ref<const MatX>& Z, double* As, double* Bs,
-                                            double kappa) const {
-  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-  const int n = model_.n(), s = quad_.s, S1 = s + 1, m = model_.n_controls();
-  MatX A, B, qc(n, S1), uk(m, S1);
-  for (int k = 0; k < C.rows(); ++k) {
-    for (int c = 0; c < S1; ++c) qc.col(c) = C.row(k).segment(c * n, n).transpose();
-    for (int c = 0; c < S1; ++c) uk.col(c) = U.row(k).segment(c * m, m).transpose();
-    const bool ok = kappa > 0 ? smoothed_jacobians(qc, uk, Z.row(k).transpose(), kappa, As ? &A : nullptr,
-                                                   Bs ? &B : nullptr)
-                              : step_jacobians(qc, uk, Z.row(k).transpose(), As ? &A : nullptr, Bs ? &B : nullptr);
-    if (!ok) return k;
-    if (As) Eigen::Map<RowMajor>(As + std::size_t(k) * 4 * n * n, 2 * n, 2 * n) = A;
-    if (Bs) Eigen::Map<RowMajor>(Bs + std::size_t(k) * 2 * n * S1 * m, 2 * n, S1 * m) = B;
-  }
-  return -1;
 }
 
 }  // namespace hovi

@@ -1,4 +1,4 @@
-#include "hovi/contact/contact_solver.hpp"
+#include "hovi/integrators/contact_solver.hpp"
 
 #include <algorithm>
 #include <cmath>

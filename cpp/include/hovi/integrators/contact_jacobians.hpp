@@ -1,4 +1,5 @@
-// The linearisation of one converged contact step (contact_solver.hpp) by the implicit function
+// The linearisation of one converged contact step (contact_solver.hpp), the contact part of
+// Linearizer (linearizer.hpp), by the implicit function
 // theorem with its contact state held: the step map (q^k, p^k, u^k) -> (q^{k+1}, p^{k+1}) with
 // p^{k+1} the state the next step starts from. Per contact with a normal impulse λ_c > 0:
 //   stick (γ_c = 0, to 1e-12 m): φ_c(q^{k+1}) = 0 and T (x_c(q^{k+1}) - x_c(q^k)) = 0 (T: the tangent axes the
@@ -19,10 +20,10 @@
 
 namespace hovi {
 
-class ContactLinearizer {
+class ContactJacobians {
  public:
   // model, quad and contacts must outlive it.
-  ContactLinearizer(const Model& model, const Quadrature& quad, double dt, const ContactModel& contacts);
+  ContactJacobians(const Model& model, const Quadrature& quad, double dt, const ContactModel& contacts);
 
   // A (2n x 2n) and/or B (2n x (s+1) m) at converged control points qc (n x (s+1)) with controls u
   // (m x (s+1)) and impulses z (unknowns(), the step's solution). Redundant contacts held: the
@@ -39,10 +40,6 @@ class ContactLinearizer {
   // sticking contact at its friction limit) blends both sides. All of z's unknowns enter.
   bool smoothed_jacobians(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u,
                           const Eigen::Ref<const VecX>& z, double kappa, MatX* A, MatX* B) const;
-  // step_jacobians (kappa = 0) or smoothed_jacobians along K steps (rows of C, U, Z as
-  // Linearizer::trajectory_jacobians, Z: K x unknowns()); -1, or the first step whose dR/dy is singular.
-  int trajectory_jacobians(const Eigen::Ref<const MatX>& C, const Eigen::Ref<const MatX>& U,
-                           const Eigen::Ref<const MatX>& Z, double* As, double* Bs, double kappa = 0) const;
 
  private:
   struct Workspace {

@@ -1,0 +1,111 @@
+// GalerkinIntegrator::rollout: the loop over steps (galerkin_integrator.hpp) and its record.
+#include <string>
+
+#include "hovi/integrators/galerkin_integrator.hpp"
+
+#include "hovi/algorithms/kinematics.hpp"
+#include "hovi/errors.hpp"
+#include "hovi/integrators/dense_direction.hpp"
+
+namespace hovi {
+
+void GalerkinIntegrator::start_rollout(const VecX& q0, const VecX& p0, int N, const MatX& u,
+                                       const StepHistory& start, Rollout& out, bool hooked) const {
+  const int n = model_.n(), s = quad_.s, S1 = s + 1, m = model_.n_controls();
+  check_vector("q0", q0, n);
+  check_vector("p0", p0, n);
+  if (N < 0) throw InputError("the number of steps must be non-negative");
+  if (hooked) out.controls.setZero(N, S1 * m);
+  if (m > 0 && !hooked && (u.rows() != N || u.cols() != S1 * m))
+    throw InputError("controls must have shape (steps, s+1, m) = (" + std::to_string(N) + ", " + std::to_string(S1) +
+                     ", " + std::to_string(m) + ")");
+  if (m > 0 && !hooked && !u.allFinite()) throw InputError("controls contain NaN or infinity");
+  if (start.previous.size() && (start.previous.rows() != n || start.previous.cols() != S1))
+    throw InputError("previous control points must have shape (n, s+1)");
+  if (start.z.size()) check_impulses(start.z);
+  out.q.resize(N + 1, n);
+  out.p.resize(N + 1, n);
+  out.control_points.resize(N, S1 * n);
+  out.multipliers.resize(N, s * model_.n_constraints());
+  out.iterations.resize(N);
+  out.factorizations.resize(N);
+  out.residual.resize(N);
+  out.status.reserve(N);
+  out.q.row(0) = q0.transpose();
+  out.p.row(0) = p0.transpose();
+  if (!has_contacts()) return;
+  out.contact.impulses.resize(N, contacts_.unknowns());
+  out.contact.gaps.resize(N, contacts_.size());
+  out.contact.pivots.resize(N);
+  out.contact.impact.setZero(N);
+  out.contact.step_p.resize(N + 1, n);
+}
+
+void GalerkinIntegrator::record_step(Rollout& out, int k, const SolveInfo& info, const Eigen::Ref<const MatX>& qc,
+                                     const Eigen::Ref<const VecX>& p_next) const {
+  out.status.push_back(info.status);
+  out.iterations[k] = info.iterations;
+  out.factorizations[k] = info.factorizations;
+  out.residual[k] = info.residual;
+  if (!info.converged()) return;
+  out.q.row(k + 1) = qc.col(quad_.s).transpose();
+  out.p.row(k + 1) = p_next.transpose();
+  out.control_points.row(k) = Eigen::Map<const VecX>(qc.data(), qc.size()).transpose();
+  out.steps = k + 1;
+}
+
+Rollout GalerkinIntegrator::rollout(const VecX& q0, const VecX& p0, int N, const MatX& u, StepHistory h,
+                                    StepHook* hook) const {
+  const int n = model_.n(), s = quad_.s, S1 = s + 1, m = model_.n_controls(), mc = model_.n_constraints();
+  Rollout out;
+  start_rollout(q0, p0, N, u, h, out, hook != nullptr);
+  const bool continued = h.z.size() > 0;  // a contact rollout continuing another (its first knot's impulse known)
+  h.lambda = lambda_guess(h.lambda.size() ? &h.lambda : nullptr);
+  if (!continued) h.z = VecX::Zero(contacts_.unknowns());
+  auto ws = pool_.acquire();
+  MatX qc(n, S1), uk(m, S1);
+  VecX p = p0, p_next(n);
+  ContactReport report;
+  PredictorChoice predictor(options.predictor, s, uses_dense_direction(options.direction, model_, s));
+  for (int k = 0; k < N; ++k) {
+    qc.col(0) = out.q.row(k).transpose();
+    if (hook) {  // the hook's controls (and its momentum: an impulse) into uk and the record
+      uk.setZero(m, S1);
+      hook->before_step(k, out.q.row(k).transpose(), p, uk);
+      if (uk.rows() != m || uk.cols() != S1 || !uk.allFinite() || !p.allFinite())
+        throw InputError("the controller gave controls of the wrong shape, or NaN or infinity, at step " +
+                         std::to_string(k));
+      out.p.row(k) = p.transpose();
+      out.controls.row(k) = Eigen::Map<const VecX>(uk.data(), uk.size()).transpose();
+    } else {
+      for (int a = 0; a < S1; ++a)
+        for (int j = 0; j < m; ++j) uk(j, a) = u(k, a * m + j);
+    }
+    // The flow predictor serves the free steps of models without contacts (PredictorChoice).
+    const bool predicted = h.before_previous.size() > 0 && !has_contacts();
+    const bool flow = predicted && predictor.flow();
+    const SolveInfo info = step(*ws, p, uk, qc, p_next, h, report, flow);
+    if (predicted) predictor.observe(flow, info.iterations);
+    if (has_contacts()) {
+      out.contact.impact[k] = report.impact;
+      out.contact.pivots[k] = report.pivots;
+      out.contact.step_p.row(k) = p.transpose();
+    }
+    record_step(out, k, info, qc, p_next);
+    if (!info.converged()) break;
+    if (mc) out.multipliers.row(k) = Eigen::Map<const VecX>(h.lambda.data(), h.lambda.size()).transpose();
+    if (has_contacts()) {
+      out.contact.step_p.row(k + 1) = p_next.transpose();
+      out.contact.impulses.row(k) = h.z.transpose();
+      if ((k > 0 || continued) && report.impact == 0)  // p^k with half its knot's impulse (a split step's act inside it)
+        out.p.row(k) += 0.5 * ws->contact->knot_impulse(h.z).transpose();
+      out.contact.gaps.row(k) = report.phi.transpose();
+    }
+    p = p_next;
+    if (h.previous.size()) h.before_previous.swap(h.previous);
+    h.previous = qc;
+  }
+  return out;
+}
+
+}  // namespace hovi
