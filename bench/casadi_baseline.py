@@ -31,8 +31,8 @@ bounds (lbx = ubx: IPOPT makes them parameters, as for hovi). One casadi.nlpsol(
 expressions (the dynamics Function mapped over the 2N + 1 points), exact Hessian of the
 Lagrangian, IPOPT options as hovi's DEFAULT_OPTIONS except the Hessian: tol 1e-8, constr_viol_tol
 1e-10, bound_relax_factor 0, acceptable_iter 0, mu_strategy adaptive, max_iter 3000, print_level
-0, linear_solver mumps. CasADi's wheel bundles its own IPOPT (3.14.x) with MUMPS; hovi's cyipopt
-is built against the system IPOPT (Debian's 3.11.9 with MUMPS 5.5): IPOPT_VERSIONS.
+0, linear_solver mumps. CasADi's wheel bundles its own IPOPT (3.14.x) with MUMPS; hovi is built
+against the system IPOPT (Debian's 3.11.9 with MUMPS 5.5): ipopt_versions().
 
 Reported per solve: set-up seconds (the SX or MX graph of the transcription and casadi.nlpsol, which
 builds the Jacobian and Hessian functions; SX, the default, builds them as SX graphs up front,
@@ -373,14 +373,10 @@ def reference(name: str, N_ref: int, guess_solution: Solution):
 # --------------------------------------------------------------------------------------------------
 
 def ipopt_versions() -> dict:
-    """The IPOPT behind each side (CasADi's bundled library, hovi's cyipopt) and their linear solver."""
-    out = {"casadi": ca.__version__ if ca is not None else None}
-    try:
-        import cyipopt
-        out["cyipopt"] = cyipopt.__version__
-        out["cyipopt_ipopt"] = ".".join(map(str, cyipopt.IPOPT_VERSION))
-    except Exception:  # pragma: no cover
-        pass
+    """The IPOPT behind each side (CasADi's bundled library, the one hovi was built against) and their
+    linear solver."""
+    from hovi.trajopt.solvers.ipopt import ipopt_version
+    out = {"casadi": ca.__version__ if ca is not None else None, "hovi_ipopt": ipopt_version()}
     if ca is not None:
         import glob
         import os

@@ -1,6 +1,6 @@
 """The paper's robots in closed loop in the contact simulator (issue 32): each quick example solved
 once (report.solve, the trapezoidal VI), its optimised motion tracked by time-varying LQR on the
-robot's torques (hovi.examples.paper.closed_loop, saturated at the torque limits) from the optimised
+robot's torques (robot_tracking.py, saturated at the torque limits) from the optimised
 initial state: as is, with a push that breaks the open loop, with every body's mass x1.1 in the
 plant, and both; each also open loop. Per run: success by the example's goal, tracking error
 against the optimised knots (max, final), deepest penetration, torque saturation, first failure.
@@ -33,8 +33,8 @@ import numpy as np
 import control_videos
 from common import hovi_commit, write_json
 from hovi.control import Push
-from hovi.examples.paper import build, report
-from hovi.examples.paper import closed_loop as CL
+import robot_tracking as CL
+from robot_tracking import solve
 
 ROBOTS = ("atlas", "flamingo", "littledog")
 # alternatives to the chosen weights (closed_loop.WEIGHTS), by example
@@ -56,24 +56,6 @@ SMOOTHING = (1e-6, 1e-4, 1e-3)
 PUSH_SCALES = (0.1, 0.25, 0.5, 1.0, 2.0, 4.0)
 PUSH_TIMES = (0.1, 0.25, 0.5, 0.75, 0.9)   # fractions of the horizon
 MASS_FACTORS = (1.002, 1.005, 1.01, 1.02, 1.05, 1.1, 1.2)
-
-
-def solve(name: str, solutions: str | None):
-    """(example, motion arrays, solve figures): solved once, or loaded from DIR/<name>.npz."""
-    example = build(name, quick=True)
-    path = None if solutions is None else os.path.join(solutions, f"{name}.npz")
-    if path is not None and os.path.exists(path):
-        d = dict(np.load(path))
-        return example, d, {"loaded_from": path, "success": bool(d["success"])}
-    t0 = time.perf_counter()
-    result = report.solve(example)
-    wall = time.perf_counter() - t0
-    tr, tc = result.trajectory, result.transcription
-    d = {"knots": tr["q"][::tc.s], "p": tr["p"], "U": tc.stage_controls(result.x), "success": result.success}
-    if path is not None:
-        os.makedirs(solutions, exist_ok=True)
-        np.savez(path, **d)
-    return example, d, {"solve_seconds": wall, "success": bool(result.success), "status": result.status}
 
 
 def brief(fig: dict) -> dict:

@@ -2,7 +2,7 @@
 example's push case (closed_loop.PUSHES) run in the contact simulator twice, by the time-varying LQR
 (closed loop) and by the optimised torques alone (open loop), from the same state with the same push.
 
-  - MP4s (hovi.video.render_video, with the example's scenery, its ground and the contact forces and
+  - MP4s (hovi.vis.video.render_video, with the example's scenery, its ground and the contact forces and
     the push as red arrows; slowed down SLOW times, the clock shows the motion's time, the last frame
     held HOLD s) in bench/results/videos/ (not committed): <robot>_push_closed_loop.mp4,
     <robot>_push_open_loop.mp4 and <robot>_push.mp4 (the two side by side, labelled);
@@ -25,9 +25,9 @@ import numpy as np
 
 from common import RESULTS, ROOT
 from hovi.control import Push, simulate
-from hovi.examples.paper import closed_loop as CL
-from hovi.geometry import body_frames, ground_lines, model_shapes, transform_points
-from hovi.video import ForceArrows, render_video, shape_triangles, subdivide
+import robot_tracking as CL
+from hovi.vis.geometry import body_frames, ground_lines, model_shapes, transform_points
+from hovi.vis.video import ForceArrows, render_video, shape_triangles, subdivide
 
 VIDEO_DIR = os.path.join(RESULTS, "videos")
 IMAGE_DIR = os.path.join(ROOT, "docs", "images")
@@ -170,7 +170,7 @@ def _verdict(fig: Dict[str, Any], short: bool = False, model: Any = None) -> str
 
 
 def _shade(tris: np.ndarray, rgba: np.ndarray) -> np.ndarray:
-    """Face colours: the colour dimmed by the angle to a light (hovi.video's shading)."""
+    """Face colours: the colour dimmed by the angle to a light (hovi.vis.video's shading)."""
     light = np.array([0.3, -0.5, 0.8]) / np.linalg.norm([0.3, -0.5, 0.8])
     n = np.cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0])
     n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
@@ -207,7 +207,7 @@ def _at(tr, t: float) -> Tuple[np.ndarray, bool]:
 def _fit(canvas, ax, points: np.ndarray, aspect: Tuple[float, float, float], cell: Tuple[float, float, float, float],
          fill: float = 0.96) -> Tuple[float, Tuple[float, float]]:
     """(zoom, the axes' offset from its cell (figure fractions)) that make ``points`` (P, 3) span ``fill``
-    of the ``cell`` (x, y, w, h in figure fractions) and centre them in it (as hovi.video fits its frames)."""
+    of the ``cell`` (x, y, w, h in figure fractions) and centre them in it (as hovi.vis.video fits its frames)."""
     from mpl_toolkits.mplot3d import proj3d
     fig = ax.figure
     W, H = fig.bbox.width, fig.bbox.height
@@ -302,7 +302,7 @@ def filmstrip(name: str, example, result: Dict[str, Dict[str, Any]], path: str, 
                           Line3DCollection(grid, colors=[(0.72, 0.74, 0.77, 1.0)], linewidths=0.4, zorder=0)]
             art = ground_art + [Poly3DCollection(tris, linewidths=0, zorder=1, facecolors=_shade(tris, drawer.rgba))]
             if len(o):
-                from hovi.video import arrow_segments
+                from hovi.vis.video import arrow_segments
                 shafts, heads = arrow_segments(o, v, np.ones(len(o), bool), 0.05 * float(np.ptp(pts, axis=0).max()))
                 art += [Line3DCollection(shafts, colors=[(0.85, 0.1, 0.1, 1.0)], linewidths=1.6, zorder=2),
                         Line3DCollection(heads, colors=[(0.85, 0.1, 0.1, 1.0)], linewidths=1.2, zorder=2)]
@@ -334,14 +334,13 @@ def write(name: str, example, motion: Any, video: bool = True, still: bool = Tru
 
 
 def main() -> None:
-    import control_robots as CR
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--only", nargs="+", choices=ROBOTS, default=list(ROBOTS))
     ap.add_argument("--solutions", default=None, metavar="DIR", help="reuse DIR/<name>.npz (control_robots.py --solutions)")
     ap.add_argument("--no-video", action="store_true", help="the stills only")
     args = ap.parse_args()
     for name in args.only:
-        example, motion, _ = CR.solve(name, args.solutions)
+        example, motion, _ = CL.solve(name, args.solutions)
         out = write(name, example, motion, video=not args.no_video)
         print(name, out, flush=True)
 

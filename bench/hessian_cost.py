@@ -20,7 +20,7 @@ import numpy as np
 
 def row(name: str, s: int, quick: bool, repeat: int) -> dict:
     from hovi import trajopt
-    from hovi.contact.complementarity import ComplementarityRelaxation
+    from hovi.trajopt.complementarity import ComplementarityRelaxation
     from hovi.examples.paper import build
     from hovi.trajopt.hessian import LagrangianHessian
     example = build(name, quick=quick)

@@ -6,9 +6,9 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-# IPOPT (trajectory optimisation, through cyipopt built from its PyPI source against it); OpenBLAS
-# (serial) in place of the reference BLAS under IPOPT's MUMPS: its dense frontal matrices are
-# BLAS-3 work (bench/README.md, issue 33)
+# IPOPT (trajectory optimisation: hovi's IPOPT adapter is compiled against it); OpenBLAS (serial)
+# in place of the reference BLAS under IPOPT's MUMPS: its dense frontal matrices are BLAS-3 work
+# (bench/README.md, "Design measurements")
 APT_PACKAGES="g++ make cmake libeigen3-dev liburdfdom-dev libtinyxml-dev libgtest-dev coinor-libipopt-dev liblapack-dev libblas-dev libopenblas0-serial pkg-config"
 [ "${1:-}" = "test" ] && APT_PACKAGES="$APT_PACKAGES chromium"
 missing=""

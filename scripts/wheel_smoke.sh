@@ -76,7 +76,7 @@ package = Path(hovi.__file__).parent
 for f in ("py.typed", "_core/__init__.pyi", "_baselines.pyi", "_core/trajopt.pyi", "urdf/atlas.urdf"):
     assert (package / f).is_file(), f"the wheel did not install hovi/{f}"
 assert "def mass_matrix" in (package / "_core" / "__init__.pyi").read_text()
-for heavy in ("matplotlib", "scipy", "cyipopt", "meshcat", "tqdm"):
+for heavy in ("matplotlib", "scipy", "meshcat", "tqdm"):
     assert heavy not in sys.modules, f"import hovi imported {heavy}"
 
 model = hovi.Model.from_urdf(sys.argv[1])

@@ -2,7 +2,7 @@
 hand-written CasADi dynamics are hovi's models, its Hermite-Simpson NLP is hovi's (the same optimum as
 hovi's HermiteSimpson at the same N), and its one-interval error measures what it should.
 
-Skipped without casadi (a bench-only dependency, requirements-dev.txt) or cyipopt.
+Skipped without casadi (a bench-only dependency, requirements-dev.txt).
 
 The pendulum at N = 40 has two nearby local optima of the Hermite-Simpson NLP from the hanging rest:
 cost 1.0944 (first swing to +q) and 1.2959 (first swing to -q). CasADi's exact-Hessian IPOPT and
@@ -13,7 +13,6 @@ import numpy as np
 import pytest
 
 pytest.importorskip("casadi")
-pytest.importorskip("cyipopt")
 
 from conftest import bench_module  # noqa: E402
 

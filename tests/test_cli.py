@@ -27,7 +27,7 @@ def test_simulate_urdf(tmp_path):
 
 
 def test_simulate_animate_writes_html_and_video(tmp_path, capsys):
-    pytest.importorskip("hovi.viewer", reason="hovi[viewer] is not installed")
+    pytest.importorskip("hovi.vis.viewer", reason="hovi[viewer] is not installed")
     import imageio.v3 as iio
     assert main(["simulate", "pendulum:3", "--duration", "0.5",
                  "--no-progress", "--no-plot", "--animate", "--fps", "10", "--output", str(tmp_path)]) == 0
@@ -62,7 +62,6 @@ def test_bad_model_or_option_is_a_clean_error(capsys):
 
 
 def test_optimize_solves_writes_and_replays(tmp_path, capsys):
-    pytest.importorskip("cyipopt")
     assert main(["optimize", "pendulum", "--N", "20", "--quiet", "--output", str(tmp_path)]) == 0
     out = capsys.readouterr().out
     assert "cost" in out and "replayed with the integrator" in out
@@ -298,7 +297,7 @@ def test_a_robot_on_the_ground_refuses_what_does_not_apply(argv, says, tmp_path,
 def test_the_ground_animation_draws_the_terrain_and_contact_force_arrows(tmp_path, capsys):
     """animation.html holds an arrow (shaft and head) per contact, animated (scaled to nothing before the
     landing), and the ground grid; the video shows red arrows once the robot stands."""
-    pytest.importorskip("hovi.viewer", reason="hovi[viewer] is not installed")
+    pytest.importorskip("hovi.vis.viewer", reason="hovi[viewer] is not installed")
     import imageio.v3 as iio
     import test_viewer
     assert main(["simulate", "littledog", "--duration", "0.4", "--no-progress", "--no-plot", "--animate", "--fps", "10",
@@ -319,7 +318,6 @@ def test_the_ground_animation_draws_the_terrain_and_contact_force_arrows(tmp_pat
 
 
 def test_optimize_writes_a_trajectory_file(tmp_path, capsys):
-    pytest.importorskip("cyipopt")
     import hovi
     assert main(["optimize", "pendulum", "--N", "10", "--quiet", "--no-plot", "--output", str(tmp_path)]) == 0
     assert f"wrote {tmp_path / 'optimize_pendulum.npz'}" in capsys.readouterr().out
@@ -337,8 +335,7 @@ def test_optimize_writes_a_trajectory_file(tmp_path, capsys):
 
 
 def test_optimize_animate(tmp_path, capsys):
-    pytest.importorskip("cyipopt")
-    pytest.importorskip("hovi.viewer", reason="hovi[viewer] is not installed")
+    pytest.importorskip("hovi.vis.viewer", reason="hovi[viewer] is not installed")
     assert main(["optimize", "pendulum", "--N", "10", "--quiet", "--no-plot", "--animate", "--fps", "5",
                  "--output", str(tmp_path)]) == 0
     out = capsys.readouterr().out
@@ -346,7 +343,6 @@ def test_optimize_animate(tmp_path, capsys):
 
 
 def test_an_unsuccessful_solve_names_the_worst_violation(tmp_path, capsys):
-    pytest.importorskip("cyipopt")
     assert main(["optimize", "pendulum", "--N", "10", "--quiet", "--no-plot", "--max-iter", "3",
                  "--output", str(tmp_path)]) == 1
     err = capsys.readouterr().err
@@ -357,7 +353,6 @@ def test_an_unsuccessful_solve_names_the_worst_violation(tmp_path, capsys):
 
 
 def test_most_violated_names_a_bound():
-    pytest.importorskip("cyipopt")
     from hovi import trajopt
     from hovi.cli import most_violated
     from hovi.examples.swingups import pendulum_swingup
@@ -376,7 +371,6 @@ def test_most_violated_names_a_bound():
 
 def test_a_quiet_solve_says_how_far_it_is(tmp_path, capsys, monkeypatch):
     """--quiet turns IPOPT's lines off, not the heartbeat: a line on stderr every HEARTBEAT_SECONDS."""
-    pytest.importorskip("cyipopt")
     import hovi.cli
     from hovi.trajopt.solvers import ipopt
     seen = []
@@ -394,7 +388,7 @@ def test_a_quiet_solve_says_how_far_it_is(tmp_path, capsys, monkeypatch):
 
 
 def test_animations_of_a_floating_base_draw_the_ground_and_missing_meshes_warn(tmp_path, capsys):
-    pytest.importorskip("hovi.viewer", reason="hovi[viewer] is not installed")
+    pytest.importorskip("hovi.vis.viewer", reason="hovi[viewer] is not installed")
     (tmp_path / "arm.urdf").write_text(URDF_2DOF)
     assert main(["simulate", str(tmp_path / "arm.urdf"), "--base", "floating", "--duration", "0.1", "--no-progress",
                  "--no-plot", "--animate", "--fps", "10", "--output", str(tmp_path)]) == 0
@@ -414,7 +408,7 @@ def test_animations_of_a_floating_base_draw_the_ground_and_missing_meshes_warn(t
 
 def test_plots_have_legends_and_equal_axes():
     import hovi
-    from hovi.plotting import configuration_figure, control_labels, pyplot
+    from hovi.vis.plots import configuration_figure, control_labels, pyplot
     model = hovi.examples.models.acrobot()
     fig = configuration_figure(model, [0.3, 0.4])
     ax = fig.axes[0]

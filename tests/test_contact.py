@@ -6,11 +6,11 @@ import pytest
 
 import hovi
 from hovi import trajopt
-from hovi.contact import Box, ContactRows, Contacts, Gap, Terrain, least_slack
-from hovi.contact.sides import branches_from, branches_of, canonical
+from hovi.contact import Box, Contacts, Gap, Terrain
+from hovi.trajopt import ContactRows
+from hovi.trajopt.contact_sides import branches_from, branches_of, canonical, least_slack
 from hovi.trajopt.solvers.contact_homotopy import FINISH_BELOW
 
-pytest.importorskip("cyipopt")
 G = 9.81
 VI1 = trajopt.VI(s=1)  # the contact model that is inelastic and well posed (hovi.contact.contacts)
 
@@ -300,7 +300,7 @@ def hermite_simpson_defects(result, contacts, mass=1.0):
 @pytest.mark.parametrize("form", ["implicit", "explicit"])
 def test_hermite_simpson_drop_with_the_same_contact_conditions(form):
     """Hermite-Simpson collocation with the VI's contact conditions on its knots and midpoints
-    (the input at a point complementary to the gap at the next: hovi.contact.complementarity): the
+    (the input at a point complementary to the gap at the next: hovi.trajopt.complementarity): the
     dropped mass falls freely (collocation is exact for a constant acceleration), lands without
     penetrating, and rests on the ground with the Simpson average of the normal force over each
     interval equal to its weight (the knot and midpoint forces themselves are not unique at rest:
@@ -413,7 +413,7 @@ def test_dropped_planar_hopper_lands_on_its_foot_and_settles_on_its_spring():
 
 
 def test_solve_contact_leaves_the_problem_unchanged():
-    """The homotopy gives each NLP its relaxation (hovi.contact.ComplementarityRelaxation) and never
+    """The homotopy gives each NLP its relaxation (hovi.trajopt.ComplementarityRelaxation) and never
     writes to the Problem; the transcription must be a VI or HermiteSimpson (the old string spellings
     are gone); the exact conditions straight to an NLP are refused."""
     contacts, prob = contact_problem(planar_point_mass(), [0.0, 0.3], [0.0, 0.0], 0.5, 25, mu=0.5)
@@ -430,5 +430,5 @@ def test_solve_contact_leaves_the_problem_unchanged():
     with pytest.raises(ValueError, match="not a string"):
         trajopt.solve_contact(prob, "vi")
     with pytest.raises(ValueError, match="solve_contact"):
-        trajopt.NLP(prob, VI1, relaxation=hovi.contact.ComplementarityRelaxation(0.0))
-    assert trajopt.NLP(prob, VI1, relaxation=hovi.contact.ComplementarityRelaxation(1e-2)).contact_rows.epsilon == 1e-2
+        trajopt.NLP(prob, VI1, relaxation=hovi.trajopt.ComplementarityRelaxation(0.0))
+    assert trajopt.NLP(prob, VI1, relaxation=hovi.trajopt.ComplementarityRelaxation(1e-2)).contact_rows.epsilon == 1e-2

@@ -4,7 +4,6 @@ side by side), written to a temporary folder."""
 import numpy as np
 import pytest
 
-pytest.importorskip("cyipopt")
 pytest.importorskip("imageio_ffmpeg")
 
 from conftest import bench_module  # noqa: E402

@@ -77,7 +77,6 @@ def test_one_step_study(client):
 
 
 def test_trajectory_optimisations(client):
-    pytest.importorskip("cyipopt")
     from hovi import trajopt
     from hovi.examples import swingups as examples
     problems = [examples.EXAMPLES["pendulum"](N=12) for _ in range(2)]

@@ -82,8 +82,8 @@ def test_api_reference_renders_compiled_and_python_members(site):
     assert {"hovi.examples.models.pendulum", "hovi.examples.models.acrobot", "hovi.examples.models.cartpole", "hovi.examples.models.fourbar",
             "hovi.examples.models.slider_crank"} <= models
     viewer = _anchors(site, "reference/viewer")
-    assert {"hovi.viewer.Viewer", "hovi.viewer.Viewer.play", "hovi.viewer.animation_html", "hovi.video.render_video",
-            "hovi.geometry.model_shapes"} <= viewer
+    assert {"hovi.vis.viewer.Viewer", "hovi.vis.viewer.Viewer.play", "hovi.vis.viewer.animation_html", "hovi.vis.video.render_video",
+            "hovi.vis.geometry.model_shapes"} <= viewer
     assert {"hovi.distributed.rollout_batch", "hovi.distributed.step_batch", "hovi.distributed.one_step_batch",
             "hovi.distributed.solve_trajopt"} <= _anchors(site, "reference/distributed")
     trajopt = _anchors(site, "reference/trajopt")

@@ -102,8 +102,6 @@ def test_examples_run(page, tmp_path, monkeypatch, capsys):
         try:
             exec(compiled, namespace)
         except Exception as e:
-            if isinstance(e, ImportError) and "cyipopt" in str(e):  # hovi.trajopt.solve without IPOPT
-                pytest.skip(f"{page}, block {number} (line {line}) needs cyipopt: pip install 'hovi[trajopt]'")
             error = "".join(traceback.format_exception(type(e), e, e.__traceback__.tb_next))  # from the page on
         else:
             continue

@@ -3,7 +3,7 @@ return arrays state shapes, e.g. "q: (n,) ...; returns (n, 4, 4)"; pure-Python p
 are annotated.
 
 The public API: ``hovi.__all__``, ``hovi.examples.models``, ``hovi.examples.robots``, ``hovi.trajopt.__all__``, ``hovi.distributed``, the viewer modules
-``hovi.geometry``, ``hovi.viewer`` and ``hovi.video`` (when hovi[viewer] is installed), and every
+``hovi.vis.geometry``, ``hovi.vis.viewer`` and ``hovi.vis.video`` (when hovi[viewer] is installed), and every
 class and function of the compiled module ``hovi._core`` (and its submodules)."""
 from __future__ import annotations
 
@@ -15,16 +15,16 @@ import pytest
 
 import hovi
 import hovi.distributed
-import hovi.geometry
+import hovi.vis.geometry
 import hovi.examples.models
 import hovi.examples.robots
 import hovi.trajopt
 from hovi import _baselines, _core
 
 try:  # the viewer extra
-    import hovi.video
-    import hovi.viewer
-    VIEWER_MODULES: tuple[types.ModuleType, ...] = (hovi.viewer, hovi.video)
+    import hovi.vis.video
+    import hovi.vis.viewer
+    VIEWER_MODULES: tuple[types.ModuleType, ...] = (hovi.vis.viewer, hovi.vis.video)
 except ImportError:
     VIEWER_MODULES = ()
 
@@ -40,7 +40,7 @@ def _public_api() -> dict[str, object]:
         obj = getattr(hovi, name)
         if not isinstance(obj, types.ModuleType):
             api[f"hovi.{name}"] = obj
-    for module in (hovi.examples.models, hovi.examples.robots, hovi.trajopt, hovi.distributed, hovi.geometry, *VIEWER_MODULES):
+    for module in (hovi.examples.models, hovi.examples.robots, hovi.trajopt, hovi.distributed, hovi.vis.geometry, *VIEWER_MODULES):
         names = getattr(module, "__all__", None) or [n for n in vars(module) if not n.startswith("_")]
         for name in names:
             obj = getattr(module, name)

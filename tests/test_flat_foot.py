@@ -79,7 +79,6 @@ def standing_block(push):
 
 @pytest.mark.parametrize("method", [trajopt.VI(s=2), trajopt.HermiteSimpson("implicit")], ids=repr)
 def test_pushed_block_stands_with_its_centre_of_pressure_where_statics_puts_it(method):
-    pytest.importorskip("cyipopt")
     push, m = 4.0, 2.0
     foot, prob, q0 = standing_block(push)
     result = trajopt.solve(prob, method, verbose=False, options={"tol": 1e-10, "constr_viol_tol": 1e-10})
@@ -102,7 +101,6 @@ def test_pushed_block_stands_with_its_centre_of_pressure_where_statics_puts_it(m
 
 
 def test_a_push_that_would_tip_the_block_has_no_stance():
-    pytest.importorskip("cyipopt")
     tipping = 0.15 * 2.0 * G / 0.2                     # the centre of pressure reaches the sole's edge
     assert trajopt.solve(standing_block(0.95 * tipping)[1], verbose=False).success
     assert not trajopt.solve(standing_block(1.05 * tipping)[1], verbose=False).success

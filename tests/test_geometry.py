@@ -1,4 +1,4 @@
-"""hovi.geometry: default shapes sit on the model's joints and centres of mass (checked against the
+"""hovi.vis.geometry: default shapes sit on the model's joints and centres of mass (checked against the
 kinematics), package:// resolution, motion sampling."""
 import warnings
 from pathlib import Path
@@ -8,7 +8,7 @@ import pytest
 
 import hovi
 from conftest import erd_urdf
-from hovi.geometry import (MeshNotFoundWarning, body_frames, default_shapes, ground_lines, model_shapes, motion_arrays,
+from hovi.vis.geometry import (MeshNotFoundWarning, body_frames, default_shapes, ground_lines, model_shapes, motion_arrays,
                            resolve_mesh, sample_configurations, shape_corners)
 
 MISSING_MESH_URDF = ('<robot name="r"><link name="base"/><link name="a"><inertial><origin xyz="0 0 -0.3"/><mass value="1"/>'

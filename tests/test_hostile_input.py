@@ -177,14 +177,12 @@ def swingup_with(cost):
     (1j, "CallbackCost returned a cost value that is not a real number"),
 ])
 def test_a_cost_returning_a_non_number_is_named(value, match):
-    pytest.importorskip("cyipopt")
     cost = trajopt.CallbackCost(lambda t, w, q, v, u: (value, np.zeros_like(q), np.zeros_like(v), np.zeros_like(u)))
     with pytest.raises(ValueError, match=match):
         trajopt.solve(swingup_with(cost), verbose=False)
 
 
 def test_a_cost_term_of_another_kind_returning_garbage_is_named():
-    pytest.importorskip("cyipopt")
 
     class Broken(trajopt.Cost):
         def __call__(self, s):
@@ -214,13 +212,11 @@ def test_a_cost_term_of_another_kind_returning_garbage_is_named():
      r"guess u\(t\) at the \d+ times t must have shape"),
 ])
 def test_bad_guesses_are_named(guess, match):
-    pytest.importorskip("cyipopt")
     with pytest.raises(ValueError, match=match):
         trajopt.solve(swingups.pendulum_swingup(N=5), guess=guess, verbose=False)
 
 
 def test_a_result_of_another_problem_is_refused_as_a_guess():
-    pytest.importorskip("cyipopt")
     small = trajopt.solve(swingups.pendulum_swingup(N=5), trajopt.VI(s=1), verbose=False, options={"max_iter": 2})
     with pytest.raises(ValueError, match=r"guess: the Result comes from another problem .*N = 5.*N = 8.*as_guess"):
         trajopt.solve(swingups.pendulum_swingup(N=8), trajopt.VI(s=1), guess=small, verbose=False)
@@ -239,7 +235,6 @@ def test_a_result_of_another_problem_is_refused_as_a_guess():
     ("tol=1e-6", TypeError, "options must be a dict"),
 ])
 def test_bad_ipopt_options_are_named(options, error, match):
-    pytest.importorskip("cyipopt")
     with pytest.raises(error, match=match):
         trajopt.Ipopt(options)
     with pytest.raises(error, match=match):
@@ -247,7 +242,6 @@ def test_bad_ipopt_options_are_named(options, error, match):
 
 
 def test_numpy_scalars_are_good_ipopt_options():
-    pytest.importorskip("cyipopt")
     r = trajopt.solve(swingups.pendulum_swingup(N=5), options={"max_iter": np.int64(3), "tol": np.float32(1e-6)},
                       verbose=False)
     assert r.iterations <= 3

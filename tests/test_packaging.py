@@ -13,7 +13,7 @@ import pytest
 import hovi
 
 ROOT = Path(__file__).resolve().parents[1]
-OPTIONAL = ("matplotlib", "scipy", "cyipopt", "meshcat", "tqdm", "mujoco", "pinocchio", "imageio", "trimesh")
+OPTIONAL = ("matplotlib", "scipy", "meshcat", "tqdm", "mujoco", "pinocchio", "imageio", "trimesh")
 
 
 def test_version_is_the_distributions():
@@ -52,7 +52,7 @@ def test_import_hovi_loads_no_optional_dependency():
 
 
 def test_import_trajopt_loads_only_its_extra():
-    """hovi.trajopt needs scipy (the trajopt extra); cyipopt is imported only by solve()."""
+    """hovi.trajopt needs scipy (the trajopt extra); IPOPT is the compiled adapter, loaded by a solve."""
     assert _imported("import hovi.trajopt") == ["scipy"]
 
 

@@ -15,7 +15,6 @@ from hovi.examples.paper import flamingo
 from hovi.examples.paper.flamingo import JumpPlan, box_distance, leg_points, obstacle_circles
 from hovi.examples.robots import atlas, littledog, spring_flamingo
 
-pytest.importorskip("cyipopt")
 
 
 def test_atlas_single_support_stance_is_balanced_at_rest():

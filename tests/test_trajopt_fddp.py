@@ -22,12 +22,6 @@ from hovi.contact import Contacts, Terrain
 from hovi.examples import models
 from hovi.examples.swingups import close_mechanism
 
-try:
-    import cyipopt  # noqa: F401
-    HAVE_IPOPT = True
-except ImportError:  # pragma: no cover
-    HAVE_IPOPT = False
-ipopt = pytest.mark.skipif(not HAVE_IPOPT, reason="cyipopt (hovi[trajopt]) is not installed")
 
 INF = (-np.inf, np.inf)
 
@@ -204,7 +198,6 @@ def solve_fddp(problem, s, **options):
 
 # FDDP's stop test is Crocoddyl's: sum_k |Q_u|^2 < tol, absolute. On the cart-pole's flat directions
 # tol = 1e-12 leaves the controls 2.9e-5 from IPOPT's (|du| ~ |Q_u| / lambda_min), so it is solved to 1e-14.
-@ipopt
 @pytest.mark.parametrize("name,s,tol", [
     ("pendulum", 1, 1e-12), ("pendulum", 2, 1e-12),
     ("cartpole", 2, 1e-14), ("acrobot", 2, 1e-12)])
@@ -236,7 +229,6 @@ def test_fddp_threads_give_the_same_iterates():
 
 # --- 4. binding control bounds -----------------------------------------------------------------
 
-@ipopt
 @pytest.mark.parametrize("s", [1, 2])
 def test_bounds_active_same_optimum_as_ipopt(s):
     # |u| <= 1.5 does not bind on this swing-up (the |u| <= 4 optimum peaks at 1.24 (s=1), 1.20 (s=2));

@@ -8,7 +8,6 @@ import hovi
 from hovi import trajopt
 from hovi.baselines import HermiteSimpson
 
-pytest.importorskip("cyipopt")
 
 
 @pytest.mark.parametrize("implicit", [True, False])

@@ -1,15 +1,16 @@
 """The C++ NLP program (hovi._core.trajopt.Program, built by NLP.program()) and IPOPT's C++ interface
-on it (hovi._ipopt), each against an independent computation: the program's objective, gradient,
+on it (hovi.trajopt.solvers._ipopt), each against an independent computation: the program's objective, gradient,
 constraints and Jacobian against the Python NLP's at random points; its gradient against central
 differences of its objective; its coloured Hessian against central differences of the exact
-Lagrangian gradient; the C++ solve against the cyipopt solve; errors raised in Python during a
+Lagrangian gradient; errors raised in Python during a
 solve reach the caller; bad input is refused by name."""
 import numpy as np
 import pytest
 
 import hovi
 from hovi import trajopt
-from hovi.contact import ComplementarityRelaxation, Contacts, Terrain
+from hovi.contact import Contacts, Terrain
+from hovi.trajopt import ComplementarityRelaxation
 from hovi.examples import models
 from hovi.examples.swingups import pendulum_swingup, slider_crank_to_target
 from hovi.trajopt.hessian import LagrangianHessian
@@ -293,36 +294,9 @@ def test_hessian_of_a_problem_after_another_with_the_same_coupling():
     assert relative_error(coloured, np.tril(dense_hessian(program, nlp, x, lam, sigma))) <= 1e-6
 
 
-# --- 4: the C++ solve against the cyipopt solve ------------------------------------------------
-
-@pytest.mark.parametrize("hessian", ["lbfgs", "fd", "directional"])
-def test_cpp_solve_matches_the_cyipopt_solve(hessian, monkeypatch):
-    """The pendulum swing-up through hovi._ipopt and through cyipopt (hovi._ipopt hidden): the same
-    outcome and optimum. Measured: the same iterations with every Hessian (after the VI(1) first
-    stage: lbfgs 14, fd 4, directional 4); with lbfgs and directional (the C++ program's Hessian on
-    both paths) the same x to the last bit and the cost to 2e-16 relative, with fd (the quadratic
-    costs' Hessian exact in C++, differenced in Python) the cost to 4e-16, x to 2.2e-12."""
-    pytest.importorskip("hovi._ipopt")
-    pytest.importorskip("cyipopt")
-    cpp = trajopt.solve(pendulum_swingup(), trajopt.VI(s=2), verbose=False, hessian=hessian)
-    assert cpp.timing.get("hessian") is not None                      # went through hovi._ipopt
-    monkeypatch.setattr(ipopt_solver, "_cpp_ipopt", lambda: None)
-    cy = trajopt.solve(pendulum_swingup(), trajopt.VI(s=2), verbose=False, hessian=hessian)
-    assert "hessian" not in cy.timing                                 # went through cyipopt
-    assert cpp.success and cy.success, (cpp.status, cy.status)
-    assert abs(cpp.cost - cy.cost) <= 1e-8 * abs(cy.cost), (cpp.cost, cy.cost)
-    if hessian != "fd":
-        assert cpp.iterations == cy.iterations
-    assert relative_error(cpp.x, cy.x) <= 1e-8
-
-
 # --- 5: errors during a solve reach the caller ---------------------------------------------------
 
-@pytest.mark.parametrize("path", ["cpp", "cyipopt"])
-def test_an_exception_in_a_python_cost_is_raised_by_the_solve(path, monkeypatch):
-    pytest.importorskip("hovi._ipopt" if path == "cpp" else "cyipopt")
-    if path == "cyipopt":
-        monkeypatch.setattr(ipopt_solver, "_cpp_ipopt", lambda: None)
+def test_an_exception_in_a_python_cost_is_raised_by_the_solve():
     calls = [0]
 
     def fun(t, w, q, v, u):
@@ -339,7 +313,6 @@ def test_an_exception_in_a_python_cost_is_raised_by_the_solve(path, monkeypatch)
 
 
 def test_an_iteration_hook_raising_keyboard_interrupt_stops_the_solve():
-    pytest.importorskip("hovi._ipopt")
     seen = []
 
     def hook(iteration, cost, inf_pr, inf_du):
@@ -354,7 +327,6 @@ def test_an_iteration_hook_raising_keyboard_interrupt_stops_the_solve():
 
 
 def test_a_solve_stopped_by_max_iter_reports_it():
-    pytest.importorskip("hovi._ipopt")
     result = trajopt.solve(pendulum_swingup(), trajopt.VI(s=2), verbose=False, hessian="lbfgs",
                            options={"max_iter": 3})
     assert not result.success
@@ -365,7 +337,7 @@ def test_a_solve_stopped_by_max_iter_reports_it():
 # --- 6: bad input refused by name ----------------------------------------------------------------
 
 def test_ipopt_options_are_checked_by_name_and_type():
-    _ipopt = pytest.importorskip("hovi._ipopt")
+    from hovi.trajopt.solvers import _ipopt
     run = _ipopt.Ipopt()
     with pytest.raises(ValueError, match="'tolx'"):
         run.add_option("tolx", 1e-8)
@@ -422,7 +394,7 @@ def test_program_hessian_and_colouring_refuse_bad_input():
 
 
 def test_ipopt_solve_refuses_bad_arrays():
-    _ipopt = pytest.importorskip("hovi._ipopt")
+    from hovi.trajopt.solvers import _ipopt
     nlp = make_nlp("costs", "VI1")
     program = nlp.program()
     x0 = np.clip(np.zeros(nlp.n_variables), nlp.lower, nlp.upper)

@@ -1,6 +1,6 @@
 """The NLP program's built-in rows in C++ (cpp/src/trajopt/body_point_rows.cpp,
 complementarity_rows.cpp): values against the Python definitions (each path constraint's own
-evaluate, the contact quantities of hovi.contact.ContactRows), Jacobians against central
+evaluate, the contact quantities of hovi.trajopt.ContactRows), Jacobians against central
 differences of the values, exact Hessians against central differences of the Jacobians, on models
 whose points sit away from the bodies' centres of mass; and their bad input."""
 import numpy as np
@@ -8,7 +8,8 @@ import pytest
 
 import hovi
 from hovi import trajopt
-from hovi.contact import Box, ComplementarityRelaxation, Contacts, Gap, Terrain
+from hovi.contact import Box, Contacts, Gap, Terrain
+from hovi.trajopt import ComplementarityRelaxation
 
 
 def swinging_model():
@@ -118,7 +119,7 @@ def test_complementarity_rows_derivatives_against_central_differences(method):
 
 @pytest.mark.parametrize("method", METHODS, ids=repr)
 def test_complementarity_rows_equal_the_contact_quantities(method):
-    """The rows (C++) against hovi.contact.ContactRows.quantities (Python, from body_point_kinematics
+    """The rows (C++) against hovi.trajopt.ContactRows.quantities (Python, from body_point_kinematics
     and the terrain's height): phi, psi, zeta_k, the three products, and the held inputs; some
     points above the box, some over the gap and the ground."""
     nlp = contact_nlp(method)

@@ -8,7 +8,6 @@ import hovi
 from hovi import trajopt
 from hovi.examples import swingups as examples
 
-pytest.importorskip("cyipopt")
 
 
 def replayed_points(result, s):

@@ -1,4 +1,4 @@
-"""hovi.video: triangle meshes of the shapes (volumes against the exact ones), mesh simplification,
+"""hovi.vis.video: triangle meshes of the shapes (volumes against the exact ones), mesh simplification,
 and MP4/GIF files with the expected frames and size, rendered without a display."""
 from pathlib import Path
 
@@ -8,7 +8,7 @@ import pytest
 import hovi
 from conftest import erd_urdf
 
-video = pytest.importorskip("hovi.video")
+video = pytest.importorskip("hovi.vis.video")
 pytest.importorskip("imageio_ffmpeg", reason="hovi[viewer] (imageio-ffmpeg) is not installed")
 
 
@@ -141,7 +141,7 @@ def test_contact_force_arrows(tmp_path):
     them red, with the terrain."""
     import imageio.v3 as iio
     from hovi.contact import Terrain
-    from hovi.geometry import sample_configurations
+    from hovi.vis.geometry import sample_configurations
     from test_viewer import littledog_landing
     st, traj, arrows = littledog_landing()
     assert arrows.forces.shape == (60, 4, 3) and arrows.times[1] == pytest.approx(0.005)
@@ -164,7 +164,7 @@ def test_contact_force_arrows(tmp_path):
     assert red[0] < 5 and red[-1] > 30, red
     with pytest.raises(ValueError, match="ground or terrain, not both"):
         video.render_video(st.model, traj, tmp_path / "x.gif", ground=0.0, terrain=Terrain())
-    with pytest.raises(TypeError, match="arrows must be a hovi.video.ForceArrows"):
+    with pytest.raises(TypeError, match="arrows must be a hovi.vis.video.ForceArrows"):
         video.render_video(st.model, traj, tmp_path / "x.gif", arrows=np.zeros(3))
     with pytest.raises(ValueError, match="forces must be"):
         video.ForceArrows([1], np.zeros((1, 3)), np.zeros(2), np.zeros((3, 1, 3)), 1.0)

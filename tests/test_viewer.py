@@ -1,4 +1,4 @@
-"""hovi.viewer: standalone HTML animations rendered by a headless browser (the robot is drawn and
+"""hovi.vis.viewer: standalone HTML animations rendered by a headless browser (the robot is drawn and
 moves), markers, the live meshcat server, and clear errors."""
 import base64
 import re
@@ -12,7 +12,7 @@ import hovi
 from conftest import erd_urdf
 from headless_browser import changed_fraction, screenshot
 
-viewer = pytest.importorskip("hovi.viewer", reason="hovi[viewer] (meshcat) is not installed")
+viewer = pytest.importorskip("hovi.vis.viewer", reason="hovi[viewer] (meshcat) is not installed")
 
 UR5 = "ur_description/urdf/ur5_robot.urdf"
 
@@ -78,7 +78,7 @@ def test_urdf_with_meshes_animation_is_drawn_and_moves(tmp_path, monkeypatch):
     model, _ = ur5_and_package_dir()
     assert {v["shape"] for v in model.visuals} == {"mesh"}
     traj = hovi.Integrator(model, order=4, dt=0.01).rollout(np.array([0, -1.0, 1.0, 0, 0.5, 0]), 100)
-    from hovi.geometry import MeshNotFoundWarning
+    from hovi.vis.geometry import MeshNotFoundWarning
     with warnings.catch_warnings():
         warnings.simplefilter("error", MeshNotFoundWarning)  # every mesh found
         early, background = check_animation(model, traj, tmp_path, "ur5")
@@ -129,7 +129,7 @@ def test_markers_and_arrows_are_drawn(tmp_path):
 def littledog_landing(steps=60):
     """LittleDog's standing scene dropped from 2 cm, 0.3 s, and its contact forces as arrows."""
     from hovi.examples.standing import standing
-    from hovi.video import ForceArrows
+    from hovi.vis.video import ForceArrows
     st = standing("littledog")
     q0 = st.q0.copy()
     q0[2] += 0.02
@@ -170,7 +170,7 @@ def test_terrain_and_contact_force_arrows(tmp_path):
     assert changed_fraction(a, b) * a.shape[0] * a.shape[1] > 500
     with pytest.raises(ValueError, match="ground or terrain, not both"):
         viewer.animation_html(st.model, traj, tmp_path / "x.html", ground=0.0, terrain=terrain)
-    with pytest.raises(TypeError, match="arrows must be a hovi.video.ForceArrows"):
+    with pytest.raises(TypeError, match="arrows must be a hovi.vis.video.ForceArrows"):
         viewer.Viewer(st.model, server=False).play(traj, arrows="forces")
     with pytest.raises(TypeError, match="terrain must be a hovi.contact.Terrain"):
         viewer.Viewer(st.model, server=False).add_terrain(0.0)
@@ -216,7 +216,7 @@ def test_bad_input_raises_clear_errors(tmp_path):
                     '<inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial><visual><geometry>'
                     '<mesh filename="package://nowhere/a.stl"/></geometry></visual></link><joint name="j" '
                     'type="continuous"><parent link="base"/><child link="a"/></joint></robot>')
-    from hovi.geometry import MeshNotFoundWarning
+    from hovi.vis.geometry import MeshNotFoundWarning
     with pytest.warns(MeshNotFoundWarning, match="package://nowhere/a.stl"):
         drawn = viewer.Viewer(hovi.Model.from_urdf(str(urdf)), server=False)
     assert {s.kind for s in drawn.shapes} <= {"cylinder", "sphere"}  # the link's capsule in its place

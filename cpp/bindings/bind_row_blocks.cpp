@@ -56,7 +56,7 @@ transcription's configuration points (body_point_rows.hpp): row (p, i) = c_i + s
            "offsets (P, K): where q of configuration p's k-th point starts in x; weights (P, K); bodies (B,), local "
            "(B, 3): the points; c (R,), L and D (R M, 3), idx (R, M): the rows' form (path_constraints.OnBodyPoints).");
   py::class_<ComplementarityRows, RowBlock, std::shared_ptr<ComplementarityRows>>(t, "ComplementarityRows", R"doc(
-The contact complementarity rows of hovi.contact.ContactRows (complementarity_rows.hpp), values,
+The contact complementarity rows of hovi.trajopt.ContactRows (complementarity_rows.hpp), values,
 Jacobian in its structure's order and exact Hessian.
 )doc")
       .def(py::init([](std::shared_ptr<PyModel> model, int n_variables, const ContactModel& contacts, int first_input,

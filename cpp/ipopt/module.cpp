@@ -1,9 +1,11 @@
-// hovi._ipopt: IPOPT's C++ interface on a hovi._core.trajopt.Program (ipopt_adapter.hpp), built when
-// CMake finds IPOPT. The solve runs with the GIL released; Python is called only by the program's
+// hovi.trajopt.solvers._ipopt: IPOPT's C++ interface on a hovi._core.trajopt.Program (ipopt_adapter.hpp),
+// built when CMake finds IPOPT (the one way hovi solves with IPOPT). The solve runs with the GIL released; Python is called only by the program's
 // extra terms and, after each iteration, by `callback` when one is given.
 #include "../bindings/py_program.hpp"
 #include "hovi/errors.hpp"
 #include "ipopt_adapter.hpp"
+
+#include <IpoptConfig.h>
 
 namespace hovi::py_bind {
 
@@ -101,6 +103,7 @@ void bind_ipopt(py::module_& m) {
 
 PYBIND11_MODULE(_ipopt, m) {
   m.doc() = "IPOPT's C++ interface on hovi._core.trajopt.Program";
+  m.attr("ipopt_version") = IPOPT_VERSION;  // the IPOPT hovi was built against
   pybind11::module_::import("hovi._core");  // Program and the exceptions' translators
   hovi::py_bind::bind_ipopt(m);
 }

@@ -255,7 +255,7 @@ def cmd_simulate(args) -> int:
     with open(os.path.join(args.output, "simulate.json"), "w") as f:
         json.dump(summary, f, indent=2)
     if not args.no_plot:
-        from .plotting import plot_configuration, plot_contact_forces, plot_energy_error
+        from .vis.plots import plot_configuration, plot_contact_forces, plot_energy_error
         name = os.path.basename(args.model)
         if scene is None:
             first = "energy_error.png"
@@ -273,7 +273,7 @@ def cmd_simulate(args) -> int:
         if scene is None:
             write_animation(model, traj, args, ground=None if base == "fixed" else 0.0)
         else:
-            from .video import ForceArrows
+            from .vis.video import ForceArrows
             arrows = ForceArrows.from_contacts(traj, scene.contacts, summary["weight"], scene.radius,
                                                names=scene.names)
             write_animation(model, traj, args, terrain=visible_terrain(scene.contacts.terrain, scene.radius),
@@ -337,7 +337,7 @@ def free_fall_note(model: Model, base: str, duration: float, robot: bool = False
 def warn_missing_meshes(model: Model, package_dirs) -> None:
     """One line on stderr naming the meshes that --package-dir, ROS_PACKAGE_PATH and the installed
     example-robot-data do not hold (they are drawn as simple shapes), before a long render."""
-    from .geometry import MeshNotFoundWarning, model_shapes
+    from .vis.geometry import MeshNotFoundWarning, model_shapes
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", MeshNotFoundWarning)
         model_shapes(model, package_dirs)
@@ -352,10 +352,10 @@ def write_animation(model: Model, traj, args, ground: Optional[float] = None, te
     """animation.html (meshcat, standalone) and animation.mp4 (offline render, with a progress bar on
     a terminal unless --no-progress) in args.output; ``ground``: the height of a ground grid (a
     floating or planar base), None for none; ``terrain`` (a hovi.contact.Terrain) its ground, gaps
-    and boxes instead; ``arrows`` (hovi.video.ForceArrows): contact forces as arrows."""
-    from .geometry import MeshNotFoundWarning
-    from .video import render_video
-    from .viewer import animation_html
+    and boxes instead; ``arrows`` (hovi.vis.video.ForceArrows): contact forces as arrows."""
+    from .vis.geometry import MeshNotFoundWarning
+    from .vis.video import render_video
+    from .vis.viewer import animation_html
 
     warn_missing_meshes(model, args.package_dir)
     with warnings.catch_warnings():
@@ -476,7 +476,7 @@ def cmd_optimize(args) -> int:
     print(f"wrote {npz} ({how}; hovi.load_trajectory reads it with Integrator(model, s={traj.control_points.shape[1] - 1}, "
           f"dt={prob.T / prob.N:g}))")
     if not args.no_plot:
-        from .plotting import plot_optimized
+        from .vis.plots import plot_optimized
         path = os.path.join(args.output, f"optimize_{args.example}.png")
         plot_optimized(result, prob, path, f"{args.example}, {label}, N = {prob.N}")
         print(f"wrote {path} and optimize_{args.example}.json")

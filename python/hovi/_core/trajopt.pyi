@@ -158,7 +158,7 @@ class BodyPointRows(RowBlock):
         """
 class ComplementarityRows(RowBlock):
     """
-    The contact complementarity rows of hovi.contact.ContactRows (complementarity_rows.hpp), values,
+    The contact complementarity rows of hovi.trajopt.ContactRows (complementarity_rows.hpp), values,
     Jacobian in its structure's order and exact Hessian.
     """
     def __init__(self, model: hovi._core.Model, n_variables: typing.SupportsInt | typing.SupportsIndex, contacts: hovi._core.ContactModel, first_input: typing.SupportsInt | typing.SupportsIndex, t: numpy.typing.ArrayLike, q_off: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], u_off: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"]) -> None:

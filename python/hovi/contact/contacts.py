@@ -8,7 +8,7 @@ sliding velocity at the optimum, Stewart-Trinkle / Manchester-Kuindersma). The f
 DEL equations as point forces at the control points (``Model.add_point_wrench`` with a control),
 like the constraint forces, so their Jacobians come from the existing linearisation.
 
-The complementarity conditions (``ContactRows`` in ``hovi.contact.complementarity`` builds them
+The complementarity conditions (``ContactRows`` in ``hovi.trajopt.complementarity`` builds them
 for a transcription) pair the inputs at configuration point i with the motion that follows it:
 
     phi_c(q_{i+1}) >= 0,  lambda_i >= 0,  lambda_i phi_c(q_{i+1}) = 0        (no penetration, no pull)

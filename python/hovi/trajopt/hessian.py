@@ -62,8 +62,10 @@ _CACHED_COLOURINGS = 32
 
 
 class LagrangianHessian:
-    """The lower triangle of the Lagrangian's Hessian of ``nlp`` at (x, lambda, sigma): ``structure``
-    (rows, cols) and ``values(x, lam, sigma)``, by coloured forward differences of the gradient.
+    """The pattern of the lower triangle of the Lagrangian's Hessian of ``nlp``, ``structure`` (rows,
+    cols), and its star colouring (``colour``; entry e is read as component ``read_row[e]`` of the
+    difference of ``read_col[e]``'s colour), which the C++ program differences
+    (``Program.set_colouring``: the one evaluation of the coloured Hessian).
 
     The coupling graph over-estimates the Hessian: a constraint row involving x_j and x_k need not
     have a second derivative in them (the inputs enter the dynamics and the contact rows linearly,
@@ -102,7 +104,6 @@ class LagrangianHessian:
             del _COLOURINGS[next(iter(_COLOURINGS))]
         self.colour, self.rows, self.cols, self.read_row, self.read_col = cached
         self.n_colours = int(self.colour.max()) + 1 if nv else 0
-        self._read_colour = self.colour[self.read_col]
 
     @staticmethod
     def _colouring(P: sp.csr_matrix) -> tuple[np.ndarray, ...]:
@@ -151,22 +152,3 @@ class LagrangianHessian:
     def structure(self) -> tuple[np.ndarray, np.ndarray]:
         """(rows, cols) of the lower triangle's nonzeros."""
         return self.rows, self.cols
-
-    def gradient(self, x: np.ndarray, lam: np.ndarray, sigma: float) -> np.ndarray:
-        """sigma grad f(x) + J(x)^T lambda (n_variables,), from the NLP's C++ program."""
-        nlp, program = self.nlp, self.nlp.program()
-        jt_lam = np.bincount(nlp.jac_cols, weights=program.jacobian(x) * lam[nlp.jac_rows], minlength=nlp.n_variables)
-        return sigma * program.gradient(x) + jt_lam
-
-    def values(self, x: np.ndarray, lam: np.ndarray, sigma: float) -> np.ndarray:
-        """The Hessian's values at (rows, cols), from one difference per colour with steps
-        sqrt(eps) max(1, |x_j|)."""
-        h = np.sqrt(np.finfo(float).eps) * np.maximum(1.0, np.abs(x))
-        g0 = self.gradient(x, lam, sigma)
-        out = np.empty(len(self.rows))
-        for c in range(self.n_colours):
-            step = np.where(self.colour == c, h, 0.0)
-            Hd = self.gradient(x + step, lam, sigma) - g0         # sum over colour c of H[:, j] h_j
-            sel = self._read_colour == c
-            out[sel] = Hd[self.read_row[sel]] / h[self.read_col[sel]]  # the row meets one column of colour c
-        return out

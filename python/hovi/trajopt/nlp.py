@@ -1,7 +1,7 @@
 """The nonlinear program of a Problem under a transcription: objective and gradient from the cost
 terms through the transcription's sample map; constraints and their sparse Jacobian from its C++
 program (``program()``): the transcription, the path constraints on body points (one C++ block per
-set of configurations they share), the contact complementarity rows (hovi.contact.complementarity,
+set of configurations they share), the contact complementarity rows (hovi.trajopt.complementarity,
 under the relaxation it is given) and the linear boundary rows in C++, the path constraints written
 in Python one vectorised call each. Knows nothing of the solver. Times its evaluations for the
 solver's report."""
@@ -14,7 +14,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .. import _core
-from ..contact.complementarity import ComplementarityRelaxation, ContactRows
+from .complementarity import ComplementarityRelaxation, ContactRows
 from .costs import checked_cost
 from .path_constraints import OnBodyPoints
 from .problem import Problem
@@ -29,7 +29,7 @@ class NLP:
     constraints cl <= g(x) <= cu (n_constraints,) with a sparse Jacobian (jac_rows, jac_cols)
     (nnz,), and the objective; what a solver's callbacks evaluate.
 
-    ``relaxation`` (a ``hovi.contact.ComplementarityRelaxation``) states the complementarity rows
+    ``relaxation`` (a ``hovi.trajopt.ComplementarityRelaxation``) states the complementarity rows
     of a problem with contacts: their products bounded by epsilon, or one side of every pair
     fixed. A problem with contacts needs one that is not the exact conditions
     (``hovi.trajopt.solve_contact`` chooses them)."""
@@ -39,7 +39,7 @@ class NLP:
         if not isinstance(problem, (Problem, Transcription)):
             raise TypeError(f"problem must be a hovi.trajopt.Problem, got {type(problem).__name__}")
         if relaxation is not None and not isinstance(relaxation, ComplementarityRelaxation):
-            raise TypeError(f"relaxation must be a hovi.contact.ComplementarityRelaxation, got {type(relaxation).__name__}")
+            raise TypeError(f"relaxation must be a hovi.trajopt.ComplementarityRelaxation, got {type(relaxation).__name__}")
         if isinstance(problem, Transcription):
             if transcription is not None:
                 raise TypeError("give NLP(problem, transcription) or NLP(transcribed problem), not both")
@@ -267,7 +267,7 @@ class NLP:
         their ``curvature`` as weighted squares c + sum_i d_i (S x - r)_i^2 / 2, the transcription, the
         path constraints on body points and the contact rows (C++ row blocks with their own
         Hessians) and the linear rows in C++; the other costs and path constraints through the
-        methods of a ``PythonTerms``, one call per evaluation. What hovi._ipopt solves."""
+        methods of a ``PythonTerms``, one call per evaluation. What the IPOPT adapter (solvers/_ipopt) solves."""
         if self._program is None:
             nv, s = self.n_variables, self.samples
             zero = s.evaluate(np.zeros(nv))

@@ -1,4 +1,4 @@
-// The contact complementarity rows of a trajectory-optimisation problem (python/hovi/contact/
+// The contact complementarity rows of a trajectory-optimisation problem (python/hovi/trajopt/
 // complementarity.py states them, their pairing, bounds and Jacobian structure) evaluated in C++
 // with their exact Hessian. Per pair e = 0..P-2 of configuration points and contact c (inputs
 // lambda, beta_1..d, gamma at point e; x_c(q) the contact point's world position):

@@ -132,7 +132,7 @@ def check(example: Example, result: Result, method: str = "vi") -> Tuple[Dict[st
 
 def plot(example: Example, result: Result, path: str) -> None:
     """Joint angles, actuator torques and contact forces against time, in one figure."""
-    from ...plotting import pyplot
+    from ...vis.plots import pyplot
     plt = pyplot()
     tr, robot = result.trajectory, example.robot
     model = robot.model
@@ -164,9 +164,9 @@ def plot(example: Example, result: Result, path: str) -> None:
 def animate(example: Example, result: Result, output: str, fps: float, progress: bool | None = False) -> list[str]:
     """animation.html (meshcat, standalone) and animation.mp4 of the optimised motion with its scenery
     (the terrain: world shapes) on a ground grid at the lowest top of its boxes; ``progress``: the
-    video's progress bar (``hovi.video.render_video``)."""
-    from ...video import render_video
-    from ...viewer import animation_html
+    video's progress bar (``hovi.vis.video.render_video``)."""
+    from ...vis.video import render_video
+    from ...vis.viewer import animation_html
     model = example.robot.model.copy()
     for shape, size, centre, rgba in example.scenery.shapes:
         origin = np.eye(4)

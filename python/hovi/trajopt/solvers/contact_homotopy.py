@@ -5,12 +5,12 @@ found.
 1. The complementarity products of a Problem with contacts (hovi.contact.Contacts) are bounded by
    epsilon (Scholtes' relaxation: ``ComplementarityRelaxation(epsilon)`` given to the NLP), and
    epsilon is driven down over IPOPT solves, each started from the last solution.
-2. After each relaxed solve with epsilon <= FINISH_BELOW, ``hovi.contact.branches_of`` reads which
+2. After each relaxed solve with epsilon <= FINISH_BELOW, ``hovi.trajopt.contact_sides.branches_of`` reads which
    side of every pair is zero: each input is converted, through the contact point's mobility
    J M^-1 J^T, to what it does to its partner over the interval (a normal force to a
    displacement, a friction force to a velocity change), and the smaller side is zero; where the
    contact sticks, the friction inputs of opposite directions are first reduced by their common
-   part (``hovi.contact.canonical``). With those sides fixed (``ComplementarityRelaxation(0,
+   part (``hovi.trajopt.contact_sides.canonical``). With those sides fixed (``ComplementarityRelaxation(0,
    branches)``: an input fixed at zero, or the gap, cone or sliding row as an equality) the
    problem is a smooth NLP; its solution satisfies complementarity exactly and the free phases
    carry exactly zero contact force. If it fails, the homotopy goes on.
@@ -28,8 +28,8 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from ...contact.complementarity import ComplementarityRelaxation, ContactRows
-from ...contact.sides import branches_from, branches_of, canonical, least_slack
+from ..complementarity import ComplementarityRelaxation, ContactRows
+from ..contact_sides import branches_from, branches_of, canonical, least_slack
 from ..nlp import NLP
 from ..problem import Problem
 from ..result import Result
@@ -221,7 +221,7 @@ def solve_contact(problem: Problem, transcription: TranscriptionMethod = DEFAULT
     'solves' ([(epsilon, iterations, success), ...], epsilon 0 for an exact attempt),
     'iterations' (total), 'wall_seconds' (in IPOPT, total), 'out_of_time', 'sides_from' (the
     transcription whose sides were tried, or None)}. The exact result's sliding slacks are the
-    least their rows allow (``hovi.contact.least_slack``).
+    least their rows allow (``hovi.trajopt.contact_sides.least_slack``).
     """
     if not isinstance(problem, Problem):
         raise TypeError(f"problem must be a hovi.trajopt.Problem, got {type(problem).__name__}")

@@ -1,5 +1,5 @@
-"""IPOPT as a solver of the NLP: through IPOPT's C++ interface (hovi._ipopt, built where pkg-config
-finds IPOPT: every callback in C++, the GIL released) or else through cyipopt (hovi[trajopt]).
+"""IPOPT as a solver of the NLP, through IPOPT's C++ interface (``_ipopt`` here, built where
+pkg-config finds IPOPT: every callback in C++, the GIL released).
 
 The Hessian of the Lagrangian is, by default, the VI's own (``hessian='directional'``: the DEL
 equations' second derivatives along the multipliers, del_hessian.hpp) and the built-in rows'
@@ -87,13 +87,21 @@ def _start(nlp: NLP, guess: Guess) -> np.ndarray:
     return x0
 
 
-def _cpp_ipopt():
-    """hovi._ipopt (IPOPT's C++ interface on the NLP program), or None where hovi was built without IPOPT."""
+def _cpp_ipopt() -> Any:
+    """The extension _ipopt (IPOPT's C++ interface on the NLP program); ImportError saying how to get it
+    where hovi was built without IPOPT."""
     try:
-        from ... import _ipopt
-    except ImportError:
-        return None
+        from . import _ipopt
+    except ImportError as e:  # pragma: no cover - depends on the build
+        raise ImportError("hovi was built without IPOPT: install it (Debian: apt-get install coinor-libipopt-dev "
+                          "pkg-config; scripts/setup.sh does) and reinstall hovi") from e
     return _ipopt
+
+
+def ipopt_version() -> str:
+    """The version of the IPOPT hovi was built against (ImportError without IPOPT)."""
+    version: str = _cpp_ipopt().ipopt_version
+    return version
 
 # Called after every IPOPT iteration of every solve in this process (on_iteration).
 _ITERATION_HOOKS: list[Callable[[int, float, float, float], None]] = []
@@ -188,7 +196,7 @@ def _option_type(value: Any) -> str:
 
 
 def apply_options(problem: Any, options: dict[str, Any]) -> None:
-    """``problem.add_option(key, value)`` (a cyipopt.Problem) for every option, numpy scalars as
+    """``problem.add_option(key, value)`` (the extension's ``Ipopt``) for every option, numpy scalars as
     Python numbers; ValueError (TypeError for a name that is not a string) naming the option,
     its value and, for a name IPOPT does not know, the closest one it does."""
     for key, value in options.items():
@@ -218,19 +226,9 @@ def apply_options(problem: Any, options: dict[str, Any]) -> None:
                              f"of its choices; see IPOPT's options reference)") from e
 
 
-class _OptionProbe:
-    """The least cyipopt problem object: IPOPT checks options against it (``Ipopt.__init__``)."""
-
-    def objective(self, x):
-        return 0.0
-
-    def gradient(self, x):
-        return np.zeros_like(x)
-
-
 def after_iteration(verbose: bool, iteration: int, cost: float, inf_pr: float, inf_du: float, mu: float) -> bool:
-    """After an IPOPT iteration (either way of solving): the ``on_iteration`` hooks and, verbose, a
-    line of progress; True (go on). A hook's exception propagates."""
+    """After an IPOPT iteration: the ``on_iteration`` hooks and, verbose, a line of progress; True (go
+    on). A hook's exception propagates."""
     for hook in tuple(_ITERATION_HOOKS):
         hook(iteration, cost, inf_pr, inf_du)
     if verbose:
@@ -238,82 +236,6 @@ def after_iteration(verbose: bool, iteration: int, cost: float, inf_pr: float, i
             print(f"{'iter':>5} {'cost':>14} {'primal inf':>11} {'dual inf':>10} {'log mu':>7}", flush=True)
         print(f"{iteration:5d} {cost:14.7e} {inf_pr:11.3e} {inf_du:10.3e} {np.log10(mu):7.2f}", flush=True)
     return True
-
-
-class IpoptCallbacks:
-    """The cyipopt problem object: forwards to the NLP, times the callbacks, prints progress.
-
-    An exception in a callback must not cross into IPOPT: cyipopt lets some propagate through C
-    (the Jacobian callback) and answers others with uninitialised values. The first exception is
-    kept, IPOPT is told the evaluation failed (CyIpoptEvaluationError) and stopped at the next
-    iteration, and ``Ipopt.solve_nlp`` raises the kept exception."""
-
-    def __init__(self, nlp: NLP, verbose: bool, evaluation_error: type):
-        self.nlp, self.verbose = nlp, verbose
-        self.evaluation_error = evaluation_error
-        self.error: BaseException | None = None
-        self.callback_seconds = 0.0
-        self.iterations = 0
-
-    def timed(self, f, x):
-        """f(x), its time added to ``callback_seconds``; an exception kept and reported to IPOPT."""
-        if self.error is not None:
-            raise self.evaluation_error("an earlier callback failed")
-        t0 = time.perf_counter()
-        try:
-            return f(x)
-        except Exception as e:  # kept and raised by solve_nlp(); IPOPT only learns the evaluation failed
-            self.error = e
-            raise self.evaluation_error(str(e)) from e
-        finally:
-            self.callback_seconds += time.perf_counter() - t0
-
-    def objective(self, x):
-        return self.timed(self.nlp.objective, x)
-
-    def gradient(self, x):
-        return self.timed(self.nlp.gradient, x)
-
-    def constraints(self, x):
-        return self.timed(self.nlp.constraints, x)
-
-    def jacobian(self, x):
-        return self.timed(self.nlp.jacobian, x)
-
-    def jacobianstructure(self):
-        return self.nlp.jac_rows, self.nlp.jac_cols
-
-    def intermediate(self, alg_mod, iter_count, obj_value, inf_pr, inf_du, mu, d_norm, regularization_size,
-                     alpha_du, alpha_pr, ls_trials):
-        self.iterations = iter_count
-        if self.error is not None:
-            return False
-        try:
-            return after_iteration(self.verbose, iter_count, obj_value, inf_pr, inf_du, mu)
-        except Exception as e:  # kept and raised by solve_nlp(), like a callback's
-            self.error = e
-            return False
-
-
-class IpoptCallbacksWithHessian(IpoptCallbacks):
-    """IpoptCallbacks plus the Lagrangian's Hessian for IPOPT's exact Newton steps: 'fd', coloured
-    differences (hessian.LagrangianHessian); 'directional', the C++ program's (the transcription's
-    own Hessian where it has one)."""
-
-    def __init__(self, nlp: NLP, verbose: bool, evaluation_error: type, probe: np.ndarray, hessian: str):
-        super().__init__(nlp, verbose, evaluation_error)
-        self.H = LagrangianHessian(nlp, probe, own_structures=hessian == "directional")
-        self.values = self.H.values
-        if hessian == "directional":
-            program = nlp.program()
-            _set_colouring(program, self.H, 1, False)
-            self.values = program.hessian
-
-    def hessianstructure(self):
-        return self.H.structure
-
-    def hessian(self, x, lagrange, obj_factor):
-        return self.timed(lambda y: self.values(y, lagrange, obj_factor), x)
 
 
 def _set_colouring(program: Any, H: LagrangianHessian, threads: int | None, by_differences: bool) -> None:
@@ -378,15 +300,7 @@ class Ipopt(NLPSolver):
         self.options, self.verbose, self.hessian = dict(options or {}), bool(verbose), hessian
         self.continuation = continuation if isinstance(continuation, str) else bool(continuation)
         self.threads = None if threads is None else whole_number(threads, "threads", minimum=1)
-        cpp = _cpp_ipopt()
-        if cpp is not None:
-            apply_options(cpp.Ipopt(), self.ipopt_options())
-            return
-        try:
-            import cyipopt
-        except ImportError:  # pragma: no cover - checked when solving
-            return
-        apply_options(cyipopt.Problem(n=1, m=0, problem_obj=_OptionProbe()), self.ipopt_options())
+        apply_options(_cpp_ipopt().Ipopt(), self.ipopt_options())
 
     def __repr__(self) -> str:
         return (f"Ipopt(options={self.options!r}, verbose={self.verbose}, hessian={self.hessian!r}, "
@@ -451,46 +365,15 @@ class Ipopt(NLPSolver):
     def solve_nlp(self, nlp: NLP, guess: Guess = None) -> Result:
         """Solve ``nlp`` with IPOPT from ``guess`` (``Transcription.initial_guess``: None or
         'rollout', 'linear', a Result, or functions (q(t), v(t), u(t)) of times t (K,) returning
-        (K, n), (K, n), (K, m)): through IPOPT's C++ interface (hovi._ipopt, ``nlp.program()``)
-        where hovi was built with IPOPT, else through cyipopt."""
+        (K, n), (K, n), (K, m)): through IPOPT's C++ interface on ``nlp.program()``."""
         if self.hessian == "auto":
             return Ipopt(self.options, verbose=self.verbose, hessian=self.hessian_for(nlp), continuation=self.continuation,
                          threads=self.threads).solve_nlp(nlp, guess)
-        cpp = _cpp_ipopt()
-        if cpp is not None:
-            return self._solve_in_cpp(cpp, nlp, guess)
-        try:
-            import cyipopt
-        except ImportError as e:  # pragma: no cover - depends on the installation
-            raise ImportError("hovi.trajopt.solve needs cyipopt: pip install 'hovi[trajopt]' (it builds against "
-                              "IPOPT: apt-get install coinor-libipopt-dev pkg-config, or `make trajopt-deps`)") from e
-        t_setup = time.perf_counter()
-        x0 = _start(nlp, guess)
-        nlp.eval_seconds = 0.0
-        if self.hessian == "lbfgs":
-            cb = IpoptCallbacks(nlp, self.verbose, cyipopt.CyIpoptEvaluationError)
-        else:  # the Hessian's pattern probed near the start (hessian.LagrangianHessian)
-            cb = IpoptCallbacksWithHessian(nlp, self.verbose, cyipopt.CyIpoptEvaluationError, x0, self.hessian)
-        ip = cyipopt.Problem(n=nlp.n_variables, m=nlp.n_constraints, problem_obj=cb, lb=nlp.lower, ub=nlp.upper,
-                             cl=nlp.cl, cu=nlp.cu)
-        apply_options(ip, self.ipopt_options())
-        t0 = time.perf_counter()
-        setup = t0 - t_setup
-        _SOLVING[0] += 1
-        try:
-            x, info = ip.solve(x0)
-        finally:
-            _SOLVING[0] -= 1
-        wall = time.perf_counter() - t0
-        if cb.error is not None:
-            raise cb.error
-        status = info["status_msg"].decode() if isinstance(info["status_msg"], bytes) else str(info["status_msg"])
-        return self._result(nlp, x, status, info["status"] in (0, 1), float(info["obj_val"]), cb.iterations, wall,
-                            {"setup": setup, "evaluations": nlp.eval_seconds, "callbacks": cb.callback_seconds})
+        return self._solve_in_cpp(_cpp_ipopt(), nlp, guess)
 
     def _result(self, nlp: NLP, x: np.ndarray, status: str, success: bool, cost: float, iterations: int,
                 wall: float, timing: dict[str, float], solver: dict | None = None) -> Result:
-        """The Result of a solve of ``nlp`` ending at x (either way of solving); ``timing`` gets
+        """The Result of a solve of ``nlp`` ending at x; ``timing`` gets
         'ipopt' (the wall time outside the callbacks) and 'per_iteration'. Verbose, a summary line."""
         tr = nlp.transcription
         timing = {**timing, "ipopt": wall - timing["callbacks"], "per_iteration": wall / max(iterations, 1)}
@@ -504,9 +387,8 @@ class Ipopt(NLPSolver):
                   f"constraint violation {result.constraint_violation:.2e}")
         return result
 
-
     def _solve_in_cpp(self, cpp: Any, nlp: NLP, guess: Guess) -> Result:
-        """solve_nlp through hovi._ipopt: every callback in C++ (Python only for the NLP's terms
+        """solve_nlp through the extension: every callback in C++ (Python only for the NLP's terms
         written in Python, and after an iteration when verbose or an ``on_iteration`` hook asks)."""
         t_setup = time.perf_counter()
         x0 = _start(nlp, guess)

@@ -20,7 +20,7 @@ from typing import Any, Iterable, List, Optional, Sequence
 
 import numpy as np
 
-from ._core import Model
+from .._core import Model
 
 __all__ = ["Shape", "Motion", "LINK_RGBA", "COM_RGBA", "MeshNotFoundWarning", "package_search_path",
            "example_robot_data_dirs", "resolve_mesh", "model_shapes", "shape_corners", "ground_lines",

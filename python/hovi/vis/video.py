@@ -1,6 +1,6 @@
 """Offline video of a motion (MP4 through imageio-ffmpeg, or GIF), rendered without a display.
 
-matplotlib's Agg backend draws the model's shapes (``hovi.geometry``) as shaded triangles, so no
+matplotlib's Agg backend draws the model's shapes (``hovi.vis.geometry``) as shaded triangles, so no
 browser, GPU or window is needed (``pip install hovi[viewer]``). Mesh files are read with
 trimesh (STL, OBJ; DAE through pycollada) and, above ``max_faces`` triangles, simplified by
 vertex clustering. The camera looks at the whole motion from the side, as the HTML export does,
@@ -10,7 +10,7 @@ its time (``t = 1.23 s``) and, with ``ground``, a ground grid; with ``terrain`` 
 with ``arrows`` (``ForceArrows``, e.g. a contact simulation's forces) an arrow per active contact;
 a progress bar (tqdm, on stderr) follows long renders.
 
-``terrain_scene`` and ``ForceArrows`` are shared with ``hovi.viewer`` (the HTML animation).
+``terrain_scene`` and ``ForceArrows`` are shared with ``hovi.vis.viewer`` (the HTML animation).
 """
 from __future__ import annotations
 
@@ -22,7 +22,7 @@ from typing import Any, Dict, Iterable, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
-from ._core import Model
+from .._core import Model
 from .geometry import (Motion, Shape, body_frames, ground_lines, model_shapes, motion_arrays, sample_configurations,
                        transform_points, translation)
 
@@ -36,7 +36,7 @@ ARROW_RGBA = np.array([0.85, 0.1, 0.1, 1.0])
 
 
 def _terrain_check(terrain: Any) -> None:
-    from .contact.terrain import Terrain
+    from ..contact.terrain import Terrain
     if not isinstance(terrain, Terrain):
         raise TypeError(f"terrain must be a hovi.contact.Terrain, got {type(terrain).__name__}")
 
@@ -45,7 +45,7 @@ def terrain_scene(terrain: Any, points: np.ndarray, margin: float = 0.5,
                   spacing: Optional[float] = None) -> Tuple[np.ndarray, List[Shape]]:
     """What draws a ``hovi.contact.Terrain`` under a motion: (grid lines (L, 2, 3) on the ground
     plane z = terrain.ground under ``points`` (K, 3) widened by ``margin`` m, as
-    ``hovi.geometry.ground_lines``, with the gaps cut out; world shapes (body -1): a dark strip per
+    ``hovi.vis.geometry.ground_lines``, with the gaps cut out; world shapes (body -1): a dark strip per
     gap just under the ground (a hole in the grid; seen from the side, a box as deep as the gap
     would stand out as a wall), and a box per terrain box, from below the ground to its top), over the
     grid's extent (infinite box sides and gaps are cut there; pieces outside it are left out).
@@ -88,7 +88,7 @@ def terrain_scene(terrain: Any, points: np.ndarray, margin: float = 0.5,
 @dataclass
 class ForceArrows:
     """Forces at points of a model's bodies, drawn as arrows in ``render_video`` and
-    ``hovi.viewer`` (contact forces: ``from_contacts``).
+    ``hovi.vis.viewer`` (contact forces: ``from_contacts``).
 
     bodies (C,) and points (C, 3): the points, each in its body's joint frame (as
     ``hovi.contact.Contacts`` holds them); times (K,): when the forces (K, C, 3) (world, N) act,
@@ -367,7 +367,7 @@ def render_video(model: Model, motion: Motion, path: Union[str, os.PathLike[str]
             raise ValueError("give ground or terrain, not both (a terrain has its own ground height)")
         ground = float(terrain.ground)
     if arrows is not None and not isinstance(arrows, ForceArrows):
-        raise TypeError(f"arrows must be a hovi.video.ForceArrows, got {type(arrows).__name__}")
+        raise TypeError(f"arrows must be a hovi.vis.video.ForceArrows, got {type(arrows).__name__}")
     t, q = motion_arrays(model, motion, times, fps)
     frame_t, frames_q = sample_configurations(q, t, fps)
     shapes = model_shapes(model, package_dirs)

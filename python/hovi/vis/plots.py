@@ -1,4 +1,4 @@
-"""hovi.plotting: figures of simulations and optimisations as image files (matplotlib, Agg backend).
+"""hovi.vis.plots: figures of simulations and optimisations as image files (matplotlib, Agg backend).
 
 What ``hovi simulate`` and ``hovi optimize`` write (``energy_error.png``, ``contact_forces.png``,
 ``final_configuration.png``, ``optimize_NAME.png``); each function takes arrays or a result and a path and draws without a

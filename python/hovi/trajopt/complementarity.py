@@ -41,7 +41,7 @@ from typing import List, Optional, Tuple
 import numpy as np
 
 from .. import _core
-from .contacts import Contacts
+from ..contact.contacts import Contacts
 
 
 @dataclass

@@ -1,4 +1,4 @@
-"""hovi.viewer: a model and its motions in the browser, through meshcat (``pip install hovi[viewer]``).
+"""hovi.vis.viewer: a model and its motions in the browser, through meshcat (``pip install hovi[viewer]``).
 
 ``Viewer(model)`` starts meshcat's local server (it serves its own JavaScript: no internet
 needed) and shows the model; ``display(q)`` poses it, ``play(trajectory)`` loads an animation
@@ -13,7 +13,7 @@ base, the robot examples; world shapes such as terrain boxes are the model's vis
 world, ``Model.add_visual(None, ...)``); ``frame_model`` fits the camera to the bounding box of
 the motion. ``add_terrain(terrain)`` draws a ``hovi.contact.Terrain`` (its ground grid with the
 gaps open and shown as dark strips, and its boxes), and ``play(motion, arrows=...)`` animates forces as
-arrows with the motion (``hovi.video.ForceArrows``: a contact simulation's forces at its active
+arrows with the motion (``hovi.vis.video.ForceArrows``: a contact simulation's forces at its active
 contacts). An exported animation shows its time (``t = 1.23 s``) in the top left corner, and
 an address ending in ``#t=1.5`` pauses it at 1.5 s.
 """
@@ -27,7 +27,7 @@ from typing import Any, Iterable, Optional, Sequence, Union
 
 import numpy as np
 
-from ._core import Model
+from .._core import Model
 from .geometry import (Motion, Shape, body_frames, ground_lines, model_shapes, motion_arrays, sample_configurations,
                        segment_frame, shape_corners, transform_points, translation)
 from .video import ARROW_RGBA, ForceArrows, terrain_scene
@@ -42,7 +42,7 @@ def _meshcat() -> Any:
         import meshcat.commands
         import meshcat.geometry
     except ImportError as e:  # pragma: no cover - exercised only without the extra
-        raise ImportError("hovi.viewer needs meshcat: pip install 'hovi[viewer]'") from e
+        raise ImportError("hovi.vis.viewer needs meshcat: pip install 'hovi[viewer]'") from e
     return meshcat
 
 
@@ -151,12 +151,12 @@ class Viewer:
         """Animate a motion: a hovi.Trajectory, or (N, n) configurations at ``times`` (N,) seconds.
 
         The motion is sampled at ``fps`` frames per second (linear interpolation in q). meshcat's
-        controls play, pause, reset and scrub it. ``arrows`` (``hovi.video.ForceArrows``): forces
+        controls play, pause, reset and scrub it. ``arrows`` (``hovi.vis.video.ForceArrows``): forces
         animated with it as red arrows (``/meshcat/hovi/forces/NAME/shaft`` and ``head``), shown
         while active, drawn over the model. Returns the viewer.
         """
         if arrows is not None and not isinstance(arrows, ForceArrows):
-            raise TypeError(f"arrows must be a hovi.video.ForceArrows, got {type(arrows).__name__}")
+            raise TypeError(f"arrows must be a hovi.vis.video.ForceArrows, got {type(arrows).__name__}")
         t, q = motion_arrays(self.model, motion, times, fps)
         frame_t, frames_q = sample_configurations(q, t, fps)
         mc = _meshcat()
@@ -225,7 +225,7 @@ class Viewer:
         """A ground grid on the plane z = height (world shapes, such as terrain boxes, are the
         model's visuals): under the model at configurations q ((n,) or (N, n); default zeros) with
         ``margin`` m around it, lines ``spacing`` m apart (default: 10 to 40 lines each way, see
-        ``hovi.geometry.ground_lines``). Replaces meshcat's own grid (at z = 0, 20 m wide)."""
+        ``hovi.vis.geometry.ground_lines``). Replaces meshcat's own grid (at z = 0, 20 m wide)."""
         if not np.isfinite(height):
             raise ValueError(f"height must be a finite number, got {height!r}")
         self._grid(ground_lines(self._points(q), float(height), margin, spacing))
@@ -234,7 +234,7 @@ class Viewer:
                     spacing: Optional[float] = None) -> None:
         """A ``hovi.contact.Terrain`` under the model at configurations q ((n,) or (N, n); default
         zeros): the ground grid (as ``add_ground`` at ``terrain.ground``) with its gaps left open,
-        each gap a dark strip, and its boxes (``hovi.video.terrain_scene``), as world shapes
+        each gap a dark strip, and its boxes (``hovi.vis.video.terrain_scene``), as world shapes
         (``/meshcat/hovi/world/terrain_*``) over the grid's extent. For foot spheres (contact points
         at their centres) give the terrain lowered by the radius."""
         lines, shapes = terrain_scene(terrain, self._points(q), margin, spacing)
@@ -310,7 +310,7 @@ class Viewer:
                                            mc.path.Path(("Cameras", "default", "rotated", "<object>"))))
 
     def _points(self, q: Optional[np.ndarray] = None) -> np.ndarray:
-        """(K, 3) world corners of the shapes' boxes (``hovi.geometry.shape_corners``) at up to 50 of
+        """(K, 3) world corners of the shapes' boxes (``hovi.vis.geometry.shape_corners``) at up to 50 of
         the configurations q ((n,) or (N, n); default zeros)."""
         if self._corners is None:
             self._corners = [shape_corners(s) for s in self.shapes]
@@ -388,7 +388,7 @@ def animation_html(model: Model, motion: Motion, path: Union[str, os.PathLike[st
     the camera fits the motion (``Viewer.frame_model``), the time shows in the top left corner, and
     ``ground`` (a height in m; None: none) draws a ground grid under the motion (``Viewer.add_ground``),
     or ``terrain`` (a ``hovi.contact.Terrain``) its ground, gaps and boxes (``Viewer.add_terrain``);
-    ``arrows`` (``hovi.video.ForceArrows``): forces animated as arrows (e.g. contact forces)."""
+    ``arrows`` (``hovi.vis.video.ForceArrows``): forces animated as arrows (e.g. contact forces)."""
     if ground is not None and terrain is not None:
         raise ValueError("give ground or terrain, not both (a terrain has its own ground height)")
     viewer = Viewer(model, package_dirs, server=False)

@@ -1,4 +1,5 @@
-"""The paper's robots in closed loop in the contact simulator (issue 32): the optimised motion of an
+"""The paper's robots in closed loop in the contact simulator, the study behind control_robots.py,
+control_margin.py and control_videos.py: the optimised motion of an
 example tracked by time-varying LQR (``hovi.control``) on the robot's own joint torques, saturated
 at the example's torque limits, in the contact simulator (``Example.simulation`` on the robot's
 model, s = 1, the optimiser's dt), from the optimised initial state: as is, after a push, with every
@@ -26,19 +27,8 @@ base's coordinates weighted apart from the joints, torques relative to their lim
 ``final`` times the stage cost, plus for Atlas the hand's distance from the ball at the end (the
 goal; J^T J of the hand's position Jacobian on q).
 
-Measured on the quick examples (bench/results/control_robots.json): Atlas tracks the nominal to 4e-11
-and reaches the ball on one foot after a 20 N s push on the pelvis (up to 80 N s in x), with every mass
-x1.1 and with both (hand 7e-5 to 1.5e-3 m from the ball), where the open loop's contact step fails at
-0.25 s (at 20 N s; Atlas also holds 80 N s along x and 40 N s against it). The Spring Flamingo tracks the
-nominal to 5e-8 and clears the obstacle and lands after a 1 N s push along its motion at any time
-tried (0.1-1.0 s; in flight up to 4 N s along and 1 N s against it; the open loop fails from 0.1 N s),
-but not with 0.5% more mass (1% without torque limits; smoothing no help): its push-off runs at the
-50 N m torque limits, its flight is ballistic, and the optimised motion clears the obstacle by 8 mm. LittleDog fails in every case:
-the optimiser drags its front-left foot along the ground without load (0.075-0.225 s), the simulator's
-contact step sticks it there (another solution of the same complementarity conditions), the knee is
-0.11 rad off after one step, and the contact step fails at 0.3 s; with a mass error its first step at
-dt = 0.075 s converges to another root of the DEL equations (7.2 rad away; in 10 substeps it moves
-0.05)."""
+What it measures on the quick examples, and where the loop fails: bench/README.md, "The paper's
+robots in closed loop" (bench/results/control_robots.json)."""
 from __future__ import annotations
 
 import dataclasses
@@ -47,13 +37,17 @@ from typing import Any, Callable, Dict, List, Mapping, Optional, Tuple
 
 import numpy as np
 
-from ... import _core
-from ...control import ClosedLoop, Policy, Push, riccati_policy, simulate
-from ...integrator import Integrator
-from ...linearizer import Linearizer
-from ...trajopt.path_constraints import BodyPoint
-from .contact_figures import BETWEEN_TOLERANCE
-from .example import Example
+import os
+import time
+
+from hovi import _core
+from hovi.control import ClosedLoop, Policy, Push, riccati_policy, simulate
+from hovi.examples.paper import build, report
+from hovi.examples.paper.contact_figures import BETWEEN_TOLERANCE
+from hovi.examples.paper.example import Example
+from hovi.integrator import Integrator
+from hovi.linearizer import Linearizer
+from hovi.trajopt.path_constraints import BodyPoint
 
 DEPARTED = 1e-3        # m or rad: a run has departed from the optimised knots beyond this (contact_replay.DEPARTED)
 UNLOADED = 1e-9        # N s: an optimiser's knot impulse at or below this is no contact (its Jacobian adds nothing)
@@ -377,7 +371,7 @@ def _first(mask: np.ndarray, times: np.ndarray) -> Optional[float]:
 
 def _atlas_goal(example: Example, integ: Integrator, q: np.ndarray, normal: np.ndarray, complete: bool,
                 dt: float) -> Tuple[Dict[str, Any], List[Event]]:
-    from . import atlas
+    from hovi.examples.paper import atlas
     robot, prob = example.robot, example.problem
     t = np.arange(len(q)) * dt
     figures: Dict[str, Any] = {}
@@ -419,7 +413,7 @@ def _atlas_goal(example: Example, integ: Integrator, q: np.ndarray, normal: np.n
 
 def _flamingo_goal(example: Example, integ: Integrator, q: np.ndarray, normal: np.ndarray, complete: bool,
                    dt: float) -> Tuple[Dict[str, Any], List[Event]]:
-    from . import flamingo as F
+    from hovi.examples.paper import flamingo as F
     robot = example.robot
     t = np.arange(len(q)) * dt
     figures: Dict[str, Any] = {}
@@ -465,7 +459,7 @@ def _flamingo_goal(example: Example, integ: Integrator, q: np.ndarray, normal: n
 
 def _littledog_goal(example: Example, integ: Integrator, q: np.ndarray, normal: np.ndarray, complete: bool,
                     dt: float) -> Tuple[Dict[str, Any], List[Event]]:
-    from . import littledog as L
+    from hovi.examples.paper import littledog as L
     robot = example.robot
     terrain = integ.contacts.terrain
     t = np.arange(len(q)) * dt
@@ -669,3 +663,22 @@ def closed_loop_text(fig: Dict[str, Any]) -> str:
     if "open_loop" in fig:
         lines.append("  " + _run_text("open loop", fig["open_loop"]))
     return "\n".join(lines)
+
+
+def solve(name: str, solutions: str | None):
+    """(example, motion arrays, solve figures) of the quick example ``name``: solved once, or loaded
+    from DIR/<name>.npz (``solutions``, written there after a solve)."""
+    example = build(name, quick=True)
+    path = None if solutions is None else os.path.join(solutions, f"{name}.npz")
+    if path is not None and os.path.exists(path):
+        d = dict(np.load(path))
+        return example, d, {"loaded_from": path, "success": bool(d["success"])}
+    t0 = time.perf_counter()
+    result = report.solve(example)
+    wall = time.perf_counter() - t0
+    tr, tc = result.trajectory, result.transcription
+    d = {"knots": tr["q"][::tc.s], "p": tr["p"], "U": tc.stage_controls(result.x), "success": result.success}
+    if path is not None:
+        os.makedirs(solutions, exist_ok=True)
+        np.savez(path, **d)
+    return example, d, {"solve_seconds": wall, "success": bool(result.success), "status": result.status}
