@@ -44,7 +44,7 @@ pytest: build setup-test
 	$(PY) -m pytest -q --durations=15 tests
 
 demo: build
-	$(PY) -m hovi simulate pendulum:32 --order 4 --dt 0.01 --duration 10 --output results --animate
+	$(PY) -m hovi simulate pendulum:32 -s 2 --dt 0.01 --duration 10 --output results --animate
 
 test: ctest pytest
 

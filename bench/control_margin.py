@@ -22,7 +22,7 @@ away), the push alone succeeds (error 0.053 rad), and 1%, 5% and 10% more mass f
 obstacle at 0.74, 0.60 and 0.61 s; the example's own solve at 0.71-0.73 s), also without torque
 limits: the limits are not what fails the heavier jump.
 
-    python bench/control_margin.py [--only flamingo] [--margin 0.8] [--solutions DIR]
+    python bench/control_margin.py [--only spring_flamingo] [--margin 0.8] [--solutions DIR]
 
 (--solutions DIR: keep / reuse the solve in DIR/<name>_margin<M>.npz and .json, and the example's
 own solve DIR/<name>.npz from bench/control_robots.py --solutions.) Writes
@@ -223,7 +223,7 @@ def text(name: str, out: Dict[str, Any]) -> str:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--only", nargs="+", default=["flamingo"], help="the quick examples (default: flamingo)")
+    ap.add_argument("--only", nargs="+", default=["spring_flamingo"], help="the quick examples (default: spring_flamingo)")
     ap.add_argument("--margin", type=float, default=0.8, help="the optimiser's joint torque limits times this")
     ap.add_argument("--solutions", default=None, metavar="DIR",
                     help="keep / reuse the solve in DIR/<name>_margin<M>.npz (+ .json); DIR/<name>.npz: the example's own")

@@ -12,7 +12,7 @@ Beside the four cases, what was measured to choose the weights and to find where
   - margins: the largest push (a multiple of the case's push) and mass factor the closed and the
     open loop still succeed with (from a short list).
 
-    python bench/control_robots.py [--quick] [--only atlas flamingo littledog] [--solutions DIR] [--video]
+    python bench/control_robots.py [--quick] [--only atlas spring_flamingo littledog] [--solutions DIR] [--video]
 
 --quick: Atlas only (its quick solve takes ~3 s), no weights study. --solutions DIR: keep each
 solve's arrays in DIR/<name>.npz and reuse them when present (the solve times are then not
@@ -36,7 +36,7 @@ from hovi.control import Push
 import robot_tracking as CL
 from robot_tracking import solve
 
-ROBOTS = ("atlas", "flamingo", "littledog")
+ROBOTS = ("atlas", "spring_flamingo", "littledog")
 # alternatives to the chosen weights (closed_loop.WEIGHTS), by example
 ALTERNATIVES = {
     "atlas": [CL.Weights(base=10.0, joints=1.0, velocity=0.1, torque=1e-2, final=10.0),        # no task weight
@@ -44,7 +44,7 @@ ALTERNATIVES = {
               CL.Weights(base=100.0, joints=100.0, velocity=0.01, torque=1e-6, final=10.0, task=1e6),
               CL.Weights(base=10.0, joints=1000.0, velocity=0.01, torque=1e-2, final=10.0, task=1e5),
               CL.Weights(base=100.0, joints=100.0, velocity=0.01, torque=1e-2, final=1.0, task=1e6)],
-    "flamingo": [CL.Weights(base=1.0, joints=1.0, velocity=0.1, torque=0.25, final=10.0),
+    "spring_flamingo": [CL.Weights(base=1.0, joints=1.0, velocity=0.1, torque=0.25, final=10.0),
                  CL.Weights(base=100.0, joints=10.0, velocity=1.0, torque=0.25, final=10.0),
                  CL.Weights(base=10.0, joints=1.0, velocity=0.1, torque=25.0, final=10.0),
                  CL.Weights(base=1000.0, joints=10.0, velocity=1.0, torque=0.25, final=10.0)],

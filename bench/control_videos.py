@@ -9,7 +9,7 @@ example's push case (closed_loop.PUSHES) run in the contact simulator twice, by 
   - a still per robot (committed): docs/images/control_<robot>.png, FRAMES of the closed loop above
     the same instants of the open loop, one camera for all, the push's size and time in the title.
 
-    python bench/control_videos.py [--only atlas flamingo] [--solutions DIR]
+    python bench/control_videos.py [--only atlas spring_flamingo] [--solutions DIR]
 
 (--solutions DIR: the solves' arrays DIR/<name>.npz that bench/control_robots.py --solutions keeps;
 without it each example is solved once.)
@@ -31,13 +31,13 @@ from hovi.vis.video import ForceArrows, render_video, shape_triangles, subdivide
 
 VIDEO_DIR = os.path.join(RESULTS, "videos")
 IMAGE_DIR = os.path.join(ROOT, "docs", "images")
-ROBOTS = ("atlas", "flamingo")
-TITLES = {"atlas": "Atlas", "flamingo": "Spring Flamingo"}
+ROBOTS = ("atlas", "spring_flamingo")
+TITLES = {"atlas": "Atlas", "spring_flamingo": "Spring Flamingo"}
 # the still's instants (s): the start, the push, after it, the end. Atlas's quick motion lasts 0.3 s (its open
 # loop's last step ends at 0.25 s), the Spring Flamingo's 1.1 s (its push at 0.55 s is in flight, the
 # push-off before it at 0.2-0.45 s)
-FRAMES = {"atlas": (0.0, 0.15, 0.2, 0.25, 0.3), "flamingo": (0.0, 0.4, 0.55, 0.8, 1.1)}
-SLOW = {"atlas": 10, "flamingo": 4}   # slow motion: the video lasts SLOW times the motion
+FRAMES = {"atlas": (0.0, 0.15, 0.2, 0.25, 0.3), "spring_flamingo": (0.0, 0.4, 0.55, 0.8, 1.1)}
+SLOW = {"atlas": 10, "spring_flamingo": 4}   # slow motion: the video lasts SLOW times the motion
 FPS = 25                              # of the videos
 HOLD = 1.0                            # s of video the last frame is held
 SIZE = (640, 480)                     # pixels of each video

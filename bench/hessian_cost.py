@@ -64,7 +64,7 @@ def main():
     ap.add_argument("--repeat", type=int, default=3)
     args = ap.parse_args()
     from common import write_json
-    cases = [("flamingo", 1, True)] if args.quick else [(name, s, False) for name in ("atlas", "flamingo", "littledog")
+    cases = [("spring_flamingo", 1, True)] if args.quick else [(name, s, False) for name in ("atlas", "spring_flamingo", "littledog")
                                                           for s in (1, 2)]
     rows = []
     for name, s, quick in cases:

@@ -88,7 +88,7 @@ class Weights:
 # to 1, torques 0.025 to 25) succeeds and fails in the same cases.
 WEIGHTS: Dict[str, Weights] = {
     "atlas": Weights(base=100.0, joints=100.0, velocity=0.01, torque=1e-2, final=10.0, task=1e6),
-    "flamingo": Weights(base=10.0, joints=1.0, velocity=0.1, torque=0.25, final=10.0),
+    "spring_flamingo": Weights(base=10.0, joints=1.0, velocity=0.1, torque=0.25, final=10.0),
     "littledog": Weights(base=10.0, joints=1.0, velocity=0.1, torque=0.25, final=10.0),
 }
 
@@ -97,7 +97,7 @@ WEIGHTS: Dict[str, Weights] = {
 # loop fails from 5 N s on Atlas and from 0.1 N s on the Spring Flamingo; its pushes at 0.55 s are in flight).
 PUSHES: Dict[str, Push] = {
     "atlas": Push(0.15, "pelvis", (20.0, 0.0, 0.0)),
-    "flamingo": Push(0.55, "base_link", (-1.0, 0.0, 0.0)),
+    "spring_flamingo": Push(0.55, "base_link", (-1.0, 0.0, 0.0)),
     "littledog": Push(0.6, "body", (0.2, 0.0, 0.0)),
 }
 
@@ -489,7 +489,7 @@ def _littledog_goal(example: Example, integ: Integrator, q: np.ndarray, normal: 
 
 
 GOALS: Dict[str, Callable[..., Tuple[Dict[str, Any], List[Event]]]] = {
-    "atlas": _atlas_goal, "flamingo": _flamingo_goal, "littledog": _littledog_goal}
+    "atlas": _atlas_goal, "spring_flamingo": _flamingo_goal, "littledog": _littledog_goal}
 # the goals that include "no foot below the terrain": a contact point deeper than BETWEEN_TOLERANCE (the
 # examples' feasibility bound) at a knot or on a step's path fails them (the others report the depth)
 NO_PENETRATION = {"littledog"}

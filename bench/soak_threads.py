@@ -34,9 +34,9 @@ class Calls:
     """Call k (any k >= 0) with inputs that depend on k only."""
 
     def __init__(self) -> None:
-        self.pendulum = hovi.Integrator(hovi.examples.models.pendulum(12), order=4, dt=0.01)
+        self.pendulum = hovi.Integrator(hovi.examples.models.pendulum(12), s=2, dt=0.01)
         self.linearizer = hovi.Linearizer(self.pendulum)
-        self.fourbar = hovi.Integrator(hovi.examples.models.fourbar(), order=4, dt=0.01)
+        self.fourbar = hovi.Integrator(hovi.examples.models.fourbar(), s=2, dt=0.01)
         self.q_fourbar, _ = self.fourbar.project(np.array([-1.2, 0.9, -1.8]))  # away from the folded singularity
 
     def __call__(self, k: int):

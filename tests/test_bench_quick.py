@@ -9,7 +9,7 @@ from conftest import BENCH, bench_module  # noqa: E402
 SCRIPTS = ["speed.py", "linearization.py", "constraints.py", "constrained_energy.py", "fig2_quasi_newton.py", "fig3_autodiff.py",
            "fig4_hermite_simpson.py", "stability.py", "trajopt.py", "pareto.py", "energy_runtime.py",
            "direction_crossover.py", "jacobian_reuse.py", "step_floor.py", "fuzz_urdf.py", "soak_threads.py", "robot_sweep.py", "long_run.py",
-           "robot_examples.py --only flamingo atlas", "scaling.py",  # LittleDog's quick solve: tests/test_robot_examples.py
+           "robot_examples.py --only spring_flamingo atlas", "scaling.py",  # LittleDog's quick solve: tests/test_robot_examples.py
            "contact_sim.py",  # hovi's contact simulation against MuJoCo
            "contact_order.py",  # impacts located on the step's polynomial: order 2s kept
            "ipopt_options.py",  # IPOPT's Hessian and barrier options on the swing-ups

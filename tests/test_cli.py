@@ -39,7 +39,7 @@ def test_simulate_animate_writes_html_and_video(tmp_path, capsys):
 
 def test_help_explains_every_option():
     out = subprocess.run([sys.executable, "-m", "hovi", "simulate", "--help"], capture_output=True, text=True).stdout
-    for opt in ("--order", "--dt", "--duration", "--spread", "--tol", "--output", "--no-plot", "--base", "--seed",
+    for opt in (" -s S", "--dt", "--duration", "--spread", "--tol", "--output", "--no-plot", "--base", "--seed",
                 "--animate", "--fps", "--package-dir", "--ground", "--no-ground", "--contact", "--mu", "--drop",
                 "--ground-height"):
         assert opt in out
@@ -57,8 +57,8 @@ def test_bad_arguments_exit_with_usage_error():
 def test_bad_model_or_option_is_a_clean_error(capsys):
     assert main(["simulate", "/nonexistent.urdf", "--no-progress"]) == 2
     assert "model file '/nonexistent.urdf' not found" in capsys.readouterr().err
-    assert main(["simulate", "pendulum:3", "--order", "3", "--no-progress"]) == 2
-    assert "order must be an even number" in capsys.readouterr().err
+    assert main(["simulate", "pendulum:3", "-s", "17", "--no-progress"]) == 2
+    assert "between 1 and 16" in capsys.readouterr().err
 
 
 def test_optimize_solves_writes_and_replays(tmp_path, capsys):
@@ -69,10 +69,10 @@ def test_optimize_solves_writes_and_replays(tmp_path, capsys):
     assert summary["success"] and summary["N"] == 20 and summary["replay_max_error"] < 1e-8
     assert (tmp_path / "optimize_pendulum.png").stat().st_size > 1000
     help_text = subprocess.run([sys.executable, "-m", "hovi", "optimize", "--help"], capture_output=True, text=True).stdout
-    for opt in ("--transcription", "--order", "--N", "--T", "--controls", "--max-iter", "--output"):
+    for opt in ("--transcription", " -s S", "--N", "--T", "--controls", "--max-iter", "--output"):
         assert opt in help_text
     with pytest.raises(SystemExit):
-        main(["optimize", "pendulum", "--order", "3"])
+        main(["optimize", "pendulum", "-s", "0"])
 
 
 def test_the_commands_list_every_example_of_the_registry(capsys):
@@ -180,7 +180,7 @@ def test_version(capsys):
     (["optimize", "pendulum", "--N", "0"], "argument --N: must be a whole number >= 1, got '0'"),
     (["optimize", "pendulum", "--T", "-1"], "argument --T: must be a finite number > 0, got '-1'"),
     (["optimize", "pendulum", "--T", "0"], "argument --T: must be a finite number > 0, got '0'"),
-    (["optimize", "pendulum", "--order", "3"], "argument --order: must be an even number >= 2"),
+    (["optimize", "pendulum", "-s", "0"], "argument -s: must be a whole number >= 1, got '0'"),
     (["simulate", "--mu", "-0.5"], "argument --mu: must be a finite number >= 0, got '-0.5'"),
     (["simulate", "--mu", "high"], "argument --mu: 'high' is not a number"),
     (["simulate", "--mu", "2e3"], "argument --mu: must be a friction coefficient from 0 to 1000"),
@@ -231,10 +231,10 @@ def test_a_robot_lands_and_stands_on_the_ground_by_default(tmp_path, capsys):
     """hovi simulate littledog: the standing scene dropped from 3 cm lands, stands and carries its weight."""
     assert main(["simulate", "littledog", "--duration", "1", "--no-progress", "--output", str(tmp_path)]) == 0
     out = capsys.readouterr().out
-    assert "order 2 (s = 1), dt = 0.005 s, 200 steps; standing on the ground" in out and "free-falls" not in out
+    assert "s = 1 (order 2), dt = 0.005 s, 200 steps; standing on the ground" in out and "free-falls" not in out
     assert "landed at t = " in out and "of the weight" in out and "steps/s" in out and "on 4 of 4 contacts" in out
     s = json.loads((tmp_path / "simulate.json").read_text())
-    assert s["ground"] and s["converged"] and s["order"] == 2 and s["contacts"] == 4
+    assert s["ground"] and s["converged"] and s["s"] == 1 and s["contacts"] == 4
     # dropped from 0.03 m: about sqrt(2 0.03 / 9.81) = 0.078 s of fall (in 0.005 s steps)
     assert 0.06 <= s["landing_time"] <= 0.09
     assert s["max_penetration"] <= 1e-9 and s["gap_min"] >= -1e-9
@@ -256,7 +256,7 @@ def test_a_urdf_on_the_ground_with_contact_points(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "on the ground with 3 contact point(s), mu = 0.5, dropped from 0.05 m" in out and "free-falls" not in out
     s = json.loads((tmp_path / "simulate.json").read_text())
-    assert s["ground"] and s["contacts"] == 3 and s["order"] == 2 and s["dt"] == 0.005
+    assert s["ground"] and s["contacts"] == 3 and s["s"] == 1 and s["dt"] == 0.005
     assert 0.09 <= s["landing_time"] <= 0.11  # sqrt(2 0.05 / 9.81) = 0.101 s
     assert s["max_penetration"] <= 1e-9 and s["active_contacts_end"] >= 1
     # a fixed base whose contact point hangs below the ground: refused, naming what to change
@@ -424,8 +424,8 @@ def test_plots_have_legends_and_equal_axes():
 
 
 def test_a_robot_on_the_ground_at_order_four_locates_its_impacts(tmp_path, capsys):
-    """--order 4 on the ground: s = 2 with the impacts located on the step's polynomial."""
-    assert main(["simulate", "littledog", "--order", "4", "--duration", "0.3", "--no-progress", "--no-plot",
+    """-s 2 on the ground: the impacts located on the step's polynomial."""
+    assert main(["simulate", "littledog", "-s", "2", "--duration", "0.3", "--no-progress", "--no-plot",
                  "--output", str(tmp_path)]) == 0
     s = json.loads((tmp_path / "simulate.json").read_text())
-    assert s["ground"] and s["converged"] and s["order"] == 4
+    assert s["ground"] and s["converged"] and s["s"] == 2

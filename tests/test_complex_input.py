@@ -15,7 +15,7 @@ N, B = 3, 2
 def integ():
     model = hovi.examples.models.pendulum(N)
     model.add_actuator(0)
-    return hovi.Integrator(model, order=4, dt=0.01)
+    return hovi.Integrator(model, s=2, dt=0.01)
 
 
 def complex_(shape):

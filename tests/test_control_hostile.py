@@ -33,6 +33,9 @@ def replace(policy, **fields):
     ("gains of another shape", lambda m, I, P: control.simulate(I, replace(P, gains=np.zeros((1, 1, 3))), [0, 3], 5),
      ValueError, r"must be finite and \(m, 2n\)"),
     ("negative steps", lambda m, I, P: control.simulate(I, P, [0, 3], -1), ValueError, "steps"),
+    ("fractional steps", lambda m, I, P: control.simulate(I, P, [0, 3], 2.5), ValueError, "steps must be a whole"),
+    ("MPC fractional steps", lambda m, I, P: control.MPC(held_problem(m).add_cost(trajopt.ControlEffort())).run(
+        I, [0, 3], 5.0), ValueError, "steps must be a whole"),
     ("NaN state", lambda m, I, P: control.simulate(I, P, [np.nan, 3], 5), ValueError, "q0 must be finite"),
     ("NaN push", lambda m, I, P: control.simulate(I, P, [0, 3], 5, pushes=[control.Push(0.0, "pole", [np.nan, 0, 0])]),
      ValueError, "Push impulse must be finite"),

@@ -122,4 +122,4 @@ def test_open_loop_is_the_policy_without_feedback(atlas):
     assert np.all(ol.gains == 0) and np.array_equal(ol.u_ref, ctl.policy.u_ref)
     assert np.array_equal(ol.lower, ctl.policy.lower) and np.any(ctl.policy.gains != 0)
     assert dataclasses.asdict(CL.WEIGHTS["atlas"])["task"] > 0
-    assert isinstance(CL.PUSHES["flamingo"], Push)
+    assert isinstance(CL.PUSHES["spring_flamingo"], Push)

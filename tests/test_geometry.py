@@ -76,7 +76,7 @@ def test_motion_sampling_interpolates_and_checks_its_input():
     with pytest.raises(ValueError, match="finite"):
         sample_configurations(q * np.nan, t, fps=4)
     model = hovi.examples.models.pendulum(2)
-    traj = hovi.Integrator(model, order=2, dt=0.1).rollout(np.zeros(2), 3)
+    traj = hovi.Integrator(model, s=1, dt=0.1).rollout(np.zeros(2), 3)
     t_traj, q_traj = motion_arrays(model, traj)
     np.testing.assert_array_equal(q_traj, traj.q)
     np.testing.assert_allclose(motion_arrays(model, q, rate=10)[0], [0, 0.1, 0.2])

@@ -204,6 +204,32 @@ def test_no_import_cycles():
     assert not found, "import cycles among hovi's modules:\n  " + "\n  ".join(found)
 
 
+BENCH = PACKAGE.parent.parent / "bench"
+
+
+def bench_graph() -> Dict[str, Set[str]]:
+    """The benchmark scripts' imports of each other (bench/ is on sys.path when a script runs: ``import
+    common``, ``from robot_tracking import ...``), at module level and inside functions."""
+    scripts = {p.stem: p for p in BENCH.glob("*.py")}
+    graph: Dict[str, Set[str]] = {}
+    for name, path in scripts.items():
+        found = set()
+        for node in ast.walk(ast.parse(path.read_text(), str(path))):
+            if isinstance(node, ast.Import):
+                found.update(a.name.split(".")[0] for a in node.names)
+            elif isinstance(node, ast.ImportFrom) and not node.level and node.module:
+                found.add(node.module.split(".")[0])
+        graph[name] = {m for m in found if m in scripts and m != name}
+    return graph
+
+
+def test_no_import_cycles_among_the_benchmarks():
+    graph = bench_graph()
+    assert "common" in graph["speed"] and "robot_tracking" in graph["control_robots"]  # the walk sees them
+    found = [" <-> ".join(component) for component in cycles(graph)]
+    assert not found, "import cycles among bench/'s scripts:\n  " + "\n  ".join(found)
+
+
 def private(name: str) -> bool:
     return name.startswith("_") and not (name.startswith("__") and name.endswith("__"))
 

@@ -75,7 +75,7 @@ def test_bad_visuals_are_refused_naming_the_link():
 
 def test_add_visual_validates_and_does_not_touch_the_dynamics():
     model = hovi.examples.models.pendulum(2)
-    integ = hovi.Integrator(model, order=2, dt=0.01)
+    integ = hovi.Integrator(model, s=1, dt=0.01)
     model.add_visual("link2", "cylinder", [0.05, 0.5], origin=trans(0, 0, -0.25), rgba=[0.2, 0.4, 0.6, 1.0])
     model.add_visual(None, "sphere", 0.1)
     assert [(v["body"], v["link"], v["shape"]) for v in model.visuals] == [(1, "link2", "cylinder"), (-1, "world", "sphere")]

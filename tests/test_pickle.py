@@ -112,7 +112,7 @@ def test_urdf_models(rng):
 
 def test_integrator_linearizer_and_trajectories(rng):
     model = everything()
-    integ = hovi.Integrator(model, order=6, dt=0.005, tol=1e-12, direction="dense", reuse_jacobian=False,
+    integ = hovi.Integrator(model, s=3, dt=0.005, tol=1e-12, direction="dense", reuse_jacobian=False,
                             max_iterations=17)
     q, qd = integ.project(np.array([0.3, -0.2, 0.5, 0.1]), np.zeros(4))
     copy = roundtrip(integ)

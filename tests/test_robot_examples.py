@@ -104,7 +104,7 @@ def flamingo_run(tmp_path_factory):
     checkpoint = out / "homotopy.npz"
     text = io.StringIO()
     with contextlib.redirect_stdout(text):
-        code = main(["example", "flamingo", "--quick", "--quiet", "--no-animate", "--no-progress", "--output", str(out),
+        code = main(["example", "spring_flamingo", "--quick", "--quiet", "--no-animate", "--no-progress", "--output", str(out),
                      "--checkpoint", str(checkpoint)])
     return out, text.getvalue(), code
 
@@ -113,7 +113,7 @@ def test_flamingo_jumps_the_obstacle(flamingo_run):
     tmp_path, out, code = flamingo_run
     assert code == 0, out
     assert not (tmp_path / "homotopy.npz").exists()     # written after each relaxed solve, removed when finished
-    s = json.loads((tmp_path / "flamingo.json").read_text())
+    s = json.loads((tmp_path / "spring_flamingo.json").read_text())
     assert s["success"] and s["feasible"], s["failures"]
     assert s["constraint_violation"] <= 1e-6 and s["exact_solve"] == 1.0
     assert s["complementarity"] <= 1e-6 and s["normal_complementarity"] <= 1e-6 and s["penetration"] <= 1e-6
@@ -125,7 +125,7 @@ def test_flamingo_jumps_the_obstacle(flamingo_run):
     assert "replay: 22 of 22 stages reproduced" in out
     assert s["between_knot_penetration"] <= 1e-3                # the feet stay above the ground between the knots
     assert "between the configuration points:" in out
-    forces = np.load(tmp_path / "flamingo.npz")["contact_forces"]
+    forces = np.load(tmp_path / "spring_flamingo.npz")["contact_forces"]
     assert np.any(forces[:-1].sum(1) == 0)                                   # a flight phase: no contact force
 
 
@@ -134,8 +134,8 @@ def test_between_knot_penetration_matches_a_dense_evaluation_of_the_solution(fla
     trapezoidal VI's polynomial (linear in q between the points, s = 1) at 2000 times a stage."""
     from hovi import _core
     tmp_path, _, _ = flamingo_run
-    s = json.loads((tmp_path / "flamingo.json").read_text())
-    data = np.load(tmp_path / "flamingo.npz")
+    s = json.loads((tmp_path / "spring_flamingo.json").read_text())
+    data = np.load(tmp_path / "spring_flamingo.npz")
     t, q = data["t"], data["q"]
     tau = np.linspace(0.0, 1.0, 2001)[1:-1]
     dense_t = (t[:-1, None] + tau[None, :] * np.diff(t)[:, None]).ravel()
@@ -285,20 +285,21 @@ def test_atlas_higher_orders_start_from_the_trapezoidal_solution(monkeypatch):
     """report.solve without contacts (Atlas, from_trapezoidal): VI s = 2 and Hermite-Simpson start from
     the trapezoidal VI's solution (its interpolants), which is reported as their continuation's first
     stage and counted in the totals; the trapezoidal VI starts from the example's guess; a failed
-    first stage leaves the example's guess."""
+    first stage leaves the example's guess: the order continuation of trajopt.Ipopt (its second stage,
+    Ipopt.continue_from), the NLP solves replaced by a record of their transcription and guess."""
     from types import SimpleNamespace
     from hovi.examples.paper import atlas, report
-    from hovi.trajopt import VI
+    from hovi.trajopt import VI, NLPSolver
     calls, first_success = [], [True]
 
-    def solve(problem, method, guess=None, **kwargs):
+    def solve(solver, problem, method, guess=None):
         calls.append((method, guess))
         ok = first_success[0] if method == VI(1) else True
         return SimpleNamespace(success=ok, iterations=10 * len(calls), cost=1.0, wall_seconds=0.5, solver={},
-                               timing={}, contact={},
+                               timing={"setup": 0.0}, contact={},
                                transcription=SimpleNamespace(method=method), as_guess=lambda: "first's interpolants")
 
-    monkeypatch.setattr(report.trajopt, "solve", solve)
+    monkeypatch.setattr(NLPSolver, "solve", solve)
     example = atlas.build(quick=True)
     report.solve(example, "vi", 1)
     assert calls == [(VI(1), example.guess)]

@@ -30,7 +30,7 @@ def test_mypy_catches_a_wrong_type(tmp_path):
     pytest.importorskip("mypy")
     bad = tmp_path / "bad.py"
     bad.write_text("import hovi\n\nmodel: hovi.Model = hovi.examples.models.pendulum(2)\nn: str = model.n\n"
-                   "integ = hovi.Integrator(model, order=4)\nx: int = integ.rollout([0.0, 0.0], 3).q\n")
+                   "integ = hovi.Integrator(model, s=2)\nx: int = integ.rollout([0.0, 0.0], 3).q\n")
     proc = subprocess.run([sys.executable, "-m", "mypy", "--strict", "--no-incremental",
                            "--cache-dir", str(tmp_path / "cache"), str(bad)],
                           cwd=tmp_path, capture_output=True, text=True, timeout=600)

@@ -49,7 +49,7 @@ def test_video_has_the_expected_frames_and_size(tmp_path, suffix):
     import imageio.v3 as iio
 
     model = hovi.examples.models.pendulum(3)
-    traj = hovi.Integrator(model, order=4, dt=0.01).rollout(np.full(3, 0.5), 50)  # 0.5 s
+    traj = hovi.Integrator(model, s=2, dt=0.01).rollout(np.full(3, 0.5), 50)  # 0.5 s
     out = video.render_video(model, traj, tmp_path / f"swing{suffix}", fps=20, size=(320, 240))
     frames = iio.imread(out, index=None)
     assert frames.shape[0] == 11 and frames.shape[1:3] == (240, 320)

@@ -68,7 +68,7 @@ def check_animation(model, traj, tmp_path, name, package_dirs=()):
 
 def test_pendulum_animation_is_drawn_and_moves(tmp_path):
     model = hovi.examples.models.pendulum(5)
-    traj = hovi.Integrator(model, order=4, dt=0.01).rollout(np.full(5, 0.6), 100)
+    traj = hovi.Integrator(model, s=2, dt=0.01).rollout(np.full(5, 0.6), 100)
     check_animation(model, traj, tmp_path, "pendulum5")
 
 
@@ -77,7 +77,7 @@ def test_urdf_with_meshes_animation_is_drawn_and_moves(tmp_path, monkeypatch):
     monkeypatch.delenv("ROS_PACKAGE_PATH", raising=False)
     model, _ = ur5_and_package_dir()
     assert {v["shape"] for v in model.visuals} == {"mesh"}
-    traj = hovi.Integrator(model, order=4, dt=0.01).rollout(np.array([0, -1.0, 1.0, 0, 0.5, 0]), 100)
+    traj = hovi.Integrator(model, s=2, dt=0.01).rollout(np.array([0, -1.0, 1.0, 0, 0.5, 0]), 100)
     from hovi.vis.geometry import MeshNotFoundWarning
     with warnings.catch_warnings():
         warnings.simplefilter("error", MeshNotFoundWarning)  # every mesh found

@@ -21,7 +21,7 @@ def main() -> float:
     poses: npt.NDArray[np.float64] = model.body_poses(q0)  # (n, 4, 4)
     assert poses.shape == (n, 4, 4)
 
-    integ: hovi.Integrator = hovi.Integrator(model, order=4, dt=0.01)
+    integ: hovi.Integrator = hovi.Integrator(model, s=2, dt=0.01)
     p0: npt.NDArray[np.float64] = integ.momentum(q0, qdot0)
     q1: npt.NDArray[np.float64]
     p1: npt.NDArray[np.float64]

@@ -54,6 +54,16 @@ def real_number(value: Any, name: str, *, finite: bool = True, minimum: Optional
     return x
 
 
+def step_count(steps: Any, name: str = "steps") -> int:
+    """A number of steps as an int: ValueError naming ``name`` for a float (even 10.0: ``int()`` would
+    truncate 10.5 silently), a string, a bool or a negative number. The one check of every step count."""
+    if isinstance(steps, (bool, np.bool_)) or not isinstance(steps, (int, np.integer)):
+        raise ValueError(f"{name} must be a whole number (an int), got {steps!r} ({type(steps).__name__})")
+    if steps < 0:
+        raise ValueError(f"{name} must be non-negative")
+    return int(steps)
+
+
 def whole_number(value: Any, name: str, *, minimum: int = 0) -> int:
     """``value`` as an int: an integer (a float only if it is whole; not a bool or string) >= ``minimum``."""
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, (numbers.Real, np.integer, np.floating)):

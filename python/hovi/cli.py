@@ -155,7 +155,7 @@ def ground_scene(args, model: Model, base: str, robot_name: Optional[str]) -> Gr
     ValueError naming the flag for what is missing or wrong."""
     from .contact import Terrain
     from .contact.contacts import friction_coefficient
-    order = 2 if args.order is None else args.order  # above 2: impacts located on the step's polynomial
+    s = 1 if args.s is None else args.s  # above 1: impacts located on the step's polynomial
     mu = DEFAULT_FRICTION if args.mu is None else friction_coefficient(args.mu, "--mu")
     plane = "xz" if base == "planar" else ""
     rng = np.random.default_rng(args.seed)
@@ -165,13 +165,9 @@ def ground_scene(args, model: Model, base: str, robot_name: Optional[str]) -> Gr
         if args.contact:
             raise ValueError(f"argument --contact: the built-in robot '{robot_name}' has its feet as its contact "
                              f"points; --contact is for a URDF file or another model")
-        st = standing(robot_name, dt=args.dt)
+        st = standing(robot_name, dt=args.dt, mu=mu, ground=args.ground_height, s=s)
         radius = float(st.robot.contact_radius)
         integ, contacts = st.integrator, st.contacts
-        if args.mu is not None or args.ground_height != 0.0 or order != 2:
-            contacts = Contacts(st.model, st.robot.contact_points, Terrain(ground=args.ground_height + radius), mu=mu,
-                                plane=plane)
-            integ = Integrator(st.model, order=order, dt=st.integrator.dt, contacts=contacts)
         q0 = st.q0.copy()
         spread = 0.0 if args.spread is None else args.spread
         q0[nb:] += rng.uniform(-spread, spread, model.n - nb)
@@ -190,7 +186,7 @@ def ground_scene(args, model: Model, base: str, robot_name: Optional[str]) -> Gr
                                                                  if base == "fixed" else ""))
     contacts = Contacts(model, list(args.contact), Terrain(ground=args.ground_height), mu=mu, plane=plane)
     dt = GROUND_DT if args.dt is None else args.dt
-    integ = Integrator(model, order=order, dt=dt, tol=args.tol, contacts=contacts)
+    integ = Integrator(model, s=s, dt=dt, tol=args.tol, contacts=contacts)
     q0 = initial_state(model, np.pi / 12 if args.spread is None else args.spread, args.seed)
     q0[:nb] = 0.0
     return GroundScene(model, integ, contacts, lift(contacts, q0, base, args.drop), None, 0.0,
@@ -204,17 +200,17 @@ def cmd_simulate(args) -> int:
     robot_name = args.model if not os.path.isfile(args.model) and args.model in STANDING else None
     scene = ground_scene(args, model, base, robot_name) if wants_ground(args, robot_name is not None) else None
     if scene is None:
-        if args.order is None:
-            args.order = 4
+        if args.s is None:
+            args.s = 2
         dt = 0.01 if args.dt is None else args.dt
-        integ = Integrator(model, order=args.order, dt=dt, tol=args.tol)
+        integ = Integrator(model, s=args.s, dt=dt, tol=args.tol)
         q0 = initial_state(model, np.pi / 12 if args.spread is None else args.spread, args.seed)
         u = None
     else:
         model, integ, q0, u = scene.model, scene.integrator, scene.q0, scene.u
         dt = integ.dt
     steps = int(round(args.duration / dt))
-    print(f"{args.model}: {model.n} DoF, {model.total_mass:.4g} kg; order {integ.order} (s = {integ.s}), "
+    print(f"{args.model}: {model.n} DoF, {model.total_mass:.4g} kg; s = {integ.s} (order {integ.order}), "
           f"dt = {dt} s, {steps} steps" + ("" if scene is None else f"; {scene.what}"))
     if base != "fixed" and scene is None:
         print(free_fall_note(model, base, steps * dt, robot_name is not None))
@@ -233,7 +229,7 @@ def cmd_simulate(args) -> int:
     energy = traj.energy
     rel = np.abs(energy - energy[0]) / max(abs(energy[0]), 1e-300)
     summary = {
-        "model": args.model, "dof": model.n, "order": integ.order, "dt": dt, "steps": traj.steps,
+        "model": args.model, "dof": model.n, "s": integ.s, "dt": dt, "steps": traj.steps,
         "solve_seconds": solve, "wall_time_s": wall, "steps_per_second": traj.steps / solve,
         "newton_iterations_mean": float(traj.iterations.mean()), "newton_iterations_max": int(traj.iterations.max()),
         "factorizations_mean": float(traj.factorizations.mean()),
@@ -260,7 +256,7 @@ def cmd_simulate(args) -> int:
         if scene is None:
             first = "energy_error.png"
             plot_energy_error(traj.t, energy, os.path.join(args.output, first),
-                              f"{name}, order {integ.order}, dt = {dt} s")
+                              f"{name}, s = {integ.s}, dt = {dt} s")
         else:
             first = "contact_forces.png"
             c = traj.contact
@@ -440,15 +436,15 @@ def cmd_optimize(args) -> int:
     if args.T is not None:
         kwargs["T"] = args.T
     prob = make(**kwargs)
-    s = args.order // 2
-    label = f"VI order {args.order}" if args.transcription == "vi" else args.transcription
+    s = args.s
+    label = f"VI s = {s} (order {2 * s})" if args.transcription == "vi" else args.transcription
     print(f"{args.example}: {prob.model.n} DoF, {prob.model.n_controls} controls, {prob.model.n_constraints} "
           f"constraint equations; N = {prob.N} stages over T = {prob.T} s; {label}")
     guess = "linear" if args.example == "acrobot" else None
     with Heartbeat(f"solving {args.example}", enabled=args.quiet):
         result = trajopt.solve(prob, from_name(args.transcription, s), guess=guess, verbose=not args.quiet,
                                options={"max_iter": args.max_iter})
-    summary = {"example": args.example, "transcription": args.transcription, "order": args.order, "N": prob.N,
+    summary = {"example": args.example, "transcription": args.transcription, "s": args.s, "N": prob.N,
                "T": prob.T, "status": result.status, "success": result.success, "cost": result.cost,
                "constraint_violation": result.constraint_violation, "iterations": result.iterations,
                "wall_seconds": result.wall_seconds, **result.sizes, **{f"time_{k}": v for k, v in result.timing.items()}}
@@ -467,7 +463,7 @@ def cmd_optimize(args) -> int:
         print(f"NOT solved ({result.status.rstrip('.')}): the largest violation, {worst['violation']:.3g}, is {worst['what']}; "
               f"{worst['relax']}", file=sys.stderr)
     os.makedirs(args.output, exist_ok=True)
-    traj, how = optimized_trajectory(result, prob, args.order)
+    traj, how = optimized_trajectory(result, prob, args.s)
     npz = os.path.join(args.output, f"optimize_{args.example}.npz")
     traj.save(npz)
     summary["trajectory_file"] = npz
@@ -485,15 +481,15 @@ def cmd_optimize(args) -> int:
     return 0 if result.success else 1
 
 
-def optimized_trajectory(result, prob, order: int):
+def optimized_trajectory(result, prob, s: int):
     """The optimised motion as a hovi Trajectory (``save``/``load_trajectory``) and how it was made:
     a VI solution's own states and control points (status 'optimized', no Newton iterations);
-    a Hermite-Simpson solution's controls replayed with the Galerkin VI of ``order`` on its N stages."""
+    a Hermite-Simpson solution's controls replayed with the Galerkin VI of order 2s on its N stages."""
     from .trajopt.variational import VariationalTranscription
     tr = result.transcription
     if isinstance(tr, VariationalTranscription):
         return tr.solution_trajectory(result.x), "the optimised states of the VI transcription"
-    integ = Integrator(prob.model, order=order, dt=prob.T / prob.N)
+    integ = Integrator(prob.model, s=s, dt=prob.T / prob.N)
     q_of_t, v_of_t, u_of_t = result.as_guess()
     t = (np.arange(prob.N)[:, None] + integ.nodes[None, :]) * integ.dt
     u = None
@@ -556,7 +552,7 @@ def cmd_example(args) -> int:
           f"stages over T = {prob.T} s{' (quick)' if args.quick else ''}")
     with Heartbeat(f"solving {args.name}", enabled=not args.no_progress):
         s = report.run(example, args.output, animation=not args.no_animate, fps=args.fps, verbose=not args.quiet,
-                       method=args.transcription, s=args.order // 2, checkpoint=args.checkpoint,
+                       method=args.transcription, s=args.s, checkpoint=args.checkpoint,
                        progress=False if args.no_progress else None)
     print(f"{s['status']}: {s['iterations']} IPOPT iterations, {s['solve_seconds']:.1f} s; constraint violation "
           f"{s['constraint_violation']:.2e}")
@@ -674,12 +670,13 @@ def main(argv=None) -> int:
                                      "energy error; write plots and a JSON summary. The built-in robots "
                                      f"({', '.join(STANDING)}) stand on the ground by default: dropped from a few cm, "
                                      "they land and stand (joint PD and feed-forward torques; hard contact with "
-                                     "friction, order 2); the summary gives the landing time, the deepest "
+                                     "friction, s = 1); the summary gives the landing time, the deepest "
                                      "penetration and the contact force against the weight. Any other model goes on "
                                      "the ground with --ground and its contact points (--contact).")
     add_model_args(sim)
-    sim.add_argument("--order", type=count, default=None, help="order of accuracy 2s: 2 trapezoidal, 4 Simpson, "
-                                                             "6, 8, ... (default: 4; on the ground 2, the only one)")
+    sim.add_argument("-s", type=count, default=None, metavar="S",
+                     help="Lobatto intervals per step, the order of accuracy being 2s: 1 trapezoidal, 2 Simpson, 3, 4, "
+                          "... up to 16 (default: 2; on the ground 1)")
     sim.add_argument("--dt", type=positive, default=None,
                      help=f"time step in seconds (default: 0.01; on the ground {GROUND_DT})")
     sim.add_argument("--duration", type=positive, default=10.0, help="simulated time in seconds (default: 10)")
@@ -722,7 +719,8 @@ def main(argv=None) -> int:
                      help="the example: " + "; ".join(f"{e.name}: {e.description}" for e in entries(OPTIMIZATION).values()))
     opt.add_argument("--transcription", default="vi", choices=["vi", "hs-implicit", "hs-explicit"],
                      help="the dynamics: the Galerkin VI (default) or Hermite-Simpson collocation")
-    opt.add_argument("--order", type=count, default=4, help="VI order 2s (default 4: Simpson)")
+    opt.add_argument("-s", type=count, default=2, metavar="S",
+                     help="the VI's Lobatto intervals per stage, order 2s (default 2: Simpson)")
     opt.add_argument("--N", type=count, default=None, help="number of stages, >= 1 (default: the example's)")
     opt.add_argument("--T", type=positive, default=None, help="final time in s, > 0 (default: the example's)")
     opt.add_argument("--controls", default="per_point", choices=["per_point", "held"],
@@ -746,8 +744,9 @@ def main(argv=None) -> int:
     ex.add_argument("--transcription", default="vi", choices=["vi", "hs-implicit", "hs-explicit"],
                     help="the dynamics: the Galerkin VI (default) or Hermite-Simpson collocation with the same "
                          "contact conditions")
-    ex.add_argument("--order", type=int, default=2, choices=[2, 4, 6, 8],
-                    help="VI order 2s (default 2: the trapezoidal VI, inelastic impacts; 4: the paper's Simpson VI)")
+    ex.add_argument("-s", type=int, default=1, choices=[1, 2, 3, 4], metavar="S",
+                    help="the VI's Lobatto intervals per stage, order 2s (default 1: the trapezoidal VI, inelastic "
+                         "impacts; 2: the paper's Simpson VI)")
     ex.add_argument("--output", default="results", help="directory for the files (default: results)")
     ex.add_argument("--no-animate", action="store_true", help="skip the animation (needs hovi[viewer])")
     ex.add_argument("--fps", type=positive, default=25.0, help="frames per second of the animation (default: 25)")
@@ -763,8 +762,6 @@ def main(argv=None) -> int:
     add_model_args(info)
     info.set_defaults(func=cmd_info)
     args = parser.parse_args(argv)
-    if args.command == "optimize" and (args.order < 2 or args.order % 2):
-        parser.error("argument --order: must be an even number >= 2 (2, 4, 6, ...)")
     try:
         return args.func(args)
     except (ValueError, OSError) as e:  # bad model file, bad option value: a clean message, no traceback

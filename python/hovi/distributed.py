@@ -30,6 +30,7 @@ import numpy as np
 import numpy.typing as npt
 
 from . import _core
+from ._checks import step_count
 from .batch import StepBatch, TrajectoryBatch
 from .integrator import Integrator
 
@@ -105,8 +106,8 @@ def rollout_batch(integrator: Integrator, q0s: npt.ArrayLike, steps: int, *, p0s
     """``integrator.rollout_batch(q0s, steps, p0s=..., qdot0s=..., u=...)`` on a Dask cluster: q0s (B, n),
     p0s or qdot0s (B, n), u per state as rollout_batch takes it; the same TrajectoryBatch, bit for
     bit. The input is checked here, before anything is sent."""
-    integrator.check_rollout_batch(q0s, steps, p0s=p0s, qdot0s=qdot0s, u=u)  # refuses steps = 10.5 (not int())
-    steps = int(steps)
+    integrator.check_rollout_batch(q0s, steps, p0s=p0s, qdot0s=qdot0s, u=u)
+    steps = step_count(steps)
     Q = np.asarray(q0s, dtype=float)
     with _connect(client) as c:
         parts = _map(c, _rollout_task, integrator,

@@ -11,20 +11,10 @@ from . import _core
 from ._typing import FloatArray
 from .batch import StepBatch, TrajectoryBatch
 from .contact.contacts import Contacts
-from ._checks import real_number
+from ._checks import real_number, step_count, whole_number
 from .trajectory import ContactRecord, Discretization, StepInfo, Trajectory
 
 __all__ = ["ConvergenceError", "Integrator", "StepInfo", "Trajectory"]
-
-
-def _whole_steps(steps: Any) -> int:
-    """A step count as an int: ValueError naming ``steps`` for a float (even 10.0), a string, a bool
-    or a negative number (``int()`` would truncate 10.5 silently)."""
-    if isinstance(steps, (bool, np.bool_)) or not isinstance(steps, (int, np.integer)):
-        raise ValueError(f"steps must be a whole number (an int), got {steps!r} ({type(steps).__name__})")
-    if steps < 0:
-        raise ValueError("steps must be non-negative")
-    return int(steps)
 
 
 def _check_trajectory_memory(steps: int, s: int, n: int, count: int = 1) -> None:
@@ -53,7 +43,8 @@ class ConvergenceError(RuntimeError):
 class Integrator:
     """Galerkin variational integrator of order 2s on s+1 Lobatto points (Fan et al. 2018).
 
-    Give either ``s`` (s = 1 trapezoidal, s = 2 Simpson, any s up to 16) or ``order`` = 2s.
+    ``s``: the number of Lobatto intervals of a step, the integrator's order of accuracy being 2s (s = 1
+    trapezoidal, s = 2 Simpson, the default; any s up to 16).
     Each step solves the DEL equations for q^{k,1..s} by Newton's method with a backtracking
     line search. The direction is exact: ``direction="recursive"`` is the paper's O(s^3 n)
     recursion (appendix Algorithms A.1/A.2), ``"dense"`` an LU of the DEL Jacobian from the
@@ -103,20 +94,12 @@ class Integrator:
     a rollout of it). Rollouts record the impulses and gaps (``Trajectory.contact``).
     """
 
-    def __init__(self, model: _core.Model, *, s: Optional[int] = None, order: Optional[int] = None, dt: float = 0.01,
+    def __init__(self, model: _core.Model, *, s: int = 2, dt: float = 0.01,
                  tol: float = 0.0, step_tol: float = 1e-15, max_iterations: int = 30, max_backtracks: int = 12,
                  line_search: bool = True, direction: str = "auto", reuse_jacobian: bool = True,
                  reuse_contraction: float = 0.1, predictor: str = "auto", contacts: Optional[Contacts] = None,
                  contact_tol: float = 1e-10, locate_impacts: Optional[bool] = None) -> None:
-        if s is None and order is None:
-            s = 2
-        elif s is not None and order is not None and order != 2 * s:
-            raise ValueError(f"order must be 2s: got s={s} and order={order}")
-        elif s is None:
-            assert order is not None
-            if order % 2 or order < 2:
-                raise ValueError(f"order must be an even number >= 2 (order = 2s), got {order}")
-            s = order // 2
+        s = whole_number(s, "s", minimum=1)
         if not isinstance(model, _core.Model):
             raise TypeError(f"model must be a hovi.Model, got {type(model).__name__}")
         self._options: Dict[str, Any] = dict(
@@ -348,7 +331,7 @@ class Integrator:
         Raises ConvergenceError at the first failed step (its .trajectory holds what was done),
         unless raise_on_failure=False, in which case the trajectory stops there.
         """
-        steps = _whole_steps(steps)
+        steps = step_count(steps)
         _check_trajectory_memory(steps, self.s, self.n)
         q0 = _core.real_array(q0, "q0")  # complex, text and object arrays refused, never cast
         if p0 is not None and qdot0 is not None:
@@ -441,7 +424,7 @@ class Integrator:
         Raises ValueError for bad input (shapes, B = 0, NaN or infinity, threads < 1, an initial
         state that violates the constraints).
         """
-        steps = _whole_steps(steps)
+        steps = step_count(steps)
         Q, second, velocities = self._batch_states(q0s, p0s, qdot0s, ("q0s", "p0s", "qdot0s"))
         _check_trajectory_memory(steps, self.s, self.n, 2 * len(Q))  # the C++ results and the stacked arrays
         U = self._core.rollout_controls(u, steps, len(Q))
@@ -535,7 +518,7 @@ class Integrator:
         """ValueError as ``rollout_batch`` raises it for the shapes of the states (q0s, p0s or qdot0s
         (B, n)) and controls and for states that violate the constraints, without computing anything."""
         Q, _, _ = self._batch_states(q0s, p0s, qdot0s, ("q0s", "p0s", "qdot0s"))
-        self._core.rollout_controls(u, _whole_steps(steps), len(Q))
+        self._core.rollout_controls(u, step_count(steps), len(Q))
 
     def check_step_batch(self, qs: npt.ArrayLike, ps: Optional[npt.ArrayLike] = None,
                          u: Optional[npt.ArrayLike] = None, *, qdots: Optional[npt.ArrayLike] = None) -> None:

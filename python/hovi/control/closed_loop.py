@@ -12,7 +12,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .. import _core
-from .._checks import real_array, real_number
+from .._checks import real_array, real_number, step_count
 from .._typing import FloatArray
 from ..integrator import Integrator
 from ..trajectory import Trajectory
@@ -120,7 +120,7 @@ def simulate_batch(plants: Union[Integrator, Sequence[Integrator]], policy: Poli
     B = runs if runs is not None else max(len(items), len(push_lists), q0s.shape[0] if q0s.ndim == 2 else 1)
     if len(items) not in (1, B) or len(push_lists) not in (0, 1, B):
         raise ValueError(f"give one plant or {B}, and the pushes of one run or of {B}")
-    steps = int(real_number(steps, "steps", minimum=0))
+    steps = step_count(steps)
     Q, P = _states(items, q0, p0, qdot0, B)
     dt = items[0].dt
     knots = [[k for push in run for k in push.knots(items[0].model, dt)] for run in push_lists]

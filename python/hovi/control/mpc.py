@@ -10,7 +10,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .. import _core
-from .._checks import real_number, whole_number
+from .._checks import real_number, step_count, whole_number
 from .._typing import FloatArray, IntArray
 from ..integrator import Integrator
 from ..trajectory import Trajectory
@@ -84,7 +84,7 @@ class MPC:
         q0 = _core.real_array(q0, "q0")
         p0 = plant.momentum(q0, np.zeros(plant.n) if qdot0 is None else _core.real_array(qdot0, "qdot0"))
         knots = [[k for push in pushes for k in push.knots(plant.model, plant.dt)]]
-        res = _core.control.mpc(plant.core, self._shooting, q0, p0, whole_number(steps, "steps"), self.period,
+        res = _core.control.mpc(plant.core, self._shooting, q0, p0, step_count(steps), self.period,
                                 self.max_iterations, self.tol, knots, warm_start)
         m, S1 = plant.model.n_controls, plant.s + 1
         return MpcRun(trajectory=plant.trajectory_of([res]), u=res["controls"].reshape(-1, S1, m),

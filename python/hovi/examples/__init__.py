@@ -59,7 +59,7 @@ REGISTRY: Tuple[Entry, ...] = (
     Entry(OPTIMIZATION, "cartpole", "swingups:cartpole_swingup", "swing-up of the cart-pole, cart back at the origin"),
     Entry(OPTIMIZATION, "slider_crank", "swingups:slider_crank_to_target",
           "a slider-crank driven to a target crank angle (constraint multipliers as variables)"),
-    Entry(ROBOT_EXAMPLE, "flamingo", "paper.flamingo:build",
+    Entry(ROBOT_EXAMPLE, "spring_flamingo", "paper.flamingo:build",
           "Spring Flamingo jumps over an obstacle (contact-implicit, Sec. 6)"),
     Entry(ROBOT_EXAMPLE, "littledog", "paper.littledog:build",
           "LittleDog walks over terrain with two gaps (contact-implicit, Sec. 6)"),

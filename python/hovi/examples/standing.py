@@ -67,19 +67,21 @@ def pd_model(robot: Robot, frequency: float, kp_min: float = 0.0, legs: str = ""
     return model
 
 
-def standing(name: str, dt: float | None = None, frequency: float | None = None) -> Standing:
+def standing(name: str, dt: float | None = None, frequency: float | None = None, *, mu: float = DEFAULT_FRICTION,
+             ground: float = 0.0, s: int = 1) -> Standing:
     """The standing scene of robot ``name`` ('littledog', 'spring_flamingo' or 'atlas'), with its
-    GAINS and dt unless given."""
+    GAINS and dt unless given, on flat ground at height ``ground`` with friction ``mu``, simulated
+    with the VI of order 2s (the one scene builder of ``hovi simulate <robot>`` too)."""
     builders = {"littledog": littledog, "spring_flamingo": lambda: spring_flamingo(ANKLE_STIFFNESS), "atlas": atlas}
     if name not in builders:
         raise ValueError(f"no standing scene for {name!r}; choose one of {', '.join(builders)}")
     robot = builders[name]()
     f, kp_min, legs, dt0 = GAINS[name]
     plane = "xz" if robot.base == "planar" else ""
-    terrain = Terrain(ground=robot.contact_radius)  # the foot spheres' centres touch it
+    terrain = Terrain(ground=robot.contact_radius)  # the foot spheres' centres touch it: the statics at q0
     statics = Contacts(robot.model, robot.contact_points, terrain, mu=DEFAULT_FRICTION, plane=plane)
     u = static_controls(statics.model, robot.q0)[:statics.m_user]
     model = pd_model(robot, f if frequency is None else frequency, kp_min, legs)
-    contacts = Contacts(model, robot.contact_points, terrain, mu=DEFAULT_FRICTION, plane=plane)
-    integrator = Integrator(model, s=1, dt=dt0 if dt is None else dt, contacts=contacts)
+    contacts = Contacts(model, robot.contact_points, Terrain(ground=ground + robot.contact_radius), mu=mu, plane=plane)
+    integrator = Integrator(model, s=s, dt=dt0 if dt is None else dt, contacts=contacts)
     return Standing(robot, model, contacts, integrator, robot.q0.copy(), u)

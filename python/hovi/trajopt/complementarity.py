@@ -36,12 +36,15 @@ the next knot (h^2 / 3 of a_m).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import List, Optional, Tuple
+from typing import TYPE_CHECKING, List, Optional, Tuple
 
 import numpy as np
 
 from .. import _core
 from ..contact.contacts import Contacts
+
+if TYPE_CHECKING:
+    from .transcription import Transcription
 
 
 @dataclass
@@ -77,7 +80,8 @@ class ContactRows:
     """The complementarity rows of ``contacts`` on the configuration points of the transcription
     ``tr``, with the products bounded by ``epsilon`` or one side of every pair fixed (``branches``)."""
 
-    def __init__(self, contacts: Contacts, tr, epsilon: float, branches: Optional[Branches] = None) -> None:
+    def __init__(self, contacts: Contacts, tr: Transcription, epsilon: float,
+                 branches: Optional[Branches] = None) -> None:
         if not (np.isfinite(epsilon) and epsilon >= 0):
             raise ValueError(f"the complementarity relaxation must be finite and >= 0, got {epsilon}")
         self.contacts, self.epsilon, self.branches = contacts, float(epsilon), branches
@@ -114,7 +118,7 @@ class ContactRows:
         return lower, upper
 
     def fixed_inputs(self) -> np.ndarray:
-        """Offsets in x of the contact inputs that the branches fix at zero (none when relaxed)."""
+        """Offsets in x (k,) of the contact inputs that the branches fix at zero (none when relaxed)."""
         b = self.branches
         if b is None:
             return np.zeros(0, dtype=np.int64)
@@ -147,7 +151,8 @@ class ContactRows:
         return pieces
 
     def hold_inputs(self) -> Tuple[np.ndarray, np.ndarray]:
-        """Offsets of every contact input at the last point and at the point before, (C * (2 + d),) each."""
+        """Offsets (n_hold,) of every contact input at the last point and at the point before (n_hold =
+        C (2 + d))."""
         first = self.contacts.first_input
         idx = first + np.arange(self.n_hold)
         return self.u_off[self.P - 1] + idx, self.u_off[self.P - 2] + idx
@@ -164,8 +169,8 @@ class ContactRows:
         cols += [np.stack([last, before], -1).ravel()]
         return np.concatenate(rows), np.concatenate(cols)
 
-    def kinematics(self, x: np.ndarray):
-        """Contact positions X (P, C, 3) and their Jacobians J (P, C, 3, n) at all points."""
+    def kinematics(self, x: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
+        """Contact positions X (P, C, 3) and their Jacobians J (P, C, 3, n) at all points of x (n_variables,)."""
         Q = x[self.q_off[:, None] + np.arange(self.n)]
         points = self.contacts.points
         return _core.body_point_kinematics(self.contacts.model, Q, [c.body for c in points],
@@ -191,8 +196,8 @@ class ContactRows:
                                                  self.q_off.astype(np.int32), self.u_off.astype(np.int32))
 
     def violations(self, x: np.ndarray) -> dict:
-        """Largest penetration, friction-cone violation and complementarity product at x (the
-        products of the pairs, whatever the relaxation or branches)."""
+        """Largest penetration, friction-cone violation and complementarity product at x (n_variables,)
+        (the products of the pairs, whatever the relaxation or branches)."""
         k = self.quantities(x)
         cone = np.concatenate([k["psi"].ravel(), k["zeta"].ravel()])
         products = np.concatenate([(k["lambda"] * k["phi"]).ravel(), (k["gamma"] * k["psi"]).ravel(),

@@ -220,7 +220,7 @@ def build(quick: bool = False) -> Example:
     scenery.add("box", (OBSTACLE.x1 - OBSTACLE.x0, 0.6, OBSTACLE.top),
                 ((OBSTACLE.x0 + OBSTACLE.x1) / 2, 0.0, OBSTACLE.top / 2), (0.8, 0.35, 0.1, 1.0))
     labels = [c.name for c in robot.contacts]
-    return Example("flamingo", "jumps over an obstacle 0.16 m high on its way to a goal", robot, prob,
+    return Example("spring_flamingo", "jumps over an obstacle 0.16 m high on its way to a goal", robot, prob,
                    (plan.configurations, plan.velocities, inputs), {"constr_viol_tol": 1e-8}, checks, bounds,
                    lambda u: contacts.forces(u)[:, :, 2], labels, scenery, from_trapezoidal=True,
                    simulation=contacts)

@@ -13,7 +13,6 @@ import numpy as np
 
 from ... import trajopt
 from ...trajopt import Result
-from ...trajopt.solvers.ipopt import with_continuation
 from ...trajopt.transcriptions import from_name
 from .contact_figures import between_knot_text
 from .contact_replay import simulated_figures, simulated_text
@@ -198,8 +197,8 @@ def solve(example: Example, method: str = "vi", s: int = 1, verbose: bool = Fals
     trapezoidal VI is solved first (its solves are cheap and, through contact, its contact model
     well posed) and the solve starts from its solution: on the sides of the complementarity pairs
     it found (``solve_contact(sides_from=...)``), or without contacts from its interpolants (the
-    default pipeline's order continuation, which ``trajopt.solve`` applies only to a guess by name,
-    here without its cap on the continued solve's iterations; its first stage is reported as there,
+    second stage of the default pipeline's order continuation, ``Ipopt.continue_from``, which
+    ``trajopt.solve`` runs only from a guess by name, here without its cap on the iterations; its first stage is reported as there,
     in ``timing['continuation']`` and ``solver['continuation']``); with ``example.warm_up``, the
     trapezoidal solve itself starts on the sides of the warm-up's; a contact-implicit result's
     ``contact['solves']``, 'iterations' and 'wall_seconds' count both, and ``contact['coarse']``
@@ -222,9 +221,11 @@ def solve(example: Example, method: str = "vi", s: int = 1, verbose: bool = Fals
     if example.problem.contacts is None:
         if time_limit is not None:
             options["max_cpu_time"] = float(time_limit)
-        guess = coarse.as_guess() if coarse is not None and coarse.success else example.guess
-        result = trajopt.solve(example.problem, from_name(method, s), guess=guess, options=options, verbose=verbose)
-        return result if coarse is None else with_continuation(result, coarse, first_seconds, coarse.success)
+        if coarse is None:
+            return trajopt.solve(example.problem, from_name(method, s), guess=example.guess, options=options,
+                                 verbose=verbose)
+        return trajopt.Ipopt(options, verbose=verbose).continue_from(coarse, example.problem, from_name(method, s),
+                                                                     example.guess, max_iter=None, since=t0)
     epsilons = {} if example.epsilons is None else {"epsilons": example.epsilons}
     result = trajopt.solve_contact(example.problem, from_name(method, s), guess=example.guess,
                                    options=options, verbose=verbose, hessian="auto", time_limit=time_limit,

@@ -318,16 +318,17 @@ class Ipopt(NLPSolver):
         than VI(s=1): the VI of order 2 (s = 1) is solved first, from that guess, and the transcription
         starts from its solution's interpolants (Result.as_guess), with at most CONTINUED_MAX_ITER
         IPOPT iterations (not after an 'lbfgs' first stage). If either solve fails, the
-        transcription is solved from ``guess`` as without continuation. Measured (bench/README.md,
-        issue 33): it halved the cart-pole's time, turned a failed acrobot solve into 11 iterations,
-        and cost the pendulum a quarter more than a direct solve. The first solve (and a
-        failed continued one) is reported in ``timing['continuation']`` (seconds) and
-        ``solver['continuation']`` ('used': whether the result started from the first solve).
+        transcription is solved from ``guess`` as without continuation (``continue_from``: the second
+        stage). Measured (bench/README.md, "IPOPT's options and the Hessian's cost"): it halved the
+        cart-pole's time, turned a failed acrobot solve into 11 iterations, and cost the pendulum a
+        quarter more than a direct solve. The first solve (and a failed continued one) is reported in
+        ``timing['continuation']`` (seconds) and ``solver['continuation']`` ('used': whether the
+        result started from the first solve).
 
         ``continuation='lbfgs'``: the first solve takes at most 50 iterations of IPOPT's limited-memory
         Hessian, converged or not, and the transcription starts from where it stopped. On the
         acrobot the two first stages lead to different local optima, and neither is always the
-        better (bench/README.md, issue 33)."""
+        better (bench/README.md, "Against CasADi, and the acrobot's optima")."""
         first_order = VI(1)
         if (not self.continuation or transcription == first_order or not (guess is None or isinstance(guess, str))
                 or problem.contacts is not None):
@@ -338,13 +339,27 @@ class Ipopt(NLPSolver):
                       continuation=False) if quasi_newton else self
         first = NLPSolver.solve(stage, problem, first_order, guess)
         started = first.success or (quasi_newton and np.all(np.isfinite(first.x)))
-        continued = self if quasi_newton else self.with_options(   # from a converged first stage only
-            {"max_iter": min(self.ipopt_options()["max_iter"], CONTINUED_MAX_ITER)})
+        return self.continue_from(first, problem, transcription, guess, since=t0, started=started,
+                                  max_iter=None if quasi_newton else CONTINUED_MAX_ITER)
+
+    def continue_from(self, first: Result, problem: Problem, transcription: TranscriptionMethod, guess: Guess,
+                      *, max_iter: int | None = CONTINUED_MAX_ITER, since: float | None = None,
+                      started: bool | None = None) -> Result:
+        """The second stage of an order continuation: ``transcription`` solved from ``first``'s
+        interpolants (``first``: a solve of the same problem with another transcription, e.g. VI(s=1))
+        with at most ``max_iter`` IPOPT iterations (None: this solver's own limit); if ``first``
+        failed (``started``: whether to start from it anyway) or this solve fails, ``transcription``
+        from ``guess``. The first stage is recorded (``with_continuation``) with the seconds since
+        ``since`` (``time.perf_counter()``, default now) less the returned solve's own."""
+        t0 = time.perf_counter() if since is None else since
+        started = first.success if started is None else started
+        continued = self if max_iter is None else self.with_options(
+            {"max_iter": min(self.ipopt_options()["max_iter"], max_iter)})
         result = NLPSolver.solve(continued, problem, transcription, first.as_guess()) if started else None
         used = result is not None and result.success
         seconds = time.perf_counter() - t0 - (result.timing["setup"] + result.wall_seconds if used else 0.0)
         if not used:
-            result = super().solve(problem, transcription, guess)
+            result = NLPSolver.solve(self, problem, transcription, guess)
         return with_continuation(result, first, seconds, used)
 
     def hessian_for(self, nlp: NLP) -> str:
