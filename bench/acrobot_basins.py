@@ -1,5 +1,5 @@
 """Which local optimum of the acrobot swing-up hovi's pipelines reach from the straight-line guess
-(issue 33's goal: the best known optimum, cost 22.44, that CasADi's Hermite-Simpson finds at N = 160).
+(the best known optimum, cost 22.44, that CasADi's Hermite-Simpson finds at N = 160).
 
 The problem is bench/casadi_baseline.py's: hovi.examples.swingups' acrobot at N = 160, T = 4,
 guess 'linear', the target transcription VI(s = 3). Four studies:

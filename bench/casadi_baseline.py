@@ -1,4 +1,4 @@
-"""A CasADi baseline for hovi's trajectory optimisation (issue 33): the pendulum, cart-pole and acrobot
+"""A CasADi baseline for hovi's trajectory optimisation: the pendulum, cart-pole and acrobot
 swing-ups of hovi.examples.swingups transcribed by hand with Hermite-Simpson collocation in CasADi,
 exact Hessian (CasADi's default), solved by IPOPT, timed in the same process as hovi.
 
@@ -85,7 +85,7 @@ IPOPT_OPTIONS = {
     "hessian_approximation": "exact",
 }
 
-# nominal (coarse) and fine N of the comparison (issue 33: CasADi's N = 80 / 80 / 160)
+# nominal (coarse) and fine N of the comparison (CasADi's N = 80 / 80 / 160)
 GRIDS = {"pendulum": (40, 80), "cartpole": (50, 80), "acrobot": (60, 160)}
 # hovi's guess for each swing-up in bench/trajopt.py: the rollout of zero controls (the hanging rest:
 # an equilibrium, so the initial state held) or, for the acrobot, the straight line from q0 to qT

@@ -1,5 +1,5 @@
 """hovi's contact simulation (rigid, Stewart-Trinkle time stepping, s = 1) against MuJoCo's soft
-contact on the same scenes built from the same models (issue 31):
+contact on the same scenes built from the same models:
 
 1. a block dropped on the ground: penetration, normal force at rest against m g, rebound;
 2. a block sliding to a stop: distance against v0^2 / (2 mu g) at dt = 0.01, 0.005, 0.0025 and the

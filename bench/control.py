@@ -1,4 +1,4 @@
-"""Control on the VI (issue 32): box-FDDP on the VI against Crocoddyl's box-FDDP (RK4), TVLQR
+"""Control on the VI: box-FDDP on the VI against Crocoddyl's box-FDDP (RK4), TVLQR
 Monte-Carlo on the swing-ups, the LQR's region of attraction at the upright, MPC's solve rate, and
 FDDP through contact.
 

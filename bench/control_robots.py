@@ -1,4 +1,4 @@
-"""The paper's robots in closed loop in the contact simulator (issue 32): each quick example solved
+"""The paper's robots in closed loop in the contact simulator: each quick example solved
 once (report.solve, the trapezoidal VI), its optimised motion tracked by time-varying LQR on the
 robot's torques (robot_tracking.py, saturated at the torque limits) from the optimised
 initial state: as is, with a push that breaks the open loop, with every body's mass x1.1 in the

@@ -1,4 +1,4 @@
-"""The cost of one Hessian of the Lagrangian on the paper's robots (issue 33): the VI's own Hessian
+"""The cost of one Hessian of the Lagrangian on the paper's robots: the VI's own Hessian
 of its DEL equations (del_hessian.hpp) and the built-in rows' exact Hessians (path constraints on
 body points, contact rows: trajopt/body_point_rows.cpp, complementarity_rows.cpp) ('directional')
 against coloured differences of the whole gradient ('fd'), at the example's starting point with

@@ -1,4 +1,4 @@
-"""IPOPT's options on the swing-ups (issue 33 groundwork): the Hessian (hovi's default L-BFGS with
+"""IPOPT's options on the swing-ups: the Hessian (hovi's default L-BFGS with
 history 30 or 6, or the coloured finite differences of the exact gradient, hessian='fd') and the
 barrier strategy (adaptive or monotone mu), each on the default VI transcription of
 hovi.examples.swingups: wall time of the whole solve (best of R), IPOPT's share, iterations, cost.

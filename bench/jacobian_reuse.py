@@ -1,4 +1,4 @@
-"""Can a rollout step reuse the previous step's factorisation of the DEL Jacobian? (issue 11)
+"""Can a rollout step reuse the previous step's factorisation of the DEL Jacobian?
 
 A simplified Newton iteration that keeps the Jacobian J_{k-1} of step k-1 while solving step k
 contracts asymptotically by the spectral radius rho = rho(I - J_{k-1}^{-1} J_k); keeping it pays

@@ -1,4 +1,4 @@
-"""Many rollouts at once (issue 15): how batched and distributed runs scale on this machine, and
+"""Many rollouts at once: how batched and distributed runs scale on this machine, and
 what that means for a cluster.
 
 1. ``Integrator.rollout_batch`` (12-link pendulum, Simpson, dt = 0.01): steps per second on 1 and

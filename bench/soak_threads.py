@@ -1,4 +1,4 @@
-"""Concurrency soak (issue 14): 8 threads share one model, Integrator and Linearizer each of a
+"""Concurrency soak: 8 threads share one model, Integrator and Linearizer each of a
 12-link pendulum and of a constrained four-bar and make mixed calls (steps, 20-step rollouts,
 step linearisations, constrained rollouts, projections); every result must equal, bit for bit,
 the same call made alone, and the resident memory must not grow from one round to the next.

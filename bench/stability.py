@@ -12,7 +12,7 @@ with the same results; Hermite-Simpson's run one by one.
 
 Writes bench/results/stability.json and .png, and the table in bench/README.md.
 
-The stress matrix (issue 14, stability_stress.json and its table): chains of n = 2..128 links
+The stress matrix (stability_stress.json and its table): chains of n = 2..128 links
 (the pendulum), s = 1..4, dt from 1e-5 up to the failure point (the first dt at which fewer
 than half the steps converge), under each condition of CONDITIONS (stiff springs up to 1e8,
 large velocities, a floating base next to its Euler-angle singularity). Each cell takes single

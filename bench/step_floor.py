@@ -1,4 +1,4 @@
-"""A lower bound on hovi's run time at the loose end of pareto.py's table (issue 11).
+"""A lower bound on hovi's run time at the loose end of pareto.py's table.
 
 The cheapest converged step the Newton solver can take is one factorisation of the DEL Jacobian,
 two DEL evaluations and two solves. Its cost is measured where every step does exactly that: a

@@ -30,7 +30,7 @@ from common import RESULTS, loglog_slope, update_readme_section, write_json
 
 METHODS = [("vi", 1), ("vi", 2), ("vi", 3), ("hs-implicit", 2), ("hs-explicit", 2)]
 # Each transcription on its own, as the tables below were measured (the limited-memory Hessian, no
-# continuation); hovi's default pipeline against CasADi is casadi_baseline.py's (issue 33).
+# continuation); hovi's default pipeline against CasADi is casadi_baseline.py's.
 SOLVER = {"hessian": "lbfgs", "continuation": False}
 
 

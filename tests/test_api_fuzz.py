@@ -1,4 +1,4 @@
-"""Property tests of the Python API with hypothesis (issue 14): any shape, dtype, memory order or
+"""Property tests of the Python API with hypothesis: any shape, dtype, memory order or
 value (NaN, inf, huge) passed to the main calls ends either in a documented exception (ValueError,
 hovi.ModelError, hovi.ConvergenceError, TypeError for a non-numeric type) or in a finite result;
 never a crash, and never NaN reported as a converged step."""

@@ -1,4 +1,4 @@
-"""bench/casadi_baseline.py, the CasADi side of the trajectory-optimisation comparison (issue 33): its
+"""bench/casadi_baseline.py, the CasADi side of the trajectory-optimisation comparison: its
 hand-written CasADi dynamics are hovi's models, its Hermite-Simpson NLP is hovi's (the same optimum as
 hovi's HermiteSimpson at the same N), and its one-interval error measures what it should.
 

@@ -1,4 +1,4 @@
-"""Arrays that are not real numbers (issue 30, hostile input): complex (whose imaginary part a cast
+"""Arrays that are not real numbers (hostile input): complex (whose imaginary part a cast
 would drop), object (None would read as NaN) and text (which a cast would parse) arrays are refused by
 every entry point of the integrator, single and batched, with a ValueError naming the argument;
 nothing is cast silently."""

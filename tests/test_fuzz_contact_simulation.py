@@ -1,4 +1,4 @@
-"""Property tests of the contact simulator with hypothesis (issue 31): random throws of a box onto a
+"""Property tests of the contact simulator with hypothesis: random throws of a box onto a
 random terrain (ground, gaps, boxes), random friction, step sizes, orders and hostile states. Any
 input ends either in a documented exception with a message (ValueError, TypeError,
 hovi.ConvergenceError) or in a rollout whose every converged step keeps its contact points out of

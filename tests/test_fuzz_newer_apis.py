@@ -1,4 +1,4 @@
-"""Property tests of the newer APIs with hypothesis (issue 30): trajectory-optimisation problems
+"""Property tests of the newer APIs with hypothesis: trajectory-optimisation problems
 and their bounds, terrain and contacts, trajectory files (random bytes, truncated files, mutated
 arrays) and batches. Any input ends either in a documented exception with a message (ValueError,
 TypeError, FileNotFoundError, hovi.ModelError, hovi.ConvergenceError) or in a finite,
@@ -287,7 +287,7 @@ def test_step_batch_of_real_input_is_refused_or_finite(qs, ps, u):
 
 
 # Complex input with a nonzero imaginary part and object arrays: refused in every batch argument
-# (issue 30; before _core.real_array, 6c87521, the complex ones were cast and the object states named no argument).
+# (_core.real_array refuses complex numbers and names the argument of object arrays).
 def complex_input(shape):
     return np.full(shape, 0.1) + 0.5j
 

@@ -1,4 +1,4 @@
-"""Hostile input to the newer APIs (issue 30): trajectory files, trajectory optimisation, contact.
+"""Hostile input to the newer APIs: trajectory files, trajectory optimisation, contact.
 Each refusal is a ValueError (TypeError for an object of the wrong class, FileNotFoundError for a missing file)
 whose message names the argument and the problem; nothing is accepted silently."""
 import numpy as np

@@ -1,10 +1,10 @@
 // The Newton iteration of every solver of hovi, on a fixed set of steps (several models, states,
 // dt and s, with hard steps among them): the iterations, factorisations, residual evaluations and
 // status of the integrator's NewtonSolver, the ConstrainedSolver, the Hermite-Simpson baseline,
-// the quasi-Newton baseline and step_continuation are pinned. The figures were recorded BEFORE
-// the redesign of issue 29 (one Newton driver, newton_driver.hpp, one stopping rule), at commit
-// 8818c18, and are unchanged by it, except the quasi-Newton's stopping rule and the factorisation
-// counts of the two baselines (see kHermiteSimpson and kQuasiNewton).
+// the quasi-Newton baseline and step_continuation are pinned: the figures of the solvers as they
+// were before they shared one Newton driver (newton_driver.hpp, one stopping rule), which left them
+// unchanged but for the quasi-Newton's stopping rule and the factorisation counts of the two
+// baselines (see kHermiteSimpson and kQuasiNewton).
 #include <gtest/gtest.h>
 
 #include <cmath>

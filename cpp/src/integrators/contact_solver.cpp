@@ -226,9 +226,8 @@ SolveInfo ContactSolver::solve(const SolverOptions& opt, double tol, const Eigen
   step.phi_merit = Step::merit(cur_);
   NewtonLoop loop = newton_loop(opt);
   // Every iteration refactors: keeping the factorisation and the LCP's matrix while the iteration
-  // contracts (as the integrator's simplified Newton) was measured no faster (standing LittleDog and
-  // Atlas: 2.35 and 2.58 iterations a step instead of 1.97 and 1.99, the same time; bench/README.md);
-  // the contraction of one active set is not that of the next.
+  // contracts (as the integrator's simplified Newton) was measured no faster (bench/README.md, "Design
+  // measurements"): the contraction of one active set is not that of the next.
   loop.reuse = false;
   loop.estimate_from_contraction = false;
   SolveInfo info = newton_iterate(step, stopping_rule(opt, p), loop);

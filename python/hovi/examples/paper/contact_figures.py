@@ -10,9 +10,9 @@ Between the configuration points a contact point follows the transcription's own
 (``Transcription.q_samples``), where no contact row holds it: ``between_knot_penetration`` samples
 it densely (at least BETWEEN_MIN_SAMPLES times between each two points and every BETWEEN_SPACING)
 and reports the deepest dip below the terrain, the contact and the time; a solution is feasible
-only if it is at most BETWEEN_TOLERANCE (issue 30, "Contact solutions that are honest between the
-knots": the Spring Flamingo's feet dipped 33 mm (full) and 61 mm (quick) between its knots while
-its contact figures said feasible)."""
+only if it is at most BETWEEN_TOLERANCE (checking the knots alone called feasible a Spring Flamingo
+whose feet dipped tens of millimetres between them: bench/README.md, "What the checks see between
+the points")."""
 from __future__ import annotations
 
 from typing import Any, Callable, Dict, Optional, Sequence, Tuple
@@ -23,7 +23,7 @@ from ... import _core
 from ...contact import Contacts
 from ...trajopt import Result
 
-BETWEEN_TOLERANCE = 1e-3     # m: the deepest a contact point may dip below the terrain between the points (issue 30's goal)
+BETWEEN_TOLERANCE = 1e-3     # m: the deepest a contact point may dip below the terrain between the points
 BETWEEN_SPACING = 0.0025     # s: the samples between two configuration points are at most this far apart
 BETWEEN_MIN_SAMPLES = 19     # and at least this many between each two (20 intervals)
 

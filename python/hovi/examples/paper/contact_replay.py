@@ -1,4 +1,4 @@
-"""The optimised motion of a robot example executed in the contact simulator (issue 31): the robot's
+"""The optimised motion of a robot example executed in the contact simulator: the robot's
 own model with the example's contacts (``Example.simulation``) stepped by ``hovi.Integrator(...,
 contacts=...)`` from the optimised initial state with the optimised joint torques, open loop (the
 contact forces are the simulator's, not the optimiser's). How far it follows the optimised

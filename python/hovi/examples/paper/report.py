@@ -185,11 +185,9 @@ def animate(example: Example, result: Result, output: str, fps: float, progress:
 def solve(example: Example, method: str = "vi", s: int = 1, verbose: bool = False,
           time_limit: float | None = None, checkpoint: str | None = None, *, reported: bool = True) -> Result:
     """Solve the example's problem with ``method`` ('vi' of order 2s, 'hs-implicit', 'hs-explicit') by
-    IPOPT with the Lagrangian's Hessian (L-BFGS does not converge on these robots: see
-    trajopt.hessian; 'auto': the VI's own and the built-in rows' exact Hessians; through contact
-    on the quick problems, LittleDog 333 iterations in 10.5 s against 986 and a failed exact solve
-    with coloured differences, 'fd'; the Flamingo 699 in 15.4 s against 782 in 33.9 s), from the
-    example's guess; ``time_limit`` (seconds) bounds the whole solve
+    IPOPT with the Lagrangian's Hessian ('auto': the VI's own and the built-in rows' exact Hessians;
+    L-BFGS does not converge on these robots, and coloured differences, 'fd', take more iterations:
+    bench/README.md, "Design measurements"), from the example's guess; ``time_limit`` (seconds) bounds the whole solve
     (IPOPT's max_cpu_time; a contact-implicit solve starts no further solve once it is spent);
     ``checkpoint`` (a path) lets a contact-implicit solve resume its homotopy (trajopt.solve_contact).
 

@@ -186,9 +186,8 @@ def solve_contact(problem: Problem, transcription: TranscriptionMethod = DEFAULT
     ``finish_below`` the exact solve on the sides of the complementarity pairs it shows, until one
     succeeds (finish_below = 0: relaxed solves only). ``options`` go to every IPOPT solve (the
     relaxed ones default to tol = RELAXED_TOL); ``hessian`` and ``threads`` as in ``solve`` (the
-    default 'auto' over 'lbfgs': on the robot examples L-BFGS does not converge, and on the contact
-    tests' eight small problems the two take 10.9 and 10.1 s in all: bench/README.md, "Design
-    measurements"). ``time_limit``
+    default 'auto' over 'lbfgs': on the robot examples L-BFGS does not converge; bench/README.md,
+    "Design measurements"). ``time_limit``
     (seconds, default none): a budget for all the solves together; each IPOPT solve gets what is
     left (at least 1 s) as its max_cpu_time, and no solve starts once it is spent
     (``result.contact['out_of_time']``).
@@ -206,13 +205,11 @@ def solve_contact(problem: Problem, transcription: TranscriptionMethod = DEFAULT
     ``branches_from``), started from its interpolation; if it fails (a transition between contact phases the two discretisations
     place differently), the homotopy runs from the interpolation over the epsilons <= ``finish_below``
     (from its start, close to the answer, the large relaxations are not needed). These solves run
-    with NEAR_START_OPTIONS under ``options`` (a monotone barrier from mu = 1e-6): on LittleDog
-    VI s = 2 the exact solve on the trapezoidal sides took 77 iterations instead of 475 (quick
-    problem), and the full problem's solves 486 instead of 892. Reading the sides at the
-    interpolation instead of at its own pairs fixed at zero forces it interpolates as nonzero: the
-    full Flamingo VI s = 2's exact solve took 638 iterations that way, 176 this way. On the robot
-    examples this finishes where the homotopy from the example's guess is far slower
-    (bench/README.md).
+    with NEAR_START_OPTIONS under ``options`` (a monotone barrier from mu = 1e-6: IPOPT's defaults
+    would push the start off the sides it is on). Each pair takes the sides of the pair holding its
+    point, not the sides read at the interpolation, which would fix at zero forces the interpolation
+    carries. On the robot examples this finishes where the homotopy from the example's guess is far
+    slower (iterations of both ways: bench/README.md, "Design measurements").
 
     Returns the exact Result, or the last relaxed one with ``success=False`` and a status that says
     why (``time_limit`` stopped the homotopy, or no exact solve succeeded), with

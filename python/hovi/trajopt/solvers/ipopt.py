@@ -273,9 +273,7 @@ class Ipopt(NLPSolver):
     colour; 1e-8 relative);
     'lbfgs': IPOPT's limited-memory approximation (cheap iterations, many of them);
     'auto' (the default): 'directional' unless a CallbackCost, which may couple any variables,
-    needs 'lbfgs'. Measured (bench/README.md, issue 33): 'fd' took 3.5-4.3x less time than
-    'lbfgs' on the pendulum and cart-pole swing-ups; 'directional' computes a Hessian of the
-    paper's robots 5-25x faster than 'fd' (LittleDog VI s = 2: 21.9 against 544 ms).
+    needs 'lbfgs'. Their costs: bench/README.md, "IPOPT's options and the Hessian's cost".
 
     threads: threads for the transcription's part of the Hessian (its stages, or the colours'
     differences; 1 by default, None: HOVI_NUM_THREADS or every core; costs and path constraints
