@@ -33,8 +33,11 @@ $(VENV)/.hovi.stamp: $(SOURCES) | setup
 
 build: setup $(VENV)/.hovi.stamp
 
+# The C++ tests and the C++ benchmark against Pinocchio (bench/cpp/speed.cpp, linked with the pin wheel's
+# Pinocchio: built here, so that bench/speed.py and linearization.py --quick only run it).
 build/cpp/CMakeCache.txt: CMakeLists.txt | setup
-	cmake -S . -B build/cpp -DCMAKE_BUILD_TYPE=Release -DHOVI_BUILD_TESTS=ON -DHOVI_BUILD_PYTHON=OFF -DHOVI_ARCH=$(HOVI_ARCH)
+	cmake -S . -B build/cpp -DCMAKE_BUILD_TYPE=Release -DHOVI_BUILD_TESTS=ON -DHOVI_BUILD_PYTHON=OFF -DHOVI_ARCH=$(HOVI_ARCH) \
+	      -DHOVI_BUILD_BENCH=ON -DHOVI_PINOCCHIO_PREFIX="$$($(PY) -c 'import sysconfig, os; print(os.path.join(sysconfig.get_paths()["purelib"], "cmeel.prefix"))')"
 
 ctest: setup build/cpp/CMakeCache.txt
 	cmake --build build/cpp -j $(JOBS)

@@ -90,9 +90,9 @@ def pinocchio_prefix() -> str:
 
 def build_cpp_bench() -> str:
     """Configure and build bench/cpp (hovi against Pinocchio's C++); returns the binary's path. It is
-    built in `make ctest`'s tree, build/cpp, with that tree's options plus the benchmark, so that
-    the core library compiled for the C++ tests is reused (a separate tree compiled it again: about
-    two minutes of `make test` on 2 cores)."""
+    built in `make ctest`'s tree, build/cpp, with that tree's options (which include the benchmark:
+    `make ctest` compiles it, so that a quick run here only runs it), reusing the core library
+    compiled for the C++ tests."""
     build = os.path.join(ROOT, "build", "cpp")
     for cmd in (["cmake", "-S", ROOT, "-B", build, "-DCMAKE_BUILD_TYPE=Release", "-DHOVI_BUILD_TESTS=ON",
                  "-DHOVI_BUILD_PYTHON=OFF", "-DHOVI_BUILD_BENCH=ON", f"-DHOVI_PINOCCHIO_PREFIX={pinocchio_prefix()}"],
