@@ -22,11 +22,12 @@ row of each study but 'basin').
 """
 from __future__ import annotations
 
-import argparse
 import copy
 import time
 
 import numpy as np
+
+from common import study_parser
 
 N, S = 160, 3
 MAX_ITER = 300
@@ -133,8 +134,7 @@ def run(quick: bool, log=print) -> dict:
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--quick", action="store_true", help="one row of each study but 'basin'")
+    ap = study_parser(__doc__, "one row of each study but 'basin'")
     args = ap.parse_args()
     from common import write_json
     out = {"N": N, "s": S, "max_iter": MAX_ITER, **run(args.quick)}

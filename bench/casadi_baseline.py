@@ -57,12 +57,13 @@ Writes bench/results/casadi_baseline.json (casadi_baseline_quick.json with --qui
 """
 from __future__ import annotations
 
-import argparse
 import os
 import time
 from dataclasses import dataclass, field
 
 import numpy as np
+
+from common import study_parser
 
 try:
     import casadi as ca
@@ -530,8 +531,7 @@ def report(out) -> str:
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--quick", action="store_true", help="the pendulum at N = 20 only")
+    ap = study_parser(__doc__, "the pendulum at N = 20 only")
     ap.add_argument("--no-hovi", action="store_true", help="CasADi's solves only")
     ap.add_argument("--lbfgs", action="store_true", help="hovi also with hessian='lbfgs' (the default is hovi's: 'auto')")
     ap.add_argument("--reuse-references", action="store_true",

@@ -31,6 +31,15 @@ def machine() -> dict:
             "hovi_march": _core.march or "compiler default"}
 
 
+def study_parser(doc: str, quick: str = "a small smoke run, no README update"):
+    """The argument parser of a study: its description (the docstring's first line) and --quick (``quick``: what
+    the smoke run does)."""
+    import argparse
+    ap = argparse.ArgumentParser(description=doc.split("\n")[0])
+    ap.add_argument("--quick", action="store_true", help=quick)
+    return ap
+
+
 def add_parallel_arguments(ap) -> None:
     """--workers N and --scheduler ADDRESS of the studies that sweep many states (see parallel())."""
     ap.add_argument("--workers", type=int, default=1,
@@ -77,6 +86,48 @@ def write_json(name: str, payload: dict) -> str:
     with open(path, "w") as f:
         json.dump({"machine": machine(), **payload}, f, indent=1)
     return path
+
+
+def json_ready(x, nonfinite_as_text: bool = False):
+    """JSON-ready: numpy scalars and arrays to Python; infinities and NaN to None (or to their text)."""
+    if isinstance(x, dict):
+        return {str(k): json_ready(v, nonfinite_as_text) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [json_ready(v, nonfinite_as_text) for v in x]
+    if isinstance(x, np.ndarray):
+        return json_ready(x.tolist(), nonfinite_as_text)
+    if isinstance(x, (np.bool_, bool)):
+        return bool(x)
+    if isinstance(x, (np.integer, int)):
+        return int(x)
+    if isinstance(x, (np.floating, float)):
+        return float(x) if np.isfinite(x) else (str(x) if nonfinite_as_text else None)
+    return x
+
+
+def publish(tag: str, text: str, quick: bool) -> None:
+    """Prints a study's table and, after a full run, writes it into bench/README.md's ``tag`` section."""
+    print(text)
+    if not quick:
+        update_readme_section(tag, text)
+
+
+def save_figure(fig, path: str) -> None:
+    """Lays out a matplotlib figure, writes it (120 dpi) and closes it."""
+    import matplotlib.pyplot as plt
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def best_rollout(integ, q0, steps: int, repeats: int):
+    """(the least C++ time per step over ``repeats`` rollouts of ``steps`` steps from q0 at rest, mean
+    Newton iterations and factorisations per step of the last)."""
+    best = np.inf
+    for _ in range(repeats):
+        traj = integ.rollout(q0, steps)
+        best = min(best, traj.solve_seconds / steps)
+    return best, float(np.mean(traj.iterations)), float(np.mean(traj.factorizations))
 
 
 def loglog_slope(x, y) -> float:

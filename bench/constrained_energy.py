@@ -11,14 +11,13 @@ bench/results/constrained_energy.json and the table in bench/README.md.
 """
 from __future__ import annotations
 
-import argparse
 import os
 import sys
 import time
 
 import numpy as np
 
-from common import ROOT, update_readme_section, write_json
+from common import ROOT, publish, study_parser, write_json
 
 sys.path.insert(0, os.path.join(ROOT, "tests"))
 import hovi  # noqa: E402
@@ -58,8 +57,7 @@ def run_case(name, model, q0, qd0, dt, s, tol, steps):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--quick", action="store_true", help="500 steps, no README update")
+    ap = study_parser(__doc__, "500 steps, no README update")
     args = ap.parse_args()
     steps = 500 if args.quick else 10_000
     rows = []
@@ -75,10 +73,7 @@ def main():
         e, raw = r["energy"], r["energy_minv_p"]
         lines.append(f"| {r['mechanism']} | {r['dt']} | {r['s']} | {r['tol']:g} | {r['max_h']:.1e} | {r['velocity_constraint']:.1e} | "
                      f"{e['max']:.2e} | {e['first_tenth']:.2e} | {e['last_tenth']:.2e} | {raw['max']:.2e} |")
-    text = "\n".join(lines)
-    print(text)
-    if not args.quick:
-        update_readme_section("constrained_energy", text)
+    publish("constrained_energy", "\n".join(lines), args.quick)
 
 
 if __name__ == "__main__":

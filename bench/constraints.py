@@ -11,11 +11,10 @@ least-squares fit t = a n + b m n + c m^3 per s shows the O(mn) + O(m^3) growth.
 """
 from __future__ import annotations
 
-import argparse
 
 import numpy as np
 
-from common import RESULTS, build_cpp_bench, loglog_slope, update_readme_section, write_json
+from common import RESULTS, build_cpp_bench, loglog_slope, publish, save_figure, study_parser, write_json
 from speed import run
 
 
@@ -53,14 +52,11 @@ def plot(rows, path):
     axes[1].set_title(f"cost against n (s = {s0})")
     axes[1].legend(fontsize=8)
     axes[1].grid(True, which="both", alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save_figure(fig, path)
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--quick", action="store_true", help="a small smoke run, no README update")
+    ap = study_parser(__doc__, "a small smoke run, no README update")
     args = ap.parse_args()
     binary = build_cpp_bench()
     ns = [8, 16] if args.quick else [8, 16, 32, 64, 128]
@@ -86,10 +82,7 @@ def main():
     for s, f in fits.items():
         lines.append(f"Fit for s = {s}: t ≈ {f['a_per_n'] * 1e9:.1f} ns · n + {f['b_per_mn'] * 1e9:.2f} ns · m n + "
                      f"{f['c_per_m3'] * 1e9:.2f} ns · m³ (largest relative misfit {f['max_rel_residual']:.0%}).")
-    text = "\n".join(lines)
-    print(text)
-    if not args.quick:
-        update_readme_section("constraints", text)
+    publish("constraints", "\n".join(lines), args.quick)
 
 
 if __name__ == "__main__":

@@ -38,7 +38,6 @@ Writes bench/results/contact_sim.json and .png, and the table in bench/README.md
 """
 from __future__ import annotations
 
-import argparse
 import os
 import time
 import xml.etree.ElementTree as ET
@@ -50,7 +49,7 @@ import hovi
 from hovi import _core
 from hovi.contact import Contacts, Terrain
 from hovi.examples.standing import standing
-from common import RESULTS, hovi_commit, loglog_slope, update_readme_section, write_json
+from common import RESULTS, hovi_commit, json_ready, loglog_slope, study_parser, update_readme_section, write_json
 
 mujoco = mjm.mujoco
 G = 9.81
@@ -665,8 +664,7 @@ LABELS = {"drop": "block drop (2 kg, 0.1 m)", "slide": "sliding stop (v0 1 m/s, 
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--quick", action="store_true", help="short runs, coarse dt searches, 3 contact counts, 1 repeat")
+    ap = study_parser(__doc__, "short runs, coarse dt searches, 3 contact counts, 1 repeat")
     ap.add_argument("--repeats", type=int, default=5, help="timing repeats (best of; default 5)")
     args = ap.parse_args()
     quick = args.quick
@@ -743,7 +741,7 @@ def main():
                "load_average_start": load_start, "load_average_end": load, "mujoco_version": mujoco.__version__,
                "mujoco_settings": mujoco_settings(), "model_agreement": agreement, "criteria": CRITERIA,
                "results": results, "wall_seconds": time.perf_counter() - t_start}
-    path = write_json(f"{name}.json", clean(payload))
+    path = write_json(f"{name}.json", json_ready(payload))
     text = table(results, load_start, load, repeats, horizon)
     print(text)
     try:
@@ -808,23 +806,6 @@ def mujoco_settings():
             "solver": int(m.opt.solver), "solver_name": "Newton", "tolerance": float(m.opt.tolerance),
             "iterations": int(m.opt.iterations), "margin": float(g.margin[0]),
             "refsafe": "on: solref's time constant is raised to 2 dt when smaller", "sphere_radius": RADIUS}
-
-
-def clean(x):
-    """JSON-ready: numpy scalars and arrays to Python, infinities to None."""
-    if isinstance(x, dict):
-        return {str(k): clean(v) for k, v in x.items()}
-    if isinstance(x, (list, tuple)):
-        return [clean(v) for v in x]
-    if isinstance(x, np.ndarray):
-        return clean(x.tolist())
-    if isinstance(x, (bool, np.bool_)):
-        return bool(x)
-    if isinstance(x, (np.floating, float)):
-        return float(x) if np.isfinite(x) else None
-    if isinstance(x, np.integer):
-        return int(x)
-    return x
 
 
 def _f(x, fmt=".1e"):

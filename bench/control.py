@@ -49,7 +49,7 @@ from hovi import _core, control, trajopt
 from hovi.control import Policy
 
 import crocoddyl_baseline as cb
-from common import COMMITTED, RESULTS, hovi_commit, update_readme_section, write_json
+from common import COMMITTED, RESULTS, hovi_commit, json_ready, update_readme_section, write_json
 
 LEVELS = (1e-3, 1e-5)             # re-simulation errors for "time at equal accuracy"
 HOVI_TOL, CROC_TH_STOP, MAX_ITER = 1e-9, 1e-10, 2000
@@ -655,22 +655,6 @@ def tables(res):
     return "\n".join(lines)
 
 
-def clean(x):
-    if isinstance(x, dict):
-        return {str(k): clean(v) for k, v in x.items()}
-    if isinstance(x, (list, tuple)):
-        return [clean(v) for v in x]
-    if isinstance(x, np.ndarray):
-        return clean(x.tolist())
-    if isinstance(x, (np.floating, float)):
-        return float(x) if np.isfinite(x) else str(x)
-    if isinstance(x, np.integer):
-        return int(x)
-    if isinstance(x, np.bool_):
-        return bool(x)
-    return x
-
-
 def versions():
     import crocoddyl
     import pinocchio
@@ -723,7 +707,7 @@ def main():
         payload["parts"] = sorted(k for k in res if k in "ABCDE")
         payload["rerun_parts"] = args.only
         payload["earlier_run"] = {k: old.get(k) for k in ("hovi_commit", "load_average_start", "load_average_end", "wall_seconds")}
-    path = write_json(f"{name}.json", clean(payload))
+    path = write_json(f"{name}.json", json_ready(payload, nonfinite_as_text=True))
     if "C" in res:
         try:
             plot_roa(res["C"], os.path.join(RESULTS, f"{name.replace('control', 'control_roa')}.png"))

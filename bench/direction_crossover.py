@@ -11,28 +11,22 @@ Writes bench/results/direction_crossover.json and the table in bench/README.md.
 """
 from __future__ import annotations
 
-import argparse
 
 import numpy as np
 
 import hovi
-from common import update_readme_section, write_json
+from common import best_rollout, study_parser, update_readme_section, write_json
 
 NS = [2, 4, 8, 12, 16, 24, 32, 48]
 
 
 def per_step_seconds(model, s, direction, q0, steps, repeats):
     integ = hovi.Integrator(model, s=s, dt=0.005, direction=direction)
-    best = np.inf
-    for _ in range(repeats):
-        traj = integ.rollout(q0, steps)
-        best = min(best, traj.solve_seconds / steps)
-    return best, float(np.mean(traj.iterations)), float(np.mean(traj.factorizations))
+    return best_rollout(integ, q0, steps, repeats)
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--quick", action="store_true", help="s = 1, 2; n = 4, 16; 20 steps")
+    ap = study_parser(__doc__, "s = 1, 2; n = 4, 16; 20 steps")
     args = ap.parse_args()
     ss, ns = ([1, 2], [4, 16]) if args.quick else ([1, 2, 3, 4], NS)
     steps, repeats = (20, 1) if args.quick else (200, 3)

@@ -14,14 +14,13 @@ Writes bench/results/energy_runtime.json and .png, and the table in bench/README
 """
 from __future__ import annotations
 
-import argparse
 
 import numpy as np
 from tqdm import tqdm
 
 import mujoco_model as mjm
 import hovi
-from common import RESULTS, update_readme_section, write_json
+from common import RESULTS, publish, save_figure, study_parser, write_json
 from pareto import OPTIONS, integrator_defaults, method
 
 DTS = {"VI s=1": [0.01, 0.005], "VI s=2": [0.01, 0.005], "VI s=3": [0.02, 0.01], "VI s=4": [0.02, 0.01],
@@ -97,9 +96,7 @@ def plot(runs, links, path):
         for ax in (top, bottom):
             ax.grid(True, which="both", alpha=0.3)
             ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save_figure(fig, path)
 
 
 def table(runs, n_states):
@@ -118,8 +115,7 @@ def table(runs, n_states):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--quick", action="store_true", help="n = 4, 1000 steps, 2 states")
+    ap = study_parser(__doc__, "n = 4, 1000 steps, 2 states")
     ap.add_argument("--states", type=int, default=3, help="initial states in full mode (default 3)")
     args = ap.parse_args()
     links, steps = ([4], 1000) if args.quick else (LINKS, 100_000)
@@ -135,10 +131,7 @@ def main():
                                 "mujoco_check_max_relative_difference": {str(n): a for n, a in agreement.items()},
                                 "runs": runs})
     plot(runs, links, f"{RESULTS}/{name}.png")
-    text = table(runs, n_states) + "\n\n" + mjm.describe(agreement)
-    print(text)
-    if not args.quick:
-        update_readme_section("energy_runtime", text)
+    publish("energy_runtime", table(runs, n_states) + "\n\n" + mjm.describe(agreement), args.quick)
 
 
 if __name__ == "__main__":

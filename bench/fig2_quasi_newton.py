@@ -17,7 +17,6 @@ Writes bench/results/fig2_quasi_newton.json and .png.
 """
 from __future__ import annotations
 
-import argparse
 
 import numpy as np
 from tqdm import tqdm
@@ -25,7 +24,7 @@ from tqdm import tqdm
 import hovi
 import hovi.baselines
 import hovi.distributed
-from common import RESULTS, add_parallel_arguments, parallel, parallel_description, update_readme_section, write_json
+from common import RESULTS, add_parallel_arguments, parallel, parallel_description, save_figure, study_parser, update_readme_section, write_json
 
 DTS = [0.001, 0.002, 0.005, 0.01, 0.02, 0.03, 0.04, 0.05, 0.06]
 METHODS = {"newton": "hovi exact Newton (Alg. 1 + A.1/A.2)", "quasi_newton": "quasi-Newton (Lee et al. 2016)",
@@ -82,9 +81,7 @@ def plot(out, path):
         ax.set_ylabel(ylabel)
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save_figure(fig, path)
 
 
 def table(out) -> str:
@@ -98,8 +95,7 @@ def table(out) -> str:
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--quick", action="store_true", help="20 states, 3 time steps")
+    ap = study_parser(__doc__, "20 states, 3 time steps")
     add_parallel_arguments(ap)
     args = ap.parse_args()
     n_states, dts = (20, [0.001, 0.01, 0.06]) if args.quick else (1000, DTS)

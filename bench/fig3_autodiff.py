@@ -12,14 +12,13 @@ AD at large n costs seconds per call, so it is timed on fewer states there (reco
 """
 from __future__ import annotations
 
-import argparse
 
 import numpy as np
 from tqdm import tqdm
 
 import hovi
 import hovi.baselines
-from common import RESULTS, loglog_slope, update_readme_section, write_json
+from common import RESULTS, loglog_slope, publish, save_figure, study_parser, write_json
 
 OPS = {"del_residual": "DEL evaluation", "newton_direction": "Newton direction", "d2Ld": "linearisation D²L_d"}
 
@@ -30,8 +29,7 @@ def states(n, count, seed):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--quick", action="store_true", help="n = 2..16, 5 states")
+    ap = study_parser(__doc__, "n = 2..16, 5 states")
     args = ap.parse_args()
     ns = [2, 4, 8, 16] if args.quick else [2, 4, 8, 16, 32, 64, 128]
     n_states = 5 if args.quick else 100
@@ -65,9 +63,7 @@ def main():
         ax.set_ylabel("time per call [µs]")
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(f"{RESULTS}/{name}.png", dpi=120)
-    plt.close(fig)
+    save_figure(fig, f"{RESULTS}/{name}.png")
 
     lines = ["| n | DEL evaluation: AD / recursive | Newton direction: AD / recursive | D²L_d: AD / recursive |",
              "|---|---|---|---|"]
@@ -78,10 +74,7 @@ def main():
     lines.append("")
     lines.append("Fitted slopes for n ≥ 8: " + "; ".join(
         f"{m}: " + ", ".join(f"{OPS[op]} {v:.2f}" for op, v in slopes[m].items()) for m in slopes))
-    text = "\n".join(lines)
-    print(text)
-    if not args.quick:
-        update_readme_section("fig3", text)
+    publish("fig3", "\n".join(lines), args.quick)
 
 
 if __name__ == "__main__":

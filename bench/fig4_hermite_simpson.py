@@ -13,7 +13,6 @@ Writes bench/results/fig4_hermite_simpson.json and .png, and the table in bench/
 """
 from __future__ import annotations
 
-import argparse
 
 import numpy as np
 from scipy.integrate import solve_ivp
@@ -21,7 +20,7 @@ from tqdm import tqdm
 
 import hovi
 from hovi.baselines import HermiteSimpson
-from common import RESULTS, update_readme_section, write_json
+from common import RESULTS, publish, save_figure, study_parser, write_json
 
 DTS = [0.0025, 0.005, 0.01, 0.02, 0.04]
 TOL = 1e-12
@@ -65,8 +64,7 @@ def integrators(model, dt):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--quick", action="store_true", help="2 initial conditions, T = 1 s, two time steps")
+    ap = study_parser(__doc__, "2 initial conditions, T = 1 s, two time steps")
     ap.add_argument("--states", type=int, default=100, help="initial conditions in full mode (default 100)")
     args = ap.parse_args()
     n_links, T = 12, (1.0 if args.quick else 10.0)
@@ -103,10 +101,7 @@ def main():
     write_json(f"{name}.json", {"n_links": n_links, "T": T, "states": n_states, "tol": TOL, "summary": summary,
                                 "simpson_over_hs_error_at_equal_time": ratio})
     plot(summary, f"{RESULTS}/{name}.png")
-    text = table(summary, ratio)
-    print(text)
-    if not args.quick:
-        update_readme_section("fig4", text)
+    publish("fig4", table(summary, ratio), args.quick)
 
 
 def equal_time_ratio(summary):
@@ -149,9 +144,7 @@ def plot(summary, path):
     for ax in axes:
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save_figure(fig, path)
 
 
 def table(summary, ratio):

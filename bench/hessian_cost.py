@@ -12,10 +12,11 @@ problem at s = 1 only).
 """
 from __future__ import annotations
 
-import argparse
 import time
 
 import numpy as np
+
+from common import study_parser
 
 
 def row(name: str, s: int, quick: bool, repeat: int) -> dict:
@@ -59,8 +60,7 @@ def row(name: str, s: int, quick: bool, repeat: int) -> dict:
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--quick", action="store_true", help="the Flamingo's quick problem at s = 1 only")
+    ap = study_parser(__doc__, "the Flamingo's quick problem at s = 1 only")
     ap.add_argument("--repeat", type=int, default=3)
     args = ap.parse_args()
     from common import write_json

@@ -13,12 +13,11 @@ Writes bench/results/jacobian_reuse.json and the table in bench/README.md (full 
 """
 from __future__ import annotations
 
-import argparse
 
 import numpy as np
 
 import hovi
-from common import update_readme_section, write_json
+from common import study_parser, update_readme_section, write_json
 
 # (n, T, s, dts): the pendulums of pareto.py and steps from its sweeps (accurate to loose)
 CASES = [(12, 10.0, 2, [0.005, 0.01, 0.02]), (12, 10.0, 4, [0.02, 0.04]),
@@ -51,8 +50,7 @@ def stale_contraction(n, T, s, dt, samples):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--quick", action="store_true", help="n = 6, s = 2, one dt, 3 steps")
+    ap = study_parser(__doc__, "n = 6, s = 2, one dt, 3 steps")
     args = ap.parse_args()
     cases, samples = (QUICK, 3) if args.quick else (CASES, 12)
     rows = []

@@ -9,11 +9,10 @@ Writes bench/results/linearization.json, linearization_vs_n.png and the table in
 """
 from __future__ import annotations
 
-import argparse
 
 import numpy as np
 
-from common import RESULTS, build_cpp_bench, erd_urdf, loglog_slope, update_readme_section, write_json
+from common import RESULTS, build_cpp_bench, erd_urdf, loglog_slope, publish, save_figure, study_parser, write_json
 from speed import TALOS, run
 
 
@@ -36,9 +35,7 @@ def plot(rows, path):
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=8)
     axes[0].set_ylabel("time per call [µs]")
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save_figure(fig, path)
 
 
 def table(rows, slopes):
@@ -65,8 +62,7 @@ def table(rows, slopes):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--quick", action="store_true", help="a small smoke run (n <= 16, s <= 2), no README update")
+    ap = study_parser(__doc__, "a small smoke run (n <= 16, s <= 2), no README update")
     args = ap.parse_args()
     binary = build_cpp_bench()
     ns = [4, 8, 16] if args.quick else [4, 8, 16, 32, 64, 128]
@@ -85,10 +81,7 @@ def main():
     name = "linearization_quick" if args.quick else "linearization"
     write_json(f"{name}.json", {"rows": rows, "slopes": slopes})
     plot(rows, f"{RESULTS}/{name}_vs_n.png")
-    text = table(rows, slopes)
-    print(text)
-    if not args.quick:
-        update_readme_section("linearization", text)
+    publish("linearization", table(rows, slopes), args.quick)
 
 
 if __name__ == "__main__":

@@ -14,7 +14,6 @@ Writes bench/results/pareto.json and .png, and the table in bench/README.md (ful
 """
 from __future__ import annotations
 
-import argparse
 import inspect
 import json
 
@@ -24,7 +23,7 @@ from tqdm import tqdm
 import mujoco_model as mjm
 import hovi
 from hovi.baselines import HermiteSimpson
-from common import COMMITTED, RESULTS, update_readme_section, write_json
+from common import COMMITTED, RESULTS, save_figure, study_parser, update_readme_section, write_json
 from fig4_hermite_simpson import dop853, mean_error
 
 # Keyword options of each hovi method, in one place (a new solver option is one more entry). The
@@ -199,9 +198,7 @@ def plot(runs, problems, path):
         ax.set_ylabel("(1/T) ∫ ||q - q_ref|| dt (median)")
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save_figure(fig, path)
 
 
 def envelope(curves):
@@ -235,8 +232,7 @@ def replot():
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--quick", action="store_true", help="n = 4 and 6, T = 0.5 s, 2 states, 2 dts per method")
+    ap = study_parser(__doc__, "n = 4 and 6, T = 0.5 s, 2 states, 2 dts per method")
     ap.add_argument("--states", type=int, default=20, help="initial states in full mode (default 20)")
     ap.add_argument("--links", type=int, nargs="+", help="a partial run: these n only (with --T), "
                     "written to pareto_partial.json/.png, README untouched")

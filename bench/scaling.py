@@ -21,7 +21,6 @@ Writes bench/results/scaling.json (and the README section "scaling").
 """
 from __future__ import annotations
 
-import argparse
 import math
 import os
 import resource
@@ -32,7 +31,7 @@ import numpy as np
 import hovi
 import hovi.baselines
 import hovi.distributed
-from common import update_readme_section, write_json
+from common import study_parser, update_readme_section, write_json
 
 REPEATS = 3
 
@@ -191,8 +190,7 @@ def cluster_section(out) -> str:
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--quick", action="store_true", help="a few states and steps (a smoke run)")
+    ap = study_parser(__doc__, "a few states and steps (a smoke run)")
     args = ap.parse_args()
     states, steps, repeats, fig2, tasks = (8, 40, 2, 60, 100) if args.quick else (64, 200, 15, 2000, 1000)
     out = {"load_average": list(os.getloadavg()), "machine_cores": os.cpu_count(),

@@ -10,7 +10,6 @@ Writes bench/results/speed.json, speed_vs_n.png and the table in bench/README.md
 """
 from __future__ import annotations
 
-import argparse
 import json
 import subprocess
 import time
@@ -18,7 +17,7 @@ import time
 import numpy as np
 
 import hovi
-from common import RESULTS, build_cpp_bench, erd_urdf, loglog_slope, update_readme_section, write_json
+from common import RESULTS, build_cpp_bench, erd_urdf, loglog_slope, publish, save_figure, study_parser, write_json
 
 TALOS = "talos_data/robots/talos_reduced.urdf"
 
@@ -67,9 +66,7 @@ def plot(rows, path):
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=8)
     axes[0].set_ylabel("time per call [µs]")
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save_figure(fig, path)
 
 
 def table(rows, slopes, rollout):
@@ -102,8 +99,7 @@ def table(rows, slopes, rollout):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--quick", action="store_true", help="a small smoke run (n <= 16, s <= 2), no README update")
+    ap = study_parser(__doc__, "a small smoke run (n <= 16, s <= 2), no README update")
     args = ap.parse_args()
     binary = build_cpp_bench()
     ns = [4, 8, 16] if args.quick else [4, 8, 16, 32, 64, 128, 256]
@@ -129,10 +125,7 @@ def main():
     name = "speed_quick" if args.quick else "speed"
     write_json(f"{name}.json", {"rows": rows, "slopes": slopes, "rollout": rollout})
     plot(rows, f"{RESULTS}/{name}_vs_n.png")
-    text = table(rows, slopes, rollout)
-    print(text)
-    if not args.quick:
-        update_readme_section("speed", text)
+    publish("speed", table(rows, slopes, rollout), args.quick)
 
 
 if __name__ == "__main__":

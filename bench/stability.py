@@ -22,7 +22,6 @@ its control points below SILENT_TOL (1 + |q|), else it is counted as a silent fa
 """
 from __future__ import annotations
 
-import argparse
 import sys
 import time
 from collections import Counter
@@ -33,7 +32,7 @@ from tqdm import tqdm
 import hovi
 import hovi.distributed
 from hovi.baselines import HermiteSimpson
-from common import RESULTS, add_parallel_arguments, parallel, parallel_description, update_readme_section, write_json
+from common import RESULTS, add_parallel_arguments, parallel, parallel_description, publish, save_figure, study_parser, update_readme_section, write_json
 
 DTS = [0.01, 0.02, 0.04, 0.06, 0.08, 0.1, 0.12, 0.15, 0.2, 0.25, 0.3]
 NAMES = ["VI s=1 (trapezoidal)", "VI s=2 (Simpson)", "VI s=3", "Hermite-Simpson"]
@@ -72,8 +71,7 @@ def converged_share(name, model, dt, q0s, steps, workers, client):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--quick", action="store_true", help="10 initial conditions, 1000 energy steps")
+    ap = study_parser(__doc__, "10 initial conditions, 1000 energy steps")
     ap.add_argument("--stress", action="store_true", help="only the stress matrix")
     add_parallel_arguments(ap)
     args = ap.parse_args()
@@ -140,9 +138,7 @@ def study(args, client):
     for ax in axes:
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(f"{RESULTS}/{name}.png", dpi=120)
-    plt.close(fig)
+    save_figure(fig, f"{RESULTS}/{name}.png")
     lines = [f"| integrator | largest dt with ≥ 99% of {n_states} rollouts converged | dt of the {energy_steps}-step run "
              "(tried) | relative energy error: max / mean first tenth / mean last tenth |", "|---|---|---|---|"]
     for nm in NAMES:
@@ -153,10 +149,7 @@ def study(args, client):
         cell = ("no dt of the grid completed" if not e["completed"] else
                 f"{e['max_rel']:.1e} / {e['first_tenth_mean']:.1e} / {e['last_tenth_mean']:.1e}")
         lines.append(f"| {nm} | {largest[nm]} | {e['dt']} ({', '.join(map(str, e['tried']))}) | {cell} |")
-    text = "\n".join(lines)
-    print(text)
-    if not args.quick:
-        update_readme_section("stability", text)
+    publish("stability", "\n".join(lines), args.quick)
     stress_matrix(args.quick)
 
 

@@ -15,13 +15,12 @@ bench/README.md (full mode).
 """
 from __future__ import annotations
 
-import argparse
 import json
 
 import numpy as np
 
 import hovi
-from common import COMMITTED, update_readme_section, write_json
+from common import COMMITTED, best_rollout, study_parser, update_readme_section, write_json
 
 LEVELS = [1e-3, 1e-4]
 ORDERS = [2, 3, 4]
@@ -46,16 +45,11 @@ def floor_seconds(n, s, dt, steps, repeats):
     model = hovi.examples.models.pendulum(n)
     q0 = np.random.default_rng(0).uniform(-np.pi / 12, np.pi / 12, n)
     integ = hovi.Integrator(model, s=s, dt=dt, step_tol=1e-10)
-    best = np.inf
-    for _ in range(repeats):
-        traj = integ.rollout(q0, steps)
-        best = min(best, traj.solve_seconds / steps)
-    return best, float(np.mean(traj.iterations)), float(np.mean(traj.factorizations))
+    return best_rollout(integ, q0, steps, repeats)
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--quick", action="store_true", help="n = 12, s = 2, 1e-3 only, 20 steps")
+    ap = study_parser(__doc__, "n = 12, s = 2, 1e-3 only, 20 steps")
     args = ap.parse_args()
     with open(f"{COMMITTED}/pareto.json") as f:
         pareto = json.load(f)

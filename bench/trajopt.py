@@ -16,8 +16,6 @@ Writes bench/results/trajopt.json, trajopt.png and the tables in bench/README.md
 """
 from __future__ import annotations
 
-import argparse
-import time
 
 import numpy as np
 
@@ -26,7 +24,7 @@ from hovi import trajopt
 from hovi.examples import swingups as examples
 from hovi.trajopt.transcription import piecewise_polynomial
 from hovi.trajopt.transcriptions import from_name
-from common import RESULTS, loglog_slope, update_readme_section, write_json
+from common import RESULTS, loglog_slope, publish, save_figure, study_parser, write_json
 
 METHODS = [("vi", 1), ("vi", 2), ("vi", 3), ("hs-implicit", 2), ("hs-explicit", 2)]
 # Each transcription on its own, as the tables below were measured (the limited-memory Hessian, no
@@ -142,14 +140,11 @@ def plot(rows, path):
         ax.grid(True, which="both", alpha=0.3)
     np.atleast_1d(axes)[0].set_ylabel("max |q - q_ref| of the optimised trajectory")
     np.atleast_1d(axes)[0].legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save_figure(fig, path)
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--quick", action="store_true", help="a small smoke run, no README update")
+    ap = study_parser(__doc__, "a small smoke run, no README update")
     args = ap.parse_args()
     if args.quick:
         sweeps = {"pendulum": [10, 20], "cartpole": [20], "slider_crank": [10]}
@@ -173,10 +168,7 @@ def main():
     name = "trajopt_quick" if args.quick else "trajopt"
     write_json(f"{name}.json", {"solves": rows, "table1": counts, "scaling": scale, "cost_order": order})
     plot(rows, f"{RESULTS}/{name}.png")
-    text = report(rows, counts, scale, order)
-    print(text)
-    if not args.quick:
-        update_readme_section("trajopt", text)
+    publish("trajopt", report(rows, counts, scale, order), args.quick)
 
 
 def report(rows, counts, scale, order):

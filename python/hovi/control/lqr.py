@@ -126,7 +126,6 @@ def tvlqr(integrator: Integrator, trajectory: Union[Trajectory, Any], u: Optiona
     Jacobians hold each contact's state, or are smoothed (``smoothing`` = kappa, Linearizer). Returns
     a Policy with a reference and gain per step."""
     _check_integrator(integrator)
-    n, m, s = integrator.n, integrator.model.n_controls, integrator.s
     if not isinstance(trajectory, Trajectory):
         trajectory, u = _from_result(integrator, trajectory)
     if not trajectory.converged:

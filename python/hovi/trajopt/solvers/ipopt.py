@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import difflib
 import functools
-import numbers
 import contextlib
 import time
 from typing import Any, Callable, Iterator
