@@ -105,6 +105,12 @@ def json_ready(x, nonfinite_as_text: bool = False):
     return x
 
 
+def markdown_table(header, rows) -> list:
+    """The lines of a Markdown table: the header's cells, then one line per row of cells (any values)."""
+    return ["| " + " | ".join(map(str, header)) + " |", "|" + "---|" * len(header)] + \
+        ["| " + " | ".join(map(str, row)) + " |" for row in rows]
+
+
 def publish(tag: str, text: str, quick: bool) -> None:
     """Prints a study's table and, after a full run, writes it into bench/README.md's ``tag`` section."""
     print(text)
@@ -118,6 +124,18 @@ def save_figure(fig, path: str) -> None:
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
+
+
+def save_times_against_n(fig, panels, path: str) -> None:
+    """Finishes the panels of a figure of times per call against n (``panels``: (axes, title) pairs,
+    log-log, the first with the axis label) and saves it."""
+    for ax, title in panels:
+        ax.set_title(title)
+        ax.set_xlabel("n (links)")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=8)
+    panels[0][0].set_ylabel("time per call [µs]")
+    save_figure(fig, path)
 
 
 def best_rollout(integ, q0, steps: int, repeats: int):

@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 import hovi
-from common import best_rollout, study_parser, update_readme_section, write_json
+from common import best_rollout, markdown_table, publish, study_parser, write_json
 
 NS = [2, 4, 8, 12, 16, 24, 32, 48]
 
@@ -45,17 +45,13 @@ def main():
     crossover = {s: max([r["n"] for r in rows if r["s"] == s and r["faster"] == "dense"], default=0) for s in ss}
     write_json("direction_crossover_quick.json" if args.quick else "direction_crossover.json",
                {"dt": 0.005, "steps": steps, "rows": rows, "crossover": crossover})
-    if args.quick:
-        return
-    lines = ["| s | n | recursive [µs/step] | dense [µs/step] | dense / recursive | auto picks | faster |",
-             "|---|---|---|---|---|---|---|"]
-    for r in rows:
-        lines.append(f"| {r['s']} | {r['n']} | {r['recursive_us']:.1f} | {r['dense_us']:.1f} | "
-                     f"{r['dense_us'] / r['recursive_us']:.2f} | {r['auto']} | {r['faster']} |")
-    lines.append("")
-    lines.append("Largest n at which the dense path was faster: " +
-                 ", ".join(f"s = {s}: {c}" for s, c in crossover.items()) + ".")
-    update_readme_section("direction_crossover", "\n".join(lines))
+    lines = markdown_table(
+        ["s", "n", "recursive [µs/step]", "dense [µs/step]", "dense / recursive", "auto picks", "faster"],
+        [[r["s"], r["n"], f"{r['recursive_us']:.1f}", f"{r['dense_us']:.1f}", f"{r['dense_us'] / r['recursive_us']:.2f}",
+          r["auto"], r["faster"]] for r in rows])
+    lines += ["", "Largest n at which the dense path was faster: " +
+              ", ".join(f"s = {s}: {c}" for s, c in crossover.items()) + "."]
+    publish("direction_crossover", "\n".join(lines), args.quick)
 
 
 if __name__ == "__main__":

@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 import hovi
-from common import study_parser, update_readme_section, write_json
+from common import markdown_table, publish, study_parser, write_json
 
 # (n, T, s, dts): the pendulums of pareto.py and steps from its sweeps (accurate to loose)
 CASES = [(12, 10.0, 2, [0.005, 0.01, 0.02]), (12, 10.0, 4, [0.02, 0.04]),
@@ -63,18 +63,13 @@ def main():
                   f"cond(J) median {np.median(conds):.1e}", flush=True)
     write_json("jacobian_reuse_quick.json" if args.quick else "jacobian_reuse.json",
                {"samples": samples, "rows": rows})
-    if args.quick:
-        return
-    lines = ["| n | s | dt | rho(I - J_{k-1}^{-1} J_k): median | max | cond(J_k), median |",
-             "|---|---|---|---|---|---|"]
-    for r in rows:
-        lines.append(f"| {r['n']} | {r['s']} | {r['dt']:g} | {r['rho_median']:.3g} | {r['rho_max']:.3g} | "
-                     f"{r['cond_median']:.1e} |")
-    lines.append("")
-    lines.append(f"Exact DEL Jacobians at {samples} converged steps spread over each horizon (T = 10, 2, 1 s for "
-                 "n = 12, 32, 64); rho is the asymptotic contraction per iteration of a simplified Newton "
-                 "solve of step k with step k-1's factorisation.")
-    update_readme_section("jacobian_reuse", "\n".join(lines))
+    lines = markdown_table(["n", "s", "dt", "rho(I - J_{k-1}^{-1} J_k): median", "max", "cond(J_k), median"],
+                           [[r["n"], r["s"], f"{r['dt']:g}", f"{r['rho_median']:.3g}", f"{r['rho_max']:.3g}",
+                             f"{r['cond_median']:.1e}"] for r in rows])
+    lines += ["", f"Exact DEL Jacobians at {samples} converged steps spread over each horizon (T = 10, 2, 1 s for "
+              "n = 12, 32, 64); rho is the asymptotic contraction per iteration of a simplified Newton "
+              "solve of step k with step k-1's factorisation."]
+    publish("jacobian_reuse", "\n".join(lines), args.quick)
 
 
 if __name__ == "__main__":

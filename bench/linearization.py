@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from common import RESULTS, build_cpp_bench, erd_urdf, loglog_slope, publish, save_figure, study_parser, write_json
+from common import RESULTS, build_cpp_bench, erd_urdf, loglog_slope, publish, save_times_against_n, study_parser, write_json
 from speed import TALOS, run
 
 
@@ -22,7 +22,8 @@ def plot(rows, path):
     import matplotlib.pyplot as plt
     pend = [r for r in rows if r["model"] == "pendulum"]
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.5), sharey=True)
-    for ax, op, title in zip(axes, ["d2Ld", "step_AB"], ["D²L_d (Alg. 2, 3 + chain rule)", "step Jacobians A, B"]):
+    titles = ["D²L_d (Alg. 2, 3 + chain rule)", "step Jacobians A, B"]
+    for ax, op in zip(axes, ["d2Ld", "step_AB"]):
         for s in sorted({r["s"] for r in pend}):
             pts = sorted((r["n"], r[op]) for r in pend if r["s"] == s)
             x, y = np.array(pts).T
@@ -30,12 +31,7 @@ def plot(rows, path):
         ref = sorted({(r["n"], r["pin_rnea_derivatives"]) for r in pend if r["s"] == pend[0]["s"]})
         x, y = np.array(ref).T
         ax.loglog(x, 3 * y * 1e6, "k--", label="3 × Pinocchio computeRNEADerivatives")
-        ax.set_title(title)
-        ax.set_xlabel("n (links)")
-        ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=8)
-    axes[0].set_ylabel("time per call [µs]")
-    save_figure(fig, path)
+    save_times_against_n(fig, list(zip(axes, titles)), path)
 
 
 def table(rows, slopes):

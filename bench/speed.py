@@ -17,7 +17,7 @@ import time
 import numpy as np
 
 import hovi
-from common import RESULTS, build_cpp_bench, erd_urdf, loglog_slope, publish, save_figure, study_parser, write_json
+from common import RESULTS, build_cpp_bench, erd_urdf, loglog_slope, publish, save_times_against_n, study_parser, write_json
 
 TALOS = "talos_data/robots/talos_reduced.urdf"
 
@@ -51,9 +51,8 @@ def plot(rows, path):
     ref = {r["n"]: r for r in pend if r["op"] == "reference"}
     ns = sorted(ref)
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.5), sharey=True)
-    for ax, op, title in zip(axes, ["del_residual", "newton_direction", "per_iteration"],
-                             ["DEL evaluation (Alg. 1)", "Newton direction (Alg. A.1/A.2)",
-                              "full step / Newton iterations"]):
+    titles = ["DEL evaluation (Alg. 1)", "Newton direction (Alg. A.1/A.2)", "full step / Newton iterations"]
+    for ax, op in zip(axes, ["del_residual", "newton_direction", "per_iteration"]):
         for s in sorted({r["s"] for r in pend if r["op"] == "integrator"}):
             pts = sorted((r["n"], r[op] if op != "per_iteration" else r["step"] / max(r["step_iterations"], 1))
                          for r in pend if r["op"] == "integrator" and r["s"] == s)
@@ -61,12 +60,7 @@ def plot(rows, path):
             ax.loglog(x, y * 1e6, "o-", label=f"s={s} (slope {loglog_slope(x, y):.2f})")
         ax.loglog(ns, [ref[n]["pin_rnea"] * 1e6 for n in ns], "k--", label="Pinocchio rnea")
         ax.loglog(ns, [ref[n]["pin_aba"] * 1e6 for n in ns], "k:", label="Pinocchio aba")
-        ax.set_title(title)
-        ax.set_xlabel("n (links)")
-        ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=8)
-    axes[0].set_ylabel("time per call [µs]")
-    save_figure(fig, path)
+    save_times_against_n(fig, list(zip(axes, titles)), path)
 
 
 def table(rows, slopes, rollout):

@@ -46,3 +46,26 @@ def observed_order(integrator_for, q0, qd0, reference, dts, T=1.0):
         traj = integrator_for(dt).rollout(q0, int(round(T / dt)), qdot0=qd0)
         errors.append(np.linalg.norm(traj.q[-1] - reference))
     return np.polyfit(np.log(dts), np.log(errors), 1)[0], errors
+
+
+def planar_point_mass(mass=1.0, actuated=False):
+    """A point mass moving in the x-z plane: prismatic x (massless) then prismatic z (the mass), its x
+    actuated if ``actuated`` (the contact tests' block)."""
+    import hovi
+    model = hovi.Model()
+    model.add_body("slider", None, "prismatic", axis=(1, 0, 0))
+    model.add_body("mass", "slider", "prismatic", axis=(0, 0, 1), mass=mass, inertia=np.eye(3) * 1e-3)
+    if actuated:
+        model.add_actuator(0)
+    return model
+
+
+@pytest.fixture(scope="module")
+def cartpole_lqr():
+    """The cart-pole (s = 2, dt = 0.01) and its LQR policy at the upright (q = (0, pi))."""
+    import hovi
+    from hovi import control
+    from hovi.examples import models
+    integ = hovi.Integrator(models.cartpole(), s=2, dt=0.01)
+    return integ, control.lqr(integ, np.array([0.0, np.pi]))
+

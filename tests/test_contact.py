@@ -11,18 +11,10 @@ from hovi.trajopt import ContactRows
 from hovi.trajopt.contact_sides import branches_from, branches_of, canonical, least_slack
 from hovi.trajopt.solvers.contact_homotopy import FINISH_BELOW
 
+from conftest import planar_point_mass
+
 G = 9.81
 VI1 = trajopt.VI(s=1)  # the contact model that is inelastic and well posed (hovi.contact.contacts)
-
-
-def planar_point_mass(mass=1.0, actuated=False):
-    """A point mass moving in the x-z plane: prismatic x (massless) then prismatic z (the mass)."""
-    model = hovi.Model()
-    model.add_body("slider", None, "prismatic", axis=(1, 0, 0))
-    model.add_body("mass", "slider", "prismatic", axis=(0, 0, 1), mass=mass, inertia=np.eye(3) * 1e-3)
-    if actuated:
-        model.add_actuator(0)
-    return model
 
 
 def contact_problem(model, q0, qdot0, T, N, mu, fixed_u=None):

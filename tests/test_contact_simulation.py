@@ -12,20 +12,15 @@ import pytest
 import hovi
 from hovi.contact import Box, Contacts, Gap, Terrain
 
-from conftest import bench_module
+from conftest import bench_module, planar_point_mass
 
 G = 9.81
 TOL = 1e-9  # the issue's bound on penetration and complementarity (the solver's own: 1e-10)
 
 
 def block(mass=2.0, actuated=False):
-    """A block (a point mass) moving in the x-z plane: prismatic x (massless) then prismatic z."""
-    model = hovi.Model()
-    model.add_body("slider", None, "prismatic", axis=(1, 0, 0))
-    model.add_body("mass", "slider", "prismatic", axis=(0, 0, 1), mass=mass, inertia=np.eye(3) * 1e-3)
-    if actuated:
-        model.add_actuator(0)
-    return model
+    """A block (a point mass of 2 kg by default) moving in the x-z plane."""
+    return planar_point_mass(mass, actuated)
 
 
 def integrator(model, mu=0.5, dt=0.01, terrain=None, points=(("mass", (0.0, 0.0, 0.0)),), plane="xz"):

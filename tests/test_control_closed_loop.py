@@ -41,14 +41,8 @@ def python_loop(integ, policy, q0, p0, steps):
 
 # --- 6. the applied controls are Policy.control, saturated --------------------------------------
 
-@pytest.fixture(scope="module")
-def cartpole():
-    integ = hovi.Integrator(models.cartpole(), s=2, dt=0.01)
-    return integ, control.lqr(integ, UPRIGHT)
-
-
-def test_applied_controls_are_policy_control_with_saturation(cartpole):
-    integ, policy = cartpole
+def test_applied_controls_are_policy_control_with_saturation(cartpole_lqr):
+    integ, policy = cartpole_lqr
     limited = policy.with_limits(-4.0, 3.0)
     steps = 300
     run = control.simulate(integ, limited, UPRIGHT + [0.1, 0.2], steps)
@@ -72,8 +66,8 @@ def test_applied_controls_are_policy_control_with_saturation(cartpole):
     np.testing.assert_allclose(U, run.u, rtol=0, atol=1e-10 * np.abs(limited.gains).max())
 
 
-def test_time_varying_policy_past_its_last_stage_uses_the_last(cartpole):
-    integ, _ = cartpole
+def test_time_varying_policy_past_its_last_stage_uses_the_last(cartpole_lqr):
+    integ, _ = cartpole_lqr
     N = 60
     t = (np.arange(N)[:, None] + integ.nodes[None, :]) * integ.dt
     U = (2.0 * np.sin(3 * t) + 0.5 * t)[..., None]                 # varies within each step too
@@ -92,8 +86,8 @@ def test_time_varying_policy_past_its_last_stage_uses_the_last(cartpole):
         np.testing.assert_array_equal(policy.control(k, tr.q[k], tr.p[k]), last.control(0, tr.q[k], tr.p[k]))
 
 
-def test_with_limits_refuses_crossed_limits(cartpole):
-    _, policy = cartpole
+def test_with_limits_refuses_crossed_limits(cartpole_lqr):
+    _, policy = cartpole_lqr
     with pytest.raises(ValueError, match="lower <= upper"):
         policy.with_limits(1.0, -1.0)
     with pytest.raises(ValueError, match="lower <= upper"):
@@ -241,8 +235,8 @@ def same_run(a, b):
             and np.array_equal(a.u, b.u))
 
 
-def test_batch_on_mismatched_plants_is_each_run_alone_on_any_threads(cartpole):
-    _, policy = cartpole
+def test_batch_on_mismatched_plants_is_each_run_alone_on_any_threads(cartpole_lqr):
+    _, policy = cartpole_lqr
     factors = [1.0, 1.2, 0.8, 1.5]
     plants = mismatched_plants(factors)
     q0 = UPRIGHT + np.array([[0.0, 0.2], [0.1, -0.15], [0.0, 0.1], [-0.2, 0.05]])
@@ -274,16 +268,16 @@ def test_batch_on_mismatched_plants_is_each_run_alone_on_any_threads(cartpole):
         assert same_run(shared[b], control.simulate(plants[2], policy, q0[b], steps, qdot0=qdot0[b], pushes=pushes[3]))
 
 
-def test_batch_with_per_run_states_starts_at_rest_by_default(cartpole):
-    integ, policy = cartpole
+def test_batch_with_per_run_states_starts_at_rest_by_default(cartpole_lqr):
+    integ, policy = cartpole_lqr
     q0 = UPRIGHT + np.array([[0.0, 0.2], [0.1, -0.15], [0.0, 0.1]])
     runs = control.simulate_batch(integ, policy, q0, 20)
     for b in range(3):
         assert same_run(runs[b], control.simulate(integ, policy, q0[b], 20))
 
 
-def test_batch_refuses_plants_that_do_not_fit(cartpole):
-    integ, policy = cartpole
+def test_batch_refuses_plants_that_do_not_fit(cartpole_lqr):
+    integ, policy = cartpole_lqr
     with pytest.raises(ValueError, match="one plant or 3"):
         control.simulate_batch(mismatched_plants([1.0, 1.1]), policy, np.tile(UPRIGHT, (3, 1)), 5)
     with pytest.raises(ValueError, match="does not fit the policy"):

@@ -267,12 +267,6 @@ def test_velocity_state_map_equals_central_differences(name):
 
 # --- 5. lqr() on the cart-pole ---------------------------------------------------------------------
 
-@pytest.fixture(scope="module")
-def cartpole_lqr():
-    integ = hovi.Integrator(models.cartpole(), s=2, dt=0.01)
-    return integ, control.lqr(integ, UPRIGHT)
-
-
 def test_lqr_holds_the_cartpole_upright_and_without_feedback_it_falls(cartpole_lqr):
     integ, policy = cartpole_lqr
     assert np.abs(control.equilibrium_controls(integ, UPRIGHT)).max() <= 1e-12

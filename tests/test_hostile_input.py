@@ -8,6 +8,7 @@ import hovi
 from hovi import trajopt
 from hovi.contact import Box, Contacts, FlatFoot, Gap, Terrain
 from hovi.examples import swingups
+from conftest import planar_point_mass
 
 
 # --- trajectory files ------------------------------------------------------------------------
@@ -248,13 +249,6 @@ def test_numpy_scalars_are_good_ipopt_options():
 
 
 # --- contact --------------------------------------------------------------------------------
-
-def planar_point_mass():
-    model = hovi.Model()
-    model.add_body("slider", None, "prismatic", axis=(1, 0, 0))
-    model.add_body("mass", "slider", "prismatic", axis=(0, 0, 1), mass=1.0, inertia=np.eye(3) * 1e-3)
-    return model
-
 
 @pytest.mark.parametrize("make, error, match", [
     (lambda: Terrain(ground=np.nan), ValueError, "Terrain ground must be a finite number, got nan"),
