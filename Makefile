@@ -26,22 +26,23 @@ setup:
 setup-test:
 	@./scripts/setup.sh test
 
-# The Python package, rebuilt (incrementally, in build/) when a source changed.
+# The Python package, rebuilt (incrementally, in its CMake tree build/py) when a source changed.
+PIP_INSTALL = CMAKE_BUILD_PARALLEL_LEVEL=$(JOBS) $(PY) -m pip install -q --no-build-isolation --no-deps \
+              -C cmake.define.HOVI_ARCH=$(HOVI_ARCH)
 $(VENV)/.hovi.stamp: $(SOURCES) | setup
-	CMAKE_BUILD_PARALLEL_LEVEL=$(JOBS) $(PY) -m pip install -q --no-build-isolation --no-deps -C cmake.define.HOVI_ARCH=$(HOVI_ARCH) .
+	$(PIP_INSTALL) .
 	@touch $@
 
 build: setup $(VENV)/.hovi.stamp
 
 # The C++ tests and the C++ benchmark against Pinocchio (bench/cpp/speed.cpp, linked with the pin wheel's
-# Pinocchio: built here, so that bench/speed.py and linearization.py --quick only run it).
-build/cpp/CMakeCache.txt: CMakeLists.txt | setup
-	cmake -S . -B build/cpp -DCMAKE_BUILD_TYPE=Release -DHOVI_BUILD_TESTS=ON -DHOVI_BUILD_PYTHON=OFF -DHOVI_ARCH=$(HOVI_ARCH) \
-	      -DHOVI_BUILD_BENCH=ON -DHOVI_PINOCCHIO_PREFIX="$$($(PY) -c 'import sysconfig, os; print(os.path.join(sysconfig.get_paths()["purelib"], "cmeel.prefix"))')"
-
-ctest: setup build/cpp/CMakeCache.txt
-	cmake --build build/cpp -j $(JOBS)
-	cd build/cpp && ctest --output-on-failure -j $(JOBS)
+# Pinocchio), built in the package's own tree with the package, so that the core is compiled once and
+# bench/speed.py and linearization.py --quick only run the benchmark.
+ctest: setup
+	$(PIP_INSTALL) -C cmake.define.HOVI_BUILD_TESTS=ON -C cmake.define.HOVI_BUILD_BENCH=ON \
+	  -C cmake.define.HOVI_PINOCCHIO_PREFIX="$$($(PY) -c 'import sysconfig, os; print(os.path.join(sysconfig.get_paths()["purelib"], "cmeel.prefix"))')" .
+	@touch $(VENV)/.hovi.stamp
+	cd build/py && ctest --output-on-failure -j $(JOBS)
 
 pytest: build setup-test
 	$(PY) -m pytest -q --durations=15 tests

@@ -22,8 +22,8 @@ mass read from the hovi model as bench/mujoco_model.py does; the rotational iner
 LittleDog's read from its URDF), with each chain of massless bodies of a floating base merged into
 the first body with mass as several joints of one MuJoCo body (x, y, z, yaw, pitch, roll: MuJoCo
 composes them as hovi's chain does), a ground plane, and a sphere of radius r at each of hovi's
-contact points; hovi's contact points are the spheres' centres over ``Terrain(ground=r)``, so both
-measure the same gap (sphere to plane). hovi's joint springs and dampers become MuJoCo joint
+contact points; hovi's contacts are the same spheres (``ContactPoint`` radius r), so both measure
+the same gap (sphere to plane). hovi's joint springs and dampers become MuJoCo joint
 stiffness / springref / damping; LittleDog's constant feed-forward torques u are folded into the
 springs' rest angles (u - kp (q - q0) = -kp (q - (q0 + u / kp))). The two models are checked to
 agree (mass matrix, accelerations without contact, contact-point positions) before anything runs.
@@ -47,7 +47,7 @@ import numpy as np
 import mujoco_model as mjm
 import hovi
 from hovi import _core
-from hovi.contact import Contacts, Terrain
+from hovi.contact import ContactPoint, Contacts, Terrain
 from hovi.examples.standing import standing
 from common import RESULTS, hovi_commit, json_ready, loglog_slope, study_parser, update_readme_section, write_json
 
@@ -70,6 +70,7 @@ class Scene:
 
     def __init__(self, name, model, inertias, points, mu, q0, qdot0=None, plane="", rest=None, u=None, tau=None,
                  radius=RADIUS, gravity=None, settle=0.0):
+        points = [(p.body, p.point) if isinstance(p, ContactPoint) else p for p in points]
         self.name, self.model, self.inertias, self.points = name, model, inertias, points
         self.settle = settle  # s: MuJoCo first settles at rest this long (see MuJoCo.initial_state)
         self.horizontal = [j for j in range(model.n) if model.joint_types[j] == "prismatic" and
@@ -84,7 +85,8 @@ class Scene:
         self.local = np.array([p for _, p in points], float)
 
     def integrator(self, dt):
-        contacts = Contacts(self.model, self.points, Terrain(ground=self.radius), mu=self.mu, plane=self.plane)
+        contacts = Contacts(self.model, [(b, p, self.radius) for b, p in self.points], Terrain(), mu=self.mu,
+                            plane=self.plane)
         return hovi.Integrator(self.model, s=1, dt=dt, contacts=contacts)
 
     def gaps(self, Q):

@@ -478,8 +478,8 @@ def _littledog_goal(example: Example, integ: Integrator, q: np.ndarray, normal: 
         events.append((float(t[-1]), f"a foot ends {-figures['past_last_gap']:.3g} m short of the last gap's far edge"))
     s, Q = _path(q)
     centres = np.array([L.feet_at(robot, qk) for qk in Q])
-    depth = terrain.ground - robot.contact_radius / 2 - centres[..., 2].min(axis=1)   # the example's feet_above_ground
-    figures["lowest_foot"] = float(centres[..., 2].min() - terrain.ground)
+    depth = terrain.ground + robot.contact_radius - robot.contact_radius / 2 - centres[..., 2].min(axis=1)   # the example's feet_above_ground
+    figures["lowest_foot"] = float(centres[..., 2].min() - (terrain.ground + robot.contact_radius))
     fell = _first(depth > 0, s * dt)
     if fell is not None:
         events.append((fell, "a foot goes below the ground's surface (into a gap)"))
@@ -551,7 +551,7 @@ def run_figures(example: Example, motion: Motion, run: ClosedLoop, integ: Integr
     c = integ.contacts
     _, Q = _path(tr.q) if steps else (None, tr.q)
     X, _ = _contact_kinematics(integ, Q)
-    gaps = c.terrain.gap(X.reshape(-1, 3)).reshape(len(Q), -1)
+    gaps = c.core_model().gaps(X)
     knot_gap = float(tr.contact.gaps[:steps].min()) if steps else 0.0
     deepest = float(max(0.0, -gaps.min()))
     if deepest > BETWEEN_TOLERANCE and example.name in NO_PENETRATION:

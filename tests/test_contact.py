@@ -8,7 +8,7 @@ import hovi
 from hovi import trajopt
 from hovi.contact import Box, Contacts, Gap, Terrain
 from hovi.trajopt import ContactRows
-from hovi.trajopt.contact_sides import branches_from, branches_of, canonical, least_slack
+from hovi.trajopt.contact_sides import sides_of_solution, sides_of, canonical, least_slack
 from hovi.trajopt.solvers.contact_homotopy import FINISH_BELOW
 
 from conftest import planar_point_mass
@@ -19,7 +19,7 @@ VI1 = trajopt.VI(s=1)  # the contact model that is inelastic and well posed (hov
 
 def contact_problem(model, q0, qdot0, T, N, mu, fixed_u=None):
     contacts = Contacts(model, [("mass", (0.0, 0.0, 0.0))], Terrain(), mu=mu, plane="xz")
-    prob = trajopt.Problem(contacts.model, N=N, T=T)
+    prob = trajopt.Problem(contacts.with_inputs, N=N, T=T)
     prob.initial_state(q0, qdot0)
     if fixed_u is not None:
         prob.u_lower[:len(fixed_u)] = prob.u_upper[:len(fixed_u)] = fixed_u
@@ -92,7 +92,7 @@ def test_terrain_heights_and_contact_input_layout():
                                             (2.4, 3.0, 0.1)]
     model = planar_point_mass(actuated=True)
     contacts = Contacts(model, [("mass", (0, 0, 0)), (1, (0.1, 0, 0))], terrain, mu=1.0)
-    assert contacts.model.n_controls == 1 + 2 * (2 + 4) and model.n_controls == 1  # the robot is not changed
+    assert contacts.with_inputs.n_controls == 1 + 2 * (2 + 4) and model.n_controls == 1  # the robot is not changed
     assert contacts.input_index(1, "slack") == 12
     with pytest.raises(ValueError, match="mu must be"):
         Contacts(model, [("mass", (0, 0, 0))], terrain, mu=-1)
@@ -101,7 +101,7 @@ def test_terrain_heights_and_contact_input_layout():
     with pytest.raises(ValueError, match="depth must be > 0"):
         Terrain(gaps=[Gap(0.5, 1.0, depth=0.0)])
     prob = trajopt.Problem(model, N=4, T=1.0)
-    with pytest.raises(ValueError, match="contacts.model"):
+    with pytest.raises(ValueError, match="contacts.with_inputs"):
         prob.add_contacts(contacts)
 
 
@@ -121,11 +121,11 @@ def test_bad_contact_input_is_refused_with_a_reason():
         Contacts(model, point, terrain, mu=np.inf)
     contacts, prob = contact_problem(model, [0.0, 0.1], [0.0, 0.0], 0.2, 4, mu=0.5)
     with pytest.raises(TypeError, match="Contacts"):
-        prob.add_contacts(contacts.model)
+        prob.add_contacts(contacts.with_inputs)
     with pytest.raises(ValueError, match="already"):
         prob.add_contacts(contacts)
     with pytest.raises(ValueError, match="per_point"):
-        trajopt.Problem(contacts.model, N=4, T=0.2, controls="held").add_contacts(contacts)
+        trajopt.Problem(contacts.with_inputs, N=4, T=0.2, controls="held").add_contacts(contacts)
     with pytest.raises(ValueError, match="solve_contact"):  # the exact conditions straight to IPOPT
         trajopt.solve(prob, verbose=False)
     for kwargs, match in (({"epsilons": ()}, "epsilons"), ({"epsilons": (1e-2, 1e-1)}, "decreasing"),
@@ -259,17 +259,17 @@ def test_least_slack_lowers_only_the_free_sliding_slacks():
     np.testing.assert_array_less(lowered[slack], raised[slack] + 1e-15)
 
 
-def test_branches_from_give_each_pair_the_sides_of_the_coarse_pair_holding_its_point():
+def test_sides_of_solution_give_each_pair_the_sides_of_the_coarse_pair_holding_its_point():
     """The sides of a trapezoidal solution at the pairs of s = 2, 3 and Hermite-Simpson: each fine
     pair's are those the coarse solution shows at the pair whose interval holds the fine point."""
     contacts, prob = contact_problem(planar_point_mass(), [0.0, 0.3], [0.5, 0.0], 0.5, 25, mu=0.5)
     coarse = trajopt.solve_contact(prob, VI1)
     crow = ContactRows(contacts, coarse.transcription, 0.0)
-    B = branches_of(crow, canonical(crow, coarse.x))
+    B = sides_of(crow, canonical(crow, coarse.x))
     assert B.normal.any() and not B.normal.all()   # the mass flies, then lands
     for method in (trajopt.VI(2), trajopt.VI(3), trajopt.HermiteSimpson("implicit")):
         rows = ContactRows(contacts, method.transcribe(prob), 0.0)
-        mapped = branches_from(rows, coarse)
+        mapped = sides_of_solution(rows, coarse)
         for e, t in enumerate(rows.t[:-1]):
             k = max(i for i in range(crow.E) if crow.t[i] <= t + 1e-12)
             assert mapped.normal[e].tolist() == B.normal[k].tolist() and mapped.cone[e].tolist() == B.cone[k].tolist()
@@ -381,7 +381,7 @@ def test_dropped_planar_hopper_lands_on_its_foot_and_settles_on_its_spring():
     k, m_body, m_leg, h, T, N = 200.0, 1.0, 0.1, 0.1, 1.5, 75
     model, foot = planar_hopper(k)
     contacts = Contacts(model, [("leg", foot)], Terrain(), mu=0.8, plane="xz")
-    prob = trajopt.Problem(contacts.model, N=N, T=T)
+    prob = trajopt.Problem(contacts.with_inputs, N=N, T=T)
     prob.initial_state([0.0, 0.5 + h, 0.0, 0.0], np.zeros(4))
     prob.add_cost(trajopt.ControlEffort(weight=contacts.effort_weights(0.0)))
     prob.add_contacts(contacts)

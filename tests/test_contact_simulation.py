@@ -210,8 +210,8 @@ def test_bad_contacts_are_refused_with_the_argument_named():
     with pytest.raises(ValueError, match="contacts were built for another model"):
         hovi.Integrator(model, s=1, contacts=Contacts(other, [("a", (0, 0, 0))], Terrain(), mu=0.5))
     contacts = Contacts(model, [("mass", (0, 0, 0))], Terrain(), mu=0.5, plane="xz")
-    with pytest.raises(ValueError, match="not Contacts.model"):
-        hovi.Integrator(contacts.model, s=1, contacts=contacts)
+    with pytest.raises(ValueError, match="not Contacts.with_inputs"):
+        hovi.Integrator(contacts.with_inputs, s=1, contacts=contacts)
     with pytest.raises(hovi.ModelError, match="no mass"):
         hovi.Integrator(model, s=1, contacts=Contacts(model, [("slider", (0, 0, 0))], Terrain(), mu=0.5, plane="xz"))
     with pytest.raises(ValueError, match="need locate_impacts"):

@@ -69,7 +69,7 @@ def standing_block(push):
     """The block standing on its sole (0.1 m below its joint frame, yawed 0.3 rad), pushed by ``push``."""
     q0 = np.array([0.0, 0.0, 0.1, 0.3, 0.0, 0.0])
     foot = FlatFoot(block_model(), "block", centre=(0, 0, -0.1), X=0.15, Y=0.1, mu=0.8, q0=q0)
-    prob = trajopt.Problem(foot.model, N=10, T=0.5)
+    prob = trajopt.Problem(foot.with_inputs, N=10, T=0.5)
     prob.u_lower[0] = prob.u_upper[0] = push
     prob.initial_state(q0)
     prob.add_cost(trajopt.ControlEffort(weight=1e-3))
@@ -120,7 +120,7 @@ def test_bad_flat_foot_input_is_refused_with_a_reason():
     # stance() and cone() are plain data (hovi.contact imports nothing of trajopt); the Problem makes the constraints
     assert isinstance(prob.path_constraints[0], trajopt.PoseHeld)
     assert isinstance(prob.input_constraints[0], trajopt.InputConstraint)
-    assert foot.cone(n_controls=foot.model.n_controls + 3).A.shape == (17, 10)  # inputs appended after the foot's
+    assert foot.cone(n_controls=foot.with_inputs.n_controls + 3).A.shape == (17, 10)  # inputs appended after the foot's
     with pytest.raises(ValueError, match="7 columns"):
         prob.add_constraint(trajopt.InputConstraint(np.ones((2, 3)), 0.0, 1.0))
     with pytest.raises(ValueError, match="lower <= upper"):

@@ -302,7 +302,7 @@ def test_bad_contact_points_and_bodies_are_named():
 
 def test_contact_forces_refuse_the_wrong_input_width():
     contacts = Contacts(planar_point_mass(), [("mass", (0, 0, 0))], Terrain(), mu=0.5, plane="xz")
-    m = contacts.model.n_controls
+    m = contacts.with_inputs.n_controls
     assert contacts.forces(np.ones((3, m))).shape == (3, 1, 3)
     for u in (np.ones((3, m + 1)), np.ones((3, m - 1)), np.ones(m + 2), np.ones((2, 3, m))):
         with pytest.raises(ValueError, match=rf"u must be the controls of the contact model, \(P, {m}\)"):

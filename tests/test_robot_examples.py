@@ -27,9 +27,9 @@ def test_atlas_single_support_stance_is_balanced_at_rest():
     np.testing.assert_allclose(centre_of_mass(robot, q)[:2], where[:2], atol=1e-9)  # the centre of mass above it
     from hovi.contact import FlatFoot
     ff = FlatFoot(robot.model, "r_foot", centre, X, Y, mu=0.8, q0=q)
-    u = static_controls(ff.model, q)
+    u = static_controls(ff.with_inputs, q)
     zero = np.zeros(robot.model.n)
-    qdd = ff.model.forward_dynamics(q, zero, ff.model.force_jacobians(q, zero, u)[0])
+    qdd = ff.with_inputs.forward_dynamics(q, zero, ff.with_inputs.force_jacobians(q, zero, u)[0])
     np.testing.assert_allclose(qdd, 0, atol=1e-8)  # held at rest (round-off 1e-9 at the light wrist joints)
     w = ff.wrench(u[None])[0]
     np.testing.assert_allclose(w, [0, 0, robot.model.total_mass * 9.81, 0, 0, 0], atol=1e-6)  # the weight, at the centre
@@ -161,7 +161,7 @@ def test_between_knot_penetration_sees_a_dip_that_the_points_do_not():
     from hovi.contact import Contacts, Terrain
     robot = spring_flamingo()
     contacts = Contacts(robot.model, robot.contact_points, Terrain(), mu=0.8, plane="xz")
-    prob = trajopt.Problem(contacts.model, N=4, T=0.4)
+    prob = trajopt.Problem(contacts.with_inputs, N=4, T=0.4)
     q0 = JumpPlan(robot).configurations(0.0)[0]                   # both soles level on the ground
     prob.initial_state(q0)
     prob.add_cost(trajopt.ControlEffort())
@@ -224,7 +224,7 @@ def test_littledog_standing_pose_and_trot_guess():
 def test_littledog_mouth_clearance_measures_the_spheres_against_the_gap_edges():
     from hovi.contact import Gap, Terrain
     r = 0.01
-    terrain = Terrain(ground=r, gaps=[Gap(0.0, 0.04, 0.5)])                      # the surface at z = 0
+    terrain = Terrain(gaps=[Gap(0.0, 0.04, 0.5)])                                 # the surface at z = 0
     clearance = littledog_example.mouth_clearance
     assert clearance(terrain, r, np.array([[-0.1, 0, r], [0.2, 0, 0.0]])) == np.inf           # none over the gap
     assert clearance(terrain, r, np.array([[0.02, 0, 0.05]])) == pytest.approx(np.hypot(0.02, 0.05) - r)

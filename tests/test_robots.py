@@ -54,7 +54,7 @@ def test_mass_sums_are_the_sheets_totals():
 def test_nominal_stance_stands_on_the_ground(robot):
     """Every contact of q0 on flat ground (LittleDog: its foot spheres, home() within 0.35 mm), as
     hovi.contact sees them, and the centre of mass over the feet."""
-    contacts = Contacts(robot.model, robot.contact_points, Terrain(ground=robot.contact_radius), mu=1.0,
+    contacts = Contacts(robot.model, robot.contact_points, Terrain(), mu=1.0,
                         plane="xz" if robot.base == "planar" else "")
     gaps = contacts.gaps(robot.q0)
     if robot.name == "littledog":

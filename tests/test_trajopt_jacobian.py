@@ -9,7 +9,7 @@ import scipy.sparse as sp
 import hovi
 from hovi import trajopt
 from hovi.contact import Box, Contacts, Terrain
-from hovi.trajopt import Branches, ComplementarityRelaxation
+from hovi.trajopt import Sides, ComplementarityRelaxation
 from hovi.examples.swingups import close_mechanism
 
 
@@ -97,7 +97,7 @@ def tumbling_block():
     model.add_actuator(3)
     terrain = Terrain(ground=-1.0, boxes=[Box(-10.0, 10.0, top=0.05)])  # every point above the box
     contacts = Contacts(model, [("block", (0.2, 0.1, -0.1)), ("block", (-0.2, -0.1, -0.1))], terrain, mu=0.7)
-    prob = trajopt.Problem(contacts.model, N=3, T=0.3)
+    prob = trajopt.Problem(contacts.with_inputs, N=3, T=0.3)
     prob.initial_state([0.0, 0.0, 0.3, 0.1, -0.1]).add_cost(trajopt.ControlEffort(weight=contacts.effort_weights()))
     return contacts, prob.add_contacts(contacts)
 
@@ -115,7 +115,7 @@ def test_contact_jacobian_matches_finite_differences(method, exact):
     if exact:  # one side of every pair fixed: the same rows, other bounds
         rng = np.random.default_rng(5)
         C = contacts.n_contacts
-        relaxation = ComplementarityRelaxation(1e-2, Branches(rng.random((E, C)) < 0.5, rng.random((E, C)) < 0.5,
+        relaxation = ComplementarityRelaxation(1e-2, Sides(rng.random((E, C)) < 0.5, rng.random((E, C)) < 0.5,
                                                               rng.random((E, C, contacts.d)) < 0.5))
     nlp = trajopt.NLP(prob, method, relaxation=relaxation)
     assert nlp.contact_rows.count == E * 2 * (4 + 2 * 4) + 2 * 6
@@ -123,14 +123,14 @@ def test_contact_jacobian_matches_finite_differences(method, exact):
 
 
 def test_exact_sides_fix_inputs_and_rows():
-    """Branches: a pair's input at zero is a fixed variable, its gap-like row an equality; the
+    """Sides: a pair's input at zero is a fixed variable, its gap-like row an equality; the
     products are unbounded; the last point's inputs equal the previous point's."""
     contacts, prob = tumbling_block()
     E, C, d = prob.N, contacts.n_contacts, contacts.d
     normal = np.zeros((E, C), bool)
     normal[1, 0] = True  # phi(q_2) = 0 for contact 0, lambda = 0 elsewhere
-    branches = Branches(normal, np.ones((E, C), bool), np.zeros((E, C, d), bool))
-    nlp = trajopt.NLP(prob, trajopt.VI(s=1), relaxation=ComplementarityRelaxation(0.0, branches))
+    sides = Sides(normal, np.ones((E, C), bool), np.zeros((E, C, d), bool))
+    nlp = trajopt.NLP(prob, trajopt.VI(s=1), relaxation=ComplementarityRelaxation(0.0, sides))
     cr, u_off = nlp.contact_rows, nlp.transcription.u_points()
     lam = u_off[:E, None] + np.array([contacts.input_index(c, "normal") for c in range(C)])
     fixed = ~normal

@@ -83,7 +83,7 @@ def contact_problem():
     model.add_body("mass", "slider", "prismatic", axis=(0, 0, 1), mass=1.0, inertia=np.eye(3) * 1e-3)
     model.add_actuator(0)
     contacts = Contacts(model, [("mass", (0.0, 0.0, 0.0))], Terrain(), mu=0.5, plane="xz")
-    prob = trajopt.Problem(contacts.model, N=4, T=0.4)
+    prob = trajopt.Problem(contacts.with_inputs, N=4, T=0.4)
     prob.initial_state([0.0, 0.2], [0.5, 0.0])
     prob.add_cost(trajopt.ControlEffort(weight=contacts.effort_weights(0.1)))
     prob.add_cost(trajopt.TerminalCost([0.3, 0.0], weight=1.0))

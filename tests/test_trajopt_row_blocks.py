@@ -47,7 +47,7 @@ def contact_nlp(method):
     model.add_actuator(3)
     terrain = Terrain(ground=-1.0, gaps=[Gap(0.4, 0.6)], boxes=[Box(-10.0, 0.3, top=0.05)])
     contacts = Contacts(model, [("block", (0.2, 0.1, -0.1)), ("block", (-0.2, -0.1, -0.1))], terrain, mu=0.7)
-    prob = trajopt.Problem(contacts.model, N=3, T=0.3)
+    prob = trajopt.Problem(contacts.with_inputs, N=3, T=0.3)
     prob.initial_state([0.0, 0.0, 0.3, 0.1, -0.1]).add_cost(trajopt.ControlEffort(weight=contacts.effort_weights()))
     return trajopt.NLP(prob.add_contacts(contacts), method, relaxation=ComplementarityRelaxation(1e-2))
 
@@ -167,7 +167,7 @@ def test_blocks_refuse_bad_input():
     assert block.rows == cn.contact_rows.count and block.nnz == len(cn.contact_rows.rows)
     ct, cr = cn.contact_rows.contacts, cn.contact_rows
     two = hovi._core.ContactModel([4, 4], np.zeros((2, 3)), ct.terrain.core(), ct.mu, ct.D)
-    args = (ct.model, cn.n_variables, two, ct.first_input)
+    args = (ct.with_inputs, cn.n_variables, two, ct.first_input)
     ComplementarityRows = hovi._core.trajopt.ComplementarityRows
     q_off, u_off = cr.q_off.astype(np.int32), cr.u_off.astype(np.int32)
     with pytest.raises(ValueError, match="increase"):
@@ -178,7 +178,7 @@ def test_blocks_refuse_bad_input():
         ComplementarityRows(*args, cr.t, q_off, u_off + cn.n_variables)
     bad = hovi._core.ContactModel([7, 4], np.zeros((2, 3)), ct.terrain.core(), ct.mu, ct.D)
     with pytest.raises(ValueError, match="body index 7"):
-        ComplementarityRows(ct.model, cn.n_variables, bad, ct.first_input, cr.t, q_off, u_off)
+        ComplementarityRows(ct.with_inputs, cn.n_variables, bad, ct.first_input, cr.t, q_off, u_off)
 
 def test_program_refuses_rows_placed_twice():
     """Between the transcription's rows and the linear rows every place is taken once."""

@@ -134,7 +134,7 @@ def littledog_landing(steps=60):
     q0 = st.q0.copy()
     q0[2] += 0.02
     traj = st.integrator.rollout(q0, steps, u=st.u)
-    arrows = ForceArrows.from_contacts(traj, st.contacts, radius=st.robot.contact_radius,
+    arrows = ForceArrows.from_contacts(traj, st.contacts,
                                        names=[c.name for c in st.robot.contacts])
     return st, traj, arrows
 

@@ -27,10 +27,12 @@ Terrain terrain(double ground, const ArrayLike& gaps, const ArrayLike& boxes) {
 }
 
 ContactModel contact_model(const std::vector<int>& bodies, const ArrayLike& points, const Terrain& terrain, double mu,
-                           const ArrayLike& directions) {
+                           const ArrayLike& directions, const OptArrayLike& radii) {
   ContactModel cm;
-  const MatX P = as_matrix(points, "points", static_cast<long>(bodies.size()), 3);
-  for (std::size_t i = 0; i < bodies.size(); ++i) cm.points.push_back({bodies[i], P.row(i).transpose()});
+  const long C = static_cast<long>(bodies.size());
+  const MatX P = as_matrix(points, "points", C, 3);
+  const VecX r = radii.is_none() ? VecX::Zero(C) : as_vector(radii, "radii", C);
+  for (long i = 0; i < C; ++i) cm.points.push_back({bodies[i], P.row(i).transpose(), r[i]});
   cm.terrain = terrain;
   cm.mu = mu;
   cm.D = as_matrix(directions, "friction directions", -1, 3);
@@ -62,10 +64,23 @@ fixed once made: hovi.contact.Contacts makes it (Contacts.core_model()) for hovi
 contacts=...) and the trajectory optimiser's complementarity rows.
 )doc")
       .def(py::init(&contact_model), py::arg("bodies"), py::arg("points"), py::arg("terrain"), py::arg("mu"),
-           py::arg("directions"), R"doc(
+           py::arg("directions"), py::arg("radii") = py::none(), R"doc(
 bodies (C,) indices, points (C, 3) in the bodies' joint frames; the terrain; friction mu; directions (d, 3)
-horizontal unit vectors.
+horizontal unit vectors; radii (C,) of the contacts (spheres centred at the points, default 0: points).
 )doc")
+      .def("gaps", [](const ContactModel& c, const ArrayLike& X) {
+            const RealArray a = real_array(X, "X");
+            const int C = c.size();
+            if (a.ndim() < 2 || a.shape(a.ndim() - 1) != 3 || a.shape(a.ndim() - 2) != C)
+              throw InputError("X must have shape (..., " + std::to_string(C) + ", 3): the contact points' world positions");
+            std::vector<py::ssize_t> shape(a.shape(), a.shape() + a.ndim() - 1);
+            py::array_t<double> out(shape);
+            const double* in = a.data();
+            double* o = out.mutable_data();
+            for (py::ssize_t k = 0; k < out.size(); ++k)
+              o[k] = c.gap(static_cast<int>(k % C), Vec3(in[3 * k], in[3 * k + 1], in[3 * k + 2]));
+            return out;
+          }, py::arg("X"), "The gaps φ (K, C) of the contacts with their points at world positions X (K, C, 3) (any leading shape).")
       .def_property_readonly("n_contacts", &ContactModel::size, "The number of contact points C.")
       .def_property_readonly("per_contact", &ContactModel::per_contact,
                              "The unknowns per contact, 2 + d: the normal impulse, d friction impulses, the sliding slack.")

@@ -66,7 +66,7 @@ Jacobian in its structure's order and exact Hessian.
            }),
            py::arg("model"), py::arg("n_variables"), py::arg("contacts"), py::arg("first_input"), py::arg("t"),
            py::arg("q_off"), py::arg("u_off"),
-           "The contacts (hovi.contact.Contacts.core_model()) on `model` (Contacts.model); first_input: the control "
+           "The contacts (hovi.contact.Contacts.core_model()) on `model` (Contacts.with_inputs); first_input: the control "
            "index of the first contact input; t, q_off, u_off (P,): the configuration points' times and offsets of q "
            "and u in x.");
 }

@@ -13,6 +13,6 @@ namespace hovi::py_bind {
 // the bodies' joint frames, the terrain, mu, friction directions (d, 3).
 Terrain terrain(double ground, const ArrayLike& gaps, const ArrayLike& boxes);
 ContactModel contact_model(const std::vector<int>& bodies, const ArrayLike& points, const Terrain& terrain, double mu,
-                           const ArrayLike& directions);
+                           const ArrayLike& directions, const OptArrayLike& radii);
 
 }  // namespace hovi::py_bind

@@ -110,7 +110,6 @@ class GroundScene:
     contacts: Contacts
     q0: np.ndarray
     u: Optional[np.ndarray]
-    radius: float          # contact points at the centres of foot spheres of this radius (0: points)
     names: List[str]       # of the contacts
     what: str              # one line: what is simulated
 
@@ -166,12 +165,11 @@ def ground_scene(args, model: Model, base: str, robot_name: Optional[str]) -> Gr
             raise ValueError(f"argument --contact: the built-in robot '{robot_name}' has its feet as its contact "
                              f"points; --contact is for a URDF file or another model")
         st = standing(robot_name, dt=args.dt, mu=mu, ground=args.ground_height, s=s)
-        radius = float(st.robot.contact_radius)
         integ, contacts = st.integrator, st.contacts
         q0 = st.q0.copy()
         spread = 0.0 if args.spread is None else args.spread
         q0[nb:] += rng.uniform(-spread, spread, model.n - nb)
-        return GroundScene(st.model, integ, contacts, lift(contacts, q0, base, args.drop), st.u, radius,
+        return GroundScene(st.model, integ, contacts, lift(contacts, q0, base, args.drop), st.u,
                            [c.name for c in st.robot.contacts],
                            f"standing on the ground (joint PD about its standing pose and static feed-forward "
                            f"torques, hovi.examples.standing), dropped from {args.drop:g} m; mu = {mu:g}")
@@ -189,7 +187,7 @@ def ground_scene(args, model: Model, base: str, robot_name: Optional[str]) -> Gr
     integ = Integrator(model, s=s, dt=dt, tol=args.tol, contacts=contacts)
     q0 = initial_state(model, np.pi / 12 if args.spread is None else args.spread, args.seed)
     q0[:nb] = 0.0
-    return GroundScene(model, integ, contacts, lift(contacts, q0, base, args.drop), None, 0.0,
+    return GroundScene(model, integ, contacts, lift(contacts, q0, base, args.drop), None,
                        [f"{link}_{i}" for i, (link, _) in enumerate(args.contact)],
                        f"on the ground with {len(args.contact)} contact point(s), mu = {mu:g}"
                        + (f", dropped from {args.drop:g} m" if base != "fixed" else ""))
@@ -270,21 +268,9 @@ def cmd_simulate(args) -> int:
             write_animation(model, traj, args, ground=None if base == "fixed" else 0.0)
         else:
             from .vis.video import ForceArrows
-            arrows = ForceArrows.from_contacts(traj, scene.contacts, summary["weight"], scene.radius,
-                                               names=scene.names)
-            write_animation(model, traj, args, terrain=visible_terrain(scene.contacts.terrain, scene.radius),
-                            arrows=arrows)
+            arrows = ForceArrows.from_contacts(traj, scene.contacts, summary["weight"], names=scene.names)
+            write_animation(model, traj, args, terrain=scene.contacts.terrain, arrows=arrows)
     return 0 if traj.converged else 1
-
-
-def visible_terrain(terrain, radius: float):
-    """The terrain as drawn: the surface that foot spheres of ``radius`` touch, ``radius`` below the
-    one their centres (the contact points) meet."""
-    from .contact import Box, Terrain
-    if radius == 0:
-        return terrain
-    return Terrain(ground=terrain.ground - radius, gaps=list(terrain.gaps),
-                   boxes=[Box(b.x0, b.x1, b.top - radius, b.y0, b.y1) for b in terrain.boxes])
 
 
 def contact_report(scene: GroundScene, traj, base: str) -> dict:

@@ -191,7 +191,7 @@ bool ContactJacobians::smoothed_jacobians(const Eigen::Ref<const MatX>& qc, cons
     const auto J0c = J0.middleRows(3 * c, 3), Jec = Je.middleRows(3 * c, 3);
     K.block(0, sn + base, n, 1) = J0c.row(2).transpose();                          // λ along +z
     K.block(0, sn + base + 1, n, d) = J0c.transpose() * contacts_.D.transpose();    // β along D_i
-    const double h = contacts_.terrain.height(Xe(0, c), Xe(1, c));
+    const double h = contacts_.surface(c, Xe.col(c));
     const Vec3 disp = Xe.col(c) - X0.col(c);
     // the complements w and their derivatives: gap row, friction rows, cone row
     for (int i = 0; i < pc; ++i) {

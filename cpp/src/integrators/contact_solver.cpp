@@ -47,7 +47,7 @@ void ContactSolver::evaluate(const Eigen::Ref<const VecX>& p, const Eigen::Ref<c
     const auto zc = z.segment(c * pc, pc);
     const Vec3 F = contacts_.world_impulse(z, c);
     st.R.col(0).noalias() += J0_.middleRows(3 * c, 3).transpose() * F;  // the impulse at q^k
-    st.h[c] = contacts_.terrain.height(x[0], x[1]);
+    st.h[c] = contacts_.surface(c, x);
     st.phi[c] = x[2] - st.h[c];
     const Vec3 disp = x - X0_.col(c);
     st.w[c * pc] = st.phi[c];

@@ -109,7 +109,7 @@ bool GalerkinIntegrator::free_step_holds(IntegratorWorkspace& ws, const Eigen::R
   bool holds = true;
   for (int c = 0; c < C; ++c) {
     const Vec3 x = ws.data.g[contacts_.points[c].body].act(r_com_.col(c));
-    phi[c] = x[2] - contacts_.terrain.height(x[0], x[1]);
+    phi[c] = contacts_.gap(c, x);
     holds = holds && phi[c] >= 0;
     // λ = β = 0; γ the least slack that keeps γ + D_i . disp >= 0 (its cone row μλ - Σβ is 0).
     z.segment(c * pc, pc).setZero();
@@ -123,7 +123,7 @@ double GalerkinIntegrator::smallest_gap(IntegratorWorkspace& ws, const Eigen::Re
   double least = INFINITY;
   for (int c = 0; c < contacts_.size(); ++c) {
     const Vec3 x = ws.data.g[contacts_.points[c].body].act(r_com_.col(c));
-    least = std::min(least, x[2] - contacts_.terrain.height(x[0], x[1]));
+    least = std::min(least, contacts_.gap(c, x));
   }
   return least;
 }

@@ -55,6 +55,8 @@ void ContactModel::check(const Model& model) const {
                        "' has no mass (a contact force on a massless body has nothing to act on; put the point on "
                        "the massive body it is fixed to)");
     if (!points[i].point.allFinite()) throw InputError(name + ": the point must be finite");
+    if (!(points[i].radius >= 0) || !std::isfinite(points[i].radius))
+      throw InputError(name + ": the radius must be a finite number >= 0, got " + std::to_string(points[i].radius));
   }
   if (!std::isfinite(mu) || mu < 0 || mu > 1e3)
     throw InputError("mu must be a finite friction coefficient in [0, 1000], got " + std::to_string(mu));

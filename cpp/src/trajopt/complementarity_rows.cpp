@@ -77,7 +77,7 @@ void ComplementarityRows::values(const VecX& x, Eigen::Ref<VecX> g) const {
     for (int c = 0; c < C_; ++c) {
       const int i = e * C_ + c;
       const Vec3 xa = w->X.col((e + 1) * C_ + c), v = (xa - w->X.col(e * C_ + c)) / dt_[e];
-      const double phi = xa.z() - ct_.terrain.height(xa.x(), xa.y());
+      const double phi = ct_.gap(c, xa);
       const double lam = x[input(e, c, 0)], gam = x[input(e, c, 1 + d_)];
       double psi = ct_.mu * lam;
       for (int k = 0; k < d_; ++k) psi -= x[input(e, c, 1 + k)];
@@ -123,7 +123,7 @@ void ComplementarityRows::jacobian(const VecX& x, Eigen::Ref<VecX> values) const
   each_pair([&](int e, int c) {                                                                          // lambda phi
     const Vec3 xa = w->X.col((e + 1) * C_ + c);
     put((x[input(e, c, 0)] * jac(*w, e + 1, c).row(2).transpose()).eval());
-    one(xa.z() - ct_.terrain.height(xa.x(), xa.y()));
+    one(ct_.gap(c, xa));
   });
   each_pair([&](int e, int c) {                                                                          // gamma psi
     const double lam = x[input(e, c, 0)], gam = x[input(e, c, 1 + d_)];

@@ -366,10 +366,14 @@ class ContactModel:
     fixed once made: hovi.contact.Contacts makes it (Contacts.core_model()) for hovi.Integrator(...,
     contacts=...) and the trajectory optimiser's complementarity rows.
     """
-    def __init__(self, bodies: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], points: numpy.typing.ArrayLike, terrain: Terrain, mu: typing.SupportsFloat | typing.SupportsIndex, directions: numpy.typing.ArrayLike) -> None:
+    def __init__(self, bodies: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], points: numpy.typing.ArrayLike, terrain: Terrain, mu: typing.SupportsFloat | typing.SupportsIndex, directions: numpy.typing.ArrayLike, radii: numpy.typing.ArrayLike | None = None) -> None:
         """
         bodies (C,) indices, points (C, 3) in the bodies' joint frames; the terrain; friction mu; directions (d, 3)
-        horizontal unit vectors.
+        horizontal unit vectors; radii (C,) of the contacts (spheres centred at the points, default 0: points).
+        """
+    def gaps(self, X: numpy.typing.ArrayLike) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        The gaps φ (K, C) of the contacts with their points at world positions X (K, C, 3) (any leading shape).
         """
     def world_impulses(self, z: numpy.typing.ArrayLike) -> numpy.typing.NDArray[numpy.float64]:
         """

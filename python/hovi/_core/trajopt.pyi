@@ -163,7 +163,7 @@ class ComplementarityRows(RowBlock):
     """
     def __init__(self, model: hovi._core.Model, n_variables: typing.SupportsInt | typing.SupportsIndex, contacts: hovi._core.ContactModel, first_input: typing.SupportsInt | typing.SupportsIndex, t: numpy.typing.ArrayLike, q_off: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], u_off: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"]) -> None:
         """
-        The contacts (hovi.contact.Contacts.core_model()) on `model` (Contacts.model); first_input: the control index of the first contact input; t, q_off, u_off (P,): the configuration points' times and offsets of q and u in x.
+        The contacts (hovi.contact.Contacts.core_model()) on `model` (Contacts.with_inputs); first_input: the control index of the first contact input; t, q_off, u_off (P,): the configuration points' times and offsets of q and u in x.
         """
 class Program:
     """

@@ -37,7 +37,7 @@ homotopy, then an exact solve on the sides of the pairs it found).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import List, Sequence, Tuple, Union
+from typing import Any, List, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -72,9 +72,14 @@ def contact_body(model: Model, body: object, what: str) -> int:
 
 @dataclass(frozen=True)
 class ContactPoint:
-    """A point ``point`` (3,) of ``body`` (index), in the body's joint frame."""
-    body: int
-    point: np.ndarray
+    """A contact of a body (a name, or its index): ``point`` (3,) in the body's joint frame (the URDF
+    link frame), or, with ``radius`` > 0, the centre of a sphere of that radius (a round foot), which
+    touches the terrain when the centre is ``radius`` above it; ``name`` tells the contacts apart
+    (e.g. 'fl_foot'). The one contact-point type of hovi (``Contacts.points`` hold the body's index)."""
+    body: Union[str, int]
+    point: Any
+    radius: float = 0.0
+    name: str = ""
 
 
 def friction_directions(plane: str = "") -> np.ndarray:
@@ -90,13 +95,14 @@ def friction_directions(plane: str = "") -> np.ndarray:
 class Contacts:
     """Point contacts of a model with a terrain.
 
-    model: the robot (not changed: ``self.model`` is a copy with the contact inputs appended).
-    points: [(body name or index, point (3,) in the body's joint frame), ...].
+    model: the robot (not changed: ``with_inputs`` is a copy of it with the contact inputs appended, what
+    the trajectory optimiser's Problem is made with).
+    points: ContactPoints, or (body name or index, point (3,) in the body's joint frame[, radius]) tuples.
     mu: friction coefficient (default DEFAULT_FRICTION, 0.8); plane: '' for 3D friction, 'xz' / 'yz'
     for a planar robot.
     """
 
-    def __init__(self, model: Model, points: Sequence[Tuple[Union[str, int], Sequence[float]]],
+    def __init__(self, model: Model, points: Sequence[Union[ContactPoint, Tuple[Any, ...]]],
                  terrain: Terrain, mu: float = DEFAULT_FRICTION, plane: str = "") -> None:
         if not isinstance(model, Model):
             raise TypeError(f"model must be a hovi.Model, got {type(model).__name__}")
@@ -114,52 +120,68 @@ class Contacts:
         self.d = len(self.D)
         self.points: List[ContactPoint] = []
         for i, entry in enumerate(points):
-            if isinstance(entry, (str, bytes)) or not hasattr(entry, "__len__") or len(entry) != 2:
-                raise ValueError(f"contact point {i}: a contact point is (body name or index, point (3,)), got {entry!r}")
-            body, point = entry
+            if isinstance(entry, ContactPoint):
+                entry = (entry.body, entry.point, entry.radius, entry.name)
+            if isinstance(entry, (str, bytes)) or not hasattr(entry, "__len__") or len(entry) not in (2, 3, 4):
+                raise ValueError(f"contact point {i}: a contact point is a ContactPoint or (body name or index, point "
+                                 f"(3,)[, radius]), got {entry!r}")
+            body, point, radius, name = (*entry, 0.0, "")[:4] if len(entry) < 4 else entry
             b = contact_body(model, body, "contact body")
             try:
                 p = real_array(point, f"contact point {i} ({body!r})", (3,))
             except (TypeError, ValueError) as e:
                 raise ValueError(f"{e}: a contact point must be 3 finite numbers (in the body's joint frame), got "
                                  f"{point!r:.60}") from None
-            self.points.append(ContactPoint(b, p))
+            r = real_number(radius, f"contact point {i} ({body!r}) radius", minimum=0.0)
+            self.points.append(ContactPoint(b, p, r, str(name)))
         self.m_user = model.n_controls
         self.robot = (tuple(model.body_names), tuple(model.joint_names), model.n_controls)
-        self.model = model.copy()
-        self.first_input = self.model.n_controls
+        self.with_inputs = model.copy()
+        self.first_input = self.with_inputs.n_controls
         for c in self.points:
-            lam = self.model.add_control()
-            self.model.add_point_wrench(c.body, force=(0.0, 0.0, 1.0), point=c.point, control=lam)
+            lam = self.with_inputs.add_control()
+            self.with_inputs.add_point_wrench(c.body, force=(0.0, 0.0, 1.0), point=c.point, control=lam)
             for direction in self.D:
-                beta = self.model.add_control()
-                self.model.add_point_wrench(c.body, force=direction, point=c.point, control=beta)
-            self.model.add_control()  # gamma: a slack, no force
+                beta = self.with_inputs.add_control()
+                self.with_inputs.add_point_wrench(c.body, force=direction, point=c.point, control=beta)
+            self.with_inputs.add_control()  # gamma: a slack, no force
 
     def check_model(self, model: Model) -> None:
         """ValueError unless ``model`` is the robot these contacts were built on (its bodies, joints and
-        controls; not ``self.model``, which adds the trajectory optimiser's contact inputs)."""
+        controls; not ``with_inputs``, which adds the trajectory optimiser's contact inputs)."""
         got = (tuple(model.body_names), tuple(model.joint_names), model.n_controls)
         if got == self.robot:
             return
-        if got[:2] == self.robot[:2] and model.n_controls == self.model.n_controls:
-            raise ValueError("contacts: give the robot's own model, not Contacts.model (which adds the trajectory "
-                             f"optimiser's {self.model.n_controls - self.m_user} contact inputs as controls)")
+        if got[:2] == self.robot[:2] and model.n_controls == self.with_inputs.n_controls:
+            raise ValueError("contacts: give the robot's own model, not Contacts.with_inputs (which adds the trajectory "
+                             f"optimiser's {self.with_inputs.n_controls - self.m_user} contact inputs as controls)")
         raise ValueError(f"contacts were built for another model (bodies {list(self.robot[0])[:6]}..., "
                          f"{self.robot[2]} controls), not this one (bodies {list(got[0])[:6]}..., {got[2]} controls)")
 
     def core_model(self) -> _core.ContactModel:
         """These contacts as the C++ contact model (the integrator's contact stages, the complementarity
         rows): the points, the terrain, mu and the friction directions, fixed when made."""
-        return _core.ContactModel([c.body for c in self.points], np.array([c.point for c in self.points]),
-                                  self.terrain.core(), self.mu, self.D)
+        return _core.ContactModel([int(c.body) for c in self.points], np.array([c.point for c in self.points]),
+                                  self.terrain.core(), self.mu, self.D, self.radii)
+
+    @property
+    def radii(self) -> np.ndarray:
+        """(C,) the contacts' radii (0 for points)."""
+        return np.array([c.radius for c in self.points])
 
     def gaps(self, q: np.ndarray) -> np.ndarray:
-        """The signed gaps (C,) of the contact points to the terrain at configuration q (n,)."""
-        q = real_array(q, "q", (self.model.n,))
-        X, _ = _core.body_point_kinematics(self.model, q[None], [c.body for c in self.points],
-                                                   np.array([c.point for c in self.points]))
-        return self.terrain.gap(X[0])
+        """The signed gaps (C,) of the contacts to the terrain at configuration q (n,) (of a sphere's
+        surface, for a contact with a radius)."""
+        q = real_array(q, "q", (self.with_inputs.n,))
+        gaps: np.ndarray = self.core_model().gaps(self.positions(q[None])[0])
+        return gaps
+
+    def positions(self, Q: np.ndarray) -> np.ndarray:
+        """(K, C, 3) world positions of the contact points (the spheres' centres) at configurations Q (K, n)."""
+        X, _ = _core.body_point_kinematics(self.with_inputs, Q, [int(c.body) for c in self.points],
+                                           np.array([c.point for c in self.points]))
+        positions: np.ndarray = X
+        return positions
 
     @property
     def n_contacts(self) -> int:
@@ -181,14 +203,14 @@ class Contacts:
 
     def effort_weights(self, weight: Union[float, Sequence[float]] = 1.0) -> np.ndarray:
         """ControlEffort weights: ``weight`` on the model's own controls, zero on the contact inputs."""
-        w = np.zeros(self.model.n_controls)
+        w = np.zeros(self.with_inputs.n_controls)
         w[:self.m_user] = weight
         return w
 
     def forces(self, u: np.ndarray) -> np.ndarray:
         """World contact forces (P, contacts, 3) from controls u (P, m) of the contact model."""
         u = real_array(u, "u")
-        m = self.model.n_controls
+        m = self.with_inputs.n_controls
         if u.ndim not in (1, 2) or u.shape[-1] != m:
             raise ValueError(f"u must be the controls of the contact model, (P, {m}) or ({m},) (the robot's "
                              f"{self.m_user} and {m - self.m_user} contact inputs), got shape {u.shape}")

@@ -73,7 +73,7 @@ class FlatFoot:
     frame), friction coefficient mu, flat on the ground (its z axis vertical within 1e-3 degrees) at
     the initial configuration q0 (n,).
 
-    ``self.model`` is a copy of ``model`` with six inputs appended (``first_input`` ..
+    ``with_inputs`` is a copy of ``model`` with six inputs appended (``first_input`` ..
     ``first_input + 5``): the force and torque at the sole centre along the sole frame's axes, in
     units of ``scale`` N and N m (default: the robot's weight, so that the inputs are of order
     one; ``wrench(u)`` converts). Add ``stance()`` (the foot held at its pose) and ``cone()`` (the
@@ -102,17 +102,17 @@ class FlatFoot:
         if tilt > 1e-3:  # degrees
             raise ValueError(f"the foot is not flat at q0: its z axis is {tilt:.3g} degrees from vertical")
         self.X, self.Y, self.mu, self.q0 = float(X), float(Y), float(mu), q0
-        self.model = model.copy()
-        self.first_input = self.model.n_controls
+        self.with_inputs = model.copy()
+        self.first_input = self.with_inputs.n_controls
         weight = model.total_mass * float(np.linalg.norm(model.gravity))
         self.scale = (weight if weight > 0 else 1.0) if scale is None else \
             real_number(scale, "scale", minimum=0.0, strict_minimum=True)
         for axis in self.R0.T:                                               # f along the sole axes
-            self.model.add_point_wrench(self.body, force=self.scale * axis, point=self.centre,
-                                        control=self.model.add_control())
+            self.with_inputs.add_point_wrench(self.body, force=self.scale * axis, point=self.centre,
+                                        control=self.with_inputs.add_control())
         for axis in self.R0.T:                                               # tau about them
-            self.model.add_point_wrench(self.body, torque=self.scale * axis, point=self.centre,
-                                        control=self.model.add_control())
+            self.with_inputs.add_point_wrench(self.body, torque=self.scale * axis, point=self.centre,
+                                        control=self.with_inputs.add_control())
 
     def stance(self) -> Stance:
         """The foot held at its pose at q0 at every configuration point (a path constraint once added
@@ -122,9 +122,9 @@ class FlatFoot:
     def cone(self, n_controls: int | None = None) -> WrenchCone:
         """The rows G w >= 0 (``wrench_cone``) on the foot's wrench inputs at every point (an input
         constraint once added to a Problem), for a model with ``n_controls`` controls (default:
-        ``self.model``'s; more if inputs were appended after the foot's, e.g. by
-        ``Contacts(foot.model, ...)``)."""
-        A = np.zeros((17, self.model.n_controls if n_controls is None else int(n_controls)))
+        ``with_inputs``'s; more if inputs were appended after the foot's, e.g. by
+        ``Contacts(foot.with_inputs, ...)``)."""
+        A = np.zeros((17, self.with_inputs.n_controls if n_controls is None else int(n_controls)))
         A[:, self.first_input:self.first_input + 6] = wrench_cone(self.X, self.Y, self.mu)
         return WrenchCone(A, lower=np.zeros(17), upper=np.full(17, np.inf))
 
@@ -138,7 +138,7 @@ class FlatFoot:
     def wrench(self, u: np.ndarray) -> np.ndarray:
         """The wrenches (P, 6) (f, tau in the sole frame at its centre; N, N m) in the controls u (P, m)."""
         u = real_array(u, "u")
-        m = self.model.n_controls
+        m = self.with_inputs.n_controls
         if u.ndim not in (1, 2) or u.shape[-1] < self.first_input + 6:
             raise ValueError(f"u must be controls (P, m) or (m,) of the foot's model (m >= {self.first_input + 6}: "
                              f"its {m} inputs, and any appended after them), got shape {u.shape}")

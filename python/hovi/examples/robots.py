@@ -14,19 +14,12 @@ import numpy as np
 
 from .._core import Model
 from .._typing import FloatArray
+from ..contact.contacts import ContactPoint
 
-__all__ = ["URDF_DIR", "Contact", "Robot", "spring_flamingo", "littledog", "atlas"]
+__all__ = ["URDF_DIR", "Robot", "spring_flamingo", "littledog", "atlas"]
 
 URDF_DIR = Path(__file__).resolve().parent.parent / "urdf"
 """Where the package's URDFs are installed (the repository's models/)."""
-
-
-@dataclass(frozen=True)
-class Contact:
-    """A foot contact: ``point`` (3,) of link ``body``, in the body's joint frame (the URDF link frame)."""
-    name: str                          # e.g. 'l_toe', 'fl_foot', 'r_heel_out'
-    body: str                          # the link (a body of the model)
-    point: Tuple[float, float, float]  # (3,) in the link frame
 
 
 @dataclass(frozen=True, eq=False)
@@ -39,16 +32,21 @@ class Robot:
     model: Model
     urdf: Path                         # the URDF file
     base: str                          # 'planar' (x, z, pitch) or 'floating' (x, y, z, yaw, pitch, roll)
-    contacts: Tuple[Contact, ...]
-    contact_radius: float              # 0 for points; > 0: the points are centres of foot spheres, which
-                                       # touch flat ground at height h when the centres are at h + radius
+    contacts: Tuple[ContactPoint, ...]  # the feet, named (e.g. 'l_toe', 'fl_foot'), on links by name, with
+                                        # their radius (LittleDog's foot spheres)
     q0: FloatArray                     # (n,) nominal standing configuration, in model.joint_names order
     actuated: Tuple[str, ...]          # (m,) the joints driven by controls 0..m-1
 
     @property
-    def contact_points(self) -> List[Tuple[str, FloatArray]]:
-        """[(body, point (3,)), ...]: the contacts as ``hovi.contact.Contacts`` takes them."""
-        return [(c.body, np.array(c.point)) for c in self.contacts]
+    def contact_points(self) -> List[ContactPoint]:
+        """The contacts as ``hovi.contact.Contacts`` takes them."""
+        return list(self.contacts)
+
+    @property
+    def contact_radius(self) -> float:
+        """The feet's radius (0 for points): a foot touches flat ground at height h when its point
+        (the sphere's centre) is at h + radius."""
+        return max(c.radius for c in self.contacts)
 
     @property
     def effort_limits(self) -> FloatArray:
@@ -56,8 +54,8 @@ class Robot:
         return self.model.effort_limits[[self.model.joint_index(j) for j in self.actuated]]
 
 
-def _robot(name: str, base: str, contacts: Sequence[Contact], base_q: Sequence[float], joint_q: Dict[str, float],
-           contact_radius: float = 0.0, passive: Sequence[Tuple[str, float]] = ()) -> Robot:
+def _robot(name: str, base: str, contacts: Sequence[ContactPoint], base_q: Sequence[float],
+           joint_q: Dict[str, float], passive: Sequence[Tuple[str, float]] = ()) -> Robot:
     """The Robot of models/<name>.urdf: a control on every joint but the base's and the ``passive``
     ones, in the model's joint order; on each passive (joint, stiffness) a spring of that stiffness
     about 0 and a damper of the joint's URDF damping; q0 = the base coordinates ``base_q``, then
@@ -75,7 +73,7 @@ def _robot(name: str, base: str, contacts: Sequence[Contact], base_q: Sequence[f
     q0[:len(base_q)] = base_q
     for joint, value in joint_q.items():
         q0[model.joint_index(joint)] = value
-    return Robot(name, model, urdf, base, tuple(contacts), contact_radius, q0, actuated)
+    return Robot(name, model, urdf, base, tuple(contacts), q0, actuated)
 
 
 def spring_flamingo(ankle_stiffness: float = 1.0) -> Robot:
@@ -84,7 +82,7 @@ def spring_flamingo(ankle_stiffness: float = 1.0) -> Robot:
     ankles are passive, each with a spring of ``ankle_stiffness`` N m/rad about 0 (Drake's 1 N m/rad)
     and the URDF's damper (0.1 N m s/rad). It walks toward -x; knee flexion is negative. Contacts:
     toe and heel of each foot, 0.035 m below the ankle. q0: legs straight, hip line at 0.875 m."""
-    contacts = [Contact(f"{side[0]}_{where}", f"{side}_foot", (x, 0.0, -0.035))
+    contacts = [ContactPoint(f"{side}_foot", (x, 0.0, -0.035), name=f"{side[0]}_{where}")
                 for side in ("left", "right") for where, x in (("toe", -0.1725), ("heel", 0.0575))]
     return _robot("spring_flamingo", "planar", contacts, [0.0, 0.875, 0.0], {},
                   passive=[("left_ankle", ankle_stiffness), ("right_ankle", ankle_stiffness)])
@@ -105,10 +103,9 @@ def littledog() -> Robot:
         joint_q[f"{leg}_hip_roll"] = 0.1 if left else -0.1
         joint_q[f"{leg}_hip_pitch"] = 1.0 if front else -1.0
         joint_q[f"{leg}_knee"] = -1.55 if front else 1.55
-        contacts.append(Contact(f"{leg[0]}{leg.split('_')[1][0]}_foot", f"{leg}_lower_leg",
-                                (-0.0265 if front else 0.0265, 0.0, -0.0985)))
-    return _robot("littledog", "floating", contacts, [0.0, 0.0, 0.146, 0.0, 0.0, 0.0], joint_q,
-                  contact_radius=0.0103)
+        contacts.append(ContactPoint(f"{leg}_lower_leg", (-0.0265 if front else 0.0265, 0.0, -0.0985),
+                                     radius=0.0103, name=f"{leg[0]}{leg.split('_')[1][0]}_foot"))
+    return _robot("littledog", "floating", contacts, [0.0, 0.0, 0.146, 0.0, 0.0, 0.0], joint_q)
 
 
 _ATLAS_KNEE = 0.8  # the stance's knee flexion (rad); hip and ankle pitch by half of it keep pelvis and soles level
@@ -129,7 +126,7 @@ def atlas() -> Robot:
     # hip pitch 0.066 m below the pelvis, the thigh (-0.05, 0, -0.374) and the 0.422 m shin pitched,
     # the sole 0.07645 m below the ankle
     height = 0.066 + 0.05 * np.sin(half) + (0.374 + 0.422) * np.cos(half) + 0.07645
-    contacts = [Contact(f"{s}_{end}_{side}", f"{s}_foot", (x, y, -0.07645))
+    contacts = [ContactPoint(f"{s}_foot", (x, y, -0.07645), name=f"{s}_{end}_{side}")
                 for s, sides in (("l", (("out", 0.066), ("in", -0.0626))), ("r", (("in", 0.0626), ("out", -0.066))))
                 for end, x in (("heel", -0.0876), ("toe", 0.1728)) for side, y in sides]
     return _robot("atlas", "floating", contacts, [0.0, 0.0, height, 0.0, 0.0, 0.0], joint_q)

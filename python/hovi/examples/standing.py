@@ -78,10 +78,9 @@ def standing(name: str, dt: float | None = None, frequency: float | None = None,
     robot = builders[name]()
     f, kp_min, legs, dt0 = GAINS[name]
     plane = "xz" if robot.base == "planar" else ""
-    terrain = Terrain(ground=robot.contact_radius)  # the foot spheres' centres touch it: the statics at q0
-    statics = Contacts(robot.model, robot.contact_points, terrain, mu=DEFAULT_FRICTION, plane=plane)
-    u = static_controls(statics.model, robot.q0)[:statics.m_user]
+    statics = Contacts(robot.model, robot.contact_points, Terrain(), mu=DEFAULT_FRICTION, plane=plane)  # at q0
+    u = static_controls(statics.with_inputs, robot.q0)[:statics.m_user]
     model = pd_model(robot, f if frequency is None else frequency, kp_min, legs)
-    contacts = Contacts(model, robot.contact_points, Terrain(ground=ground + robot.contact_radius), mu=mu, plane=plane)
+    contacts = Contacts(model, robot.contact_points, Terrain(ground=ground), mu=mu, plane=plane)
     integrator = Integrator(model, s=s, dt=dt0 if dt is None else dt, contacts=contacts)
     return Standing(robot, model, contacts, integrator, robot.q0.copy(), u)

@@ -12,7 +12,7 @@ into an ``NLP``; a solver (``Ipopt``; ``ContactHomotopy`` for contacts, over ``I
     result = trajopt.solve(prob, trajopt.VI(s=2))   # or trajopt.HermiteSimpson("implicit")
     traj = result.replay()                          # the same integrator, simulating the controls
 """
-from .complementarity import Branches, ComplementarityRelaxation, ContactRows
+from .complementarity import Sides, ComplementarityRelaxation, ContactRows
 from .costs import CallbackCost, ControlEffort, Cost, StateTracking, TerminalCost
 from .hermite_simpson import HermiteSimpson
 from .input_constraints import InputConstraint
@@ -28,5 +28,5 @@ from .variational import VI
 __all__ = ["Problem", "VI", "HermiteSimpson", "DEFAULT_TRANSCRIPTION", "TranscriptionMethod", "Transcription",
            "NLP", "Solver", "NLPSolver", "Ipopt", "FDDP", "ContactHomotopy", "solve", "solve_contact", "Result", "Guess",
            "Cost", "ControlEffort", "StateTracking", "TerminalCost", "CallbackCost", "PathConstraint", "BodyPoint",
-           "Clearance", "CallbackPathConstraint", "PoseHeld", "InputConstraint", "ContactRows", "Branches",
+           "Clearance", "CallbackPathConstraint", "PoseHeld", "InputConstraint", "ContactRows", "Sides",
            "ComplementarityRelaxation"]

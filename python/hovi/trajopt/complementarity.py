@@ -15,11 +15,11 @@ the contact point's velocity over the interval [t_i, t_{i+1}]. Per contact c and
 and, at the last point (no later motion to act on), its contact inputs equal those of the point
 before (2 + d rows, [0, 0]).
 
-``branches`` replaces the relaxed products by a choice per pair (``Branches``): either the input
+``sides`` replaces the relaxed products by a choice per pair (``Sides``): either the input
 is zero (a fixed variable: ``fixed_inputs``) or the gap-like row is zero (an equality); the
 product rows are then dropped from the bounds (-inf, inf). That is a smooth NLP whose solution
 satisfies the complementarity exactly (``hovi.trajopt.solve_contact`` uses it to finish).
-A ``ComplementarityRelaxation`` (epsilon, branches) is what the NLP is given
+A ``ComplementarityRelaxation`` (epsilon, sides) is what the NLP is given
 (``hovi.trajopt.NLP(problem, transcription, relaxation=...)``); the Problem holds no relaxation.
 
 The transcription gives the offsets of q_j and of the controls u_j at its configuration points
@@ -48,7 +48,7 @@ if TYPE_CHECKING:
 
 
 @dataclass
-class Branches:
+class Sides:
     """One side of every complementarity pair, (E, C) booleans each (E = P - 1 pairs, C contacts):
     True where the gap-like quantity is zero (an equality row), False where the input is zero."""
     normal: np.ndarray     # phi = 0 (else lambda = 0)
@@ -59,11 +59,11 @@ class Branches:
 @dataclass(frozen=True, eq=False)
 class ComplementarityRelaxation:
     """How the NLP states the complementarity products of a problem's contacts: bounded by
-    ``epsilon`` >= 0 (Scholtes' relaxation), or, with ``branches``, one side of every pair fixed
-    (the exact conditions as a smooth NLP). epsilon = 0 without branches is the exact conditions,
+    ``epsilon`` >= 0 (Scholtes' relaxation), or, with ``sides``, one side of every pair fixed
+    (the exact conditions as a smooth NLP). epsilon = 0 without sides is the exact conditions,
     which IPOPT cannot solve directly (the NLP refuses them)."""
     epsilon: float = 0.0
-    branches: Optional[Branches] = None
+    sides: Optional[Sides] = None
 
     def __post_init__(self):
         if not (np.isfinite(self.epsilon) and self.epsilon >= 0):
@@ -72,19 +72,19 @@ class ComplementarityRelaxation:
 
     @property
     def exact(self) -> bool:
-        """True for the exact conditions with no branches (not a smooth NLP)."""
-        return self.epsilon == 0 and self.branches is None
+        """True for the exact conditions with no sides (not a smooth NLP)."""
+        return self.epsilon == 0 and self.sides is None
 
 
 class ContactRows:
     """The complementarity rows of ``contacts`` on the configuration points of the transcription
-    ``tr``, with the products bounded by ``epsilon`` or one side of every pair fixed (``branches``)."""
+    ``tr``, with the products bounded by ``epsilon`` or one side of every pair fixed (``sides``)."""
 
     def __init__(self, contacts: Contacts, tr: Transcription, epsilon: float,
-                 branches: Optional[Branches] = None) -> None:
+                 sides: Optional[Sides] = None) -> None:
         if not (np.isfinite(epsilon) and epsilon >= 0):
             raise ValueError(f"the complementarity relaxation must be finite and >= 0, got {epsilon}")
-        self.contacts, self.epsilon, self.branches = contacts, float(epsilon), branches
+        self.contacts, self.epsilon, self.sides = contacts, float(epsilon), sides
         self.t, self.q_off = tr.q_points()
         self.u_off = tr.u_points()
         P, C, d, n = len(self.t), contacts.n_contacts, contacts.d, tr.n
@@ -110,7 +110,7 @@ class ContactRows:
         products = slice(self._row(2 + d, 0), self.n_pair_rows)
         lower[products], upper[products] = -np.inf, self.epsilon
         upper[self.n_pair_rows:] = 0.0  # hold rows: equalities
-        b = self.branches
+        b = self.sides
         if b is not None:
             lower[products], upper[products] = -np.inf, np.inf
             gaps = np.concatenate([b.normal.ravel(), b.cone.ravel(), b.friction.transpose(2, 0, 1).ravel()])
@@ -118,8 +118,8 @@ class ContactRows:
         return lower, upper
 
     def fixed_inputs(self) -> np.ndarray:
-        """Offsets in x (k,) of the contact inputs that the branches fix at zero (none when relaxed)."""
-        b = self.branches
+        """Offsets in x (k,) of the contact inputs that the sides fix at zero (none when relaxed)."""
+        b = self.sides
         if b is None:
             return np.zeros(0, dtype=np.int64)
         parts = [self.input_offsets("normal")[~b.normal], self.input_offsets("slack")[~b.cone]]
@@ -173,14 +173,14 @@ class ContactRows:
         """Contact positions X (P, C, 3) and their Jacobians J (P, C, 3, n) at all points of x (n_variables,)."""
         Q = x[self.q_off[:, None] + np.arange(self.n)]
         points = self.contacts.points
-        return _core.body_point_kinematics(self.contacts.model, Q, [c.body for c in points],
+        return _core.body_point_kinematics(self.contacts.with_inputs, Q, [c.body for c in points],
                                                    np.array([c.point for c in points]))
 
     def quantities(self, x: np.ndarray) -> dict:
         """The pair quantities at x: phi, psi (E, C), zeta (E, C, d), lambda, gamma (E, C), beta (E, C, d)."""
         X, _ = self.kinematics(x)
         ct = self.contacts
-        phi = ct.terrain.gap(X[1:].reshape(-1, 3)).reshape(self.E, self.C)
+        phi = ct.core_model().gaps(X[1:])
         lam, gam = x[self.input_offsets("normal")], x[self.input_offsets("slack")]
         beta = np.stack([x[self.input_offsets("friction", k)] for k in range(self.d)], axis=-1)
         v = (X[1:] - X[:-1]) / self.dt[:, None, None]
@@ -192,12 +192,12 @@ class ContactRows:
         """These rows in C++ (complementarity_rows.hpp): values, the Jacobian's values in the order
         of (rows, cols), and their exact Hessian, for the NLP's program over ``n_variables``."""
         ct = self.contacts
-        return _core.trajopt.ComplementarityRows(ct.model, n_variables, ct.core_model(), ct.first_input, self.t,
+        return _core.trajopt.ComplementarityRows(ct.with_inputs, n_variables, ct.core_model(), ct.first_input, self.t,
                                                  self.q_off.astype(np.int32), self.u_off.astype(np.int32))
 
     def violations(self, x: np.ndarray) -> dict:
         """Largest penetration, friction-cone violation and complementarity product at x (n_variables,)
-        (the products of the pairs, whatever the relaxation or branches)."""
+        (the products of the pairs, whatever the relaxation or sides)."""
         k = self.quantities(x)
         cone = np.concatenate([k["psi"].ravel(), k["zeta"].ravel()])
         products = np.concatenate([(k["lambda"] * k["phi"]).ravel(), (k["gamma"] * k["psi"]).ravel(),

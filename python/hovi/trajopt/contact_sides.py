@@ -1,6 +1,6 @@
 """Reading the sides of the complementarity pairs off a (relaxed) solution, for the exact solve of
 a contact-implicit problem (``hovi.trajopt.solve_contact``): which side of every pair is zero
-(``branches_of``), another transcription's sides at these pairs (``branches_from``), the
+(``sides_of``), another transcription's sides at these pairs (``sides_of_solution``), the
 friction inputs reduced to one direction where the contact sticks (``canonical``), and the least
 sliding slacks of a solution (``least_slack``)."""
 from __future__ import annotations
@@ -9,7 +9,7 @@ from typing import List, Tuple
 
 import numpy as np
 
-from .complementarity import Branches, ContactRows
+from .complementarity import Sides, ContactRows
 
 
 def opposite_pairs(D: np.ndarray) -> List[Tuple[int, int]]:
@@ -30,7 +30,7 @@ def canonical(rows: ContactRows, x: np.ndarray) -> np.ndarray:
     return x
 
 
-def branches_of(rows: ContactRows, x: np.ndarray) -> Branches:
+def sides_of(rows: ContactRows, x: np.ndarray) -> Sides:
     """The side of every complementarity pair that is zero at (a relaxed solution) x: each input
     is converted to what it does to its gap-like partner over the pair's interval dt, through the
     contact point's mobility J M^-1 J^T at the force's configuration (a normal force lambda moves
@@ -38,7 +38,7 @@ def branches_of(rows: ContactRows, x: np.ndarray) -> Branches:
     a cone margin psi its sliding speed by psi w dt), and the smaller of the two is zero."""
     k = rows.quantities(x)
     _, J = rows.kinematics(x)
-    model, D, P = rows.contacts.model, rows.contacts.D, rows.E
+    model, D, P = rows.contacts.with_inputs, rows.contacts.D, rows.E
     Q = x[rows.q_off[:P, None] + np.arange(rows.n)]
     W = np.empty((P, rows.C, 3, 3))
     for i in range(P):
@@ -50,10 +50,10 @@ def branches_of(rows: ContactRows, x: np.ndarray) -> Branches:
     normal = k["phi"] < np.maximum(k["lambda"], 0) * w_n * dt ** 2
     friction = k["zeta"] < np.maximum(k["beta"], 0) * w_t * dt[..., None]
     cone = np.maximum(k["psi"], 0) * w_t.max(-1) * dt < k["gamma"]
-    return Branches(normal=normal, cone=cone, friction=friction)
+    return Sides(normal=normal, cone=cone, friction=friction)
 
 
-def branches_from(rows: ContactRows, result) -> Branches:
+def sides_of_solution(rows: ContactRows, result) -> Sides:
     """The sides of the pairs of ``result`` (a solution of the same contacts with another
     transcription or order, e.g. the trapezoidal VI's) at the pairs of ``rows``: each pair takes the
     sides of the result's pair whose interval holds its point. Read at the result's own points,
@@ -61,10 +61,10 @@ def branches_from(rows: ContactRows, result) -> Branches:
     an interval with a force gets its interpolated force and a side of its own, which disagree
     (bench/README.md, "Design measurements")."""
     coarse = ContactRows(rows.contacts, result.transcription, 0.0)
-    B = branches_of(coarse, canonical(coarse, result.x))
+    B = sides_of(coarse, canonical(coarse, result.x))
     slack = 1e-9 * coarse.dt.min()                                 # a fine point on a coarse one is in its pair
     j = np.clip(np.searchsorted(coarse.t, rows.t[:-1] + slack, side="right") - 1, 0, coarse.E - 1)
-    return Branches(B.normal[j], B.cone[j], B.friction[j])
+    return Sides(B.normal[j], B.cone[j], B.friction[j])
 
 
 def least_slack(rows: ContactRows, x: np.ndarray) -> np.ndarray:

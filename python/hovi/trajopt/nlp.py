@@ -86,9 +86,9 @@ class NLP:
         if self.problem.contacts is not None:
             if relaxation is None or relaxation.exact:
                 raise ValueError("a problem with contacts needs hovi.trajopt.solve_contact (or an NLP with a "
-                                 "relaxation, ComplementarityRelaxation(epsilon > 0) or branches): IPOPT cannot "
+                                 "relaxation, ComplementarityRelaxation(epsilon > 0) or sides): IPOPT cannot "
                                  "solve the exact complementarity conditions directly")
-            cr = self.contact_rows = ContactRows(self.problem.contacts, tr, relaxation.epsilon, relaxation.branches)
+            cr = self.contact_rows = ContactRows(self.problem.contacts, tr, relaxation.epsilon, relaxation.sides)
             fixed = cr.fixed_inputs()
             self.lower[fixed] = self.upper[fixed] = 0.0
             rows, cols = np.concatenate([rows, row0 + cr.rows]), np.concatenate([cols, cr.cols])

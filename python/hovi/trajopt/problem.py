@@ -153,15 +153,15 @@ class Problem:
 
     def add_contacts(self, contacts: Contacts) -> Problem:
         """Add rigid contacts with the terrain (``hovi.contact.Contacts``, built on this problem's
-        robot; the Problem must be made with ``contacts.model``): their inputs get the bounds
+        robot; the Problem must be made with ``contacts.with_inputs``): their inputs get the bounds
         [0, inf) and the complementarity conditions are added to the NLP. Solve with
         ``hovi.trajopt.solve_contact``. Returns self."""
         if not isinstance(contacts, Contacts):
             raise TypeError(f"expected hovi.contact.Contacts, got {type(contacts).__name__}")
         if self.contacts is not None:
             raise ValueError("the problem has contacts already (put every contact point in one Contacts)")
-        if contacts.model is not self.model:
-            raise ValueError("build the Problem with contacts.model (the model with the contact force inputs)")
+        if contacts.with_inputs is not self.model:
+            raise ValueError("build the Problem with contacts.with_inputs (the model with the contact force inputs)")
         if self.controls != "per_point":
             raise ValueError("contacts need controls='per_point' (a contact force at every control point)")
         lo, hi = contacts.input_bounds()

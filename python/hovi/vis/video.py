@@ -129,13 +129,13 @@ class ForceArrows:
             self.names = [f"contact_{c}" for c in range(C)]
 
     @classmethod
-    def from_contacts(cls, trajectory: Any, contacts: Any, weight: Optional[float] = None, radius: float = 0.0,
+    def from_contacts(cls, trajectory: Any, contacts: Any, weight: Optional[float] = None,
                       length: Optional[float] = None, names: Optional[Sequence[str]] = None) -> "ForceArrows":
         """The contact forces of a rollout with contacts: its ``contact`` record's world impulses
         divided by dt, acting at t[k] (step k's impulses act at q[k]), drawn for the active contacts;
         ``weight`` (default: the model's weight, total mass times gravity) is drawn ``length`` m long;
-        ``radius``: the contact points are the centres of foot spheres of this radius (the arrows
-        start where they touch the ground)."""
+        contacts with a radius (foot spheres) have their arrows start where they touch the ground;
+        ``names`` default to the contacts' own."""
         record = trajectory.contact
         if record is None:
             raise ValueError("this trajectory has no contact record (simulate with Integrator(..., contacts=...))")
@@ -143,8 +143,11 @@ class ForceArrows:
         K = record.normal.shape[0]
         dt = float(t[1] - t[0]) if len(t) > 1 else 1.0
         if weight is None:
-            model = contacts.model
+            model = contacts.with_inputs
             weight = float(model.total_mass * np.linalg.norm(np.asarray(model.gravity, dtype=float)))
+        radius = max(c.radius for c in contacts.points)
+        if names is None and all(c.name for c in contacts.points):
+            names = [c.name for c in contacts.points]
         return cls([c.body for c in contacts.points], np.array([c.point for c in contacts.points]), t[:K],
                    np.asarray(record.world_impulses) / dt, float(weight), np.asarray(record.active), length,
                    np.array([0.0, 0.0, -float(radius)]), names)

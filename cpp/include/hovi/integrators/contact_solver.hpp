@@ -57,7 +57,7 @@ class ContactSolver {
     MatX R, R0;    // n x s: the residual with and without the impulses
     VecX p_next;   // p^{k+1}
     MatX Xe, Je;   // 3 x C and 3C x n: contact points and their Jacobians at q^{k+1}
-    VecX h, phi;   // C: the terrain's height below each point, the gaps
+    VecX h, phi;   // C: the height each point keeps (the terrain's below it plus its radius), the gaps
     VecX w, nu;    // unknowns(): the complements and the natural residual min(z, w)
   };
   struct Step;  // the Problem of newton_iterate (contact_solver.cpp)

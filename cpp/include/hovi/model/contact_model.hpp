@@ -28,9 +28,12 @@ struct Terrain {
   void check() const;
 };
 
+// A contact of a body: the point (in the body's joint frame), or the centre of a sphere of `radius`
+// (a round foot), which touches the terrain when the centre is `radius` above it.
 struct ContactPoint {
   int body;
-  Vec3 point;  // in the body's joint frame
+  Vec3 point;
+  double radius = 0;
 };
 
 struct ContactModel {
@@ -45,6 +48,10 @@ struct ContactModel {
   // sliding displacement γ_c (Stewart-Trinkle's slack), at c * per_contact() + 0, 1..d, d+1.
   int per_contact() const { return d() + 2; }
   int unknowns() const { return size() * per_contact(); }
+  // The height contact c's point (its centre) keeps above the terrain at (x, y): the terrain's height
+  // plus the contact's radius; its gap φ_c at the point's world position x is x.z - surface(c, x).
+  double surface(int c, const Vec3& x) const { return terrain.height(x[0], x[1]) + points[c].radius; }
+  double gap(int c, const Vec3& x) const { return x[2] - surface(c, x); }
   // The world impulse of contact c for the step's unknowns z: λ_c e_z + D^T β_c.
   Vec3 world_impulse(const Eigen::Ref<const VecX>& z, int c) const {
     return z[c * per_contact()] * Vec3::UnitZ() + D.transpose() * z.segment(c * per_contact() + 1, d());

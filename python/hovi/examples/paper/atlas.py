@@ -74,7 +74,7 @@ def build(quick: bool = False) -> Example:
     centre, X, Y = sole(robot, "r")
     left_centre = sole(robot, "l")[0]
     foot = FlatFoot(robot.model, "r_foot", centre, X, Y, mu=DEFAULT_FRICTION, q0=qs)
-    model = foot.model
+    model = foot.with_inputs
     hand0, _ = body_point(robot, qs, "l_hand", np.zeros(3))
     ball = hand0 + reach * np.asarray(BALL)
     prob = Problem(model, N=N, T=T)

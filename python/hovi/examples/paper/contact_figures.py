@@ -19,7 +19,6 @@ from typing import Any, Callable, Dict, Optional, Sequence, Tuple
 
 import numpy as np
 
-from ... import _core
 from ...contact import Contacts
 from ...trajopt import Result
 
@@ -57,13 +56,12 @@ def between_knot_penetration(result: Result, gaps: Callable[[np.ndarray], np.nda
 
 
 def contact_gaps(contacts: Contacts) -> Callable[[np.ndarray], np.ndarray]:
-    """gaps(q (K, n)) -> (K, C): the signed gaps of ``contacts``' points to its terrain, batched."""
-    bodies = [c.body for c in contacts.points]
-    local = np.array([c.point for c in contacts.points])
+    """gaps(q (K, n)) -> (K, C): the signed gaps of ``contacts`` to its terrain, batched."""
+    core = contacts.core_model()
 
     def gaps(q: np.ndarray) -> np.ndarray:
-        X, _ = _core.body_point_kinematics(contacts.model, np.atleast_2d(q), bodies, local)
-        return contacts.terrain.gap(X.reshape(-1, 3)).reshape(len(X), -1)
+        phi: np.ndarray = core.gaps(contacts.positions(np.atleast_2d(q)))
+        return phi
     return gaps
 
 

@@ -157,7 +157,7 @@ def feet_above_ground(robot: Robot, dt: float) -> List[trajopt.BodyPoint]:
     between the samples the path may sag a little further."""
     return [trajopt.BodyPoint(body, point, axes="z", lower=[-FEET_BELOW], window=(0.0, T),
                               between=samples_between(dt, SAMPLE_SPACING))
-            for body, point in robot.contact_points]
+            for body, point in ((c.body, c.point) for c in robot.contacts)]
 
 
 def build(quick: bool = False) -> Example:
@@ -168,7 +168,7 @@ def build(quick: bool = False) -> Example:
     N = 22 if quick else 44
     plan = JumpPlan(robot)
     contacts = Contacts(robot.model, robot.contact_points, Terrain(), mu=DEFAULT_FRICTION, plane="xz")
-    model = contacts.model
+    model = contacts.with_inputs
     prob = Problem(model, N=N, T=T)
     prob.initial_state(plan.configurations(0.0)[0], plan.velocities(0.0)[0])
     prob.add_cost(trajopt.ControlEffort(weight=contacts.effort_weights(1e-3)))
@@ -188,7 +188,7 @@ def build(quick: bool = False) -> Example:
         prob.add_constraint(trajopt.BodyPoint(f"{side}_lower_leg", lower=KNEE_HEIGHT, axes="z", window=(0.0, T)))
     between = samples_between(prob.dt, SAMPLE_SPACING)
     for cx, cz in obstacle_circles(OBSTACLE):
-        for body, point in robot.contact_points:
+        for body, point in ((c.body, c.point) for c in robot.contacts):
             prob.add_constraint(trajopt.Clearance(body, point, center=(cx, 0.0, cz), radius=CIRCLE_RADIUS, axes="xz",
                                                   window=(0.0, T), between=between))
     for constraint in feet_above_ground(robot, prob.dt):

@@ -68,8 +68,8 @@ QUICK_EPSILONS = (1e-3,)
 
 
 def terrain(robot: Robot, course: Course) -> Terrain:
-    """Ground under the foot-sphere centres (the surface plus the radius) with the course's gaps."""
-    return Terrain(ground=robot.contact_radius, gaps=[Gap(x, x + course.width, GAP_DEPTH) for x in course.gaps])
+    """The ground at z = 0 with the course's gaps (the feet are spheres: their contacts have the radius)."""
+    return Terrain(ground=0.0, gaps=[Gap(x, x + course.width, GAP_DEPTH) for x in course.gaps])
 
 
 def feet_at(robot: Robot, q: np.ndarray) -> np.ndarray:
@@ -80,8 +80,8 @@ def feet_at(robot: Robot, q: np.ndarray) -> np.ndarray:
 
 def _feet_kinematics(robot: Robot, q: np.ndarray):
     m = robot.model
-    bodies = [m.body_index(b) for b, _ in robot.contact_points]
-    points = np.array([p for _, p in robot.contact_points])
+    bodies = [m.body_index(c.body) for c in robot.contacts]
+    points = np.array([c.point for c in robot.contacts])
     X, J = _core.body_point_kinematics(m, np.asarray(q, float)[None], bodies, points)
     return X[0], J[0]
 
@@ -158,7 +158,7 @@ class Gait:
     def foot(self, f: int, t: float) -> np.ndarray:
         """The centre (3,) of foot f at time t: on its last foothold, or swinging (x by a smooth step,
         z up by height sin^2) to the next."""
-        x0, ground = self.home[f, 0], self.terrain.ground
+        x0, ground = self.home[f, 0], self.terrain.ground + self.robot.contact_radius  # a resting centre
         for lift, land, x in self.steps[f]:
             if t < lift:
                 break
@@ -206,7 +206,7 @@ class Gait:
         """The guess's controls (m,) at time t (see ``guess``), q_next (n,) the configuration at t + dt."""
         down = self.on_ground(t) & self.on_ground(t + dt)  # a landing foot slides in the guess: no load
         columns = list(range(contacts.m_user)) + [contacts.input_index(f, "normal") for f in range(4) if down[f]]
-        u = static_controls(contacts.model, q_next, columns)
+        u = static_controls(contacts.with_inputs, q_next, columns)
         for f in range(4):
             velocity = (self.foot(f, t + dt) - self.foot(f, t)) / dt
             u[contacts.input_index(f, "slack")] = np.abs(velocity[:2]).max()
@@ -219,15 +219,15 @@ FEET_BELOW = BETWEEN_TOLERANCE / 2  # m: feet_above_ground lets a foot-sphere ce
 
 def feet_above_ground(robot: Robot, terrain: Terrain, T: float, dt: float, below: float) -> List[trajopt.BodyPoint]:
     """Every foot-sphere centre no lower than ``below`` under its resting height on the ground
-    (``terrain.ground``), gaps included, at every configuration point and every SAMPLE_SPACING
+    (``terrain.ground`` plus the radius), gaps included, at every configuration point and every SAMPLE_SPACING
     between each two. The contact rows act at the configuration points only; between them a swing
     foot follows the trajectory's polynomial, which without this bound swung through the ground and
     a gap's wall. Below the resting height, not at it, so as not to duplicate the contact rows: the
     example's FEET_BELOW (half the between-knot tolerance, as the Flamingo's), its warm-up's half a
     radius (bench/README.md, "Design measurements", littledog.py)."""
-    return [trajopt.BodyPoint(body, point, axes="z", lower=[terrain.ground - below],
+    return [trajopt.BodyPoint(c.body, c.point, axes="z", lower=[terrain.ground + c.radius - below],
                               window=(0.0, T), between=samples_between(dt, SAMPLE_SPACING))
-            for body, point in robot.contact_points]
+            for c in robot.contacts]
 
 
 def gap_clearances(robot: Robot, terrain: Terrain, T: float, dt: float) -> List[trajopt.Clearance]:
@@ -242,17 +242,17 @@ def gap_clearances(robot: Robot, terrain: Terrain, T: float, dt: float) -> List[
     keeping the feet out from under them (what happened without them: bench/README.md, "Design
     measurements", littledog.py, and "What the checks see between the points")."""
     r = robot.contact_radius
-    return [trajopt.Clearance(body, point, center=((g.x0 + g.x1) / 2, 0.0, terrain.ground - r),
+    return [trajopt.Clearance(c.body, c.point, center=((g.x0 + g.x1) / 2, 0.0, terrain.ground),
                               radius=(g.x1 - g.x0) / 2 + r, axes="xz", window=(0.0, T),
                               between=samples_between(dt, SAMPLE_SPACING))
-            for g in terrain.gaps for body, point in robot.contact_points]
+            for g in terrain.gaps for c in robot.contacts]
 
 
 def mouth_clearance(terrain: Terrain, radius: float, centres: np.ndarray) -> float:
     """How far the foot spheres (centres (P, 3)) that are over a gap's mouth keep from its edges:
     for a centre above the ground's surface the distance to the nearer edge's corner, below it to
     the nearer wall, less the radius; negative: the sphere cuts an edge. inf if none is over a gap."""
-    x, z = centres[:, 0], centres[:, 2] - (terrain.ground - radius)      # height above the surface
+    x, z = centres[:, 0], centres[:, 2] - terrain.ground      # height above the surface
     out = np.inf
     for g in terrain.gaps:
         over = (x > g.x0) & (x < g.x1)
@@ -300,13 +300,12 @@ BOUNDS = {"constraint_violation": ("<=", 1e-6), **CONTACT_BOUNDS, "friction_beyo
 
 
 def scenery(robot: Robot, terrain: Terrain, x_range: Tuple[float, float]) -> Scenery:
-    """Boxes for the pieces of ground between the gaps over x_range, 0.3 m wide, their tops where
-    the foot spheres touch them (the terrain's height less the radius); the gaps are left open."""
+    """Boxes for the pieces of ground between the gaps over x_range, 0.3 m wide, their tops the
+    terrain's surface; the gaps are left open."""
     out = Scenery()
     for x0, x1, h in terrain.segments(x_range):
         if h >= terrain.ground:
-            top = h - robot.contact_radius
-            out.add("box", (x1 - x0, 0.3, 0.02), ((x0 + x1) / 2, 0.0, top - 0.01), (0.55, 0.6, 0.55, 1.0))
+            out.add("box", (x1 - x0, 0.3, 0.02), ((x0 + x1) / 2, 0.0, h - 0.01), (0.55, 0.6, 0.55, 1.0))
     return out
 
 
@@ -341,7 +340,7 @@ def build(quick: bool = False) -> Example:
 def problem(robot: Robot, course: Course, ground: Terrain, contacts: Contacts, q0: np.ndarray,
             below: float) -> Problem:
     """The walk's problem, its feet within ``below`` of the ground between the points."""
-    model = contacts.model
+    model = contacts.with_inputs
     prob = Problem(model, N=course.N, T=course.T)
     prob.initial_state(q0)
     prob.add_cost(trajopt.ControlEffort(weight=contacts.effort_weights(1e-2)))

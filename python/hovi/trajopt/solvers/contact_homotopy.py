@@ -5,13 +5,13 @@ found.
 1. The complementarity products of a Problem with contacts (hovi.contact.Contacts) are bounded by
    epsilon (Scholtes' relaxation: ``ComplementarityRelaxation(epsilon)`` given to the NLP), and
    epsilon is driven down over IPOPT solves, each started from the last solution.
-2. After each relaxed solve with epsilon <= FINISH_BELOW, ``hovi.trajopt.contact_sides.branches_of`` reads which
+2. After each relaxed solve with epsilon <= FINISH_BELOW, ``hovi.trajopt.contact_sides.sides_of`` reads which
    side of every pair is zero: each input is converted, through the contact point's mobility
    J M^-1 J^T, to what it does to its partner over the interval (a normal force to a
    displacement, a friction force to a velocity change), and the smaller side is zero; where the
    contact sticks, the friction inputs of opposite directions are first reduced by their common
    part (``hovi.trajopt.contact_sides.canonical``). With those sides fixed (``ComplementarityRelaxation(0,
-   branches)``: an input fixed at zero, or the gap, cone or sliding row as an equality) the
+   sides)``: an input fixed at zero, or the gap, cone or sliding row as an equality) the
    problem is a smooth NLP; its solution satisfies complementarity exactly and the free phases
    carry exactly zero contact force. If it fails, the homotopy goes on.
 
@@ -29,7 +29,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from ..complementarity import ComplementarityRelaxation, ContactRows
-from ..contact_sides import branches_from, branches_of, canonical, least_slack
+from ..contact_sides import sides_of_solution, sides_of, canonical, least_slack
 from ..nlp import NLP
 from ..problem import Problem
 from ..result import Result
@@ -106,14 +106,14 @@ class ContactHomotopy(Solver):
         near = {} if sides_from is None else {k: v for k, v in NEAR_START_OPTIONS.items()
                                               if k not in self.ipopt.options}
 
-        def run(start, epsilon, branches=None):
+        def run(start, epsilon, sides=None):
             nonlocal wall
             opts = dict(near)
             if epsilon > 0:
                 opts["tol"] = self.ipopt.options.get("tol", RELAXED_TOL)
             if deadline is not None:
                 opts["max_cpu_time"] = max(1.0, deadline - time.perf_counter())
-            nlp = NLP(problem, tr, relaxation=ComplementarityRelaxation(epsilon, branches))
+            nlp = NLP(problem, tr, relaxation=ComplementarityRelaxation(epsilon, sides))
             r = self.ipopt.with_options(opts).solve_nlp(nlp, start)
             solves.append((epsilon, r.iterations, r.success))
             wall += r.wall_seconds
@@ -127,7 +127,7 @@ class ContactHomotopy(Solver):
             rows = ContactRows(problem.contacts, tr, 0.0)
             x0 = canonical(rows, tr.initial_guess(sides_from.as_guess()))
             relaxed = tr.at(x0, f"the interpolation of {sides_from.transcription.name}'s solution", True)
-            attempt = run(relaxed, 0.0, branches_from(rows, sides_from))
+            attempt = run(relaxed, 0.0, sides_of_solution(rows, sides_from))
             exact = attempt if attempt.success else None
             schedule = [e for e in eps if e <= finish_below] or eps   # near the answer: the small relaxations only
         first = 0 if resumed is None else schedule.index(resumed[0])
@@ -143,7 +143,7 @@ class ContactHomotopy(Solver):
             if relaxed.success and epsilon <= finish_below and not out_of_time():
                 rows = ContactRows(problem.contacts, tr, epsilon)
                 start = dataclasses.replace(relaxed, x=canonical(rows, relaxed.x))
-                attempt = run(start, 0.0, branches_of(rows, start.x))
+                attempt = run(start, 0.0, sides_of(rows, start.x))
                 if attempt.success:
                     exact = attempt
                     break
@@ -202,7 +202,7 @@ def solve_contact(problem: Problem, transcription: TranscriptionMethod = DEFAULT
     order, e.g. the trapezoidal VI, whose contact model is well posed and whose solves are cheap):
     before any relaxed solve, the exact solve on the sides of the complementarity pairs that its
     solution shows (each pair here takes the sides of its pair whose interval holds the point:
-    ``branches_from``), started from its interpolation; if it fails (a transition between contact phases the two discretisations
+    ``sides_of_solution``), started from its interpolation; if it fails (a transition between contact phases the two discretisations
     place differently), the homotopy runs from the interpolation over the epsilons <= ``finish_below``
     (from its start, close to the answer, the large relaxations are not needed). These solves run
     with NEAR_START_OPTIONS under ``options`` (a monotone barrier from mu = 1e-6: IPOPT's defaults
