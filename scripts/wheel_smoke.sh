@@ -81,7 +81,7 @@ for heavy in ("matplotlib", "scipy", "meshcat", "tqdm"):
 
 model = hovi.Model.from_urdf(sys.argv[1])
 assert model.n == 2 and model.joint_names == ["shoulder", "elbow"], model.joint_names
-integ = hovi.Integrator(model, order=4, dt=0.01)
+integ = hovi.Integrator(model, s=2, dt=0.01)
 q0, qd0 = np.array([0.8, -0.4]), np.array([0.0, 0.5])
 q1, p1, info = integ.step(q0, integ.momentum(q0, qd0))
 assert info.converged and np.all(np.isfinite(q1)) and np.all(np.isfinite(p1))
@@ -97,8 +97,9 @@ assert A is not None and A.shape == (4, 4) and np.all(np.isfinite(A))
 # The step map of a Hamiltonian system is symplectic: A^T J A = J
 J = np.block([[np.zeros((2, 2)), np.eye(2)], [-np.eye(2), np.zeros((2, 2))]])
 assert np.allclose(A.T @ J @ A, J, atol=1e-8), A.T @ J @ A - J
-import hovi.robots
-assert [r().model.n for r in (hovi.robots.spring_flamingo, hovi.robots.littledog, hovi.robots.atlas)] == [9, 18, 36]
+from hovi.examples import robots
+assert [r().model.n for r in (robots.spring_flamingo, robots.littledog, robots.atlas)] == [9, 18, 36]
+assert list((package / "trajopt" / "solvers").glob("_ipopt*")), "the wheel has no IPOPT adapter"
 print(f"wheel-smoke: hovi {hovi.__version__} from the wheel: 500 steps, energy error {drift:.1e}, "
       f"symplectic step Jacobian, stubs, py.typed and the robots' URDFs installed")
 EOF
