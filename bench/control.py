@@ -49,7 +49,7 @@ from hovi import _core, control, trajopt
 from hovi.control import Policy
 
 import crocoddyl_baseline as cb
-from common import COMMITTED, RESULTS, hovi_commit, json_ready, update_readme_section, write_json
+from common import COMMITTED, RESULTS, hovi_commit, json_ready, markdown_table, update_readme_section, write_json
 
 LEVELS = (1e-3, 1e-5)             # re-simulation errors for "time at equal accuracy"
 HOVI_TOL, CROC_TH_STOP, MAX_ITER = 1e-9, 1e-10, 2000
@@ -614,15 +614,14 @@ def tables(res):
     c = res.get("C")
     if c:
         lines += ["### C. LQR at the upright: region of attraction", "",
-                  f"dt = {c['dt']}, s = {c['s']}, {c['seconds']} s from the offset; success as in B.", "",
-                  "| robot | grid | recovers from (other = 0) | the same without control limits | recovers from (first = 0) | grid fraction |",
-                  "|---|---|---|---|---|---|"]
-        for key, m in c["maps"].items():
-            lines.append(f"| {m['robot']} (u within ±{m['u_limits'][1]:g}) | {AXIS_NAMES[(m['robot'], m['axes'][0])]} x "
-                         f"{AXIS_NAMES[(m['robot'], m['axes'][1])]} | {m['largest_a_at_b0']:.3f} | {m['largest_a_at_b0_without_limits']:.3f} | "
-                         f"{m['largest_b_at_a0']:.3f} | "
-                         f"{100 * m['fraction']:.0f} % |")
-        lines.append("")
+                  f"dt = {c['dt']}, s = {c['s']}, {c['seconds']} s from the offset; success as in B.", ""]
+        lines += markdown_table(
+            ["robot", "grid", "recovers from (other = 0)", "the same without control limits", "recovers from (first = 0)",
+             "grid fraction"],
+            [[f"{m['robot']} (u within ±{m['u_limits'][1]:g})",
+              f"{AXIS_NAMES[(m['robot'], m['axes'][0])]} x {AXIS_NAMES[(m['robot'], m['axes'][1])]}",
+              f"{m['largest_a_at_b0']:.3f}", f"{m['largest_a_at_b0_without_limits']:.3f}", f"{m['largest_b_at_a0']:.3f}",
+              f"{100 * m['fraction']:.0f} %"] for m in c["maps"].values()]) + [""]
     d = res.get("D")
     if d:
         lines += ["### D. MPC on the cart-pole at 100 Hz", "",
@@ -636,22 +635,21 @@ def tables(res):
                          f"{r['p95_ms']:.2f} ms | {r['worst_ms']:.2f} ms | {r['over_period']} of {r['solves']} | "
                          f"{r['real_time_factor']:.1f} | {r['mean_iterations']:.2f} | {r['max_pole_error_after_push']:.3f} rad | "
                          f"{r['final_pole_error']:.4f} rad | {r['max_cart']:.2f} m | {'yes' if r['holds'] else 'no'} |")
-        lines += ["", "| horizon | s | IPOPT (first, best) | IPOPT iterations | cold FDDP | FDDP iterations | IPOPT / MPC mean solve |",
-                  "|---|---|---|---|---|---|---|"]
-        for r in d["ipopt"]:
-            lines.append(f"| {r['horizon']} | {r['s']} | {fmt_t(r['ipopt_first_seconds'])}, {fmt_t(r['ipopt_best_seconds'])} | "
-                         f"{r['ipopt_iterations']} | {fmt_t(r['fddp_cold_seconds'])} | {r['fddp_cold_iterations']} | "
-                         f"{r['ratio_ipopt_to_mpc_mean_solve']:.0f}x |")
-        lines.append("")
+        lines += [""] + markdown_table(
+            ["horizon", "s", "IPOPT (first, best)", "IPOPT iterations", "cold FDDP", "FDDP iterations",
+             "IPOPT / MPC mean solve"],
+            [[r["horizon"], r["s"], f"{fmt_t(r['ipopt_first_seconds'])}, {fmt_t(r['ipopt_best_seconds'])}",
+              r["ipopt_iterations"], fmt_t(r["fddp_cold_seconds"]), r["fddp_cold_iterations"],
+              f"{r['ratio_ipopt_to_mpc_mean_solve']:.0f}x"] for r in d["ipopt"]]) + [""]
     e = res.get("E")
     if e:
         lines += ["### E. FDDP through contact (LittleDog, 3 cm crouch)", "",
                   f"N = {e['N']}, dt = {e['dt']}, at most {e['max_iterations']} iterations.", "",
-                  "| kappa | iterations | stopped | time | cost | height change | min gap |", "|---|---|---|---|---|---|---|"]
-        for r in e["rows"]:
-            lines.append(f"| {r['kappa']:g} | {r['iterations']} | {'converged' if r['converged'] else r['status']} | "
-                         f"{fmt_t(r['solver_seconds'])} | {r['cost']:.4f} | {100 * r['height_change']:.2f} cm | {r['min_gap']:.1e} |")
-        lines.append("")
+                  ]
+        lines += markdown_table(["kappa", "iterations", "stopped", "time", "cost", "height change", "min gap"],
+                                [[f"{r['kappa']:g}", r["iterations"], "converged" if r["converged"] else r["status"],
+                                  fmt_t(r["solver_seconds"]), f"{r['cost']:.4f}", f"{100 * r['height_change']:.2f} cm",
+                                  f"{r['min_gap']:.1e}"] for r in e["rows"]]) + [""]
     return "\n".join(lines)
 
 

@@ -17,6 +17,8 @@
 #include "py_integrator.hpp"
 
 namespace hovi::py_bind {
+
+using namespace pybind11::literals;  // "name"_a = value: the keyword arguments of the result dicts
 namespace {
 
 // (K, r, c) array -> K matrices r x c
@@ -176,19 +178,10 @@ class PyStepCosts : public StepCosts {
 };
 
 StrDict fddp_dict(const FddpResult& r) {
-  StrDict d;
-  d["xs"] = r.xs;
-  d["us"] = r.us;
-  d["control_points"] = r.control_points;
-  d["impulses"] = r.impulses;
-  d["K"] = stack(r.K);
-  d["cost"] = r.cost;
-  d["stop"] = r.stop;
-  d["gaps"] = r.gaps;
-  d["iterations"] = r.iterations;
-  d["converged"] = r.converged;
-  d["feasible"] = r.feasible;
-  d["status"] = r.status;
+  StrDict d("xs"_a = r.xs, "us"_a = r.us, "control_points"_a = r.control_points, "impulses"_a = r.impulses,
+            "K"_a = stack(r.K), "cost"_a = r.cost, "stop"_a = r.stop, "gaps"_a = r.gaps,
+            "iterations"_a = r.iterations, "converged"_a = r.converged, "feasible"_a = r.feasible,
+            "status"_a = r.status);
   MatX trace(r.trace.size(), 5);
   for (std::size_t i = 0; i < r.trace.size(); ++i)
     trace.row(i) << r.trace[i].cost, r.trace[i].stop, r.trace[i].step, r.trace[i].reg, r.trace[i].gaps;
@@ -279,14 +272,8 @@ uses stage min(offset + k, S - 1)), 1 for a terminal term (the horizon's last sa
             const VecX z = impulses.is_none() ? VecX::Zero(c.impulses()) : as_vector(impulses, "impulses", c.impulses());
             if (!c.derivatives(k, as_matrix(cps, "control_points", c.s() + 1, n).transpose(), as_vector(u, "u", c.nu()), z, d))
               throw InputError("the step's DEL Jacobian is singular");
-            StrDict out;
-            out["A"] = d.A;
-            out["B"] = d.B;
-            out["lx"] = d.lx;
-            out["lu"] = d.lu;
-            out["lxx"] = d.lxx;
-            out["luu"] = d.luu;
-            out["lux"] = d.lux;
+            StrDict out("A"_a = d.A, "B"_a = d.B, "lx"_a = d.lx, "lu"_a = d.lu, "lxx"_a = d.lxx, "luu"_a = d.luu,
+                        "lux"_a = d.lux);
             return out;
           }, py::arg("k"), py::arg("control_points"), py::arg("u"), py::arg("impulses") = py::none(), R"doc(
 Step k's derivatives (through contact: at the step's impulses) at converged control points (s+1, n) with held u (m,): A (2n, 2n), B (2n, m), the cost

@@ -13,6 +13,8 @@
 
 namespace hovi::py_bind {
 
+using namespace pybind11::literals;  // "name"_a = value: the keyword arguments of the result dicts
+
 namespace {
 
 // A new array of the given shape filled with `fill` (NaN or -1: the slots of a batch that no
@@ -289,18 +291,10 @@ with contacts pivots, impulses (K, C (2 + d)), gaps (K, C), impact (K,) and step
               done[b] = ro.steps;
               status.append(attempted > ro.steps ? to_string(ro.status.back()) : std::string("converged"));
             }
-            StrDict d;
-            d["q"] = q;
-            d["p"] = mom;
-            d["control_points"] = cp;
-            d["multipliers"] = lam;
-            d["residual"] = res;
-            d["iterations"] = its;
-            d["factorizations"] = facs;
-            d["steps"] = done;
-            d["status"] = status;
-            d["seconds"] = VecX(Eigen::Map<const VecX>(r.seconds.data(), B));
-            d["errors"] = error_list(r.errors);
+            StrDict d("q"_a = q, "p"_a = mom, "control_points"_a = cp, "multipliers"_a = lam, "residual"_a = res,
+                      "iterations"_a = its, "factorizations"_a = facs, "steps"_a = done, "status"_a = status,
+                      "seconds"_a = VecX(Eigen::Map<const VecX>(r.seconds.data(), B)),
+                      "errors"_a = error_list(r.errors));
             if (nz) {
               d["impulses"] = z;
               d["gaps"] = gaps;
@@ -365,18 +359,10 @@ steps, C), impact (B, steps) (NaN where not reached) and pivots (B, steps) (-1 w
               status.append(to_string(it.info.status));
               seconds[b] = it.seconds;
             }
-            StrDict d;
-            d["control_points"] = cp;
-            d["multipliers"] = lam;
-            d["p_next"] = p_next;
-            d["residual"] = res;
-            d["iterations"] = its;
-            d["factorizations"] = facs;
-            d["residual_evaluations"] = evals;
-            d["converged"] = converged;
-            d["status"] = status;
-            d["seconds"] = seconds;
-            d["errors"] = error_list(r.errors);
+            StrDict d("control_points"_a = cp, "multipliers"_a = lam, "p_next"_a = p_next, "residual"_a = res,
+                      "iterations"_a = its, "factorizations"_a = facs, "residual_evaluations"_a = evals,
+                      "converged"_a = converged, "status"_a = status, "seconds"_a = seconds,
+                      "errors"_a = error_list(r.errors));
             if (nz) {
               d["impulses"] = z;
               d["gaps"] = gaps;

@@ -19,6 +19,8 @@
 
 namespace hovi::py_bind {
 
+using namespace pybind11::literals;  // "name"_a = value: the keyword arguments of the result dicts
+
 namespace {
 // The index of a joint or body given by name (looked up by `index_of`) or by number.
 template <class Lookup>
@@ -85,15 +87,9 @@ std::string summary(const Model& model) {
 const char* const kShapeNames[] = {"box", "cylinder", "sphere", "mesh"};
 
 StrDict visual_dict(const Visual& v) {
-  StrDict d;
-  d["body"] = v.body;
-  d["link"] = v.link;
-  d["shape"] = kShapeNames[static_cast<int>(v.shape)];
-  d["size"] = VecX(v.size);
-  d["filename"] = v.filename;
-  d["scale"] = VecX(v.scale);
-  d["origin"] = Mat4(v.origin.matrix());
-  d["rgba"] = v.rgba ? py::cast(VecX(*v.rgba)) : py::none();
+  StrDict d("body"_a = v.body, "link"_a = v.link, "shape"_a = kShapeNames[static_cast<int>(v.shape)],
+            "size"_a = VecX(v.size), "filename"_a = v.filename, "scale"_a = VecX(v.scale),
+            "origin"_a = Mat4(v.origin.matrix()), "rgba"_a = v.rgba ? py::cast(VecX(*v.rgba)) : py::none());
   return d;
 }
 

@@ -9,6 +9,8 @@
 
 namespace hovi::py_bind {
 
+using namespace pybind11::literals;  // "name"_a = value: the keyword arguments of the result dicts
+
 namespace {
 
 IpoptOption option_of(const std::string& name, const py::handle& value) {
@@ -77,19 +79,11 @@ void bind_ipopt(py::module_& m) {
                py::gil_scoped_release release;
                out = solve_with_ipopt(prog, exact_hessian ? p.hessian.get() : nullptr, d, options, std::move(cb));
              }
-             StrDict res;
-             res["status"] = out.status;
-             res["iterations"] = out.iterations;
-             res["cost"] = out.cost;
-             res["x"] = out.x;
-             res["lambda"] = out.lambda;
-             res["z_lower"] = out.z_lower;
-             res["z_upper"] = out.z_upper;
-             res["seconds"] = out.seconds;
-             res["callback_seconds"] = out.callback_seconds;
-             res["hessian_seconds"] = out.hessian_seconds;
-             res["cpp_seconds"] = prog.cpp_seconds();
-             res["python_seconds"] = prog.python_seconds();
+             StrDict res("status"_a = out.status, "iterations"_a = out.iterations, "cost"_a = out.cost,
+                         "x"_a = out.x, "lambda"_a = out.lambda, "z_lower"_a = out.z_lower,
+                         "z_upper"_a = out.z_upper, "seconds"_a = out.seconds,
+                         "callback_seconds"_a = out.callback_seconds, "hessian_seconds"_a = out.hessian_seconds,
+                         "cpp_seconds"_a = prog.cpp_seconds(), "python_seconds"_a = prog.python_seconds());
              return res;
            }, py::arg("program"), py::arg("x0"), py::arg("lower"), py::arg("upper"), py::arg("cl"), py::arg("cu"),
            py::arg("exact_hessian") = false, py::arg("callback") = py::none(),

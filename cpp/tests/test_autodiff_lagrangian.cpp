@@ -76,14 +76,25 @@ Sample sample(const Model& model, const Quadrature& quad, double dt, std::mt1993
   return x;
 }
 
-void check_against_hovi(const Model& model) {
-  std::mt19937 rng(7);
-  const int n = model.n();
+constexpr double kDt = 0.02;
+
+// check(quad, ad, rng) for s = 1, 2, 3 at dt = kDt, each under a trace of its s.
+template <class Check>
+void for_orders(const Model& model, unsigned seed, Check check) {
+  std::mt19937 rng(seed);
   for (int s = 1; s <= 3; ++s) {
     SCOPED_TRACE("s = " + std::to_string(s));
     const Quadrature quad(s);
-    const double dt = 0.02;
-    AutodiffDel ad(model, quad, dt);
+    AutodiffDel ad(model, quad, kDt);
+    check(quad, ad, rng);
+  }
+}
+
+void check_against_hovi(const Model& model) {
+  const int n = model.n();
+  const double dt = kDt;
+  for_orders(model, 7, [&](const Quadrature& quad, AutodiffDel& ad, std::mt19937& rng) {
+    const int s = quad.s;
     DelWorkspace del(model, quad);
     NewtonWorkspace nws(model, quad);
     DelJacobianWorkspace jws(model, quad);
@@ -131,22 +142,18 @@ void check_against_hovi(const Model& model) {
       ad.jacobian(x.qc, x.u, J_ad);
       EXPECT_LT(rel(J_ad, Jq.topRightCorner(s * n, s * n)), 1e-9);
     }
-  }
+  });
 }
 
 // A whole step: full Newton iterations with the AD direction and residual converge to the step
 // hovi's NewtonSolver finds.
 void check_newton_solve(const Model& model) {
-  std::mt19937 rng(11);
-  const int n = model.n();
-  for (int s = 1; s <= 3; ++s) {
-    SCOPED_TRACE("s = " + std::to_string(s));
-    const Quadrature quad(s);
-    const double dt = 0.02;
-    AutodiffDel ad(model, quad, dt);
+  SolverOptions opt;
+  opt.tol = 1e-13;
+  for_orders(model, 11, [&](const Quadrature& quad, AutodiffDel& ad, std::mt19937& rng) {
+    const int s = quad.s, n = model.n();
+    const double dt = kDt;
     NewtonSolver solver(model, quad);
-    SolverOptions opt;
-    opt.tol = 1e-13;
     for (int trial = 0; trial < 2; ++trial) {
       Sample x = sample(model, quad, dt, rng);
       for (int a = 1; a <= s; ++a) x.qc.col(a) = x.qc.col(0);  // initial guess: at rest at q^k
@@ -171,7 +178,7 @@ void check_newton_solve(const Model& model) {
       EXPECT_LT((q_ad - q_hovi).cwiseAbs().maxCoeff(), 1e-10 * (1 + q_hovi.cwiseAbs().maxCoeff()));
       EXPECT_LT((pn_ad - pn_hovi).cwiseAbs().maxCoeff(), 1e-10 * (1 + pn_hovi.cwiseAbs().maxCoeff()));
     }
-  }
+  });
 }
 
 }  // namespace

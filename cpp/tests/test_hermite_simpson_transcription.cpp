@@ -34,15 +34,8 @@ using test_models::uniform;
 
 // The branched tree (prismatic joints, skewed axes, offset COMs) with springs, dampers and actuators.
 Model forced_tree() {
-  Model m = test_models::branched_tree();
-  m.add_spring(1, 2.0, 0.1);
-  m.add_spring(4, 1.0, -0.3);
-  m.add_damper(0, 0.3);
-  m.add_damper(5, 0.5);
-  m.add_actuator(0, 1.0);
-  m.add_actuator(3, 0.5);
-  m.add_actuator(5, 1.5);
-  return m;
+  return test_models::with_forces(test_models::branched_tree(), {{1, 2.0, 0.1}, {4, 1.0, -0.3}}, {{0, 0.3}, {5, 0.5}},
+                                  {{0, 1.0}, {3, 0.5}, {5, 1.5}});
 }
 
 // A world point of body `body` (a point r in its COM frame) at configuration q.

@@ -1,5 +1,6 @@
 // Models shared by the C++ tests.
 #pragma once
+#include <initializer_list>
 #include <random>
 #include <string>
 
@@ -47,17 +48,23 @@ inline VecX uniform(std::mt19937& rng, int n, double lo, double hi) {
   return x;
 }
 
+// `m` with springs (joint, stiffness, rest angle), dampers (joint, coefficient) and actuators (joint, gear).
+struct JointForce {
+  int joint;
+  double a, b = 0;
+};
+inline Model with_forces(Model m, std::initializer_list<JointForce> springs, std::initializer_list<JointForce> dampers,
+                         std::initializer_list<JointForce> actuators) {
+  for (const JointForce& f : springs) m.add_spring(f.joint, f.a, f.b);
+  for (const JointForce& f : dampers) m.add_damper(f.joint, f.a);
+  for (const JointForce& f : actuators) m.add_actuator(f.joint, f.a);
+  return m;
+}
+
 // The 5-link pendulum with springs (one with a nonzero rest angle, i.e. a preload), dampers and
 // two actuators (one geared).
 inline Model forced_pendulum() {
-  Model m = models::pendulum(5);
-  m.add_spring(0, 3.0, 0.2);
-  m.add_spring(3, 1.5, -0.1);
-  m.add_damper(1, 0.4);
-  m.add_damper(4, 0.2);
-  m.add_actuator(2, 1.0);
-  m.add_actuator(4, 2.0);
-  return m;
+  return with_forces(models::pendulum(5), {{0, 3.0, 0.2}, {3, 1.5, -0.1}}, {{1, 0.4}, {4, 0.2}}, {{2, 1.0}, {4, 2.0}});
 }
 
 }  // namespace hovi::test_models

@@ -87,7 +87,7 @@ SolverOptions fig2_options() {  // the Fig. 2 batch's Newton: residual tol 1e-10
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
-// Recorded before the redesign (commit 8818c18).
+// Recorded before the solvers shared one Newton driver.
 // ---------------------------------------------------------------------------------------------
 
 const std::vector<Figures> kNewtonSolver = {

@@ -19,6 +19,8 @@
 
 namespace hovi::py_bind {
 
+using namespace pybind11::literals;  // "name"_a = value: the keyword arguments of the result dicts
+
 namespace {
 using Clock = std::chrono::steady_clock;
 
@@ -95,16 +97,9 @@ StrDict one_step_batch(const PyModel& pm, double dt, const ArrayLike& Q0, const 
       q_next.row(k) = qc.col(1).transpose();
     });
   }
-  StrDict d;
-  d["converged"] = converged;
-  d["iterations"] = iterations;
-  d["residual_evaluations"] = residual_evaluations;
-  d["status"] = status;
-  d["h_reached"] = h_reached;
-  d["seconds"] = seconds;
-  d["residual"] = residual;
-  d["q_next"] = q_next;
-  d["errors"] = error_list(errors);
+  StrDict d("converged"_a = converged, "iterations"_a = iterations, "residual_evaluations"_a = residual_evaluations,
+            "status"_a = status, "h_reached"_a = h_reached, "seconds"_a = seconds, "residual"_a = residual,
+            "q_next"_a = q_next, "errors"_a = error_list(errors));
   return d;
 }
 
