@@ -34,6 +34,15 @@ void put_rows(py::array_t<T>& a, int b, const M& m, Eigen::Index rows) {
     for (Eigen::Index j = 0; j < m.cols(); ++j) r(b, k, j) = m(k, j);
 }
 
+// f(b) for each item b of a batch that finished; `status` gets "error" for those that raised.
+template <class F>
+void each_finished(const std::vector<std::string>& errors, py::list& status, F f) {
+  for (int b = 0; b < static_cast<int>(errors.size()); ++b) {
+    if (errors[b].empty()) f(b);
+    else status.append("error");
+  }
+}
+
 // The states of a batch: (B, n) arrays q and p, or q and q̇.
 MatX batch_states(const PyIntegrator& p, const py::handle& x, const char* name, long rows) {
   return as_matrix(x, name, rows, p.n());
@@ -268,12 +277,8 @@ with contacts pivots, impulses (K, C (2 + d)), gaps (K, C), impact (K,) and step
             auto z = filled<double>({B, steps, nz}, nan), gaps = filled<double>({B, steps, C}, nan);
             Eigen::VectorXi done = Eigen::VectorXi::Zero(B);
             py::list status;
-            for (int b = 0; b < B; ++b) {
+            each_finished(r.errors, status, [&](int b) {
               const Rollout& ro = r.items[b];
-              if (!r.errors[b].empty()) {
-                status.append("error");
-                continue;
-              }
               const int attempted = static_cast<int>(ro.status.size());
               put_rows(q, b, ro.q, ro.steps + 1);
               put_rows(mom, b, ro.p, ro.steps + 1);
@@ -290,7 +295,7 @@ with contacts pivots, impulses (K, C (2 + d)), gaps (K, C), impact (K,) and step
               }
               done[b] = ro.steps;
               status.append(attempted > ro.steps ? to_string(ro.status.back()) : std::string("converged"));
-            }
+            });
             StrDict d("q"_a = q, "p"_a = mom, "control_points"_a = cp, "multipliers"_a = lam, "residual"_a = res,
                       "iterations"_a = its, "factorizations"_a = facs, "steps"_a = done, "status"_a = status,
                       "seconds"_a = VecX(Eigen::Map<const VecX>(r.seconds.data(), B)),
@@ -337,12 +342,8 @@ steps, C), impact (B, steps) (NaN where not reached) and pivots (B, steps) (-1 w
             MatX z = MatX::Constant(B, nz, nan), gaps = MatX::Constant(B, C, nan);
             Eigen::Matrix<bool, Eigen::Dynamic, 1> converged = Eigen::Matrix<bool, Eigen::Dynamic, 1>::Zero(B);
             py::list status;
-            for (int b = 0; b < B; ++b) {
+            each_finished(r.errors, status, [&](int b) {
               const StepBatchItem& it = r.items[b];
-              if (!r.errors[b].empty()) {
-                status.append("error");
-                continue;
-              }
               put_rows(cp, b, MatX(it.qc.transpose()), S1);
               put_rows(lam, b, MatX(it.lambda.transpose()), s);
               p_next.row(b) = it.p_next.transpose();
@@ -358,7 +359,7 @@ steps, C), impact (B, steps) (NaN where not reached) and pivots (B, steps) (-1 w
               }
               status.append(to_string(it.info.status));
               seconds[b] = it.seconds;
-            }
+            });
             StrDict d("control_points"_a = cp, "multipliers"_a = lam, "p_next"_a = p_next, "residual"_a = res,
                       "iterations"_a = its, "factorizations"_a = facs, "residual_evaluations"_a = evals,
                       "converged"_a = converged, "status"_a = status, "seconds"_a = seconds,
