@@ -78,6 +78,17 @@ Sample sample(const Model& model, const Quadrature& quad, double dt, std::mt1993
 
 constexpr double kDt = 0.02;
 
+// A step under the Simpson rule (s = 2) of length dt, sampled from seed.
+struct SimpsonStep {
+  Quadrature quad{2};
+  double dt;
+  Sample x;
+  SimpsonStep(const Model& model, double dt_, unsigned seed) : dt(dt_) {
+    std::mt19937 rng(seed);
+    x = sample(model, quad, dt, rng);
+  }
+};
+
 // check(quad, ad, rng) for s = 1, 2, 3 at dt = kDt, each under a trace of its s.
 template <class Check>
 void for_orders(const Model& model, unsigned seed, Check check) {
@@ -191,16 +202,13 @@ TEST(AutodiffDel, BranchedTreeNewtonSolveMatchesNewtonSolver) { check_newton_sol
 // Without springs the two D^2 L_d are the same object.
 TEST(AutodiffDel, UnforcedHessianMatchesDirectly) {
   for (const Model& model : {models::pendulum(4), test_models::branched_tree()}) {
-    const Quadrature quad(2);
-    const double dt = 0.05;
-    std::mt19937 rng(5);
-    const Sample x = sample(model, quad, dt, rng);
-    AutodiffDel ad(model, quad, dt);
-    DelJacobianWorkspace jws(model, quad);
+    const SimpsonStep st(model, 0.05, 5);
+    AutodiffDel ad(model, st.quad, st.dt);
+    DelJacobianWorkspace jws(model, st.quad);
     const int N = 3 * model.n();
     MatX H(N, N), H_ad;
-    dlagrangian_hessian(model, quad, jws, x.qc, dt, H);
-    ad.d2Ld(x.qc, H_ad);
+    dlagrangian_hessian(model, st.quad, jws, st.x.qc, st.dt, H);
+    ad.d2Ld(st.x.qc, H_ad);
     EXPECT_LT(rel(H_ad, H), 1e-9);
   }
 }
@@ -215,10 +223,10 @@ TEST(AutodiffDel, NonComFramesMatch) {
     const Vec3 c(0.1, -0.05 * i, 0.02 * i + 0.03);
     model.M[i] = SpatialInertia(Mc.m, Mc.m * c, Mc.I - Mc.m * hat(c) * hat(c));  // M about a point -c from the COM
   }
-  const Quadrature quad(2);
-  const double dt = 0.02;
-  std::mt19937 rng(13);
-  const Sample x = sample(model, quad, dt, rng);
+  const SimpsonStep st(model, 0.02, 13);
+  const Quadrature& quad = st.quad;
+  const double dt = st.dt;
+  const Sample& x = st.x;
   const int n = model.n();
   {  // L_d with gravity
     AutodiffDel ad(model, quad, dt);
@@ -301,10 +309,10 @@ TEST(AutodiffDel, DISABLED_Timing) {
               "AD newton", "hovi newton", "(dir only)", "ratio", "AD d2Ld", "hovi d2Ld", "ratio");
   for (int n : {8, 32, 128}) {
     const Model model = models::pendulum(n);
-    const Quadrature quad(2);
-    const double dt = 0.01;
-    std::mt19937 rng(3);
-    const Sample x = sample(model, quad, dt, rng);
+    const SimpsonStep st(model, 0.01, 3);
+    const Quadrature& quad = st.quad;
+    const double dt = st.dt;
+    const Sample& x = st.x;
     AutodiffDel ad(model, quad, dt);
     DelWorkspace del(model, quad);
     NewtonWorkspace nws(model, quad);
