@@ -27,7 +27,7 @@ C. LQR at the upright: region of attraction under the swing-ups' control limits 
 D. MPC (hovi.control.MPC, FDDP on VI(s), period 1) holding the cart-pole upright at 100 Hz under
    pushes: solve time per control period, real-time factor, iterations; one IPOPT solve and one
    cold FDDP solve of the same horizon problem for the ratio.
-E. FDDP through contact: LittleDog standing -> 3 cm crouch, held or smoothed Jacobians (kappa).
+E. FDDP through contact: LittleDog standing -> 3 cm crouch, held or smoothed Jacobians (smoothing).
 
     python bench/control.py [--quick] [--only A B C D E] [--tables]
 
@@ -514,7 +514,7 @@ def part_e(quick):
     model, contacts, q0, u0 = st.model, st.contacts, st.q0, st.u
     N, dt = (10, 0.01) if quick else (40, 0.01)
     iters = 3 if quick else 100
-    kappas = (0.0, 1e-8) if quick else (0.0, 1e-10, 1e-8, 1e-6)
+    smoothings = (0.0, 1e-8) if quick else (0.0, 1e-10, 1e-8, 1e-6)
     pr = trajopt.Problem(model, N, N * dt, controls="held", u_bounds=(-np.inf, np.inf), q_bounds=(-np.inf, np.inf))
     pr.initial_state(q0)
     qT = q0.copy()
@@ -529,16 +529,16 @@ def part_e(quick):
     out = {"scene": "LittleDog standing (hovi.examples.standing) -> base 3 cm lower at the end", "N": N, "dt": dt,
            "max_iterations": iters, "costs": "ControlEffort(1e-3) + StateTracking(q0, 1 except base z, velocity 0.1) + "
            "TerminalCost(base z - 0.03, 1e4, velocity 10)", "guess": "the standing feed-forward u", "rows": []}
-    for kappa in kappas:
+    for smoothing in smoothings:
         t0 = time.perf_counter()
-        r = trajopt.FDDP(max_iterations=iters, contacts=contacts, smoothing=kappa).solve(pr, trajopt.VI(1), guess=u0)
+        r = trajopt.FDDP(max_iterations=iters, contacts=contacts, smoothing=smoothing).solve(pr, trajopt.VI(1), guess=u0)
         wall = time.perf_counter() - t0
         traj = r.solver["trajectory"]
-        row = dict(kappa=kappa, status=r.status, converged=bool(r.success), iterations=int(r.iterations), cost=float(r.cost),
+        row = dict(smoothing=smoothing, status=r.status, converged=bool(r.success), iterations=int(r.iterations), cost=float(r.cost),
                    solver_seconds=float(r.timing["solver"]), wall_seconds=wall, stop=float(r.solver["stop"]),
                    height_change=float(traj.q[-1][2] - q0[2]), min_gap=float(traj.contact.gaps.min()))
         out["rows"].append(row)
-        print(f"  kappa {kappa:g}: {row['iterations']} it, {row['solver_seconds']:.2f} s, cost {row['cost']:.4f}, "
+        print(f"  smoothing {smoothing:g}: {row['iterations']} it, {row['solver_seconds']:.2f} s, cost {row['cost']:.4f}, "
               f"dz {row['height_change'] * 100:.2f} cm, min gap {row['min_gap']:.1e}, {row['status']}", flush=True)
     return out
 
@@ -646,8 +646,8 @@ def tables(res):
         lines += ["### E. FDDP through contact (LittleDog, 3 cm crouch)", "",
                   f"N = {e['N']}, dt = {e['dt']}, at most {e['max_iterations']} iterations.", "",
                   ]
-        lines += markdown_table(["kappa", "iterations", "stopped", "time", "cost", "height change", "min gap"],
-                                [[f"{r['kappa']:g}", r["iterations"], "converged" if r["converged"] else r["status"],
+        lines += markdown_table(["smoothing", "iterations", "stopped", "time", "cost", "height change", "min gap"],
+                                [[f"{r['smoothing']:g}", r["iterations"], "converged" if r["converged"] else r["status"],
                                   fmt_t(r["solver_seconds"]), f"{r['cost']:.4f}", f"{100 * r['height_change']:.2f} cm",
                                   f"{r['min_gap']:.1e}"] for r in e["rows"]]) + [""]
     return "\n".join(lines)

@@ -7,7 +7,7 @@ against the optimised knots (max, final), deepest penetration, torque saturation
 
 Beside the four cases, what was measured to choose the weights and to find where a robot fails:
   - weights: the four cases under a few alternative weights (the chosen ones: closed_loop.WEIGHTS);
-  - smoothing: the contact Jacobians smoothed (kappa = 1e-6, 1e-4, 1e-3) for every case that fails;
+  - smoothing: the contact Jacobians smoothed (smoothing = 1e-6, 1e-4, 1e-3) for every case that fails;
   - saturation: the same policy without torque limits for every case that fails;
   - margins: the largest push (a multiple of the case's push) and mass factor the closed and the
     open loop still succeed with (from a short list).
@@ -86,13 +86,13 @@ def study(example, motion, cases: dict) -> dict:
             continue
         push, mass = case_push(example, case), case_mass(case)
         rows = {}
-        for kappa in SMOOTHING:
+        for smoothing in SMOOTHING:
             try:
-                ctl = CL.controller(example, motion, dataclasses.replace(weights, smoothing=kappa))
-                rows[str(kappa)] = brief(CL.closed_loop_figures(example, motion, control=ctl, push=push, mass_factor=mass,
+                ctl = CL.controller(example, motion, dataclasses.replace(weights, smoothing=smoothing))
+                rows[str(smoothing)] = brief(CL.closed_loop_figures(example, motion, control=ctl, push=push, mass_factor=mass,
                                                                 open_loop_too=False)["closed_loop"])
             except ValueError as e:  # a Jacobian that cannot be smoothed
-                rows[str(kappa)] = {"error": str(e)}
+                rows[str(smoothing)] = {"error": str(e)}
         out["smoothing"][case] = rows
         ctl = CL.controller(example, motion, weights, saturate=False)
         out["no_torque_limits"][case] = brief(CL.closed_loop_figures(example, motion, control=ctl, push=push,

@@ -19,7 +19,7 @@ rollout's recorded p^k (0 < k < K) and the optimiser's knot momenta include half
 (the Galerkin weight w^s / (w^0 + w^s) of s = 1); the references take it out (``knot_impulses``
 for the optimiser's knots), so that the feedback vanishes on the nominal also when the Jacobians
 are smoothed (with the recorded p^k a smoothed policy pushed the Spring Flamingo's nominal
-1.7e-3 rad away at kappa = 1e-4 and 0.17 rad at 1e-3, measured before ``step_momenta``).
+1.7e-3 rad away at smoothing = 1e-4 and 0.17 rad at 1e-3, measured before ``step_momenta``).
 
 Weights (``Weights``, per example in ``WEIGHTS``; the choice and what else was tried:
 bench/control_robots.py and bench/README.md): a diagonal cost per step on (q, q̇), the floating
@@ -69,7 +69,7 @@ class Weights:
     coordinate (m^-2 or rad^-2), ``joints`` on each other coordinate, ``velocity`` on every velocity
     ((m/s)^-2 or (rad/s)^-2), ``torque`` on each torque relative to its limit (u / limit)^2; at the
     end ``final`` times the stage cost plus ``task`` (m^-2) on the example's goal point (Atlas: the
-    hand at the ball); ``smoothing``: kappa ((N s)^2) of the contact Jacobians (0: contact state held)."""
+    hand at the ball); ``smoothing``: the smoothing ((N s)^2) of the contact Jacobians (0: contact state held)."""
     base: float = 10.0
     joints: float = 1.0
     velocity: float = 0.1
@@ -254,7 +254,7 @@ def _knot_steps(integ: Integrator, motion: Motion, U: np.ndarray, p: np.ndarray,
 
 def nominal(example: Example, motion: Motion, integ: Optional[Integrator] = None, *, smoothing: float = 0.0,
             kind: Optional[str] = None) -> Nominal:
-    """The policy's reference and step Jacobians (``smoothing`` = kappa): the open-loop replay if it
+    """The policy's reference and step Jacobians (``smoothing``): the open-loop replay if it
     follows the optimised knots to DEPARTED over the whole horizon (or ``kind`` = 'replay'), else (or
     ``kind`` = 'knots') the optimised knots, each step linearised at the optimiser's control points
     and impulses."""

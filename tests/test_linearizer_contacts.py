@@ -112,7 +112,7 @@ def test_steps_split_at_an_impact_are_refused():
 
 
 def test_smoothed_jacobians_agree_away_from_switches():
-    """The central-path linearisation with a small kappa is the held-state one where each pair is far
+    """The central-path linearisation with a small smoothing is the held-state one where each pair is far
     from its switch (stance: 1e-12; sliding)."""
     integ = planar_body()
     lin = hovi.Linearizer(integ)

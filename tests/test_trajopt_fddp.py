@@ -447,15 +447,15 @@ def test_contact_shooting_derivatives_against_differences():
     assert abs(d["lu"][0] - (cost(x, u + du) - cost(x, u - du)) / (2 * h)) <= 1e-6 * (1 + abs(d["lu"][0]))
 
 
-@pytest.mark.parametrize("kappa,guess", [(0.0, 15.0), (1e-8, 0.0)])
-def test_fddp_through_contact_is_stationary_on_the_contact_simulator(kappa, guess):
+@pytest.mark.parametrize("smoothing,guess", [(0.0, 15.0), (1e-8, 0.0)])
+def test_fddp_through_contact_is_stationary_on_the_contact_simulator(smoothing, guess):
     """FDDP shooting with the contact simulator pushes the block to x = 0.3; its solution is a
     trajectory of the simulator (replayed to 1e-12) and stationary: central differences of the total
     cost of simulator rollouts with respect to each control vanish. With the contact state held
-    (kappa = 0) it starts from a push that slides (from rest see the next test); smoothed, from rest."""
+    (smoothing = 0) it starts from a push that slides (from rest see the next test); smoothed, from rest."""
     model, contacts = sliding_block()
     pr = block_problem(model)
-    fddp = trajopt.FDDP(contacts=contacts, smoothing=kappa, tol=1e-12)
+    fddp = trajopt.FDDP(contacts=contacts, smoothing=smoothing, tol=1e-12)
     r = fddp.solve(pr, trajopt.VI(1), guess=np.full(1, guess))
     assert r.success, (r.status, r.iterations)
     tr = trajopt.VI(1).transcribe(pr)
@@ -482,7 +482,7 @@ def test_fddp_through_a_held_sticking_contact_sees_no_gradient():
     """The limit of the held contact state: a block at rest under stiction has zero sensitivity to
     small pushes in its Jacobians (the stick holds x), so FDDP from zero controls without smoothing
     stops at once where it started, though pushing beyond friction lowers the cost; smoothing
-    (kappa > 0, the previous test) gives the gradient across the switch."""
+    (smoothing > 0, the previous test) gives the gradient across the switch."""
     model, contacts = sliding_block()
     r = trajopt.FDDP(contacts=contacts).solve(block_problem(model), trajopt.VI(1))
     assert r.iterations == 0 and np.all(r.solver["us"] == 0)

@@ -93,8 +93,8 @@ py::tuple run_batch(const py::list& plants, const Policy& policy, const py::list
 class PyShootingProblem {
  public:
   PyShootingProblem(const PyIntegrator& integ, int N, const VecX& x0, std::vector<SampleCost> costs, const VecX& lo,
-                    const VecX& hi, double kappa)
-      : integ_(integ), core_(integ.integ(), N, x0, std::move(costs), lo, hi, kappa) {}
+                    const VecX& hi, double smoothing)
+      : integ_(integ), core_(integ.integ(), N, x0, std::move(costs), lo, hi, smoothing) {}
   ShootingProblem& core() {
     integ_.integ();  // raises once the model changed
     return core_;
@@ -245,7 +245,7 @@ on the steps' control points (hovi.trajopt.FDDP builds it from a Problem).
            py::keep_alive<1, 2>(), py::arg("integrator"), py::arg("N"), py::arg("x0"), py::arg("costs"),
            py::arg("u_lower"), py::arg("u_upper"), py::arg("smoothing") = 0.0, R"doc(
 integrator: a _core.Integrator; with contacts (s = 1) the problem shoots through contact with its
-Jacobians held (smoothing = 0) or smoothed (kappa > 0, contact_jacobians.hpp).
+Jacobians held (smoothing = 0) or smoothed (smoothing > 0, contact_jacobians.hpp).
 costs: a list of dicts, each a term with `terminal` (bool) and diagonal weights and references per sample,
 Wq, q_ref, Wv, v_ref (rows, n), R, u_ref (rows, m): rows = S (s+1) for a running term (S stages; step k
 uses stage min(offset + k, S - 1)), 1 for a terminal term (the horizon's last sample).

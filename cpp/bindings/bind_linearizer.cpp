@@ -84,7 +84,7 @@ control_points (s+1, n), u (m,) or (s+1, m), multipliers (s, m_c) of a constrain
           }, py::arg("control_points"), py::arg("u") = py::none(), py::arg("want_A") = true, py::arg("want_B") = true,
           py::arg("multipliers") = py::none(), py::arg("impulses") = py::none(), py::arg("smoothing") = 0.0, R"doc(
 At a converged step's control points (s+1, n) (and multipliers (s, m_c), or with contacts its impulses
-(1, C (2 + d)) and the smoothing kappa): returns (A (2n, 2n) or None, B (2n, (s+1) m) or None), the
+(1, C (2 + d)) and the smoothing): returns (A (2n, 2n) or None, B (2n, (s+1) m) or None), the
 Jacobians of (q^{k+1}, p^{k+1}) by (q^k, p^k) and u^{k,0..s}.
 )doc")
       .def("rollout_jacobians", [](PyLinearizer& L, const ArrayLike& cps, const OptArrayLike& u, bool want_A, bool want_B,
@@ -114,8 +114,8 @@ Jacobians of (q^{k+1}, p^{k+1}) by (q^k, p^k) and u^{k,0..s}.
           }, py::arg("control_points"), py::arg("u") = py::none(), py::arg("want_A") = true, py::arg("want_B") = true,
           py::arg("multipliers") = py::none(), py::arg("impulses") = py::none(), py::arg("smoothing") = 0.0, R"doc(
 control_points (K, (s+1) n) of K converged steps, u (K, (s+1) m), multipliers (K, s m_c) of a
-constrained model, or with contacts impulses (K, C (2 + d)) and smoothing (the central-path parameter
-kappa, (N s)^2; 0 holds each contact's state); returns (A (K, 2n, 2n) or None, B (K, 2n, (s+1) m) or
+constrained model, or with contacts impulses (K, C (2 + d)) and smoothing (the central-path parameter,
+in (N s)^2; 0 holds each contact's state); returns (A (K, 2n, 2n) or None, B (K, 2n, (s+1) m) or
 None), computed in C++ (GIL released).
 )doc")
       .def("rollout_jacobians_batch", [](PyLinearizer& L, const ArrayLike& cps, int steps, const OptArrayLike& u,

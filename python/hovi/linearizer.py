@@ -111,7 +111,7 @@ class Linearizer:
                        smoothing: float = 0.0) -> StepLinearization:
         """Take one step from (q, p) (n,) with controls u ((m,) or (s+1, m)) and linearise it: A (2n, 2n),
         B (2n, (s+1) m) or (2n, m) with hold=True (see StepLinearization). With contacts, ``smoothing``
-        > 0 (kappa, (N s)^2) linearises the complementarity on the central path (across contact switches:
+        > 0 (in (N s)^2) linearises the complementarity on the central path (across contact switches:
         cpp/include/hovi/integrators/contact_jacobians.hpp); 0 holds each contact's state."""
         q_next, p_next, info = self.integrator.step(q, p, u, guess=guess)
         assert info.control_points is not None
@@ -134,17 +134,17 @@ class Linearizer:
         ``smoothing`` as for ``step_jacobians``; None for what was not asked for. Control points (K, s+1, n)
         (with u (K, s+1, m), multipliers (K, s, m_c), impulses (K, C, 2 + d)) give K steps at once, in C++:
         (K, 2n, 2n) and (K, 2n, (s+1) m)."""
-        kappa = real_number(smoothing, "smoothing", minimum=0.0)
+        smoothing = real_number(smoothing, "smoothing", minimum=0.0)
         cps = _core.real_array(control_points, "control_points")
         if cps.ndim == 3:
             K = len(cps)
             rows = [None if x is None else np.ascontiguousarray(_core.real_array(x, name).reshape(K, -1))
                     for x, name in ((u, "u"), (multipliers, "multipliers"), (impulses, "impulses"))]
             Am, Bm = self._core.rollout_jacobians(np.ascontiguousarray(cps.reshape(K, -1)), rows[0], A, B, rows[1],
-                                                  rows[2], kappa)
+                                                  rows[2], smoothing)
         else:
             z = None if impulses is None else _core.real_array(impulses, "impulses").reshape(1, -1)
-            Am, Bm = self._core.step_jacobians(cps, u, A, B, multipliers, z, kappa)
+            Am, Bm = self._core.step_jacobians(cps, u, A, B, multipliers, z, smoothing)
         if Bm is not None and hold:
             Bm = _hold(Bm, self.integrator.model.n_controls)
         return Am, Bm

@@ -30,10 +30,10 @@ void check_cost(const SampleCost& c, int rows_unit, int n, int m, std::size_t i)
 }  // namespace
 
 ShootingProblem::ShootingProblem(const GalerkinIntegrator& integ, int N, const VecX& x0, std::vector<SampleCost> costs,
-                                 const VecX& u_lower, const VecX& u_upper, double kappa)
+                                 const VecX& u_lower, const VecX& u_upper, double smoothing)
     : integ_(integ),
       lin_(integ),
-      kappa_(kappa),
+      smoothing_(smoothing),
       N_(N),
       n_(integ.model().n()),
       m_(integ.model().n_controls()),
@@ -51,8 +51,8 @@ ShootingProblem::ShootingProblem(const GalerkinIntegrator& integ, int N, const V
   if (integ.has_contacts() && (s_ != 1 || integ.contact_options().locate_impacts))
     throw InputError("shooting through contact needs s = 1 without impact location (the trajectory optimiser's "
                      "time-stepping: a step split at an impact is not differentiable)");
-  if (!(kappa >= 0) || !std::isfinite(kappa)) throw InputError("the smoothing kappa must be finite and >= 0");
-  if (kappa > 0 && !integ.has_contacts()) throw InputError("smoothing is for shooting through contact");
+  if (!(smoothing >= 0) || !std::isfinite(smoothing)) throw InputError("smoothing must be finite and >= 0");
+  if (smoothing > 0 && !integ.has_contacts()) throw InputError("smoothing is for shooting through contact");
 }
 
 void ShootingProblem::set_x0(const VecX& x0) {
@@ -136,7 +136,7 @@ bool ShootingProblem::derivatives(int k, const MatX& qc, const VecX& u, const Ve
   const MatX uk = u.replicate(1, S1);
   MatX Bp, Yx, Yu;
   const MatX w = has_contacts() ? MatX(z) : MatX();  // the step's impulses (through contact)
-  if (!lin_.step_jacobians(qc, uk, &d.A, &Bp, w, &Yx, &Yu, kappa_)) return false;
+  if (!lin_.step_jacobians(qc, uk, &d.A, &Bp, w, &Yx, &Yu, smoothing_)) return false;
   d.B = MatX::Zero(2 * n, m);
   MatX Yuh = MatX::Zero(sn, m);
   for (int a = 0; a < S1; ++a) {  // held controls: the sum over the control points' blocks

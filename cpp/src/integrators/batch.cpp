@@ -72,7 +72,7 @@ StepBatch step_batch(const GalerkinIntegrator& integ, const BatchStates& x, cons
 }
 
 std::vector<std::string> trajectory_jacobians_batch(const Linearizer& lin, int B, int K, const MatX& C, const MatX& U,
-                                                    const MatX& W, double* As, double* Bs, double kappa, int threads) {
+                                                    const MatX& W, double* As, double* Bs, double smoothing, int threads) {
   if (B < 1) throw InputError("the batch is empty (B = 0 trajectories)");
   threads = thread_count(threads);
   const int n = lin.model().n(), s = lin.quadrature().s, m = lin.model().n_controls();
@@ -85,7 +85,7 @@ std::vector<std::string> trajectory_jacobians_batch(const Linearizer& lin, int B
     const Eigen::Index first = static_cast<Eigen::Index>(b) * K;
     const int failed = lin.trajectory_jacobians(C.middleRows(first, K), U.middleRows(first, K),
                                                 W.size() ? MatX(W.middleRows(first, K)) : MatX(),
-                                                As ? As + b * a_size : nullptr, Bs ? Bs + b * b_size : nullptr, kappa);
+                                                As ? As + b * a_size : nullptr, Bs ? Bs + b * b_size : nullptr, smoothing);
     if (failed >= 0) throw InputError("the DEL Jacobian is singular at step " + std::to_string(failed));
   });
 }

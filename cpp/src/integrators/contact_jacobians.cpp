@@ -148,7 +148,7 @@ bool ContactJacobians::step_jacobians(const Eigen::Ref<const MatX>& qc, const Ei
 }
 
 bool ContactJacobians::smoothed_jacobians(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u,
-                                           const Eigen::Ref<const VecX>& z, double kappa, MatX* A, MatX* B) const {
+                                           const Eigen::Ref<const VecX>& z, double smoothing, MatX* A, MatX* B) const {
   auto w = pool_.acquire();
   const int n = model_.n(), s = quad_.s, sn = s * n;
   const int C = contacts_.size(), d = contacts_.d(), pc = contacts_.per_contact(), nz = contacts_.unknowns();
@@ -215,8 +215,8 @@ bool ContactJacobians::smoothed_jacobians(const Eigen::Ref<const MatX>& qc, cons
       // in impulse units (N s): the cone pair's z (γ, m) and the other pairs' w (m) over the mobility
       const double mi = mobility[base + i], zs = i == d + 1 ? 1 / mi : 1.0, ws = i == d + 1 ? 1.0 : 1 / mi;
       const double zi = zs * zc[i], wsc = ws * wi;
-      // the central path through (zi, w): (z + δ)(w + δ) = kappa, δ >= 0
-      const double delta = std::max(0.0, 0.5 * (-(zi + wsc) + std::sqrt((zi - wsc) * (zi - wsc) + 4 * kappa)));
+      // the central path through (zi, w): (z + δ)(w + δ) = smoothing, δ >= 0
+      const double delta = std::max(0.0, 0.5 * (-(zi + wsc) + std::sqrt((zi - wsc) * (zi - wsc) + 4 * smoothing)));
       const double zt = zi + delta, wt = wsc + delta;
       // wt d(zs z_i) + zt d(ws w_i) = 0
       K.block(row + i, sn - n, 1, n) = (zt * ws) * dw_dyend;

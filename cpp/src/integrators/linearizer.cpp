@@ -39,16 +39,16 @@ void Linearizer::del_jacobian(const Eigen::Ref<const MatX>& qc, const Eigen::Ref
 }
 
 bool Linearizer::step_jacobians(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u, MatX* A, MatX* B,
-                                const Eigen::Ref<const MatX>& lambda, MatX* Yx, MatX* Yu, double kappa) const {
-  if (kappa != 0 && !contact_) throw InputError("smoothing is for an integrator with contacts");
-  if (!(kappa >= 0) || !std::isfinite(kappa)) throw InputError("the smoothing kappa must be finite and >= 0");
+                                const Eigen::Ref<const MatX>& lambda, MatX* Yx, MatX* Yu, double smoothing) const {
+  if (smoothing != 0 && !contact_) throw InputError("smoothing is for an integrator with contacts");
+  if (!(smoothing >= 0) || !std::isfinite(smoothing)) throw InputError("smoothing must be finite and >= 0");
   if (contact_) {  // the contact step; s = 1: its one unknown control point is q^{k+1}, the top rows of A and B
     if ((Yx || Yu) && quad_.s != 1) throw InputError("the control points' sensitivities through contact need s = 1");
     if ((Yx && !A) || (Yu && !B)) throw InputError("Yx and Yu through contact come with A and B");
     if (lambda.size() != nz_)
       throw InputError("a contact step's linearisation needs its " + std::to_string(nz_) + " impulses");
     const Eigen::Map<const VecX> z(lambda.data(), lambda.size());
-    const bool ok = kappa > 0 ? contact_->smoothed_jacobians(qc, u, z, kappa, A, B)
+    const bool ok = smoothing > 0 ? contact_->smoothed_jacobians(qc, u, z, smoothing, A, B)
                               : contact_->step_jacobians(qc, u, z, A, B);
     if (ok && Yx) *Yx = A->topRows(model_.n());
     if (ok && Yu) *Yu = B->topRows(model_.n());
@@ -112,7 +112,7 @@ bool Linearizer::step_jacobians(const Eigen::Ref<const MatX>& qc, const Eigen::R
 }
 
 int Linearizer::trajectory_jacobians(const Eigen::Ref<const MatX>& C, const Eigen::Ref<const MatX>& U,
-                                     const Eigen::Ref<const MatX>& W, double* As, double* Bs, double kappa) const {
+                                     const Eigen::Ref<const MatX>& W, double* As, double* Bs, double smoothing) const {
   using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
   const int n = model_.n(), s = quad_.s, S1 = s + 1, m = model_.n_controls();
   const int rows = contact_ ? static_cast<int>(W.cols()) : mc_, cols = contact_ ? 1 : s;  // one step's w
@@ -121,7 +121,7 @@ int Linearizer::trajectory_jacobians(const Eigen::Ref<const MatX>& C, const Eige
     for (int c = 0; c < S1; ++c) qc.col(c) = C.row(k).segment(c * n, n).transpose();
     for (int c = 0; c < S1; ++c) uk.col(c) = U.row(k).segment(c * m, m).transpose();
     for (int c = 0; c < cols && rows; ++c) wk.col(c) = W.row(k).segment(c * rows, rows).transpose();
-    if (!step_jacobians(qc, uk, As ? &A : nullptr, Bs ? &B : nullptr, wk, nullptr, nullptr, kappa)) return k;
+    if (!step_jacobians(qc, uk, As ? &A : nullptr, Bs ? &B : nullptr, wk, nullptr, nullptr, smoothing)) return k;
     if (As) Eigen::Map<RowMajor>(As + std::size_t(k) * 4 * n * n, 2 * n, 2 * n) = A;
     if (Bs) Eigen::Map<RowMajor>(Bs + std::size_t(k) * 2 * n * S1 * m, 2 * n, S1 * m) = B;
   }

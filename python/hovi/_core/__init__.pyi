@@ -560,8 +560,8 @@ class Linearizer:
     def rollout_jacobians(self, control_points: numpy.typing.ArrayLike, u: numpy.typing.ArrayLike | None = None, want_A: bool = True, want_B: bool = True, multipliers: numpy.typing.ArrayLike | None = None, impulses: numpy.typing.ArrayLike | None = None, smoothing: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> tuple[numpy.typing.NDArray[numpy.float64] | None, numpy.typing.NDArray[numpy.float64] | None]:
         """
         control_points (K, (s+1) n) of K converged steps, u (K, (s+1) m), multipliers (K, s m_c) of a
-        constrained model, or with contacts impulses (K, C (2 + d)) and smoothing (the central-path parameter
-        kappa, (N s)^2; 0 holds each contact's state); returns (A (K, 2n, 2n) or None, B (K, 2n, (s+1) m) or
+        constrained model, or with contacts impulses (K, C (2 + d)) and smoothing (the central-path parameter,
+        in (N s)^2; 0 holds each contact's state); returns (A (K, 2n, 2n) or None, B (K, 2n, (s+1) m) or
         None), computed in C++ (GIL released).
         """
     def rollout_jacobians_batch(self, control_points: numpy.typing.ArrayLike, steps: typing.SupportsInt | typing.SupportsIndex, u: numpy.typing.ArrayLike | None = None, want_A: bool = True, want_B: bool = True, multipliers: numpy.typing.ArrayLike | None = None, impulses: numpy.typing.ArrayLike | None = None, smoothing: typing.SupportsFloat | typing.SupportsIndex = 0.0, threads: int | None = None) -> tuple[numpy.typing.NDArray[numpy.float64] | None, numpy.typing.NDArray[numpy.float64] | None, list]:
@@ -575,7 +575,7 @@ class Linearizer:
     def step_jacobians(self, control_points: numpy.typing.ArrayLike, u: numpy.typing.ArrayLike | None = None, want_A: bool = True, want_B: bool = True, multipliers: numpy.typing.ArrayLike | None = None, impulses: numpy.typing.ArrayLike | None = None, smoothing: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"] | None, typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"] | None]:
         """
         At a converged step's control points (s+1, n) (and multipliers (s, m_c), or with contacts its impulses
-        (1, C (2 + d)) and the smoothing kappa): returns (A (2n, 2n) or None, B (2n, (s+1) m) or None), the
+        (1, C (2 + d)) and the smoothing): returns (A (2n, 2n) or None, B (2n, (s+1) m) or None), the
         Jacobians of (q^{k+1}, p^{k+1}) by (q^k, p^k) and u^{k,0..s}.
         """
 def body_point_kinematics(model: Model, q: numpy.typing.ArrayLike, bodies: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], points: numpy.typing.ArrayLike) -> tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64]]:

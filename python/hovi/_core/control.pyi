@@ -17,7 +17,7 @@ class ShootingProblem:
     def __init__(self, integrator: hovi._core.Integrator, N: typing.SupportsInt | typing.SupportsIndex, x0: numpy.typing.ArrayLike, costs: list, u_lower: numpy.typing.ArrayLike, u_upper: numpy.typing.ArrayLike, smoothing: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
         """
         integrator: a _core.Integrator; with contacts (s = 1) the problem shoots through contact with its
-        Jacobians held (smoothing = 0) or smoothed (kappa > 0, contact_jacobians.hpp).
+        Jacobians held (smoothing = 0) or smoothed (smoothing > 0, contact_jacobians.hpp).
         costs: a list of dicts, each a term with `terminal` (bool) and diagonal weights and references per sample,
         Wq, q_ref, Wv, v_ref (rows, n), R, u_ref (rows, m): rows = S (s+1) for a running term (S stages; step k
         uses stage min(offset + k, S - 1)), 1 for a terminal term (the horizon's last sample).

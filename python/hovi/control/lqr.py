@@ -123,7 +123,7 @@ def tvlqr(integrator: Integrator, trajectory: Union[Trajectory, Any], u: Optiona
     transcription with this integrator's s and dt (its replay and controls are used).
 
     Weights as ``lqr``; final_weight (2n, 2n) on (q, q̇) at the end (default: 10 Q). With contacts the
-    Jacobians hold each contact's state, or are smoothed (``smoothing`` = kappa, Linearizer). Returns
+    Jacobians hold each contact's state, or are smoothed (Linearizer). Returns
     a Policy with a reference and gain per step."""
     _check_integrator(integrator)
     if not isinstance(trajectory, Trajectory):

@@ -9,8 +9,8 @@
 // the control points dropped, as FDDP drops the dynamics').
 //
 // Through contact (an integrator with contacts, s = 1, no impact location): the step is the contact
-// step and its Jacobians the Linearizer's, with the contact state held (kappa = 0) or smoothed on the
-// central path (kappa > 0: gradients across contact switches); each step's impulses are kept with it.
+// step and its Jacobians the Linearizer's, with the contact state held (smoothing = 0) or smoothed on the
+// central path (smoothing > 0: gradients across contact switches); each step's impulses are kept with it.
 #pragma once
 #include <memory>
 #include <vector>
@@ -48,11 +48,11 @@ struct StageDerivatives {
 
 class ShootingProblem {
  public:
-  // integ must outlive the problem; kappa: the smoothing of the contact step's Jacobians (contacts
+  // integ must outlive the problem; smoothing: the smoothing of the contact step's Jacobians (contacts
   // only). Throws InputError for sizes that do not fit, a model with constraints, negative or
-  // non-finite weights, or contacts with s > 1, impact location or a bad kappa.
+  // non-finite weights, or contacts with s > 1, impact location or a bad smoothing.
   ShootingProblem(const GalerkinIntegrator& integ, int N, const VecX& x0, std::vector<SampleCost> costs,
-                  const VecX& u_lower, const VecX& u_upper, double kappa = 0);
+                  const VecX& u_lower, const VecX& u_upper, double smoothing = 0);
   bool has_contacts() const { return integ_.has_contacts(); }
   int impulses() const { return integ_.contacts().unknowns(); }
 
@@ -88,7 +88,7 @@ class ShootingProblem {
 
   const GalerkinIntegrator& integ_;
   Linearizer lin_;
-  double kappa_ = 0;
+  double smoothing_ = 0;
   int N_, n_, m_, s_;
   VecX x0_, lo_, hi_;
   std::vector<SampleCost> costs_;

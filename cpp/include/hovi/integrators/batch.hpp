@@ -59,7 +59,7 @@ StepBatch step_batch(const GalerkinIntegrator& integ, const BatchStates& x, cons
 // As[b K + k] (a (B, K, 2n, 2n) row-major array), B_k to Bs likewise (null: not computed). A
 // singular step is item b's error.
 std::vector<std::string> trajectory_jacobians_batch(const Linearizer& lin, int B, int K, const MatX& C, const MatX& U,
-                                                    const MatX& W, double* As, double* Bs, double kappa = 0,
+                                                    const MatX& W, double* As, double* Bs, double smoothing = 0,
                                                     int threads = 0);
 
 }  // namespace hovi

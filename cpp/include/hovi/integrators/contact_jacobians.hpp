@@ -31,15 +31,15 @@ class ContactJacobians {
   // in the motion.
   bool step_jacobians(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u,
                       const Eigen::Ref<const VecX>& z, MatX* A, MatX* B) const;
-  // Smoothed across contact switches (kappa > 0, in (N s)^2): every complementarity pair (z_i, w_i)
+  // Smoothed across contact switches (smoothing > 0, in (N s)^2): every complementarity pair (z_i, w_i)
   // of the step, in impulse units (a gap or displacement over its impulse's own mobility through the
-  // step), linearised on the central path z~_i w~_i = kappa through the solution (both moved by the
+  // step), linearised on the central path z~_i w~_i = smoothing through the solution (both moved by the
   // same δ >= 0: z~ = z + δ, w~ = w + δ), w~_i dz_i + z~_i dw_i = 0, as the gradients of an
-  // interior-point step (Dojo's). A pair far from its switch (z_i w~_i >> kappa) keeps its side as
-  // in step_jacobians, to O(kappa); a pair at it (z = w = 0: a contact touching without load, a
+  // interior-point step (Dojo's). A pair far from its switch (z_i w~_i >> smoothing) keeps its side as
+  // in step_jacobians, to O(smoothing); a pair at it (z = w = 0: a contact touching without load, a
   // sticking contact at its friction limit) blends both sides. All of z's unknowns enter.
   bool smoothed_jacobians(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u,
-                          const Eigen::Ref<const VecX>& z, double kappa, MatX* A, MatX* B) const;
+                          const Eigen::Ref<const VecX>& z, double smoothing, MatX* A, MatX* B) const;
 
  private:
   struct Workspace {

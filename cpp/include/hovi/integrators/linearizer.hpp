@@ -9,7 +9,7 @@
 // w^a dt Dh(q^{k,a})^T λ^{k,a} (their λ·d²h terms come with the force elements of the
 // augmented model, constraint.hpp).
 // With contacts the step is the contact step (its impulses z among the unknowns), linearised with
-// each contact's state held (kappa = 0) or smoothed across contact switches (kappa > 0):
+// each contact's state held (smoothing = 0) or smoothed across contact switches (smoothing > 0):
 // contact_jacobians.hpp.
 #pragma once
 #include <memory>
@@ -38,14 +38,14 @@ class Linearizer {
                     const Eigen::Ref<const MatX>& lambda = MatX(), MatX* Dh = nullptr) const;
   // A and/or B (null: not computed, and no work done for it) at converged control points qc with
   // the step's other unknowns w: the multipliers λ^{k,0..s-1} (m_c x s) of a constrained model, or
-  // with contacts the impulses z (unknowns() x 1), linearised with kappa (0: each contact's state
+  // with contacts the impulses z (unknowns() x 1), linearised with smoothing (0: each contact's state
   // held). Returns false if dR/dy is singular. Yx, Yu (if given): the sensitivities of the step's
   // interior and last control points y = q^{k,1..s} (s n rows, point a-1 in rows (a-1) n ..),
   // dy/d(q^k, p^k) (s n x 2n) and dy/du (s n x (s+1) m): what a cost on the control points needs
   // (the FDDP of control/; through contact s = 1, y = q^{k+1}).
   bool step_jacobians(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u, MatX* A, MatX* B,
                       const Eigen::Ref<const MatX>& w = MatX(), MatX* Yx = nullptr, MatX* Yu = nullptr,
-                      double kappa = 0) const;
+                      double smoothing = 0) const;
   // step_jacobians along K converged steps: control points C (K x (s+1) n, row k = vec(q^{k,0..s})
   // column-major), controls U (K x (s+1) m, likewise) and the steps' other unknowns W (K x s m_c,
   // vec(λ^{k,0..s-1}), of a constrained model; K x unknowns() with contacts; else empty). A_k goes
@@ -53,7 +53,7 @@ class Linearizer {
   // not computed). Returns -1, or the first step whose dR/dy is singular (the blocks from it on are
   // left as they were).
   int trajectory_jacobians(const Eigen::Ref<const MatX>& C, const Eigen::Ref<const MatX>& U,
-                           const Eigen::Ref<const MatX>& W, double* As, double* Bs, double kappa = 0) const;
+                           const Eigen::Ref<const MatX>& W, double* As, double* Bs, double smoothing = 0) const;
 
  private:
   struct Workspace {
