@@ -1,6 +1,8 @@
 """Contact-implicit trajectory optimisation (hovi.contact + hovi.trajopt.solve_contact) against
 closed-form answers: a point mass dropped on the ground, resting under a push in static friction,
 and sliding to rest; complementarity, penetration and the replay checked at every point."""
+import pickle
+
 import numpy as np
 import pytest
 
@@ -103,6 +105,29 @@ def test_terrain_heights_and_contact_input_layout():
     prob = trajopt.Problem(model, N=4, T=1.0)
     with pytest.raises(ValueError, match="contacts.with_inputs"):
         prob.add_contacts(contacts)
+
+
+def test_contact_inputs_are_the_forces_of_the_layout_built_by_hand():
+    """Contacts.with_inputs (built in C++) is, byte for byte, the model a user builds with add_control and
+    add_point_wrench in the documented order: per contact lambda (+z), beta_i (D_i), gamma (no force)."""
+    model = hovi.examples.models.pendulum(3)
+    model.add_actuator(1)
+    points = [(1, (0.1, 0.02, -0.3), 0.05), (2, (0.0, -0.04, 0.2))]
+    contacts = Contacts(model, points, Terrain(), mu=0.7)
+    by_hand = model.copy()
+    for body, point, *_ in points:
+        by_hand.add_point_wrench(body, force=(0, 0, 1), point=point, control=by_hand.add_control())
+        for direction in contacts.D:
+            by_hand.add_point_wrench(body, force=direction, point=point, control=by_hand.add_control())
+        by_hand.add_control()
+    assert pickle.dumps(contacts.with_inputs) == pickle.dumps(by_hand)
+    assert [contacts.input_index(1, w, i) for w, i in (("normal", 0), ("friction", 3), ("slack", 0))] == [7, 11, 12]
+    with pytest.raises(ValueError, match="c must be a contact index in"):
+        contacts.input_index(2, "normal")
+    with pytest.raises(ValueError, match="what must be 'normal', 'friction' or 'slack', got 'tangent'"):
+        contacts.input_index(0, "tangent")
+    with pytest.raises(ValueError, match=r"i must be a friction direction in \[0, 4\)"):
+        contacts.input_index(0, "friction", 4)
 
 
 def test_bad_contact_input_is_refused_with_a_reason():

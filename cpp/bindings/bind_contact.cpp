@@ -4,7 +4,9 @@
 #include <vector>
 
 #include "hovi/errors.hpp"
+#include "hovi/forces/contact_inputs.hpp"
 #include "py_contact.hpp"
+#include "py_model.hpp"
 
 namespace hovi::py_bind {
 
@@ -99,6 +101,28 @@ horizontal unit vectors; radii (C,) of the contacts (spheres centred at the poin
           }, py::arg("z"), R"doc(
 The world impulses (or forces) (K, C, 3) of the contact unknowns z (K, C (2 + d)), per contact
 λ e_z + D^T β (the slack γ carries none).
+)doc")
+      .def("index", [](const ContactModel& cm, int c, const std::string& what, int i) {
+            if (c < 0 || c >= cm.size())
+              throw InputError("c must be a contact index in [0, " + std::to_string(cm.size()) + "), got " + std::to_string(c));
+            if (what == "normal") return cm.index(c, ContactUnknown::Normal);
+            if (what == "slack") return cm.index(c, ContactUnknown::Slack);
+            if (what != "friction") throw InputError("what must be 'normal', 'friction' or 'slack', got '" + what + "'");
+            if (i < 0 || i >= cm.d())
+              throw InputError("i must be a friction direction in [0, " + std::to_string(cm.d()) + "), got " + std::to_string(i));
+            return cm.index(c, ContactUnknown::Friction, i);
+          }, py::arg("c"), py::arg("what"), py::arg("i") = 0, R"doc(
+The index among a step's unknowns (C (2 + d),) of contact c's 'normal' impulse, 'friction' impulse
+along direction i, or 'slack'; as a control of with_inputs(model), it is model.n_controls + index.
+)doc")
+      .def("with_inputs", [](const ContactModel& cm, const PyModel& model) {
+            auto out = std::make_shared<PyModel>();
+            out->model = with_contact_inputs(model.model, cm);
+            return out;
+          }, py::arg("model"), R"doc(
+A copy of `model` with the contacts' unknowns appended as controls (contact-implicit trajectory
+optimisation), at model.n_controls + index(c, what, i): each normal and friction input scales a world
+force (+z, or the friction direction) at the contact point; the slack has no force.
 )doc");
 }
 

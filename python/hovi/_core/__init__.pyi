@@ -375,6 +375,17 @@ class ContactModel:
         """
         The gaps φ (K, C) of the contacts with their points at world positions X (K, C, 3) (any leading shape).
         """
+    def index(self, c: typing.SupportsInt | typing.SupportsIndex, what: str, i: typing.SupportsInt | typing.SupportsIndex = 0) -> int:
+        """
+        The index among a step's unknowns (C (2 + d),) of contact c's 'normal' impulse, 'friction' impulse
+        along direction i, or 'slack'; as a control of with_inputs(model), it is model.n_controls + index.
+        """
+    def with_inputs(self, model: Model) -> Model:
+        """
+        A copy of `model` with the contacts' unknowns appended as controls (contact-implicit trajectory
+        optimisation), at model.n_controls + index(c, what, i): each normal and friction input scales a world
+        force (+z, or the friction direction) at the contact point; the slack has no force.
+        """
     def world_impulses(self, z: numpy.typing.ArrayLike) -> numpy.typing.NDArray[numpy.float64]:
         """
         The world impulses (or forces) (K, C, 3) of the contact unknowns z (K, C (2 + d)), per contact

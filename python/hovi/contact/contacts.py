@@ -136,15 +136,8 @@ class Contacts:
             self.points.append(ContactPoint(b, p, r, str(name)))
         self.m_user = model.n_controls
         self.robot = (tuple(model.body_names), tuple(model.joint_names), model.n_controls)
-        self.with_inputs = model.copy()
-        self.first_input = self.with_inputs.n_controls
-        for c in self.points:
-            lam = self.with_inputs.add_control()
-            self.with_inputs.add_point_wrench(c.body, force=(0.0, 0.0, 1.0), point=c.point, control=lam)
-            for direction in self.D:
-                beta = self.with_inputs.add_control()
-                self.with_inputs.add_point_wrench(c.body, force=direction, point=c.point, control=beta)
-            self.with_inputs.add_control()  # gamma: a slack, no force
+        self.first_input = model.n_controls
+        self.with_inputs = self.core_model().with_inputs(model)
 
     def check_model(self, model: Model) -> None:
         """ValueError unless ``model`` is the robot these contacts were built on (its bodies, joints and
@@ -193,8 +186,8 @@ class Contacts:
 
     def input_index(self, c: int, what: str, i: int = 0) -> int:
         """The control index of contact c's 'normal', 'friction' (direction i) or 'slack' input."""
-        base = self.first_input + c * self.inputs_per_contact
-        return {"normal": base, "friction": base + 1 + i, "slack": base + 1 + self.d}[what]
+        index: int = self.first_input + self.core_model().index(c, what, i)
+        return index
 
     def input_bounds(self) -> Tuple[np.ndarray, np.ndarray]:
         """Bounds of the contact inputs (all >= 0)."""

@@ -36,6 +36,9 @@ struct ContactPoint {
   double radius = 0;
 };
 
+// The unknowns of a contact in a step (and its inputs in trajectory optimisation).
+enum class ContactUnknown { Normal, Friction, Slack };
+
 struct ContactModel {
   std::vector<ContactPoint> points;
   Terrain terrain;
@@ -48,13 +51,18 @@ struct ContactModel {
   // sliding displacement γ_c (Stewart-Trinkle's slack), at c * per_contact() + 0, 1..d, d+1.
   int per_contact() const { return d() + 2; }
   int unknowns() const { return size() * per_contact(); }
+  // The index of contact c's unknown `what` (friction: direction i) among the step's unknowns.
+  int index(int c, ContactUnknown what, int i = 0) const {
+    return c * per_contact() + (what == ContactUnknown::Normal ? 0 : what == ContactUnknown::Friction ? 1 + i : 1 + d());
+  }
   // The height contact c's point (its centre) keeps above the terrain at (x, y): the terrain's height
   // plus the contact's radius; its gap φ_c at the point's world position x is x.z - surface(c, x).
   double surface(int c, const Vec3& x) const { return terrain.height(x[0], x[1]) + points[c].radius; }
   double gap(int c, const Vec3& x) const { return x[2] - surface(c, x); }
   // The world impulse of contact c for the step's unknowns z: λ_c e_z + D^T β_c.
   Vec3 world_impulse(const Eigen::Ref<const VecX>& z, int c) const {
-    return z[c * per_contact()] * Vec3::UnitZ() + D.transpose() * z.segment(c * per_contact() + 1, d());
+    return z[index(c, ContactUnknown::Normal)] * Vec3::UnitZ() +
+           D.transpose() * z.segment(index(c, ContactUnknown::Friction), d());
   }
   // ModelError / InputError naming the problem unless every point is on an existing body with mass,
   // finite, mu is finite in [0, 1e3], D holds horizontal unit vectors and the terrain is valid.
