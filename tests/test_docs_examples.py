@@ -1,9 +1,10 @@
 """Every ```python block of README.md and docs/**/*.md runs, as written.
 
-A page's blocks run in order in one namespace (fresh per page), in a temporary working directory
-that holds a link ``models`` to the repository's models/ (so ``Model.from_urdf("models/...")``
-reads the shipped URDFs, as it does from the repository root) and where files the examples
-write (``run.npz``) land. The code is compiled with the page's path and line numbers, so a
+A page's blocks run in order in one namespace (fresh per page), in an empty temporary working
+directory outside the repository, where files the examples write (``run.npz``) land: an example
+runs from any folder, so it finds the URDFs that ship with hovi through the package
+(``hovi.examples.models.urdf_path("two_link_arm")``), never through a path relative to the
+repository (``models/...``). The code is compiled with the page's path and line numbers, so a
 traceback points at the line of the Markdown file. Blocks that are not Python (shell commands,
 layouts) are fenced with another language (```bash) or none and are not run; the checks below make
 sure no Python hides in them and that the examples import nothing but numpy, hovi and the standard
@@ -92,8 +93,7 @@ def test_no_python_escapes_the_runner(page):
 @pytest.mark.parametrize("page", PAGES_WITH_CODE)
 def test_examples_run(page, tmp_path, monkeypatch, capsys):
     """The page's ```python blocks run in order in one namespace without error (their asserts hold)."""
-    os.symlink(os.path.join(ROOT, "models"), tmp_path / "models", target_is_directory=True)
-    monkeypatch.chdir(tmp_path)
+    monkeypatch.chdir(tmp_path)   # not the repository: nothing of it is found by a relative path
     namespace = {"__name__": "__main__"}
     start = time.perf_counter()
     for number, (line, code) in enumerate(python_blocks(page), 1):

@@ -1,14 +1,17 @@
-"""Built-in models (``hovi simulate NAME``; the registry is ``hovi.examples.REGISTRY``)."""
+"""Built-in models (``hovi simulate NAME``; the registry is ``hovi.examples.REGISTRY``) and the paths of
+the URDF files installed with hovi (``urdf_path``)."""
 from __future__ import annotations
 
-from typing import Any, Dict
+from pathlib import Path
+from typing import Any, Dict, Tuple
 
 import numpy as np
 
 from .. import _core
 from .._typing import FloatArray
+from .robots import URDF_DIR
 
-__all__ = ["pendulum", "acrobot", "cartpole", "fourbar", "slider_crank"]
+__all__ = ["pendulum", "acrobot", "cartpole", "fourbar", "slider_crank", "urdf_path"]
 
 
 def pendulum(n: int, length: float = 0.5, mass: float = 1.0, radius: float = 0.02) -> _core.Model:
@@ -87,3 +90,25 @@ def slider_crank(crank: float = 0.2, rod_length: float = 0.5) -> _core.Model:
     m.add_body("rod", "crank", axis=[0, 1, 0], placement=_at_x(crank), **_along_x(rod_length, 0.7))
     m.add_point_constraint("rod", point=[rod_length, 0, 0], target=[0, 0, 0], axes="z")
     return m
+
+
+def _installed_urdfs() -> Tuple[str, ...]:
+    """The names (without .urdf) of the URDF files installed with hovi, sorted."""
+    return tuple(sorted(p.stem for p in URDF_DIR.glob("*.urdf")))
+
+
+def urdf_path(name: str) -> Path:
+    """The path of the URDF file ``name`` installed with hovi (the repository's ``models/``, installed
+    as ``hovi/urdf/``), valid from any working directory:
+    ``hovi.Model.from_urdf(urdf_path("two_link_arm"))``. ``name`` is the file's name with or without
+    ``.urdf``: ``'atlas'``, ``'cartpole'``, ``'double_pendulum'``, ``'littledog'``,
+    ``'spring_flamingo'``, ``'two_link_arm'``. ValueError naming the available files for an unknown
+    name; FileNotFoundError if the package was installed without its URDFs."""
+    stem = name[:-len(".urdf")] if name.endswith(".urdf") else name
+    available = _installed_urdfs()
+    if not available:
+        raise FileNotFoundError(f"no URDF files in {URDF_DIR}: hovi's URDFs are installed with the package "
+                                f"(pip install .); a copy of the source tree has them in models/")
+    if stem not in available:
+        raise ValueError(f"no URDF named '{name}' is installed with hovi (available: {', '.join(available)})")
+    return URDF_DIR / f"{stem}.urdf"
