@@ -191,6 +191,12 @@ def test_trajectory_with_contacts_saves_and_loads(tmp_path):
     back = hovi.load_trajectory(tmp_path / "t.npz", integ)
     np.testing.assert_array_equal(back.contact.impulses, traj.contact.impulses)
     np.testing.assert_array_equal(back.contact.gaps, traj.contact.gaps)
+    arrays = dict(np.load(tmp_path / "t.npz"))
+    arrays["contact_impulses"][7, 0, 0] = -0.5  # a negative normal impulse: a pull, never a contact's
+    np.savez(tmp_path / "bad.npz", **arrays)
+    with pytest.raises(ValueError, match=r"contact_impulses must be >= 0 .* the normal impulse of contact 0 at "
+                                         r"step 7 = -0.5"):
+        hovi.load_trajectory(tmp_path / "bad.npz", integ)
 
 
 def test_progress_chunks_give_the_same_rollout():
@@ -325,3 +331,99 @@ def test_step_takes_a_first_guess_of_the_impulses():
         integ.step(q, p, impulses=np.zeros(7))
     with pytest.raises(ValueError, match="impulses are for an integrator with contacts"):
         hovi.Integrator(hovi.examples.models.pendulum(1), s=1).step([0.0], [0.0], impulses=np.zeros(4))
+
+
+# --- starts inside the terrain, energy added by the contact, fixed contacts ------------------------
+
+@pytest.mark.parametrize("s", [1, 2])
+def test_a_start_inside_the_terrain_is_refused_naming_the_contact_and_its_depth(s):
+    """1 m under the ground a step threw the body out at 100 m/s (energy -9.81 J -> 5,000 J, every step
+    'converged'): every entry refuses it; a start within contact_tol is taken."""
+    model = block(1.0)
+    integ = hovi.Integrator(model, s=s, dt=0.01, contacts=Contacts(model, [("mass", (0, 0, 0), 0.0, "foot")],
+                                                                    Terrain(), mu=0.5, plane="xz"))
+    deep = np.array([0.0, -1.0])
+    message = r"contact 0 \('foot', body 'mass'\) starts 1 m inside the terrain, deeper than contact_tol"
+    with pytest.raises(ValueError, match="q0: " + message):
+        integ.rollout(deep, 5)
+    with pytest.raises(ValueError, match="q: " + message):
+        integ.step(deep, np.zeros(2))
+    with pytest.raises(ValueError, match=r"state 1 of the batch: q0s\[1\]: " + message):
+        integ.rollout_batch(np.array([[0.0, 0.5], deep]), 5)
+    with pytest.raises(ValueError, match=r"qs\[0\]: " + message):
+        integ.step_batch(deep[None])
+    traj = integ.rollout(np.array([0.0, -1e-11]), 5)  # within contact_tol (1e-10)
+    assert traj.converged and traj.energy[:-1].max() <= traj.energy[0] + 1e-9  # (the last p is before its impulse)
+
+
+def test_fddp_and_closed_loops_refuse_a_start_inside_the_terrain():
+    from hovi import control, trajopt
+    model = hovi.Model()
+    model.add_body("slider", None, "prismatic", axis=(1, 0, 0))
+    model.add_body("mass", "slider", "prismatic", axis=(0, 0, 1), mass=2.0, inertia=np.eye(3) * 1e-3)
+    model.add_actuator(0)
+    contacts = Contacts(model, [("mass", (0.0, 0.0, 0.0))], Terrain(), mu=0.5, plane="xz")
+    pr = trajopt.Problem(model, 10, 0.2, controls="held", u_bounds=(-40.0, 40.0))
+    pr.initial_state([0.0, -1.0])
+    pr.add_cost(trajopt.ControlEffort(0.01))
+    with pytest.raises(ValueError, match=r"the problem's q0: contact 0 \(body 'mass'\) starts 1 m inside"):
+        trajopt.FDDP(contacts=contacts).solve(pr, trajopt.VI(1))
+    plant = hovi.Integrator(model, s=1, dt=0.02, contacts=contacts)
+    policy = control.Policy.open_loop(np.zeros((1, 1)), dt=0.02, s=1, n=2) if hasattr(control.Policy, "open_loop") \
+        else control.Policy(np.zeros((1, 4)), np.zeros((1, 2, 1)), np.zeros((1, 1, 4)), np.full(1, -np.inf),
+                            np.full(1, np.inf), np.zeros((1, 4, 4)), 0.02, 1)
+    with pytest.raises(ValueError, match=r"q0: contact 0 \(body 'mass'\) starts 1 m inside"):
+        control.simulate(plant, policy, [0.0, -1.0], 5)
+
+
+def test_energy_added_by_the_contact_is_flagged():
+    """A block sliding at 4 m/s onto a 2 cm step of the terrain is carried onto it by its normal
+    impulse, launched upwards at 2 m/s (to 0.21 m): the step gains that launch's kinetic energy and the
+    potential energy of the 2 cm lift, and is flagged (a warning, Trajectory.contact.added_energy); a
+    block dropped on flat ground, whose contact only takes energy away, is not."""
+    model = block(1.0)
+    step_up = integrator(model, mu=0.5, terrain=Terrain(boxes=[Box(0.5, 2.0, top=0.02)]))
+    with pytest.warns(RuntimeWarning, match=r"the contact added energy at 1 step\(s\), the first at step 13"):
+        traj = step_up.rollout(np.zeros(2), 100, qdot0=[4.0, 0.0])
+    added = traj.contact.added_energy
+    assert np.flatnonzero(added).tolist() == [13]
+    v_up = (traj.q[15, 1] - traj.q[14, 1]) / step_up.dt + 9.81 * step_up.dt / 2  # the launch speed after step 13
+    assert traj.q[:, 1].max() > 0.2 and v_up > 1.9
+    # the energy of the launch, m = 1 kg: its kinetic energy and the 2 cm it was lifted
+    assert added[13] == pytest.approx(0.5 * v_up ** 2 + 9.81 * 0.02, rel=1e-2)
+    with pytest.warns(RuntimeWarning, match="of run 0"):
+        batch = step_up.rollout_batch(np.zeros((2, 2)), 100, qdot0s=[[4.0, 0.0], [0.1, 0.0]])
+    np.testing.assert_array_equal(batch.contact.added_energy[0], added)
+    assert not batch.contact.added_energy[1].any()
+    np.testing.assert_array_equal(batch.trajectory(0).contact.added_energy, added)
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        drop = integrator(model).rollout(np.array([0.0, 0.3]), 100)
+    assert drop.contact.active.any() and not drop.contact.added_energy.any()
+
+
+def test_contacts_and_terrains_are_fixed_once_made():
+    """Changing a Contacts' terrain or friction after an integrator was made changed a pickled copy but
+    not the original: both are now fixed, and a copy computes what the original does."""
+    import dataclasses
+    model = block(1.0)
+    terrain = Terrain(ground=0.0, gaps=[Gap(0.2, 0.4)])
+    contacts = Contacts(model, [("mass", (0, 0, 0))], terrain, mu=0.5, plane="xz")
+    integ = hovi.Integrator(model, s=1, dt=0.01, contacts=contacts)
+    for name, value in (("mu", 0.1), ("terrain", Terrain(ground=1.0)), ("points", ())):
+        with pytest.raises(AttributeError, match=f"Contacts are fixed once made.*{name!r}"):
+            setattr(contacts, name, value)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        terrain.ground = 1.0
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        terrain.gaps[0].depth = 2.0
+    with pytest.raises(ValueError, match="read-only"):
+        contacts.points[0].point[2] = 1.0
+    assert isinstance(terrain.gaps, tuple)
+    copy = pickle.loads(pickle.dumps(integ))
+    a, b = integ.rollout([0.0, 0.5], 60, qdot0=[0.2, 0.0]), copy.rollout([0.0, 0.5], 60, qdot0=[0.2, 0.0])
+    np.testing.assert_array_equal(a.q, b.q)
+    with pytest.raises(AttributeError, match="fixed once made"):
+        copy.contacts.mu = 0.1
+    assert dataclasses.replace(terrain, ground=0.1).ground == 0.1

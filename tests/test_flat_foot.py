@@ -139,3 +139,19 @@ def test_bad_pose_held_input_is_refused_with_a_reason():
         prob.add_constraint(trajopt.PoseHeld("block", q0[:5]))
     with pytest.raises(ValueError, match="unknown body 'foot'"):
         prob.add_constraint(trajopt.PoseHeld("foot", q0))
+
+
+def test_a_flat_foot_of_another_model_is_refused():
+    """A foot built on one model, added to a problem or a simulator of another, was taken without a
+    word (its body index and q0 meant another robot's)."""
+    from hovi.contact import Terrain, flat_feet_contacts
+    foot, _, q0 = standing_block(0.0)
+    other = hovi.examples.models.pendulum(6)
+    prob = trajopt.Problem(other, N=4, T=0.2)
+    with pytest.raises(ValueError, match=r"the flat foot's stance was built on another model \(bodies \['x'"):
+        prob.add_constraint(foot.stance())
+    with pytest.raises(ValueError, match="the flat foot's wrench cone was built on another model"):
+        prob.add_constraint(foot.cone())
+    with pytest.raises(ValueError, match=r"feet\[0\] was built on another model"):
+        flat_feet_contacts(other, [foot], Terrain())
+    flat_feet_contacts(block_model(), [foot], Terrain())  # a copy of the foot's model is the same robot

@@ -29,9 +29,10 @@ def central_differences(integ, q, p, u, h=1e-6):
     """(A, B_held) of the step map (q, p, u) -> (q', p') by central differences (u held over the step)."""
     n, m = len(q), len(u)
 
-    def f(x, uu):
-        qn, pn, _ = integ.step(x[:n], x[n:], uu)
-        return np.r_[qn, pn]
+    def f(x, uu):  # the C++ step: Integrator.step refuses the states tilted into the terrain
+        qc, pn, info = integ.core.step(x[:n], x[n:], uu, None, None, None)
+        assert info["converged"]
+        return np.r_[qc[-1], pn]
     x = np.r_[q, p]
     A = np.column_stack([(f(x + h * e, u) - f(x - h * e, u)) / (2 * h) for e in np.eye(2 * n)])
     B = np.column_stack([(f(x, u + h * e) - f(x, u - h * e)) / (2 * h) for e in np.eye(m)])

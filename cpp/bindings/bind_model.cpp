@@ -387,14 +387,14 @@ h = P (x(q) - target) with P the rows of `axes` ('xyz', or e.g. 'xz' for planar 
                              "(n,) joint spring stiffness per joint (the sum of its add_spring springs; 0 where none).")
       .def_property_readonly("joint_damping", [](const PyModel& s) { return VecX(s.model.joint_forces.damping); },
                              "(n,) joint damper coefficient per joint (add_damper; 0 where none).")
-      .def("scale_mass", [](PyModel& s, const Index& body, double factor) {
-            s.model.scale_mass(body_arg(s.model, body), factor);
+      .def("scale_mass", [](PyModel& s, const Index& body, const Real& factor) {
+            s.model.scale_mass(body_arg(s.model, body), real_arg(factor, "scale_mass: factor"));
             s.changed("scale_mass");
           }, py::arg("body"), py::arg("factor"), R"doc(
 Multiply a body's (index or name) mass and rotational inertia by factor > 0 (its density; shape and
 centre of mass kept): a plant that differs from the model a controller was made on
-(``model.copy()`` first). Raises hovi.ModelError for an unknown body or a factor that is not finite
-and positive.
+(``model.copy()`` first). Raises hovi.ModelError for an unknown body or a factor outside
+[1e-12, 1e12], and ValueError for a factor that is not a number.
 )doc")
       .def("set_armature", [](PyModel& s, const Index& joint, double value) {
             s.model.set_armature(joint_arg(s.model, joint), value);

@@ -93,6 +93,13 @@ MatX as_matrix(const py::handle& obj, const char* name, long rows, long cols) {
   return m;
 }
 
+double real_arg(const py::handle& obj, const char* name) {
+  if (py::isinstance<py::bool_>(obj) || !(py::isinstance<py::float_>(obj) || PyIndex_Check(obj.ptr())))
+    throw InputError(std::string(name) + " must be a real number, got " +
+                     std::string(py::str(py::type::of(obj).attr("__name__"))) + " " + std::string(py::repr(obj)).substr(0, 60));
+  return obj.cast<double>();
+}
+
 int threads_arg(const py::handle& threads) {
   if (threads.is_none()) return 0;
   if (py::isinstance<py::bool_>(threads) || !PyIndex_Check(threads.ptr()))

@@ -26,6 +26,7 @@ HOVI_PY_HINTED_OBJECT(Index)         // int | str: a joint or body by index or n
 HOVI_PY_HINTED_OBJECT(OptIndex)      // int | str | None
 HOVI_PY_HINTED_OBJECT(PathOrXml)     // str | os.PathLike[str]: a URDF path or XML string
 HOVI_PY_HINTED_OBJECT(OptInt)        // int | None
+HOVI_PY_HINTED_OBJECT(Real)          // float: read by real_arg
 HOVI_PY_HINTED_OBJECT(AnyTranscription)  // hovi._core.trajopt.VariationalTranscription | ...HermiteSimpsonTranscription
 HOVI_PY_HINTED_OBJECT(OptArrayFunction)   // a Python function of an array, or None
 HOVI_PY_HINTED_OBJECT(CsrArrays)     // (indptr, indices, data) of a matrix in compressed rows
@@ -50,6 +51,9 @@ RealArray real_array(const py::handle& obj, const char* name);
 VecX as_vector(const py::handle& obj, const char* name, long n);
 // A 2-D real array of shape (rows, cols) (negative: any) converted to MatX; ValueError as as_vector.
 MatX as_matrix(const py::handle& obj, const char* name, long rows, long cols);
+// A real number given as float | int (Real), values unchecked; InputError naming `name` for a bool,
+// text, None or anything else Python does not read as a real number.
+double real_arg(const py::handle& obj, const char* name);
 // A thread count given as int | None (OptInt) for the batched calls: None -> 0 (HOVI_NUM_THREADS or
 // every core, parallel_for.hpp's thread_count); ValueError unless a positive integer.
 int threads_arg(const py::handle& threads);
@@ -78,6 +82,7 @@ namespace pybind11::detail {
 HOVI_PY_TYPE_NAME(ArrayLike, "numpy.typing.ArrayLike")
 HOVI_PY_TYPE_NAME(OptArrayLike, "numpy.typing.ArrayLike | None")
 HOVI_PY_TYPE_NAME(Index, "int | str")
+HOVI_PY_TYPE_NAME(Real, "float")
 HOVI_PY_TYPE_NAME(OptIndex, "int | str | None")
 HOVI_PY_TYPE_NAME(PathOrXml, "str | os.PathLike[str]")
 HOVI_PY_TYPE_NAME(OptInt, "int | None")

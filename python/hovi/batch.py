@@ -33,7 +33,9 @@ def _concatenate(cls: Type[_Batch], parts: Sequence[_Batch], shared: tuple[str, 
                                            np.concatenate([v.gaps for v in values]), values[0].directions,
                                            np.concatenate([v.pivots for v in values]),
                                            None if values[0].impact is None else
-                                           np.concatenate([v.impact for v in values]))
+                                           np.concatenate([v.impact for v in values]),
+                                           added_energy=None if values[0].added_energy is None else
+                                           np.concatenate([v.added_energy for v in values]))
         else:
             joined[f.name] = np.concatenate(values)
     return cls(**joined)
@@ -90,7 +92,9 @@ class TrajectoryBatch:
                           contact=None if self.contact is None else ContactRecord(
                               self.contact.impulses[b, :k].copy(), self.contact.gaps[b, :k].copy(),
                               self.contact.directions, self.contact.pivots[b, :attempted].copy(),
-                              None if self.contact.impact is None else self.contact.impact[b, :k].copy()))
+                              None if self.contact.impact is None else self.contact.impact[b, :k].copy(),
+                              added_energy=None if self.contact.added_energy is None else
+                              self.contact.added_energy[b, :k].copy()))
 
     @classmethod
     def concatenate(cls, parts: Sequence[TrajectoryBatch]) -> TrajectoryBatch:

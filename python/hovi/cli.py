@@ -29,16 +29,26 @@ def model_listing() -> str:
             f"({', '.join(names(MODEL)[1:])}), a robot ({', '.join(names(ROBOT))}) or the path of a URDF file")
 
 
-def resolve_model(spec: str, base: str = "fixed") -> Tuple[Model, str]:
+def resolve_model(spec: str, base: Optional[str] = None) -> Tuple[Model, str]:
     """The model named by ``spec`` and how its root is attached to the world ('fixed', 'floating'
-    or 'planar'): a path if that file exists, else a built-in by its exact name ('pendulum',
-    'pendulum:N', a model or a robot of ``hovi.examples``). ModelSpecError with a one-line message
-    saying what is wrong and what is accepted otherwise."""
+    or 'planar'; ``base``, default 'fixed', for a URDF file): a path if that file exists, else a
+    built-in by its exact name ('pendulum', 'pendulum:N', a model or a robot of ``hovi.examples``),
+    whose base is its own. ModelSpecError with a one-line message saying what is wrong and what is
+    accepted otherwise (also for a ``base`` other than a built-in's own)."""
     accepted = "accepted: " + model_listing()
     if os.path.isdir(spec):
         raise ModelSpecError(f"model '{spec}' is a directory, not a URDF file; {accepted}")
     if os.path.isfile(spec):
-        return load_urdf(spec, base), base
+        return load_urdf(spec, base or "fixed"), base or "fixed"
+    model, own = built_in_model(spec, accepted)
+    if base is not None and base != own:
+        raise ModelSpecError(f"argument --base: the built-in '{spec}' has a {own} base; --base {base} applies to "
+                             "URDF files")
+    return model, own
+
+
+def built_in_model(spec: str, accepted: str) -> Tuple[Model, str]:
+    """The built-in model named ``spec`` and its own base (see resolve_model)."""
     name, colon, n = spec.partition(":")
     if name == "pendulum":
         if not colon:
@@ -81,7 +91,7 @@ def load_urdf(path: str, base: str) -> Model:
         raise ModelSpecError(f"'{path}': " + " ".join(str(e).split())) from None
 
 
-def load_model(spec: str, base: str = "fixed") -> Model:
+def load_model(spec: str, base: Optional[str] = None) -> Model:
     """The model named by ``spec`` (see resolve_model)."""
     return resolve_model(spec, base)[0]
 
@@ -631,7 +641,7 @@ def contact_point(text: str) -> Tuple[str, Tuple[float, float, float]]:
 
 def add_model_args(p):
     p.add_argument("model", nargs="?", default="pendulum:32", help=model_listing() + " (default: pendulum:32)")
-    p.add_argument("--base", default="fixed", choices=["fixed", "floating", "planar"],
+    p.add_argument("--base", default=None, choices=["fixed", "floating", "planar"],
                    help="how a URDF's root link is attached to the world (default: fixed)")
     p.add_argument("--seed", type=seed, default=0, help="seed of the random initial state (default: 0)")
 

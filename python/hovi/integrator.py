@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import os
+import warnings
 from typing import Any, Dict, List, Optional, Tuple
 
 import numpy as np
@@ -102,10 +103,18 @@ class Integrator:
         s = whole_number(s, "s", minimum=1)
         if not isinstance(model, _core.Model):
             raise TypeError(f"model must be a hovi.Model, got {type(model).__name__}")
+        for name, flag in (("line_search", line_search), ("reuse_jacobian", reuse_jacobian)):
+            if not isinstance(flag, (bool, np.bool_)):
+                raise ValueError(f"{name} must be True or False, got {type(flag).__name__} {flag!r:.60}")
+        # A string or a float count is never cast; the ranges that need the model or s are checked in C++.
         self._options: Dict[str, Any] = dict(
-            s=int(s), dt=float(dt), tol=float(tol), step_tol=float(step_tol), max_iterations=int(max_iterations),
-            max_backtracks=int(max_backtracks), line_search=bool(line_search), direction=direction,
-            reuse_jacobian=bool(reuse_jacobian), reuse_contraction=float(reuse_contraction), predictor=predictor)
+            s=int(s), dt=real_number(dt, "dt", minimum=0.0, strict_minimum=True),
+            tol=real_number(tol, "tol", minimum=0.0), step_tol=real_number(step_tol, "step_tol", minimum=0.0,
+                                                                           strict_minimum=True),
+            max_iterations=whole_number(max_iterations, "max_iterations"),
+            max_backtracks=whole_number(max_backtracks, "max_backtracks"), line_search=bool(line_search),
+            direction=direction, reuse_jacobian=bool(reuse_jacobian),
+            reuse_contraction=real_number(reuse_contraction, "reuse_contraction"), predictor=predictor)
         self.model = model
         self.contacts = contacts
         self.contact_tol = contact_tol
@@ -225,7 +234,23 @@ class Integrator:
         multipliers (s, m_c), p (n,): the recursive solver and the Schur complement of the KKT system."""
         return self._core.constrained_direction(control_points, multipliers, p, u)
 
-    def _check_consistent(self, q0: FloatArray, qdot0: Optional[FloatArray]) -> None:
+    def check_start(self, q: npt.ArrayLike, name: str = "q0") -> None:
+        """ValueError if a contact point of configuration q (n,) is deeper in the terrain than
+        ``contact_tol``: a step from there would throw the body out with energy it never had."""
+        if self.contacts is None:
+            return
+        gaps = self.contacts.gaps(q)
+        c = int(np.argmin(gaps))
+        if gaps[c] < -self.contact_tol:
+            point = self.contacts.points[c]
+            label = f"contact {c}" + (f" ({point.name!r}, body {self.model.body_names[point.body]!r})" if point.name
+                                      else f" (body {self.model.body_names[point.body]!r})")
+            raise ValueError(f"{name}: {label} starts {-gaps[c]:.6g} m inside the terrain, deeper than contact_tol = "
+                             f"{self.contact_tol:g}; start it on or above the terrain (a step from inside would "
+                             "throw it out with energy it does not have)")
+
+    def _check_consistent(self, q0: FloatArray, qdot0: Optional[FloatArray], name: str = "q0") -> None:
+        self.check_start(q0, name)
         if self.n_constraints == 0:
             return
         h = self.model.constraint_values(q0)
@@ -295,6 +320,8 @@ class Integrator:
         Raises ConvergenceError if the solve fails and raise_on_failure (else check info.converged).
         """
         z0 = None if impulses is None else _core.real_array(impulses, "impulses").ravel()
+        if self.contacts is not None:
+            self.check_start(_core.real_array(q, "q"), "q")
         qc, p_next, raw = self._core.step(q, p, u, guess, multipliers, z0)
         lam = raw.pop("multipliers")
         contact = {k: raw.pop(k) for k in ("impulses", "gaps", "pivots", "impact") if k in raw}
@@ -401,10 +428,10 @@ class Integrator:
         if second.shape != Q.shape:
             raise ValueError(f"{names[1] if p is not None else names[2]} must have the shape of {names[0]}, {Q.shape}, "
                              f"got {second.shape}")
-        if self.n_constraints:
+        if self.n_constraints or self.contacts is not None:
             for b in range(len(Q)):
                 try:
-                    self._check_consistent(Q[b], second[b] if velocities else None)
+                    self._check_consistent(Q[b], second[b] if velocities else None, f"{names[0]}[{b}]")
                 except ValueError as e:
                     raise ValueError(f"state {b} of the batch: {e}") from None
         return Q, second, velocities
@@ -435,6 +462,8 @@ class Integrator:
         if "impulses" in raw:
             contact = ContactRecord(raw["impulses"].reshape(B, steps, -1, self._core.per_contact), raw["gaps"],
                                     self._directions(), raw["pivots"], raw["impact"])
+            contact.added_energy = self.contact_work(raw["q"], contact.normal)
+            self._warn_added_energy(contact.added_energy)
         return TrajectoryBatch(
             t=np.arange(steps + 1, dtype=np.float64) * self.dt, q=raw["q"], p=raw["p"],
             control_points=raw["control_points"].reshape(B, steps, S1, self.n), iterations=raw["iterations"],
@@ -486,7 +515,35 @@ class Integrator:
                 directions=self._directions(), pivots=np.concatenate([r["pivots"] for r in parts]),
                 impact=np.concatenate([r["impact"] for r in parts]),
                 step_momenta=np.vstack([r["step_p"][:-1] for r in parts[:-1]] + [parts[-1]["step_p"]]))
+            traj.contact.added_energy = self.contact_work(traj.q, traj.contact.normal)
+            self._warn_added_energy(traj.contact.added_energy)
         return traj
+
+    def contact_work(self, q: FloatArray, normal: FloatArray) -> FloatArray:
+        """(..., K) the work (J) of the normal impulses ``normal`` (..., K, C) of steps along q (..., K+1, n)
+        where they pushed their point up by more than 10 contact_tol over the step, else 0: λ rise / (2 dt),
+        an impulse's work taking its point from rest to rise / dt along the normal. Hard
+        inelastic contact on horizontal faces never lifts a pushing point (λ > 0 holds it at the
+        surface it started on), so work here is energy the contact added: a start inside the terrain,
+        or a point carried onto a higher face at an edge."""
+        assert self.contacts is not None
+        K = normal.shape[-2]
+        q = np.where(np.isfinite(q), q, 0.0)  # the rows a failed batch item never reached
+        z = self.contacts.positions(q.reshape(-1, self.n)).reshape(*q.shape[:-1], -1, 3)[..., 2]
+        rise = z[..., 1:K + 1, :] - z[..., :K, :]
+        lifted = (normal > 0) & (rise > 10 * self.contact_tol)
+        work: FloatArray = np.where(lifted, normal * rise, 0.0).sum(axis=-1) / (2 * self.dt)
+        return work
+
+    @staticmethod
+    def _warn_added_energy(work: FloatArray) -> None:
+        """A RuntimeWarning naming the first step where the contact added energy (``contact_work``)."""
+        if work.size and work.max() > 0:
+            k = np.unravel_index(int(np.argmax(work > 0)), work.shape)
+            warnings.warn(f"the contact added energy at {int((work > 0).sum())} step(s), the first at step "
+                          f"{k[-1]}{f' of run {k[0]}' if work.ndim > 1 else ''} ({work[k]:.3g} J): a pushing contact "
+                          "lifted its point (a start inside the terrain, or a step onto a higher face at an edge); "
+                          "Trajectory.contact.added_energy has it per step", RuntimeWarning, stacklevel=3)
 
     def _join(self, parts: List[Dict[str, Any]]) -> Trajectory:
         q = np.vstack([parts[0]["q"]] + [r["q"][1:] for r in parts[1:]])

@@ -89,6 +89,8 @@ class ContactRecord:
     step_momenta: Optional[FloatArray] = None  # (K+1, n): the momentum each step starts from, before its knot's
                                                # impulse: the state of the contact Jacobians and of feedback policies
                                                # (``p`` adds half the knot impulse for 0 < k < K)
+    added_energy: Optional[FloatArray] = None  # (K,) J: the work of normal impulses that pushed their points up
+                                               # (``Integrator.contact_work``); > 0 flags energy the contact added
 
     @property
     def normal(self) -> FloatArray:
@@ -347,7 +349,12 @@ def check_arrays(arrays: Dict[str, Any], n_constraints: Optional[int] = None) ->
             raise ValueError(f"contact_gaps must have shape (K, C) with K = {K}, got {gaps.shape}")
         C = gaps.shape[1]
         _numbers(gaps, "contact_gaps", (K, C))
-        _numbers(a["contact_impulses"], "contact_impulses", (K, C, len(D) + 2))
+        z = _numbers(a["contact_impulses"], "contact_impulses", (K, C, len(D) + 2))
+        if K and z.min() < -1e-9 * (1 + np.abs(z).max()):  # λ, β, γ >= 0 (the solver's to round-off)
+            k, c, i = np.unravel_index(int(np.argmin(z)), z.shape)
+            what = "normal impulse" if i == 0 else "slack" if i == len(D) + 1 else f"friction impulse {i - 1}"
+            raise ValueError(f"contact_impulses must be >= 0 (normal and friction impulses, slacks), got the "
+                             f"{what} of contact {c} at step {k} = {z[k, c, i]:.6g}")
         _numbers(a["contact_pivots"], "contact_pivots", (attempted,), "iu")
     if "contact_impact" in a:
         if not given:

@@ -5,6 +5,7 @@
 #include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 #include "hovi/algorithms/energy.hpp"
 #include "hovi/algorithms/kinematics.hpp"
@@ -27,8 +28,12 @@ ContactModel checked(const Model& model, ContactModel contacts, const ContactOpt
     throw InputError("contacts with holonomic constraints are not supported: simulate the model without its "
                      "constraints, or without contacts");
   contacts.check(model);
-  if (!(opt.tol > 0 && opt.tol <= 1e-3))
-    throw InputError("contact_tol must lie in (0, 1e-3], got " + std::to_string(opt.tol));
+  // Below 1e-14 the tolerance is under the round-off of the gaps and impulses: no step would meet it.
+  if (!(opt.tol >= 1e-14 && opt.tol <= 1e-3)) {
+    std::ostringstream os;
+    os << "contact_tol must lie in [1e-14, 1e-3] (below 1e-14 it is under the round-off of the gaps), got " << opt.tol;
+    throw InputError(os.str());
+  }
   return contacts;
 }
 

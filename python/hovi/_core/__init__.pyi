@@ -185,12 +185,12 @@ class Model:
         """
         q: (n,); the gravitational potential -sum m_i g^T p_i (p_i the centre of mass) plus the springs' 1/2 k (q - rest)^2.
         """
-    def scale_mass(self, body: int | str, factor: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def scale_mass(self, body: int | str, factor: float) -> None:
         """
         Multiply a body's (index or name) mass and rotational inertia by factor > 0 (its density; shape and
         centre of mass kept): a plant that differs from the model a controller was made on
-        (``model.copy()`` first). Raises hovi.ModelError for an unknown body or a factor that is not finite
-        and positive.
+        (``model.copy()`` first). Raises hovi.ModelError for an unknown body or a factor outside
+        [1e-12, 1e12], and ValueError for a factor that is not a number.
         """
     def set_armature(self, joint: int | str, armature: typing.SupportsFloat | typing.SupportsIndex) -> None:
         """

@@ -70,6 +70,18 @@ def contact_body(model: Model, body: object, what: str) -> int:
     return body_index(model, body if isinstance(body, str) else int(body), what)
 
 
+def robot_names(model: Model) -> Tuple[Tuple[str, ...], Tuple[str, ...]]:
+    """The body and joint names of ``model``: what tells a robot apart from another one."""
+    return tuple(model.body_names), tuple(model.joint_names)
+
+
+def check_robot(robot: Tuple[Tuple[str, ...], Tuple[str, ...]], model: Model, what: str) -> None:
+    """ValueError naming ``what`` unless ``robot`` (``robot_names``) is ``model``'s."""
+    if robot != robot_names(model):
+        raise ValueError(f"{what} was built on another model (bodies {list(robot[0])[:6]}...), not this one "
+                         f"(bodies {list(model.body_names)[:6]}...)")
+
+
 @dataclass(frozen=True)
 class ContactPoint:
     """A contact of a body (a name, or its index): ``point`` (3,) in the body's joint frame (the URDF
@@ -118,7 +130,7 @@ class Contacts:
         self.terrain, self.mu = terrain, mu
         self.D = friction_directions(plane)
         self.d = len(self.D)
-        self.points: List[ContactPoint] = []
+        points_: List[ContactPoint] = []
         for i, entry in enumerate(points):
             if isinstance(entry, ContactPoint):
                 entry = (entry.body, entry.point, entry.radius, entry.name)
@@ -133,11 +145,37 @@ class Contacts:
                 raise ValueError(f"{e}: a contact point must be 3 finite numbers (in the body's joint frame), got "
                                  f"{point!r:.60}") from None
             r = real_number(radius, f"contact point {i} ({body!r}) radius", minimum=0.0)
-            self.points.append(ContactPoint(b, p, r, str(name)))
+            p.flags.writeable = False
+            points_.append(ContactPoint(b, p, r, str(name)))
+        self.points: Tuple[ContactPoint, ...] = tuple(points_)
+        self.D.flags.writeable = False
         self.m_user = model.n_controls
         self.robot = (tuple(model.body_names), tuple(model.joint_names), model.n_controls)
         self.first_input = model.n_controls
-        self.with_inputs = self.core_model().with_inputs(model)
+        self._core = self._contact_model()
+        self.with_inputs = self._core.with_inputs(model)
+        self._frozen = True
+
+    def _contact_model(self) -> _core.ContactModel:
+        return _core.ContactModel([int(c.body) for c in self.points], np.array([c.point for c in self.points]),
+                                  self.terrain.core(), self.mu, self.D, self.radii)
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        # Fixed once made: an integrator or a problem made with these contacts, and every copy of
+        # it, computes with what they were made with.
+        if getattr(self, "_frozen", False):
+            raise AttributeError(f"Contacts are fixed once made (an integrator made with them keeps them): make a "
+                                 f"new hovi.contact.Contacts instead of changing {name!r}")
+        super().__setattr__(name, value)
+
+    def __getstate__(self) -> dict:
+        return {k: v for k, v in self.__dict__.items() if k not in ("_core", "_frozen")}
+
+    def __setstate__(self, state: dict) -> None:
+        self.__dict__.update(state)
+        self.D.flags.writeable = False
+        self.__dict__["_core"] = self._contact_model()
+        self.__dict__["_frozen"] = True
 
     def check_model(self, model: Model) -> None:
         """ValueError unless ``model`` is the robot these contacts were built on (its bodies, joints and
@@ -154,8 +192,8 @@ class Contacts:
     def core_model(self) -> _core.ContactModel:
         """These contacts as the C++ contact model (the integrator's contact stages, the complementarity
         rows): the points, the terrain, mu and the friction directions, fixed when made."""
-        return _core.ContactModel([int(c.body) for c in self.points], np.array([c.point for c in self.points]),
-                                  self.terrain.core(), self.mu, self.D, self.radii)
+        model: _core.ContactModel = self._core
+        return model
 
     @property
     def radii(self) -> np.ndarray:

@@ -27,7 +27,7 @@ import numpy as np
 
 from .._checks import real_array, real_number
 from .._core import Model
-from .contacts import Contacts, contact_body, friction_coefficient
+from .contacts import Contacts, check_robot, contact_body, friction_coefficient, robot_names
 from .terrain import Terrain
 
 
@@ -55,6 +55,7 @@ class Stance:
     q0: np.ndarray
     point: np.ndarray
     size: Tuple[float, float]
+    robot: Tuple[Tuple[str, ...], Tuple[str, ...]]  # the foot's model's body and joint names
 
 
 @dataclass(frozen=True, eq=False)
@@ -65,6 +66,7 @@ class WrenchCone:
     A: np.ndarray
     lower: np.ndarray
     upper: np.ndarray
+    robot: Tuple[Tuple[str, ...], Tuple[str, ...]]  # the foot's model's body and joint names
 
 
 class FlatFoot:
@@ -97,6 +99,7 @@ class FlatFoot:
         except (TypeError, ValueError) as e:
             raise ValueError(f"{e}: q0 must be {model.n} finite numbers") from None
         pose = model.joint_placements(q0)[self.body]
+        self.robot = robot_names(model)
         self.R0 = pose[:3, :3]
         tilt = np.degrees(np.arccos(np.clip(self.R0[2, 2], -1.0, 1.0)))
         if tilt > 1e-3:  # degrees
@@ -117,7 +120,7 @@ class FlatFoot:
     def stance(self) -> Stance:
         """The foot held at its pose at q0 at every configuration point (a path constraint once added
         to a Problem)."""
-        return Stance(self.body, self.q0, self.centre, (self.X, self.Y))
+        return Stance(self.body, self.q0, self.centre, (self.X, self.Y), self.robot)
 
     def cone(self, n_controls: int | None = None) -> WrenchCone:
         """The rows G w >= 0 (``wrench_cone``) on the foot's wrench inputs at every point (an input
@@ -126,7 +129,7 @@ class FlatFoot:
         ``Contacts(foot.with_inputs, ...)``)."""
         A = np.zeros((17, self.with_inputs.n_controls if n_controls is None else int(n_controls)))
         A[:, self.first_input:self.first_input + 6] = wrench_cone(self.X, self.Y, self.mu)
-        return WrenchCone(A, lower=np.zeros(17), upper=np.full(17, np.inf))
+        return WrenchCone(A, lower=np.zeros(17), upper=np.full(17, np.inf), robot=self.robot)
 
     def corners(self) -> list[Tuple[int, np.ndarray]]:
         """The sole's four corners [(body, point (3,) in its joint frame), ...]: the contact points the
@@ -159,6 +162,7 @@ def flat_feet_contacts(model: Model, feet: Sequence[FlatFoot], terrain: Terrain,
     for i, foot in enumerate(feet):
         if not isinstance(foot, FlatFoot):
             raise TypeError(f"feet[{i}] must be a hovi.contact.FlatFoot, got {type(foot).__name__}")
+        check_robot(foot.robot, model, f"feet[{i}]")
     mus = {foot.mu for foot in feet}
     if len(mus) != 1:
         raise ValueError(f"the feet have different friction coefficients {sorted(mus)}: give feet of one mu")

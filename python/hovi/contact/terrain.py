@@ -4,8 +4,8 @@ wherever a foot can stand. The signed gap of a world point is its height above t
 it, phi(x) = z - h(x, y), with h piecewise constant (its gradient is (0, 0, 1) away from edges)."""
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-from typing import List, Tuple
+from dataclasses import dataclass
+from typing import Sequence, Tuple
 
 import numpy as np
 
@@ -13,22 +13,9 @@ from .. import _core
 from .._checks import real_number
 
 
-def _check_gap(g: "Gap", name: str) -> None:
-    x0, x1 = real_number(g.x0, f"{name}.x0"), real_number(g.x1, f"{name}.x1")
-    real_number(g.depth, f"{name}.depth", minimum=0.0, strict_minimum=True)
-    if not x0 < x1:
-        raise ValueError(f"{name} needs x0 < x1, got x0 = {x0}, x1 = {x1}")
-
-
-def _check_box(b: "Box", name: str) -> None:
-    x0, x1 = real_number(b.x0, f"{name}.x0"), real_number(b.x1, f"{name}.x1")
-    y0, y1 = real_number(b.y0, f"{name}.y0", finite=False), real_number(b.y1, f"{name}.y1", finite=False)
-    real_number(b.top, f"{name}.top")
-    if not (x0 < x1 and y0 < y1):
-        raise ValueError(f"{name} needs x0 < x1 and y0 < y1, got x0 = {x0}, x1 = {x1}, y0 = {y0}, y1 = {y1}")
-
-
-@dataclass
+# Terrains, gaps and boxes are frozen: an integrator or a problem made with them keeps computing what
+# it was made with, and so does every copy of it (a pickled one is made anew from them).
+@dataclass(frozen=True)
 class Gap:
     """No ground for x0 < x < x1 (a strip across y), down to ``depth`` below the ground (x0, x1 and
     depth finite numbers, x0 < x1, depth > 0)."""
@@ -37,10 +24,13 @@ class Gap:
     depth: float = 1.0
 
     def __post_init__(self) -> None:
-        _check_gap(self, "Gap")
+        x0, x1 = real_number(self.x0, "Gap.x0"), real_number(self.x1, "Gap.x1")
+        real_number(self.depth, "Gap.depth", minimum=0.0, strict_minimum=True)
+        if not x0 < x1:
+            raise ValueError(f"Gap needs x0 < x1, got x0 = {x0}, x1 = {x1}")
 
 
-@dataclass
+@dataclass(frozen=True)
 class Box:
     """A block with its top face at height ``top`` over x0 < x < x1, y0 < y < y1 (x0, x1 and top
     finite numbers, y0 and y1 numbers, +-inf allowed)."""
@@ -51,30 +41,34 @@ class Box:
     y1: float = np.inf
 
     def __post_init__(self) -> None:
-        _check_box(self, "Box")
+        x0, x1 = real_number(self.x0, "Box.x0"), real_number(self.x1, "Box.x1")
+        y0, y1 = real_number(self.y0, "Box.y0", finite=False), real_number(self.y1, "Box.y1", finite=False)
+        real_number(self.top, "Box.top")
+        if not (x0 < x1 and y0 < y1):
+            raise ValueError(f"Box needs x0 < x1 and y0 < y1, got x0 = {x0}, x1 = {x1}, y0 = {y0}, y1 = {y1}")
 
 
-@dataclass
+@dataclass(frozen=True)
 class Terrain:
-    """Flat ground at height ``ground`` with ``gaps`` and ``boxes`` (boxes stand above gaps)."""
+    """Flat ground at height ``ground`` with ``gaps`` and ``boxes`` (boxes stand above gaps); fixed
+    once made (``dataclasses.replace(terrain, ground=0.1)`` makes a changed copy)."""
     ground: float = 0.0
-    gaps: List[Gap] = field(default_factory=list)
-    boxes: List[Box] = field(default_factory=list)
+    gaps: Sequence[Gap] = ()
+    boxes: Sequence[Box] = ()
 
     def __post_init__(self) -> None:
         real_number(self.ground, "Terrain ground")
-        for field_name, kind, check in (("gaps", Gap, _check_gap), ("boxes", Box, _check_box)):
+        for field_name, kind in (("gaps", Gap), ("boxes", Box)):
             items = getattr(self, field_name)
             if isinstance(items, (str, bytes, dict)) or not hasattr(items, "__iter__"):
                 raise TypeError(f"Terrain {field_name} must be a list of hovi.contact.{kind.__name__}, got "
                                 f"{type(items).__name__}")
-            items = list(items)
+            items = tuple(items)
             for i, item in enumerate(items):
                 if not isinstance(item, kind):
                     raise TypeError(f"Terrain {field_name}[{i}] must be a hovi.contact.{kind.__name__}, got "
                                     f"{type(item).__name__} {item!r:.60}")
-                check(item, f"Terrain {field_name}[{i}]")
-            setattr(self, field_name, items)
+            object.__setattr__(self, field_name, items)
 
     def arrays(self) -> Tuple[float, np.ndarray, np.ndarray]:
         """(ground, gaps (G, 3) rows (x0, x1, depth), boxes (B, 5) rows (x0, x1, top, y0, y1)): the

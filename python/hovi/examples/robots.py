@@ -18,7 +18,7 @@ from ..contact.contacts import ContactPoint
 
 __all__ = ["URDF_DIR", "Robot", "spring_flamingo", "littledog", "atlas"]
 
-URDF_DIR = Path(__file__).resolve().parent.parent / "urdf"
+URDF_DIR = Path(__file__).parent.parent / "urdf"
 """Where the package's URDFs are installed (the repository's models/)."""
 
 

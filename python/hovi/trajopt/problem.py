@@ -8,7 +8,7 @@ import numpy.typing as npt
 
 from .. import _core
 from .._checks import real_array, real_number, whole_number
-from ..contact.contacts import Contacts
+from ..contact.contacts import Contacts, check_robot
 from ..contact.flat_foot import Stance, WrenchCone
 from .costs import Cost
 from .input_constraints import InputConstraint
@@ -138,6 +138,9 @@ class Problem:
         """Add a path constraint (BodyPoint, Clearance, PoseHeld, CallbackPathConstraint), resolved
         against the model now, or an InputConstraint on the controls; a flat foot's ``stance()``
         becomes a PoseHeld and its ``cone()`` an InputConstraint. Returns self."""
+        if isinstance(constraint, (Stance, WrenchCone)):
+            check_robot(constraint.robot, self.model,
+                        f"the flat foot's {'stance' if isinstance(constraint, Stance) else 'wrench cone'}")
         if isinstance(constraint, Stance):
             constraint = PoseHeld(constraint.body, constraint.q0, point=constraint.point, size=constraint.size)
         elif isinstance(constraint, WrenchCone):
