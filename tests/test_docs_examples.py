@@ -108,3 +108,14 @@ def test_examples_run(page, tmp_path, monkeypatch, capsys):
         pytest.fail(f"{page}, python block {number} (starting at line {line}) raised:\n{error}", pytrace=False)
     with capsys.disabled():
         print(f"\n  {page}: {number} blocks in {time.perf_counter() - start:.2f} s", end="")
+
+
+def test_the_home_page_links_every_page_of_the_nav():
+    """docs/index.md's table links every page of mkdocs.yml's nav (the tutorials and the top-level
+    pages; the API reference through its first page), so a new page is not left out of it."""
+    nav = re.findall(r"^\s*- [^:\n]+: (\S+\.md)\s*$", open(os.path.join(ROOT, "mkdocs.yml"), encoding="utf-8").read(), re.M)
+    assert "tutorials/simulate.md" in nav and "reference/hovi.md" in nav, nav
+    index = open(os.path.join(ROOT, "docs", "index.md"), encoding="utf-8").read()
+    for page in nav:
+        if page != "index.md" and not (page.startswith("reference/") and page != "reference/hovi.md"):
+            assert f"]({page})" in index, f"docs/index.md does not link {page} (in mkdocs.yml's nav)"
