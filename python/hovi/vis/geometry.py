@@ -5,7 +5,8 @@ A model's visuals (URDF ``<visual>`` elements, or ``Model.add_visual``) are atta
 ``joint_placements(q)[body] @ origin``. A model without visuals (``hovi.examples.models.pendulum(n)``)
 gets default shapes: a capsule (a cylinder with spherical ends) from each joint to each child
 joint, or to the far end of a leaf body (twice its centre of mass), and a sphere at each centre
-of mass with a radius growing as mass^(1/3).
+of mass with a radius growing as mass^(1/3); a body with mass on a prismatic joint (a cart, a
+slider) gets a box along its axis, and, fixed to the world, a rail (``rail_lines``).
 """
 from __future__ import annotations
 
@@ -24,7 +25,8 @@ from .._core import Model
 
 __all__ = ["Shape", "Motion", "LINK_RGBA", "COM_RGBA", "MeshNotFoundWarning", "package_search_path",
            "example_robot_data_dirs", "resolve_mesh", "model_shapes", "shape_corners", "ground_lines",
-           "default_shapes", "segment_frame", "translation", "transform_points", "body_frames", "motion_arrays", "sample_configurations"]
+           "default_shapes", "carriages", "rail_lines", "round_scale", "segment_frame", "translation", "transform_points",
+           "body_frames", "motion_arrays", "sample_configurations"]
 
 #: Colours of the default shapes (links, centres of mass) and of visuals without a material.
 LINK_RGBA = np.array([0.55, 0.6, 0.68, 1.0])
@@ -224,17 +226,56 @@ def transform_points(T: np.ndarray, points: np.ndarray) -> np.ndarray:
     return points @ T[:3, :3].T + T[:3, 3]
 
 
-def default_shapes(model: Model, radius: Optional[float] = None) -> List[Shape]:
-    """Capsules between joints (to twice the centre of mass for leaves) and spheres at centres of mass.
+def round_scale(x: float, at_most: bool = False) -> float:
+    """The 1, 2 or 5 times a power of ten nearest to x > 0 (in ratio), or the largest at most x: the
+    round numbers of arrow scales and scale bars."""
+    decade = 10.0 ** np.floor(np.log10(x))
+    steps = [m * decade for m in (1, 2, 5, 10)]
+    if at_most:
+        return max(v for v in steps if v <= x * (1 + 1e-12))
+    return min(steps, key=lambda v: abs(np.log(v / x)))
 
-    radius: the capsules' radius; default the larger of 5% of the longest segment and 1.5% of the
-    model's size at q = 0 (at least 1 mm).
-    """
+
+def carriages(model: Model) -> List[tuple[int, np.ndarray]]:
+    """(body, unit axis (3,) in its joint frame) of each body with mass on a prismatic joint: a cart or a
+    slider, drawn as a box on a rail (the massless prismatic joints of a floating or planar base are not)."""
+    q0 = np.zeros(model.n)
+    at0 = model.joint_placements(q0)
+    out = []
+    for i, (kind, mass) in enumerate(zip(model.joint_types, model.masses)):
+        if kind == "prismatic" and mass > 0:
+            q1 = q0.copy()
+            q1[i] = 1.0
+            axis = at0[i, :3, :3].T @ (model.joint_placements(q1)[i, :3, 3] - at0[i, :3, 3])
+            out.append((i, axis / np.linalg.norm(axis)))
+    return out
+
+
+def rail_lines(model: Model, q: Sequence[float] | np.ndarray, margin: Optional[float] = None) -> np.ndarray:
+    """(R, 2, 3) the rails of the carriages (``carriages``) fixed to the world: each along its axis
+    over the positions its joint takes at configurations q ((n,) or (N, n)), ``margin`` m further
+    each way (default: the length of its box in ``default_shapes``)."""
+    qs = np.atleast_2d(np.asarray(q, dtype=float))
+    margin = _segments(model)[3] if margin is None else float(margin)
+    lines = []
+    for body, axis in carriages(model):
+        if model.parents[body] >= 0:
+            continue
+        frames = np.array([model.joint_placements(qk)[body] for qk in qs])
+        a = frames[0, :3, :3] @ axis
+        s = (frames[:, :3, 3] - frames[0, :3, 3]) @ a
+        lines.append([frames[0, :3, 3] + (s.min() - margin) * a, frames[0, :3, 3] + (s.max() + margin) * a])
+    return np.array(lines, dtype=float).reshape(-1, 2, 3)
+
+
+def _segments(model: Model) -> tuple[list, list, float, float]:
+    """What ``default_shapes`` draws: (segments (body, a, b, b is a leaf end) in the body's joint frame,
+    the centres of mass in them, the capsules' radius, the carriage box's length) at q = 0."""
     q0 = np.zeros(model.n)
     joints = model.joint_placements(q0)
     coms = model.body_poses(q0)[:, :3, 3]
     parents = model.parents
-    segments: List[tuple[int, np.ndarray, np.ndarray, bool]] = []  # (body, a, b, b is a leaf end), joint frame
+    segments: List[tuple[int, np.ndarray, np.ndarray, bool]] = []
     com_local = []
     for i in range(model.n):
         inv = np.linalg.inv(joints[i])
@@ -244,7 +285,20 @@ def default_shapes(model: Model, radius: Optional[float] = None) -> List[Shape]:
         segments += [(i, np.zeros(3), e, leaf) for e, leaf in ends if np.linalg.norm(e) > 1e-9]
     longest = max((float(np.linalg.norm(b - a)) for _, a, b, _ in segments), default=0.0)
     points = np.vstack([joints[:, :3, 3], coms])
-    r = radius if radius is not None else max(0.05 * longest, 0.015 * float(np.ptp(points, axis=0).max()), 1e-3)
+    r = max(0.05 * longest, 0.015 * float(np.ptp(points, axis=0).max()), 1e-3)
+    return segments, com_local, r, max(0.4 * longest, 8 * r)
+
+
+def default_shapes(model: Model, radius: Optional[float] = None) -> List[Shape]:
+    """Capsules between joints (to twice the centre of mass for leaves), spheres at centres of mass,
+    and a box (``cart{i}``) along each carriage's axis (``carriages``): 40% of the longest segment
+    (at least 8 radii) long, half that across.
+
+    radius: the capsules' radius; default the larger of 5% of the longest segment and 1.5% of the
+    model's size at q = 0 (at least 1 mm).
+    """
+    segments, com_local, default_radius, cart = _segments(model)
+    r = radius if radius is not None else default_radius
     shapes = [Shape(i, f"joint{i}", "sphere", np.array([r, 0.0, 0.0]), np.eye(4), LINK_RGBA) for i in range(model.n)]
     for k, (body, a, b, leaf) in enumerate(segments):
         length = float(np.linalg.norm(b - a))
@@ -257,6 +311,9 @@ def default_shapes(model: Model, radius: Optional[float] = None) -> List[Shape]:
         if masses[i] > 0:
             rc = 1.3 * r * (masses[i] / m_max) ** (1 / 3)
             shapes.append(Shape(i, f"com{i}", "sphere", np.array([rc, 0.0, 0.0]), translation(com_local[i]), COM_RGBA))
+    for body, axis in carriages(model):
+        shapes.append(Shape(body, f"cart{body}", "box", np.array([cart / 2, cart / 2, cart]),
+                            segment_frame(-axis * cart / 2, axis * cart / 2), LINK_RGBA))
     return shapes
 
 
