@@ -144,6 +144,7 @@ def test_terrain_and_contact_force_arrows(tmp_path):
     (shaft and head) animated with the motion, hidden in the air, as long as the force over the weight
     times the model's size when it stands; drawn over the model (a screenshot differs from one without)."""
     from hovi.contact import Box, Gap, Terrain
+    from hovi.vis.video import model_size
     st, traj, arrows = littledog_landing()
     terrain = Terrain(gaps=[Gap(0.25, 0.4, 0.3)], boxes=[Box(-0.5, -0.3, 0.05, y0=-0.1)])
     html = viewer.animation_html(st.model, traj, tmp_path / "ld.html", fps=20, terrain=terrain, arrows=arrows)
@@ -158,7 +159,7 @@ def test_terrain_and_contact_force_arrows(tmp_path):
         assert {".position", ".quaternion", ".scale"} <= set(tracks[path]) and len(tracks[path][".scale"]) == frames
         assert tracks[path][".scale"][0][1] == pytest.approx([1e-6] * 3)  # in the air at t = 0
     unit = arrows.scale(st.model, traj.q[0]) * arrows.weight  # the weight's length
-    head = 6 * 0.012 * unit
+    head = 6 * 0.012 * model_size(st.model, traj.q[0])  # the arrows are as thick as the model is large
     standing = sum(tracks[p][".scale"][-1][1][1] + head for p in shafts)
     assert standing == pytest.approx(unit, rel=1e-2)  # the four forces carry the weight
     # on flat ground (the camera on the robot): the arrows show, over the legs

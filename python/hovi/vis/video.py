@@ -6,11 +6,15 @@ trimesh (STL, OBJ; DAE through pycollada) and, above ``max_faces`` triangles, si
 vertex clustering. The camera looks at the whole motion from the side, as the HTML export does,
 and fits it to the frame; the axes are equal (a metre is as long along x, y and z). A frame shows
 its time (``t = 1.23 s``) and, with ``ground``, a ground grid; with ``terrain`` (a
-``hovi.contact.Terrain``) its ground grid with the gaps left open and drawn as dark strips, and its boxes;
+``hovi.contact.Terrain``) its ground grid with the gaps left open and drawn as dark strips, and its boxes
+(both behind the model, so that a robot sunk below the ground shows); a cart's rail (``rail_lines``);
 with ``arrows`` (``ForceArrows``, e.g. a contact simulation's forces) an arrow per active contact;
-a progress bar (tqdm, on stderr) follows long renders.
+with ``pushes`` (``hovi.control.Push``) an arrow onto each pushed point while it acts, labelled
+with its impulse; a legend states the arrows' scales (``forces: 100 N per m``); a progress bar
+(tqdm, on stderr) follows long renders.
 
-``terrain_scene`` and ``ForceArrows`` are shared with ``hovi.vis.viewer`` (the HTML animation).
+``terrain_scene``, ``ForceArrows`` and the pushes' arrows (``push_frames``) are shared with
+``hovi.vis.viewer`` (the HTML animation) and ``hovi.vis.plots`` (the pictures).
 """
 from __future__ import annotations
 
@@ -23,16 +27,27 @@ from typing import Any, Dict, Iterable, List, Optional, Sequence, Tuple, Union
 import numpy as np
 
 from .._core import Model
-from .geometry import (Motion, Shape, body_frames, ground_lines, model_shapes, motion_arrays, sample_configurations,
-                       transform_points, translation)
+from .geometry import (Motion, Shape, body_frames, ground_lines, model_shapes, motion_arrays, rail_lines, round_scale,
+                       sample_configurations, transform_points, translation)
 
 __all__ = ["render_video", "shape_triangles", "box_triangles", "cylinder_triangles", "sphere_triangles",
-           "cluster_vertices", "subdivide", "terrain_scene", "ForceArrows"]
+           "cluster_vertices", "subdivide", "terrain_scene", "ForceArrows", "push_scale", "push_label",
+           "push_frames"]
 
-#: Colours of the terrain's boxes and gaps and of force arrows.
+#: Colours of the terrain's boxes and gaps, of force arrows and of push arrows.
 TERRAIN_BOX_RGBA = np.array([0.55, 0.6, 0.55, 1.0])
 TERRAIN_GAP_RGBA = np.array([0.22, 0.24, 0.27, 1.0])
 ARROW_RGBA = np.array([0.85, 0.1, 0.1, 1.0])
+PUSH_RGBA = np.array([0.1, 0.35, 0.9, 1.0])
+#: How long a push's arrow shows at least (s): a push without a duration is one step's impulse.
+PUSH_SHOWN = 0.2
+
+
+def model_size(model: Model, q: np.ndarray) -> float:
+    """The model's size at q (n,): the largest extent of its joint frames' origins and centres of mass
+    (at least 5 cm)."""
+    points = np.vstack([body_frames(model, q)[:-1, :3, 3], model.body_poses(np.asarray(q, dtype=float))[:, :3, 3]])
+    return max(float(np.ptp(points, axis=0).max()) if len(points) else 0.0, 0.05)
 
 
 def _terrain_check(terrain: Any) -> None:
@@ -93,8 +108,9 @@ class ForceArrows:
     bodies (C,) and points (C, 3): the points, each in its body's joint frame (as
     ``hovi.contact.Contacts`` holds them); times (K,): when the forces (K, C, 3) (world, N) act,
     e.g. a rollout's steps k dt; active (K, C): which to draw (default: the non-zero ones).
-    A force of ``weight`` N is drawn ``length`` m long (default: the size of the model, the largest
-    extent of its joint frames at the first frame); an arrow starts at its point moved by ``offset``
+    A force of ``weight`` N is drawn ``length`` m long (default: at a round number of newtons per
+    metre, ``per_metre``, at which the weight is about the size of the model at the first frame,
+    ``model_size``); the legends state it (``legend``); an arrow starts at its point moved by ``offset``
     (3,) (e.g. down by a foot sphere's radius, to where it touches the ground). A frame draws the
     mean force of the steps within half a frame (or a step) of its time, so that an impact's
     impulse shows as the force it is over a frame, and an arrow where any of them was active."""
@@ -152,13 +168,20 @@ class ForceArrows:
                    np.asarray(record.world_impulses) / dt, float(weight), np.asarray(record.active), length,
                    np.array([0.0, 0.0, -float(radius)]), names)
 
-    def scale(self, model: Model, q: np.ndarray) -> float:
-        """Metres per newton: ``length`` (or the model's size at q (n,)) over ``weight``."""
+    def per_metre(self, model: Model, q: np.ndarray) -> float:
+        """Newtons per metre of arrow: ``weight`` over ``length``, or by default the round number (1, 2 or 5
+        times a power of ten, ``round_scale``) nearest to the weight over the model's size at q (n,)."""
         if self.length is not None:
-            return self.length / self.weight
-        origins = body_frames(model, q)[:-1, :3, 3]
-        size = float(np.ptp(origins, axis=0).max()) if len(origins) else 0.0
-        return max(size, 0.05) / self.weight
+            return self.weight / self.length
+        return round_scale(self.weight / model_size(model, q))
+
+    def scale(self, model: Model, q: np.ndarray) -> float:
+        """Metres per newton at q (n,): 1 / ``per_metre``."""
+        return 1.0 / self.per_metre(model, q)
+
+    def legend(self, model: Model, q: np.ndarray) -> str:
+        """The arrows' scale at q (n,) as the legends state it, e.g. ``forces: 100 N per m``."""
+        return f"forces: {self.per_metre(model, q):.3g} N per m"
 
     def frames(self, model: Model, frame_t: np.ndarray, frames_q: np.ndarray,
                period: float) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -183,6 +206,38 @@ class ForceArrows:
         return origins, vectors, shown
 
 
+def push_scale(model: Model, pushes: Sequence[Any], q: np.ndarray) -> float:
+    """Newton seconds per metre of push arrow: the round number (``round_scale``) nearest to the largest
+    push's impulse over the model's size at q (n,) (``model_size``)."""
+    largest = max((float(np.linalg.norm(p.impulse)) for p in pushes), default=0.0)
+    return round_scale(largest / model_size(model, q)) if largest > 0 else 1.0
+
+
+def push_label(push: Any) -> str:
+    """What stands beside a push's arrow: its impulse (and angular impulse), e.g. ``push 20 N s``."""
+    angular = float(np.linalg.norm(push.angular))
+    return f"push {np.linalg.norm(push.impulse):.3g} N s" + (f" + {angular:.3g} N m s" if angular > 0 else "")
+
+
+def push_frames(model: Model, pushes: Sequence[Any], frame_t: np.ndarray, frames_q: np.ndarray,
+                per_metre: float) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(origins (F, P, 3), vectors (F, P, 3) in m, shown (F, P)) of the arrows of pushes (``hovi.control.Push``:
+    time, body (index or name), impulse (N s), point in the body's joint frame, duration) at the frames
+    (times (F,), configurations (F, n)): each ends at its pushed point, its impulse ``per_metre`` N s per m,
+    shown from its time for its duration, at least ``PUSH_SHOWN`` s."""
+    bodies = [model.body_index(p.body) if isinstance(p.body, str) else int(p.body) for p in pushes]
+    points = np.array([np.asarray(p.point, dtype=float) for p in pushes]).reshape(-1, 3)
+    tips = np.array([[transform_points(body_frames(model, qk)[b], x) for b, x in zip(bodies, points)]
+                     for qk in frames_q]).reshape(len(frame_t), len(pushes), 3)
+    vectors = np.broadcast_to(np.array([np.asarray(p.impulse, dtype=float) for p in pushes]).reshape(-1, 3) / per_metre,
+                              tips.shape)
+    start = np.array([float(p.time) for p in pushes])
+    end = start + np.array([max(float(p.duration), PUSH_SHOWN) for p in pushes])
+    t = np.asarray(frame_t, dtype=float)[:, None]
+    shown = (t >= start - 1e-9) & (t < end - 1e-9) & (np.linalg.norm(vectors, axis=-1) > 0)
+    return tips - vectors, vectors.copy(), shown
+
+
 def arrow_segments(origins: np.ndarray, vectors: np.ndarray, shown: np.ndarray,
                    head: float) -> Tuple[np.ndarray, np.ndarray]:
     """(shafts (A, 2, 3), heads (4 A, 2, 3)) line segments of the shown arrows of one frame: a shaft
@@ -202,6 +257,10 @@ def arrow_segments(origins: np.ndarray, vectors: np.ndarray, shown: np.ndarray,
     base = tip - h * d
     heads = [np.stack([tip, base + 0.4 * h * s * e], axis=1) for e in (e1, e2) for s in (1, -1)]
     return np.stack([o, tip], axis=1), np.concatenate(heads)
+
+
+#: The white box behind a frame's texts (time, legend, push labels), so that they read over the model.
+_LABEL_BOX = {"facecolor": "white", "alpha": 0.7, "edgecolor": "none", "pad": 2}
 
 _LIGHT = np.array([0.3, -0.5, 0.8]) / np.linalg.norm([0.3, -0.5, 0.8])
 
@@ -341,7 +400,8 @@ def render_video(model: Model, motion: Motion, path: Union[str, os.PathLike[str]
                  times: Optional[Sequence[float]] = None, fps: float = 30.0, size: Tuple[int, int] = (640, 480),
                  package_dirs: Iterable[Union[str, os.PathLike[str]]] = (), max_faces: int = 2000, *,
                  ground: Optional[float] = None, time_stamp: bool = True, progress: Optional[bool] = False,
-                 terrain: Any = None, arrows: Optional[ForceArrows] = None) -> Path:
+                 terrain: Any = None, arrows: Optional[ForceArrows] = None,
+                 pushes: Optional[Sequence[Any]] = None) -> Path:
     """Render a motion to an MP4 (``.mp4``) or GIF (``.gif``) file; returns its path.
 
     motion: a hovi.Trajectory or (N, n) configurations at ``times`` (N,) seconds (default 1/fps
@@ -350,10 +410,14 @@ def render_video(model: Model, motion: Motion, path: Union[str, os.PathLike[str]
     ground: a height in m: a ground grid on that plane under the motion (None: none; world shapes
     such as terrain boxes are the model's visuals). terrain: a ``hovi.contact.Terrain`` instead of
     ``ground``: its ground grid with the gaps cut out, its gaps as dark strips and its boxes
-    (``terrain_scene``). arrows: forces drawn as red arrows (``ForceArrows``). time_stamp: the
-    time in the top left corner. progress: a progress bar on stderr (tqdm): True, False, or None
-    for only when stderr is a terminal. The camera fits the bounding box of the motion's shapes
-    (equal axes).
+    (``terrain_scene``). The ground and terrain are drawn behind the model: a link below them shows.
+    arrows: forces drawn as red arrows (``ForceArrows``). pushes: a list of ``hovi.control.Push``
+    (time, body, impulse in N s, point in the body's joint frame, duration), each drawn as a blue
+    arrow onto its pushed point from its time for max(duration, ``PUSH_SHOWN``) s, labelled with its
+    impulse (``push_label``). A legend in the bottom left corner states the arrows' scales
+    (``forces: 100 N per m``, ``pushes: 20 N s per m``). time_stamp: the time in the top left
+    corner. progress: a progress bar on stderr (tqdm): True, False, or None for only when stderr is
+    a terminal. The camera fits the bounding box of the motion's shapes (equal axes).
     """
     out = Path(path)
     suffix = out.suffix.lower()
@@ -378,18 +442,22 @@ def render_video(model: Model, motion: Motion, path: Union[str, os.PathLike[str]
     colours: Dict[int, List[np.ndarray]] = {}
     shape_tris = [shape_triangles(s, max_faces) for s in shapes]
     grid_lines = None
+    scenery = np.zeros((0, 3, 3))  # the terrain's gaps and boxes, in the world
+    scenery_rgba = np.zeros((0, 4))
     if terrain is not None:  # under the model's motion: its shapes at up to 40 frames
         moving = np.concatenate([transform_points(frames[s.body], tris).reshape(-1, 3)
                                  for frames in (body_frames(model, qk) for qk in frames_q[:: max(1, len(frames_q) // 40)])
                                  for s, tris in zip(shapes, shape_tris)])
         grid_lines, extra = terrain_scene(terrain, moving)
-        shapes = list(shapes) + extra
-        shape_tris += [shape_triangles(s) for s in extra]
+        if extra:
+            extra_tris = [shape_triangles(s) for s in extra]
+            scenery = np.concatenate(extra_tris)
+            scenery_rgba = np.concatenate([np.tile(s.rgba, (len(tris), 1)) for s, tris in zip(extra, extra_tris)])
     frames0 = body_frames(model, frames_q[0])
     scene = np.concatenate([transform_points(frames0[s.body], t.reshape(-1, 3)) for s, t in zip(shapes, shape_tris)])
     max_edge = max(float(np.ptp(scene, axis=0).max()), 1e-3) / 12
     for s, tris in zip(shapes, shape_tris):
-        if s.body < 0:  # scenery (terrain boxes): split large faces so that the depth order holds
+        if s.body < 0:  # the model's world shapes: split large faces so that the depth order holds
             tris = subdivide(tris, max_edge)
         local.setdefault(s.body, []).append(tris)
         colours.setdefault(s.body, []).append(np.tile(s.rgba, (len(tris), 1)))
@@ -405,7 +473,9 @@ def render_video(model: Model, motion: Motion, path: Union[str, os.PathLike[str]
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from mpl_toolkits.mplot3d.art3d import Line3DCollection, Poly3DCollection
 
-    sample = np.concatenate([world_triangles(qk).reshape(-1, 3) for qk in frames_q[:: max(1, len(frames_q) // 40)]])
+    rails = rail_lines(model, frames_q)
+    sample = np.concatenate([world_triangles(qk).reshape(-1, 3) for qk in frames_q[:: max(1, len(frames_q) // 40)]]
+                            + [scenery.reshape(-1, 3), rails.reshape(-1, 3)])
     lo, hi = sample.min(axis=0), sample.max(axis=0)
     if ground is not None:  # the limits (equal axes) reach down or up to the ground
         lo[2], hi[2] = min(lo[2], float(ground)), max(hi[2], float(ground))
@@ -421,12 +491,19 @@ def render_video(model: Model, motion: Motion, path: Union[str, os.PathLike[str]
     ax.set_box_aspect(aspect)  # equal axes: the limits are the box, its sides in proportion
     ax.view_init(elev=15, azim=-70)
     ax.set_axis_off()
-    ax.computed_zorder = False  # the grid under everything, the shapes sorted by depth among themselves
-    if ground is not None:
-        lines = ground_lines(sample, float(ground)) if grid_lines is None else grid_lines
-        grid = Line3DCollection(lines, colors=[(0.55, 0.57, 0.6, 1.0)], linewidths=0.6, zorder=0)
-        ax.add_collection3d(grid, autolim=False)
-        grid.set_clip_on(False)
+    # the ground, terrain and rails under everything, the shapes sorted by depth among themselves, arrows on top
+    ax.computed_zorder = False
+    if grid_lines is None and ground is not None:
+        grid_lines = ground_lines(sample, float(ground))
+    for lines, colour, lw in ((grid_lines, (0.55, 0.57, 0.6, 1.0), 0.6), (rails, (0.25, 0.25, 0.28, 1.0), 2.0)):
+        if lines is not None and len(lines):
+            grid = Line3DCollection(lines, colors=[colour], linewidths=lw, zorder=0)
+            ax.add_collection3d(grid, autolim=False)
+            grid.set_clip_on(False)
+    if len(scenery):
+        terrain_faces = Poly3DCollection(scenery, facecolors=_shade(scenery, scenery_rgba), linewidths=0, zorder=0.5)
+        ax.add_collection3d(terrain_faces, autolim=False)
+        terrain_faces.set_clip_on(False)
     collection = Poly3DCollection(world_triangles(frames_q[0]), linewidths=0, zorder=1)
     ax.add_collection3d(collection, autolim=False)
     collection.set_clip_on(False)
@@ -435,17 +512,32 @@ def render_video(model: Model, motion: Motion, path: Union[str, os.PathLike[str]
         fit = np.vstack([fit, [[x, y, float(ground)] for x in (lo[0], hi[0]) for y in (lo[1], hi[1])]])
     _fit_view(ax, canvas, fit, aspect, width, height)
     clock = fig.text(0.015, 0.975, "", ha="left", va="top", family="monospace", fontsize=11, color="#222222",
-                     bbox={"facecolor": "white", "alpha": 0.7, "edgecolor": "none", "pad": 2}) if time_stamp else None
-    shafts = heads = None
-    if arrows is not None:  # over the model (drawn last), so that a force on a foot behind a leg still shows
-        arrow_at = arrows.frames(model, frame_t, frames_q, 1.0 / fps)
-        head = 0.08 * arrows.scale(model, frames_q[0]) * arrows.weight
-        colour = [tuple(ARROW_RGBA)]
-        shafts = Line3DCollection([], colors=colour, linewidths=2.4, zorder=2)
-        heads = Line3DCollection([], colors=colour, linewidths=1.6, zorder=2)
-        for lines3d in (shafts, heads):
+                     bbox=_LABEL_BOX) if time_stamp else None
+    # the force and push arrows, over the model (drawn last), so that a force on a foot behind a leg still shows:
+    # (shafts, heads, (origins, vectors, shown) per frame)
+    drawn: List[Tuple[Any, Any, Tuple[np.ndarray, np.ndarray, np.ndarray]]] = []
+    head = 0.08 * model_size(model, frames_q[0])
+
+    def add_arrows(at: Tuple[np.ndarray, np.ndarray, np.ndarray], colour: np.ndarray) -> None:
+        lines = [Line3DCollection([], colors=[tuple(colour)], linewidths=lw, zorder=2) for lw in (2.4, 1.6)]
+        for lines3d in lines:
             ax.add_collection3d(lines3d, autolim=False)
             lines3d.set_clip_on(False)
+        drawn.append((lines[0], lines[1], at))
+
+    legend, labels = [], []
+    if arrows is not None:
+        add_arrows(arrows.frames(model, frame_t, frames_q, 1.0 / fps), ARROW_RGBA)
+        legend.append(arrows.legend(model, frames_q[0]))
+    if pushes:
+        per_metre = push_scale(model, pushes, frames_q[0])
+        push_at = push_frames(model, pushes, frame_t, frames_q, per_metre)
+        add_arrows(push_at, PUSH_RGBA)
+        legend.append(f"pushes: {per_metre:.3g} N s per m")
+        labels = [ax.text(0, 0, 0, push_label(p), color=tuple(PUSH_RGBA), fontsize=9, ha="right", va="bottom", zorder=3,
+                          bbox=_LABEL_BOX) for p in pushes]
+    if legend:
+        fig.text(0.015, 0.02, "\n".join(legend), ha="left", va="bottom", fontsize=10, color="#222222", bbox=_LABEL_BOX)
 
     import imageio.v2 as imageio
 
@@ -465,10 +557,13 @@ def render_video(model: Model, motion: Motion, path: Union[str, os.PathLike[str]
                 tris = world_triangles(qk)
                 collection.set_verts(tris)
                 collection.set_facecolor(_shade(tris, rgba))
-                if shafts is not None and heads is not None:
-                    shaft_lines, head_lines = arrow_segments(arrow_at[0][f], arrow_at[1][f], arrow_at[2][f], head)
+                for shafts, heads, (origins, vectors, shown) in drawn:
+                    shaft_lines, head_lines = arrow_segments(origins[f], vectors[f], shown[f], head)
                     shafts.set_segments(list(shaft_lines))
                     heads.set_segments(list(head_lines))
+                for p, label in enumerate(labels):  # at the arrow's tail
+                    label.set_visible(bool(push_at[2][f, p]))
+                    label.set_position_3d(push_at[0][f, p])
                 if clock is not None:
                     clock.set_text(f"t = {tk:.2f} s")
                 canvas.draw()

@@ -12,25 +12,29 @@ tests, the command line); ``animation_html`` does that in one call.
 base, the robot examples; world shapes such as terrain boxes are the model's visuals on the
 world, ``Model.add_visual(None, ...)``); ``frame_model`` fits the camera to the bounding box of
 the motion. ``add_terrain(terrain)`` draws a ``hovi.contact.Terrain`` (its ground grid with the
-gaps open and shown as dark strips, and its boxes), and ``play(motion, arrows=...)`` animates forces as
-arrows with the motion (``hovi.vis.video.ForceArrows``: a contact simulation's forces at its active
-contacts). An exported animation shows its time (``t = 1.23 s``) in the top left corner, and
-an address ending in ``#t=1.5`` pauses it at 1.5 s.
+gaps open and shown as dark strips, and its boxes), and ``play(motion, arrows=..., pushes=...)``
+animates forces as arrows with the motion (``hovi.vis.video.ForceArrows``: a contact simulation's forces at its active
+contacts) and pushes (``hovi.control.Push``) as arrows onto the pushed points while they act. A cart
+(a body with mass on a prismatic joint to the world) runs on a rail (``/meshcat/hovi/rails``). An
+exported animation shows its time (``t = 1.23 s``) in the top left corner and the arrows' scales
+(``forces: 100 N per m``) in the bottom left one, and an address ending in ``#t=1.5`` pauses it at 1.5 s.
 """
 from __future__ import annotations
 
 import base64
 import os
 from collections import OrderedDict
+from html import escape as html_escape
 from pathlib import Path
 from typing import Any, Iterable, Optional, Sequence, Union
 
 import numpy as np
 
 from .._core import Model
-from .geometry import (Motion, Shape, body_frames, ground_lines, model_shapes, motion_arrays, sample_configurations,
-                       segment_frame, shape_corners, transform_points, translation)
-from .video import ARROW_RGBA, ForceArrows, terrain_scene
+from .geometry import (Motion, Shape, body_frames, ground_lines, model_shapes, motion_arrays, rail_lines,
+                       sample_configurations, segment_frame, shape_corners, transform_points, translation)
+from .video import (ARROW_RGBA, PUSH_RGBA, ForceArrows, model_size, push_frames, push_label, push_scale,
+                    terrain_scene)
 
 __all__ = ["Viewer", "animation_html"]
 
@@ -100,6 +104,7 @@ class Viewer:
         self._camera: Optional[tuple[np.ndarray, np.ndarray]] = None
         self._corners: Optional[list[np.ndarray]] = None
         self._start_time: Optional[float] = None  # of the last motion given to play (the time stamp)
+        self._legend: list[str] = []  # the arrows' scales of the last motion given to play
         self.duration = 0.0  #: length of the last motion given to play (s)
         self._body_paths = [self._path("hovi", "bodies", f"{i:03d}_{self._safe(name)}")
                             for i, name in enumerate(model.body_names)] + [self._path("hovi", "world")]
@@ -107,6 +112,7 @@ class Viewer:
             path = self._body_paths[shape.body].append(self._safe(shape.name))
             self._send(mc.commands.SetObject(_geometry(shape), _material(shape.rgba), path))
             self._send(mc.commands.SetTransform(_local_transform(shape), path))
+        self._rails(np.zeros(model.n))
         self.display(np.zeros(model.n))
 
     @staticmethod
@@ -147,13 +153,17 @@ class Viewer:
             self._send(commands.SetTransform(frame, path))
 
     def play(self, motion: Motion, times: Optional[Sequence[float]] = None, fps: float = 30.0,
-             repetitions: int = 1, arrows: Optional[ForceArrows] = None) -> "Viewer":
+             repetitions: int = 1, arrows: Optional[ForceArrows] = None,
+             pushes: Optional[Sequence[Any]] = None) -> "Viewer":
         """Animate a motion: a hovi.Trajectory, or (N, n) configurations at ``times`` (N,) seconds.
 
         The motion is sampled at ``fps`` frames per second (linear interpolation in q). meshcat's
         controls play, pause, reset and scrub it. ``arrows`` (``hovi.vis.video.ForceArrows``): forces
         animated with it as red arrows (``/meshcat/hovi/forces/NAME/shaft`` and ``head``), shown
-        while active, drawn over the model. Returns the viewer.
+        while active, drawn over the model. ``pushes`` (a list of ``hovi.control.Push``): blue arrows
+        onto the pushed points (``/meshcat/hovi/pushes/NN_push/...``), each from its time for
+        max(duration, 0.2 s) (``hovi.vis.video.push_frames``). The exported page states their scales
+        and the pushes' impulses in its bottom left corner. Returns the viewer.
         """
         if arrows is not None and not isinstance(arrows, ForceArrows):
             raise TypeError(f"arrows must be a hovi.vis.video.ForceArrows, got {type(arrows).__name__}")
@@ -165,36 +175,45 @@ class Viewer:
             for path, frame in zip(self._body_paths[:-1], body_frames(self.model, qk)):
                 mc.animation.AnimationFrameVisualizer(anim, path, k).set_transform(frame)
         self.display(frames_q[0])
+        self._rails(frames_q)
+        self._legend = []
         if arrows is not None:
-            self._animate_arrows(anim, arrows, frame_t, frames_q, fps)
+            at = arrows.frames(self.model, frame_t, frames_q, 1.0 / fps)
+            self._animate_arrows(anim, "forces", list(arrows.names or []), at, frames_q[0], ARROW_RGBA)
+            self._legend.append(arrows.legend(self.model, frames_q[0]))
+        if pushes:
+            per_metre = push_scale(self.model, pushes, frames_q[0])
+            at = push_frames(self.model, pushes, frame_t, frames_q, per_metre)
+            self._animate_arrows(anim, "pushes", ["push"] * len(pushes), at, frames_q[0], PUSH_RGBA)
+            self._legend.append(f"pushes: {per_metre:.3g} N s per m (" +
+                                "; ".join(f"{push_label(p)} at t = {float(p.time):.3g} s" for p in pushes) + ")")
         self._send(mc.commands.SetAnimation(anim, play=True, repetitions=int(repetitions)))
         self.duration = float(frame_t[-1] - frame_t[0])
         self._start_time = float(frame_t[0])
         return self
 
-    def _animate_arrows(self, anim: Any, arrows: ForceArrows, frame_t: np.ndarray, frames_q: np.ndarray,
-                        fps: float) -> None:
-        """The arrows' objects (a unit cylinder as the shaft, scaled to length, and a cone as the
-        head) and their tracks in the animation ``anim``: position, orientation and scale per frame,
-        scaled to nothing while a force is not shown."""
+    def _animate_arrows(self, anim: Any, group: str, names: Sequence[str],
+                        at: tuple[np.ndarray, np.ndarray, np.ndarray], q0: np.ndarray, rgba: np.ndarray) -> None:
+        """The arrows' objects (``/meshcat/hovi/GROUP/NN_NAME``: a unit cylinder as the shaft, scaled
+        to length, and a cone as the head) and their tracks in the animation ``anim``: position,
+        orientation and scale per frame (``at``: origins (F, A, 3), vectors (F, A, 3), shown (F, A)),
+        scaled to nothing while an arrow is not shown; their thickness from the model's size at q0."""
         mc = _meshcat()
-        origins, vectors, shown = arrows.frames(self.model, frame_t, frames_q, 1.0 / fps)
-        unit = arrows.scale(self.model, frames_q[0]) * arrows.weight  # the weight's length (m)
-        radius = 0.012 * unit
+        origins, vectors, shown = at
+        radius = 0.012 * model_size(self.model, q0)
         head = 6 * radius
-        r, g, b = (ARROW_RGBA[:3] * 255).round().astype(int)
+        r, g, b = (rgba[:3] * 255).round().astype(int)
         # drawn over the model (after the opaque shapes, without the depth test), as the video does: a
         # vertical force on a foot otherwise hides inside a vertical shin
         material = mc.geometry.MeshLambertMaterial(color=(int(r) << 16) | (int(g) << 8) | int(b), opacity=1.0,
                                                    transparent=True, depthTest=False)
         hidden = np.diag([1e-6, 1e-6, 1e-6, 1.0])
-        names = list(arrows.names or [])
-        for c in range(len(arrows.bodies)):
-            base = self._path("hovi", "forces", f"{c:02d}_{self._safe(str(names[c]))}")
+        for c in range(origins.shape[1]):
+            base = self._path("hovi", group, f"{c:02d}_{self._safe(str(names[c]))}")
             parts = {"shaft": (base.append("shaft"), mc.geometry.Cylinder(1.0, radius)),
                      "head": (base.append("head"),
                               mc.geometry.Cylinder(head, 0.0, radiusTop=0.0, radiusBottom=2.5 * radius))}
-            for k in range(len(frame_t)):
+            for k in range(len(origins)):
                 poses = self._arrow_poses(origins[k, c], vectors[k, c], bool(shown[k, c]), head, hidden)
                 for part, (path, _) in parts.items():
                     frame, scale = poses[part]
@@ -219,6 +238,16 @@ class Viewer:
         tip_base = origin + (length - h) * d
         return {"shaft": (segment_frame(origin, tip_base) @ _Y_TO_Z, np.array([1.0, length - h, 1.0])),
                 "head": (segment_frame(tip_base, origin + vector) @ _Y_TO_Z, np.full(3, h / head))}
+
+    def _rails(self, q: np.ndarray) -> None:
+        """The carts' rails (``hovi.vis.geometry.rail_lines``) under configurations q ((n,) or (N, n)),
+        as lines (``/meshcat/hovi/rails``)."""
+        lines = rail_lines(self.model, q)
+        if len(lines):
+            mc = _meshcat()
+            geometry = mc.geometry.PointsGeometry(position=lines.reshape(-1, 3).astype(np.float32).T)
+            rails = mc.geometry.LineSegments(geometry, mc.geometry.LineBasicMaterial(color=0x404048, linewidth=3))
+            self._send(mc.commands.SetObject(rails, path=self._path("hovi", "rails")))
 
     def add_ground(self, height: float = 0.0, q: Optional[np.ndarray] = None, margin: float = 0.5,
                    spacing: Optional[float] = None) -> None:
@@ -356,6 +385,8 @@ class Viewer:
             camera = (f"viewer.camera.position.set({px}, {py}, {pz});\n"
                       f"viewer.controls.target.set({tx}, {ty}, {tz});\n")
         clock = "" if self._start_time is None else _CLOCK.format(start=self._start_time)
+        if self._legend:
+            clock += _LEGEND.format(text="<br>".join(html_escape(line) for line in self._legend))
         return _HTML.format(script=script.replace("</script", "<\\/script"), commands=blobs, camera=camera,
                             clock=clock)
 
@@ -383,12 +414,14 @@ def animation_html(model: Model, motion: Motion, path: Union[str, os.PathLike[st
                    times: Optional[Sequence[float]] = None, fps: float = 30.0,
                    package_dirs: Iterable[Union[str, os.PathLike[str]]] = (), *,
                    ground: Optional[float] = None, terrain: Any = None,
-                   arrows: Optional[ForceArrows] = None) -> Path:
+                   arrows: Optional[ForceArrows] = None, pushes: Optional[Sequence[Any]] = None) -> Path:
     """Write a standalone HTML animation of a motion (see Viewer.play) without starting a server:
     the camera fits the motion (``Viewer.frame_model``), the time shows in the top left corner, and
     ``ground`` (a height in m; None: none) draws a ground grid under the motion (``Viewer.add_ground``),
     or ``terrain`` (a ``hovi.contact.Terrain``) its ground, gaps and boxes (``Viewer.add_terrain``);
-    ``arrows`` (``hovi.vis.video.ForceArrows``): forces animated as arrows (e.g. contact forces)."""
+    ``arrows`` (``hovi.vis.video.ForceArrows``): forces animated as arrows (e.g. contact forces);
+    ``pushes`` (a list of ``hovi.control.Push``): an arrow onto each pushed point while it acts (see
+    ``Viewer.play``), the scales and the pushes' impulses stated in the bottom left corner."""
     if ground is not None and terrain is not None:
         raise ValueError("give ground or terrain, not both (a terrain has its own ground height)")
     viewer = Viewer(model, package_dirs, server=False)
@@ -398,7 +431,7 @@ def animation_html(model: Model, motion: Motion, path: Union[str, os.PathLike[st
     if terrain is not None:
         viewer.add_terrain(terrain, q)
     viewer.frame_model(q)
-    viewer.play(motion, times, fps, arrows=arrows)
+    viewer.play(motion, times, fps, arrows=arrows, pushes=pushes)
     return viewer.export_html(path)
 
 
@@ -439,3 +472,6 @@ if (clock) {{
 _CLOCK = ('<div id="hovi-time" data-start="{start}" style="position: absolute; left: 10px; top: 8px; '
           'font: 15px monospace; color: #222; background: rgba(255, 255, 255, 0.7); padding: 1px 4px; '
           'pointer-events: none;">t = {start:.2f} s</div>\n')
+# The arrows' scales of an exported animation.
+_LEGEND = ('<div id="hovi-legend" style="position: absolute; left: 10px; bottom: 8px; font: 13px sans-serif; '
+           'color: #222; background: rgba(255, 255, 255, 0.7); padding: 1px 4px; pointer-events: none;">{text}</div>\n')
