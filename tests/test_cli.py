@@ -442,3 +442,51 @@ def test_a_base_other_than_a_built_in_models_own_is_refused(argv, says, tmp_path
     err = capsys.readouterr().err
     assert says in err and len(err.strip().splitlines()) == 1 and "Traceback" not in err
     assert main(["info", "littledog", "--base", "floating"]) == 0  # its own base, said again, is fine
+
+
+def test_simulate_pushes_a_standing_robot(tmp_path, capsys):
+    """``hovi simulate littledog --push BODY:t,ix,iy,iz`` (repeatable; with an angular impulse the
+    wrench form): said in the summary and the JSON; the pushes move the robot, still on its feet 0.1 s
+    after the last."""
+    out = tmp_path / "pushed"
+    assert main(["simulate", "littledog", "--push", "body:0.5,0.3,0,0", "--push", "body:1.4,0,0.2,0,0,0,0.005",
+                 "--duration", "1.5", "--no-progress", "--output", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "push: body at t = 0.5 s, impulse [0.3, 0.0, 0.0] N s" in text
+    assert "angular impulse [0.0, 0.0, 0.005] N m s" in text
+    pushed = json.loads((out / "simulate.json").read_text())
+    assert [p["time"] for p in pushed["pushes"]] == [0.5, 1.4] and pushed["converged"]
+    assert main(["simulate", "littledog", "--duration", "1.5", "--no-progress", "--no-plot", "--output",
+                 str(tmp_path / "still")]) == 0
+    still = json.loads((tmp_path / "still" / "simulate.json").read_text())
+    assert pushed["base_moved_end"] > 100 * still["base_moved_end"] + 1e-4  # it was pushed
+    assert pushed["active_contacts_end"] == 4 and not pushed["below_ground_end"]  # on its feet
+    assert (out / "final_configuration.png").is_file()
+
+
+@pytest.mark.parametrize("push, says", [
+    ("body:1,2,3", "argument --push: 'body:1,2,3' is not BODY:t,ix,iy,iz"),
+    ("body:-1,0,0,0", "the time must be >= 0"),
+    ("nobody:1,0,0,0", "Push body: the model has no body named 'nobody'"),
+])
+def test_bad_pushes_are_refused_in_one_line(push, says, tmp_path, capsys):
+    argv = ["simulate", "littledog", "--push", push, "--duration", "0.1", "--no-progress", "--no-plot",
+            "--output", str(tmp_path)]
+    try:
+        code = main(argv)
+    except SystemExit as e:  # argparse's own errors
+        code = e.code
+    assert code == 2
+    err = capsys.readouterr().err
+    assert says in err.strip().splitlines()[-1] and "Traceback" not in err  # (argparse's usage lines before it)
+
+
+def test_bodies_below_the_ground_are_named():
+    from hovi.cli import below_ground
+    from hovi.examples.robots import littledog
+    robot = littledog()
+    q = robot.q0.copy()
+    q[2] = -0.28  # the base sunk 0.28 m under the floor
+    sunk = dict(below_ground(robot.model, q, 0.0))
+    assert "body" in sunk and sunk["body"] == pytest.approx(-0.28)
+    assert below_ground(robot.model, robot.q0, 0.0) == []

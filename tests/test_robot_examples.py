@@ -9,7 +9,7 @@ from hovi.cli import main
 from hovi.examples.paper import build
 from hovi.examples.paper import littledog as littledog_example
 from hovi.examples.paper.atlas import centre_of_mass, single_support, sole
-from hovi.examples.paper.statics import static_controls
+from hovi.control import static_controls
 from hovi.contact.terrain import Box
 from hovi.examples.paper import flamingo
 from hovi.examples.paper.flamingo import JumpPlan, box_distance, leg_points, obstacle_circles

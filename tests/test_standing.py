@@ -31,3 +31,39 @@ def test_robot_stands_for_ten_seconds(name):
 def test_unknown_robot_is_refused():
     with pytest.raises(ValueError, match="no standing scene"):
         standing("ur5")
+
+
+# the held feet's horizontal positions: LittleDog's 4 point feet in x and y, the Flamingo's 2 feet (toe and heel
+# points on one rigid foot) in x
+@pytest.mark.parametrize("name, body, held", [("littledog", "body", 8), ("spring_flamingo", "base_link", 2)])
+def test_lqr_with_the_stance_held_stands_the_bare_robot_up_to_a_push(name, body, held):
+    """control.lqr at the rest pose of the robot without its PD (the contact forces part of the
+    equilibrium, the stance held in the linearisation): the closed loop's only modes of modulus 1 are
+    the held feet's horizontal positions, and a push of 0.1 m/s
+    on the trunk is recovered from, back to the pose within 1e-3 after 3 s, feet on the ground."""
+    from hovi import Linearizer, control
+    scene = standing(name)
+    plant, rest = scene.plant, scene.rest
+    policy = control.lqr(plant, rest)
+    u, p = policy.u_ref[0, 0], policy.x_ref[0, plant.n:]
+    lin = Linearizer(plant).step_jacobians(rest, p, u, hold=True)
+    moduli = np.abs(np.linalg.eigvals(lin.A - lin.B @ policy.gains[0]))
+    assert np.sum(moduli > 1 - 1e-9) == held and moduli.max() <= 1 + 1e-9
+    assert np.sort(moduli)[-held - 1] < 0.999
+    push = control.Push(0.5, body, [0.1 * scene.model.total_mass, 0.0, 0.0])
+    run = control.simulate(plant, policy, rest, int(round(3.5 / plant.dt)), pushes=[push])
+    assert run.converged
+    assert np.abs(run.trajectory.q - rest).max() > 1e-2                 # the push moved it
+    assert np.abs(run.trajectory.q[-1] - rest).max() < 1e-3             # and it came back
+    assert run.trajectory.contact.gaps.min() >= -1e-9
+    open_loop = control.simulate(plant, policy.with_limits(policy.u_ref[0, 0], policy.u_ref[0, 0]), rest,
+                                 int(round(3.5 / plant.dt)), pushes=[push])
+    assert not open_loop.converged or np.abs(open_loop.trajectory.q[-1] - rest).max() > 0.1  # without feedback: falls
+
+
+def test_lqr_refuses_a_pose_whose_feet_do_not_touch():
+    from hovi import control
+    scene = standing("littledog")
+    with pytest.raises(ValueError, match=r"q is not an equilibrium .* contacts \[0, 1, 2, 3\] do not touch the "
+                                         r"terrain at q \(gaps \[0.000346"):
+        control.lqr(scene.plant, scene.q0)

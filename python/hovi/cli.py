@@ -222,14 +222,22 @@ def cmd_simulate(args) -> int:
           f"dt = {dt} s, {steps} steps" + ("" if scene is None else f"; {scene.what}"))
     if base != "fixed" and scene is None:
         print(free_fall_note(model, base, steps * dt, robot_name is not None))
+    for p in args.push:
+        print(f"push: {p.body} at t = {p.time:g} s, impulse {list(p.impulse)} N s"
+              + (f", angular impulse {list(p.angular)} N m s" if any(p.angular) else ""))
     t0 = time.perf_counter()
-    try:
-        traj = integ.rollout(q0, steps, u=u, progress=not args.no_progress)
-    except ConvergenceError as e:
-        print(f"error: {e}", file=sys.stderr)
-        traj = e.trajectory
-        if traj is None or traj.steps == 0:
+    if args.push:
+        traj = pushed_run(integ, q0, u, steps, args.push)
+        if traj.steps == 0:
             return 1
+    else:
+        try:
+            traj = integ.rollout(q0, steps, u=u, progress=not args.no_progress)
+        except ConvergenceError as e:
+            print(f"error: {e}", file=sys.stderr)
+            traj = e.trajectory
+            if traj is None or traj.steps == 0:
+                return 1
     wall = time.perf_counter() - t0
     # the speed figure is the C++ loop's own time (Trajectory.solve_seconds): not the progress bar,
     # its import or the Python between chunks, which wall_time_s includes
@@ -244,6 +252,7 @@ def cmd_simulate(args) -> int:
         "energy_initial": float(energy[0]), "energy_final": float(energy[-1]),
         "energy_error_max_relative": float(rel.max()),
         "energy_error_final_relative": float(rel[-1]), "converged": traj.converged, "ground": scene is not None,
+        "pushes": [dict(body=p.body, time=p.time, impulse=list(p.impulse), angular=list(p.angular)) for p in args.push],
     }
     print(f"{summary['steps_per_second']:.0f} steps/s ({solve:.3g} s in the integrator; {wall:.3g} s wall"
           f"{'' if args.no_progress else ' with the progress bar'}), Newton iterations per step: "
@@ -270,17 +279,54 @@ def cmd_simulate(args) -> int:
             c = traj.contact
             plot_contact_forces(traj.t[:c.normal.shape[0]], c.world_impulses[..., 2] / dt, summary["weight"],
                                 os.path.join(args.output, first), scene.names, f"{name} on the ground, dt = {dt} s")
+        scenery = (dict(terrain=scene.contacts.terrain, arrows=contact_arrows(scene, traj, summary["weight"]))
+                   if scene is not None else dict(ground=None if base == "fixed" else 0.0))
         plot_configuration(model, traj.q[-1], os.path.join(args.output, "final_configuration.png"),
-                           f"{name} at t = {traj.t[-1]:.3g} s")
+                           f"{name} at t = {traj.t[-1]:.3g} s", pushes=args.push or None, **scenery)
         print(f"wrote {args.output}/{first}, final_configuration.png, simulate.json")
     if args.animate:
         if scene is None:
             write_animation(model, traj, args, ground=None if base == "fixed" else 0.0)
         else:
-            from .vis.video import ForceArrows
-            arrows = ForceArrows.from_contacts(traj, scene.contacts, summary["weight"], names=scene.names)
-            write_animation(model, traj, args, terrain=scene.contacts.terrain, arrows=arrows)
+            write_animation(model, traj, args, terrain=scene.contacts.terrain,
+                            arrows=contact_arrows(scene, traj, summary["weight"]))
+    if not traj.converged:
+        print(f"FAILED: the run stopped at step {traj.steps} of {steps} (t = {traj.t[-1]:.4g} s): {traj.status[-1]}",
+              file=sys.stderr)
     return 0 if traj.converged else 1
+
+
+def contact_arrows(scene: GroundScene, traj, weight: float):
+    """The contact forces of a rollout on the ground as arrows (hovi.vis.video.ForceArrows)."""
+    from .vis.video import ForceArrows
+    return ForceArrows.from_contacts(traj, scene.contacts, weight, names=scene.names)
+
+
+def pushed_run(integ: Integrator, q0: np.ndarray, u: Optional[np.ndarray], steps: int, pushes: list):
+    """The rollout of ``hovi simulate --push``: the held controls u (none: zero) as an open-loop
+    ``hovi.control.Policy`` in the C++ closed loop, which applies the pushes; a failed step ends it
+    (an error line says which)."""
+    from .control import Policy, simulate
+    m = integ.model.n_controls
+    if m == 0:
+        raise ValueError("argument --push: pushes run in hovi.control's closed loop, which needs a model with "
+                         "controls; this one has none")
+    for p in pushes:
+        p.knots(integ.model, integ.dt)  # the body named, or a one-line error naming it
+    policy = Policy.open_loop(np.zeros((1, m)) if u is None else np.atleast_2d(u), integ.dt, integ.s, integ.n)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # said below, as a rollout's failure is
+        run = simulate(integ, policy, q0, steps, pushes=pushes)
+    if run.failure is not None:
+        print(f"error: {run.failure}", file=sys.stderr)
+    return run.trajectory
+
+
+def below_ground(model: Model, q: np.ndarray, ground: float) -> List[Tuple[str, float]]:
+    """(name, height) of the bodies whose joint frame is below the ground at q: only the contact points
+    touch the terrain, so a body that falls through it is named rather than drawn over."""
+    z = model.joint_placements(q)[:, 2, 3]
+    return [(name, float(h)) for name, h in zip(model.body_names, z) if h < ground - 1e-6]
 
 
 def contact_report(scene: GroundScene, traj, base: str) -> dict:
@@ -314,6 +360,11 @@ def contact_report(scene: GroundScene, traj, base: str) -> dict:
                     "base_moved_window": float(traj.t[-1] - traj.t[k0])})
         print(f"the base ends at z = {traj.q[-1, z]:.6g} m and moved {moved:.2e} m in the last "
               f"{traj.t[-1] - traj.t[k0]:.3g} s")
+    sunk = below_ground(model, traj.q[-1], scene.contacts.terrain.ground)
+    out["below_ground_end"] = dict(sunk)
+    if sunk:
+        print(f"WARNING: at the end {len(sunk)} bodies are below the ground (only the contact points touch it): "
+              + ", ".join(f"{name} at z = {h:.3g} m" for name, h in sunk[:6]) + (", ..." if len(sunk) > 6 else ""))
     return out
 
 
@@ -344,7 +395,9 @@ def write_animation(model: Model, traj, args, ground: Optional[float] = None, te
     """animation.html (meshcat, standalone) and animation.mp4 (offline render, with a progress bar on
     a terminal unless --no-progress) in args.output; ``ground``: the height of a ground grid (a
     floating or planar base), None for none; ``terrain`` (a hovi.contact.Terrain) its ground, gaps
-    and boxes instead; ``arrows`` (hovi.vis.video.ForceArrows): contact forces as arrows."""
+    and boxes instead; ``arrows`` (hovi.vis.video.ForceArrows): contact forces as arrows; the
+    pushes of ``--push`` (args.push) as arrows while they act."""
+    pushes = getattr(args, "push", None) or None
     from .vis.geometry import MeshNotFoundWarning
     from .vis.video import render_video
     from .vis.viewer import animation_html
@@ -353,12 +406,13 @@ def write_animation(model: Model, traj, args, ground: Optional[float] = None, te
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", MeshNotFoundWarning)  # said once above
         html = animation_html(model, traj, os.path.join(args.output, "animation.html"), fps=args.fps,
-                              package_dirs=args.package_dir, ground=ground, terrain=terrain, arrows=arrows)
+                              package_dirs=args.package_dir, ground=ground, terrain=terrain, arrows=arrows,
+                              pushes=pushes)
         print(f"wrote {html} (open it in a browser: play, pause and scrub under Open Controls > Animations)")
         t0 = time.perf_counter()
         video = render_video(model, traj, os.path.join(args.output, "animation.mp4"), fps=args.fps,
                              package_dirs=args.package_dir, ground=ground, terrain=terrain, arrows=arrows,
-                             progress=False if getattr(args, "no_progress", False) else None)
+                             pushes=pushes, progress=False if getattr(args, "no_progress", False) else None)
     print(f"wrote {video} ({time.perf_counter() - t0:.1f} s to render)")
 
 
@@ -639,6 +693,26 @@ def contact_point(text: str) -> Tuple[str, Tuple[float, float, float]]:
     return link.strip(), point  # type: ignore[return-value]
 
 
+def push(text: str):
+    """An argparse type: BODY:t,ix,iy,iz (an impulse of ix, iy, iz N s on the body's origin at time t s)
+    or BODY:t,ix,iy,iz,ax,ay,az (a wrench impulse: and the angular impulse ax, ay, az N m s), a
+    ``hovi.control.Push``."""
+    from .control import Push
+    body, colon, numbers = text.rpartition(":")
+    shape = ("is not BODY:t,ix,iy,iz (a body's name, a colon, the time in s and the impulse in N s) or "
+             "BODY:t,ix,iy,iz,ax,ay,az (and the angular impulse in N m s), e.g. body:1.0,2,0,0")
+    parts = numbers.split(",")
+    if not colon or not body.strip() or len(parts) not in (4, 7):
+        raise argparse.ArgumentTypeError(f"'{text}' {shape}")
+    try:
+        values = [float(x) for x in parts]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' {shape}") from None
+    if not all(np.isfinite(values)) or values[0] < 0:
+        raise argparse.ArgumentTypeError(f"'{text}': the time must be >= 0 and every number finite")
+    return Push(values[0], body.strip(), values[1:4], angular=values[4:7] if len(values) == 7 else (0.0, 0.0, 0.0))
+
+
 def add_model_args(p):
     p.add_argument("model", nargs="?", default="pendulum:32", help=model_listing() + " (default: pendulum:32)")
     p.add_argument("--base", default=None, choices=["fixed", "floating", "planar"],
@@ -695,6 +769,10 @@ def main(argv=None) -> int:
     sim.add_argument("--drop", type=non_negative, default=DROP,
                      help=f"on the ground, the lowest contact point starts this high above it, m (default: {DROP:g}); "
                           "a fixed base is not moved")
+    sim.add_argument("--push", type=push, action="append", default=[], metavar="BODY:t,ix,iy,iz",
+                     help="push a body: an impulse (N s, world axes) on its origin at time t (s), or a wrench "
+                          "impulse BODY:t,ix,iy,iz,ax,ay,az (and an angular impulse, N m s) (repeatable), e.g. "
+                          "--push body:1.0,0.5,0,0; drawn in the pictures and the animation")
     sim.add_argument("--ground-height", type=finite, default=0.0,
                      help="height of the ground plane, m (default: 0)")
     sim.add_argument("--tol", type=non_negative, default=0.0,

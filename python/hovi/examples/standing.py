@@ -1,6 +1,6 @@
 """The paper's robots standing on their terrain in the contact simulator: joint PD control about
 the nominal pose q0 (``Robot.q0``) plus the static feed-forward torques that hold q0 with the
-feet loaded (``paper.statics.static_controls`` on the trajectory optimiser's contact model, least
+feet loaded (``hovi.control.static_controls`` on the trajectory optimiser's contact model, least
 norm over the controls and the contact forces).
 
 The PD law is built into the model as a spring (stiffness kp, rest angle q0) and a damper (kd) on
@@ -13,6 +13,7 @@ inverted pendulum on them that no hip or knee PD holds (it falls in about a seco
 standing scene stiffens them (``ANKLE_STIFFNESS``), as a robot with actuated ankles would."""
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 from typing import Dict, Tuple
 
@@ -23,7 +24,7 @@ from ..integrator import Integrator
 from .._core import Model
 from .._typing import FloatArray
 from .robots import Robot, atlas, littledog, spring_flamingo
-from .paper.statics import static_controls
+from ..control.statics import static_controls
 
 ANKLE_STIFFNESS = 300.0  # N m/rad: Spring Flamingo's ankles when it stands (the example's are 1 N m/rad)
 # (f Hz, kp_min N m/rad, legs, dt s) per robot: each actuated joint j gets kp_j = M_jj (2 pi f)^2, at
@@ -44,13 +45,30 @@ ZETA = 0.7
 @dataclass
 class Standing:
     """A robot standing: ``integrator`` (with the PD springs and dampers and the contacts) from ``q0``
-    with the constant feed-forward controls ``u`` (m,)."""
+    with the constant feed-forward controls ``u`` (m,); ``plant`` is the robot without the PD, on the
+    same contacts, for a controller of one's own (``hovi.control.lqr(scene.plant, scene.rest)``)."""
     robot: Robot
     model: Model
     contacts: Contacts
     integrator: Integrator
     q0: FloatArray
     u: FloatArray
+
+    @property
+    def plant(self) -> Integrator:
+        """The robot's own model (no PD springs or dampers) with the scene's contacts, s and dt."""
+        return Integrator(self.robot.model, s=self.integrator.s, dt=self.integrator.dt, contacts=self.contacts)
+
+    @functools.cached_property
+    def rest(self) -> FloatArray:
+        """The pose the robot settles to under the PD from q0 (its feet on the ground, loaded): 2 s of the
+        scene. ValueError if it is still moving then."""
+        traj = self.integrator.rollout(self.q0, int(round(2.0 / self.integrator.dt)), u=self.u)
+        speed = float(np.abs(traj.q[-1] - traj.q[-2]).max() / self.integrator.dt)
+        if speed > 1e-6:
+            raise ValueError(f"the {self.robot.name} scene does not come to rest in 2 s (joint speeds up to {speed:.3g})")
+        rest: FloatArray = traj.q[-1].copy()
+        return rest
 
 
 def pd_model(robot: Robot, frequency: float, kp_min: float = 0.0, legs: str = "") -> Model:

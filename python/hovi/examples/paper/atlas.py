@@ -15,7 +15,7 @@ from ..robots import Robot, atlas
 from ...trajopt import Problem, Result
 from .contact_figures import BETWEEN_TOLERANCE, between_knot_penetration
 from .example import Example, Scenery
-from .statics import static_controls
+from ...control.statics import static_controls
 
 LIFT = 0.05       # the left sole's height above the ground at the start (m)
 BALL = (0.30, 0.05, -0.20)  # the ball relative to the left hand at the start (m)

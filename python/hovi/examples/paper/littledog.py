@@ -27,7 +27,7 @@ from ... import _core, trajopt
 from ...contact import DEFAULT_FRICTION, Contacts, Gap, Terrain
 from ..robots import Robot, littledog
 from ...trajopt import Problem, Result
-from .statics import static_controls
+from ...control.statics import static_controls
 from .contact_figures import BETWEEN_TOLERANCE, CONTACT_BOUNDS, contact_figures, path_configurations
 from .example import Example, Scenery, samples_between
 
