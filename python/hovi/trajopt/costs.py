@@ -42,7 +42,8 @@ def _vector(value: npt.ArrayLike, name: str, size: int | None = None, *, nonnega
 
 
 def _weights(W: npt.ArrayLike, size: int, name: str) -> np.ndarray:
-    return _vector(W, f"{name} weight", size, nonnegative=True)
+    """A weight given to a cost as ``size`` non-negative numbers; errors name it ``name``."""
+    return _vector(W, name, size, nonnegative=True)
 
 
 def _reference_or_function(ref, name: str):
@@ -89,14 +90,17 @@ class ControlEffort(Cost):
         _vector(weight, "ControlEffort weight", nonnegative=True)
         self.weight = weight
 
+    def weights(self, m: int) -> np.ndarray:
+        """R (m,) for m controls (ValueError naming the weight if it is not a number or m numbers)."""
+        return _weights(self.weight, m, "ControlEffort weight")
+
     def __call__(self, s: Samples) -> CostValue:
-        R = _weights(self.weight, s.u.shape[1], "control effort")
-        wu = s.w[:, None] * R * s.u
+        wu = s.w[:, None] * self.weights(s.u.shape[1]) * s.u
         return float(np.sum(wu * s.u)), np.zeros_like(s.q), np.zeros_like(s.v), 2 * wu
 
     def curvature(self, s: Samples) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(0, 0, 2 w R): second derivatives in the samples' q (K, n), v (K, n), u (K, m)."""
-        hu = 2 * s.w[:, None] * _weights(self.weight, s.u.shape[1], "control effort")
+        hu = 2 * s.w[:, None] * self.weights(s.u.shape[1])
         return np.zeros_like(s.q), np.zeros_like(s.v), np.broadcast_to(hu, s.u.shape).copy()
 
 
@@ -139,21 +143,24 @@ class StateTracking(Cost):
         return (self._reference(self.q_ref, t, n, "StateTracking q_ref"),
                 self._reference(self.v_ref, t, n, "StateTracking v_ref"))
 
+    def weights(self, n: int) -> tuple[np.ndarray, np.ndarray]:
+        """(Wq, Wv), each (n,), for n coordinates (ValueError naming the weight of another length)."""
+        return (_weights(self.weight, n, "StateTracking weight"),
+                _weights(self.velocity_weight, n, "StateTracking velocity_weight"))
+
     def __call__(self, s: Samples) -> CostValue:
         n = s.q.shape[1]
         q_ref, v_ref = self.references(s.t, n)
         eq, ev = s.q - q_ref, s.v - v_ref
-        Wq = s.w[:, None] * _weights(self.weight, n, "state tracking")
-        Wv = s.w[:, None] * _weights(self.velocity_weight, n, "velocity tracking")
+        Wq, Wv = (s.w[:, None] * W for W in self.weights(n))
         value = float(np.sum(Wq * eq * eq) + np.sum(Wv * ev * ev))
         return value, 2 * Wq * eq, 2 * Wv * ev, np.zeros_like(s.u)
 
     def curvature(self, s: Samples) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(2 w Wq, 2 w Wv, 0): second derivatives in the samples' q (K, n), v (K, n), u (K, m)."""
-        n = s.q.shape[1]
-        return (np.broadcast_to(2 * s.w[:, None] * _weights(self.weight, n, "state tracking"), s.q.shape).copy(),
-                np.broadcast_to(2 * s.w[:, None] * _weights(self.velocity_weight, n, "velocity tracking"),
-                                s.v.shape).copy(), np.zeros_like(s.u))
+        Wq, Wv = self.weights(s.q.shape[1])
+        return (np.broadcast_to(2 * s.w[:, None] * Wq, s.q.shape).copy(),
+                np.broadcast_to(2 * s.w[:, None] * Wv, s.v.shape).copy(), np.zeros_like(s.u))
 
 
 class TerminalCost(Cost):
@@ -169,11 +176,21 @@ class TerminalCost(Cost):
         _vector(velocity_weight, "TerminalCost velocity_weight", nonnegative=True)
         self.q_target, self.weight, self.v_target, self.velocity_weight = q_target, weight, v_target, velocity_weight
 
+    def targets(self, n: int) -> tuple[np.ndarray, np.ndarray]:
+        """(q_target, v_target), each (n,), for n coordinates (ValueError naming a target of another length)."""
+        return (_vector(self.q_target, "TerminalCost q_target", n),
+                np.zeros(n) if self.v_target is None else _vector(self.v_target, "TerminalCost v_target", n))
+
+    def weights(self, n: int) -> tuple[np.ndarray, np.ndarray]:
+        """(Wq, Wv), each (n,), for n coordinates (ValueError naming the weight of another length)."""
+        return (_weights(self.weight, n, "TerminalCost weight"),
+                _weights(self.velocity_weight, n, "TerminalCost velocity_weight"))
+
     def __call__(self, s: Samples) -> CostValue:
         n, f = s.q.shape[1], s.final
-        eq = s.q[f] - _vector(self.q_target, "TerminalCost q_target", n)
-        ev = s.v[f] - (np.zeros(n) if self.v_target is None else _vector(self.v_target, "TerminalCost v_target", n))
-        Wq, Wv = _weights(self.weight, n, "terminal"), _weights(self.velocity_weight, n, "terminal velocity")
+        q_T, v_T = self.targets(n)
+        eq, ev = s.q[f] - q_T, s.v[f] - v_T
+        Wq, Wv = self.weights(n)
         dq, dv = np.zeros_like(s.q), np.zeros_like(s.v)
         dq[f], dv[f] = 2 * Wq * eq, 2 * Wv * ev
         return float(Wq @ (eq * eq) + Wv @ (ev * ev)), dq, dv, np.zeros_like(s.u)
@@ -183,8 +200,7 @@ class TerminalCost(Cost):
         v (K, n), u (K, m)."""
         n, f = s.q.shape[1], s.final
         hq, hv = np.zeros_like(s.q), np.zeros_like(s.v)
-        hq[f] = 2 * _weights(self.weight, n, "terminal")
-        hv[f] = 2 * _weights(self.velocity_weight, n, "terminal velocity")
+        hq[f], hv[f] = (2 * W for W in self.weights(n))
         return hq, hv, np.zeros_like(s.u)
 
 

@@ -28,30 +28,24 @@ from ..variational import VI, VariationalTranscription
 from .base import Solver
 
 
-def _broadcast(weight: Any, K: int, size: int) -> np.ndarray:
-    return np.broadcast_to(np.asarray(weight, dtype=np.float64), (size,))[None, :].repeat(K, 0)
-
-
 def sample_costs(problem: Problem, transcription: VariationalTranscription) -> list[dict[str, Any]]:
     """The Problem's costs as the shooting problem's quadratic sample terms (see ShootingProblem)."""
     smap = transcription.sample_map()
     t, w, K, n, m = smap.t, smap.w, len(smap.t), problem.model.n, problem.model.n_controls
     zq, zu = np.zeros((K, n)), np.zeros((K, m))
     terms = []
-    for cost in problem.costs:
+    for cost in problem.costs:  # the weights and targets checked by the costs themselves (errors name them)
         if isinstance(cost, ControlEffort):
-            terms.append(dict(terminal=False, Wq=zq, q_ref=zq, Wv=zq, v_ref=zq, R=w[:, None] * _broadcast(cost.weight, K, m),
+            terms.append(dict(terminal=False, Wq=zq, q_ref=zq, Wv=zq, v_ref=zq, R=np.outer(w, cost.weights(m)),
                               u_ref=zu))
         elif isinstance(cost, StateTracking):
-            q_ref, v_ref = cost.references(t, n)
-            terms.append(dict(terminal=False, Wq=w[:, None] * _broadcast(cost.weight, K, n), q_ref=np.array(q_ref),
-                              Wv=w[:, None] * _broadcast(cost.velocity_weight, K, n), v_ref=np.array(v_ref), R=zu,
-                              u_ref=zu))
+            (q_ref, v_ref), (Wq, Wv) = cost.references(t, n), cost.weights(n)
+            terms.append(dict(terminal=False, Wq=np.outer(w, Wq), q_ref=np.array(q_ref), Wv=np.outer(w, Wv),
+                              v_ref=np.array(v_ref), R=zu, u_ref=zu))
         elif isinstance(cost, TerminalCost):
-            one = lambda v: np.broadcast_to(np.asarray(v, dtype=np.float64), (n,))[None, :].copy()  # noqa: E731
-            terms.append(dict(terminal=True, Wq=one(cost.weight), q_ref=one(cost.q_target), Wv=one(cost.velocity_weight),
-                              v_ref=one(0.0 if cost.v_target is None else cost.v_target), R=np.zeros((1, m)),
-                              u_ref=np.zeros((1, m))))
+            (q_T, v_T), (Wq, Wv) = cost.targets(n), cost.weights(n)
+            terms.append(dict(terminal=True, Wq=Wq[None], q_ref=q_T[None], Wv=Wv[None], v_ref=v_T[None],
+                              R=np.zeros((1, m)), u_ref=np.zeros((1, m))))
         elif isinstance(cost, CallbackCost):
             if cost.hessian is None:
                 raise ValueError("FDDP needs the Hessian of a CallbackCost: CallbackCost(fun, hessian=...) (each "
@@ -104,6 +98,8 @@ def user_cost(problem: Problem, transcription: VariationalTranscription) -> Any:
 
 def check_problem(problem: Problem) -> None:
     """ValueError naming what a Problem asks that FDDP does not handle."""
+    if not isinstance(problem, Problem):
+        raise TypeError(f"problem must be a hovi.trajopt.Problem, got {type(problem).__name__}")
     problem.check()
     if problem.controls != "held":
         raise ValueError("FDDP needs held controls: Problem(..., controls='held') (one control per step)")
@@ -130,7 +126,12 @@ class FDDP(Solver):
 
     Through contact with the contact state held (smoothing = 0) a sticking contact has no
     sensitivity to pushes below its friction limit: from rest FDDP stops where it starts (its
-    stopping test holds there). Smooth (``smoothing`` > 0) or start from controls that make it move."""
+    stopping test holds there). Such a stop is not reported as a success: when one FDDP iteration
+    with smoothed contact Jacobians from there lowers the cost, the Result has success False and a
+    status saying so (``solver['held_contact_descent']``: that decrease). Smooth (``smoothing`` > 0)
+    or start from controls that make it move."""
+
+    CHECK_SMOOTHING = 1e-10  # (N s)^2: the held-contact check's; any small one gives the gradient across a stick
 
     def __init__(self, max_iterations: int = 500, tol: float = 1e-9, threads: int = 1, *, contacts: Any = None,
                  smoothing: float = 0.0):
@@ -151,33 +152,56 @@ class FDDP(Solver):
         return Integrator(problem.model, s=1, dt=problem.dt, tol=1e-13, contacts=self.contacts, locate_impacts=False)
 
     def shooting_problem(self, problem: Problem, transcription: VariationalTranscription,
-                         integrator: Optional[Integrator] = None) -> Any:
+                         integrator: Optional[Integrator] = None, *, smoothing: Optional[float] = None) -> Any:
         """The C++ ShootingProblem of ``problem`` on ``integrator`` (default ``dynamics``: the
-        transcription's integrator, or the contact simulator)."""
+        transcription's integrator, or the contact simulator) with ``smoothing`` (default this solver's)."""
         check_problem(problem)
         integ = self.dynamics(problem, transcription) if integrator is None else integrator
+        integ.check_start(problem.q0, "the problem's q0")
         x0 = np.concatenate([problem.q0, integ.momentum(problem.q0, problem.qdot0)])
         return _core.control.ShootingProblem(integ.core, problem.N, x0, sample_costs(problem, transcription),
-                                             problem.u_lower, problem.u_upper, self.smoothing)
+                                             problem.u_lower, problem.u_upper,
+                                             self.smoothing if smoothing is None else smoothing)
 
     def solve(self, problem: Problem, transcription: TranscriptionMethod = VI(2), guess: Guess = None) -> Result:
         """Solve ``problem`` on ``VI(s)`` from ``guess``; a Result whose x is the VI transcription's."""
         if not isinstance(transcription, VI):
             raise ValueError(f"FDDP shoots with the variational integrator: give hovi.trajopt.VI(s), got {transcription!r}")
         t0 = time.perf_counter()
+        check_problem(problem)  # before transcribing: its errors name what FDDP does not handle
         tr = transcription.transcribe(problem)
         integ = self.dynamics(problem, tr)
         sp = self.shooting_problem(problem, tr, integ)
         us = self._initial_controls(problem, guess)
         setup = time.perf_counter() - t0
-        out = sp.solve(None, us, self.max_iterations, self.tol, self.threads, user_cost(problem, tr))
+        user = user_cost(problem, tr)
+        out = sp.solve(None, us, self.max_iterations, self.tol, self.threads, user)
+        if out["converged"] and self.contacts is not None and self.smoothing == 0:
+            self._check_held_contact(out, problem, tr, integ, user)
         n, N, s = problem.model.n, problem.N, tr.s
         U = np.repeat(out["us"][:, None, :], s + 1, axis=1)
         traj = integ.rollout(problem.q0, N, p0=out["xs"][0, n:], u=U, raise_on_failure=False)
         x = tr.guess_from_rollout(traj, U) if traj.steps == N else np.full(tr.core.n_variables, np.nan)
         res = self._result(out, tr, x, setup, t0)
         res.solver["trajectory"] = traj  # the solution simulated (through contact: with its impulses)
+        if "held_contact_descent" in out:
+            res.solver["held_contact_descent"] = out["held_contact_descent"]
         return res
+
+    def _check_held_contact(self, out: dict[str, Any], problem: Problem, tr: VariationalTranscription,
+                            integ: Integrator, user: Any) -> None:
+        """A solve through contact that stopped with the contact state held: one iteration with smoothed
+        Jacobians from its solution (on the same simulator); if that lowers the cost, the stop was a
+        sticking contact's zero gradient, not an optimum, and ``out`` says so (not converged)."""
+        smoothed = self.shooting_problem(problem, tr, integ, smoothing=self.CHECK_SMOOTHING)
+        decrease = float(out["cost"] - smoothed.solve(out["xs"], out["us"], 1, self.tol, self.threads, user)["cost"])
+        out["held_contact_descent"] = decrease
+        if decrease > 1e-6 * (1 + abs(out["cost"])):
+            out["converged"] = False
+            out["status"] = (f"zero gradient through a held contact: stationary only with each contact's state "
+                             f"held (a sticking contact hides pushes beyond friction; one smoothed iteration lowers "
+                             f"the cost by {decrease:.3g}): solve with smoothing > 0, or from a guess that makes it "
+                             "slide")
 
     @staticmethod
     def _result(out: dict[str, Any], tr: VariationalTranscription, x: np.ndarray, setup: float, t0: float) -> Result:
@@ -206,4 +230,8 @@ class FDDP(Solver):
         else:
             raise ValueError("FDDP guess must be None, a Result, controls (N, m) or (m,), or functions (q(t), v(t), u(t))")
         t = (np.arange(problem.N) + 0.5) * problem.dt
-        return np.clip(np.asarray(f(t), dtype=np.float64).reshape(problem.N, -1), problem.u_lower, problem.u_upper)
+        name = f"FDDP guess: u(t) at the middles t ({problem.N},) of the steps"
+        u = real_array(f(t), name)
+        if u.shape != (problem.N, m) and not (m == 1 and u.shape == (problem.N,)):
+            raise ValueError(f"{name} must be ({problem.N}, {m}) controls, got shape {u.shape}")
+        return np.clip(u.reshape(problem.N, m), problem.u_lower, problem.u_upper)
