@@ -8,6 +8,7 @@ import platform
 import subprocess
 import sys
 import sysconfig
+import time
 
 import numpy as np
 
@@ -192,3 +193,23 @@ def update_readme_section(tag: str, text: str):
 def erd_urdf(rel: str) -> str:
     import example_robot_data as erd
     return os.path.join(erd.getModelPath(rel), rel)
+
+
+def solve_quick_example(name: str, solutions: str | None):
+    """(example, motion arrays, solve figures) of the quick example ``name``: solved once, or loaded
+    from DIR/<name>.npz (``solutions``, written there after a solve)."""
+    from hovi.examples.paper import build, report
+    example = build(name, quick=True)
+    path = None if solutions is None else os.path.join(solutions, f"{name}.npz")
+    if path is not None and os.path.exists(path):
+        d = dict(np.load(path))
+        return example, d, {"loaded_from": path, "success": bool(d["success"])}
+    t0 = time.perf_counter()
+    result = report.solve(example)
+    wall = time.perf_counter() - t0
+    tr, tc = result.trajectory, result.transcription
+    d = {"knots": tr["q"][::tc.s], "p": tr["p"], "U": tc.stage_controls(result.x), "success": result.success}
+    if path is not None:
+        os.makedirs(solutions, exist_ok=True)
+        np.savez(path, **d)
+    return example, d, {"solve_seconds": wall, "success": bool(result.success), "status": result.status}

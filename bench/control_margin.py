@@ -41,7 +41,7 @@ import numpy as np
 from common import hovi_commit, write_json
 from hovi import _core
 from hovi.examples.paper import build, report
-import robot_tracking as CL
+from hovi.examples.paper import tracking as CL
 
 MASS_FACTORS = (1.02, 1.05, 1.1, 1.15, 1.2)
 

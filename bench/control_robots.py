@@ -1,6 +1,6 @@
 """The paper's robots in closed loop in the contact simulator: each quick example solved
 once (report.solve, the trapezoidal VI), its optimised motion tracked by time-varying LQR on the
-robot's torques (robot_tracking.py, saturated at the torque limits) from the optimised
+robot's torques (hovi.examples.paper.tracking, saturated at the torque limits) from the optimised
 initial state: as is, with a push that breaks the open loop, with every body's mass x1.1 in the
 plant, and both; each also open loop. Per run: success by the example's goal, tracking error
 against the optimised knots (max, final), deepest penetration, torque saturation, first failure.
@@ -31,10 +31,9 @@ import time
 import numpy as np
 
 import control_videos
-from common import hovi_commit, write_json
+from common import hovi_commit, solve_quick_example, write_json
 from hovi.control import Push
-import robot_tracking as CL
-from robot_tracking import solve
+from hovi.examples.paper import tracking as CL
 
 ROBOTS = ("atlas", "spring_flamingo", "littledog")
 # alternatives to the chosen weights (closed_loop.WEIGHTS), by example
@@ -188,7 +187,7 @@ def main() -> None:
     results: dict = {}
     for name in robots:
         t0 = time.perf_counter()
-        example, motion, solved = solve(name, args.solutions)
+        example, motion, solved = solve_quick_example(name, args.solutions)
         cases = CL.cases(example, motion)
         for fig in cases.values():
             print(CL.closed_loop_text(fig), flush=True)

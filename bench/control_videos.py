@@ -23,9 +23,9 @@ from typing import Any, Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
-from common import RESULTS, ROOT
+from common import RESULTS, ROOT, solve_quick_example
 from hovi.control import Push, simulate
-import robot_tracking as CL
+from hovi.examples.paper import tracking as CL
 from hovi.vis.geometry import body_frames, ground_lines, model_shapes, transform_points
 from hovi.vis.video import ForceArrows, render_video, shape_triangles, subdivide
 
@@ -340,7 +340,7 @@ def main() -> None:
     ap.add_argument("--no-video", action="store_true", help="the stills only")
     args = ap.parse_args()
     for name in args.only:
-        example, motion, _ = CL.solve(name, args.solutions)
+        example, motion, _ = solve_quick_example(name, args.solutions)
         out = write(name, example, motion, video=not args.no_video)
         print(name, out, flush=True)
 

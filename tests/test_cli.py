@@ -490,3 +490,33 @@ def test_bodies_below_the_ground_are_named():
     sunk = dict(below_ground(robot.model, q, 0.0))
     assert "body" in sunk and sunk["body"] == pytest.approx(-0.28)
     assert below_ground(robot.model, robot.q0, 0.0) == []
+
+
+def test_example_runs_its_optimised_motion_in_closed_loop(tmp_path, capsys):
+    """``hovi example atlas --quick --closed-loop --push pelvis:0.15,20,0,0``: the optimised motion tracked
+    by time-varying LQR in the contact simulator, pushed; it says whether the example's goal is reached
+    (the open loop, pushed the same, fails), and writes the motion as a hovi trajectory with its controls."""
+    import hovi
+    assert main(["example", "atlas", "--quick", "--closed-loop", "--push", "pelvis:0.15,20,0,0", "--no-animate",
+                 "--quiet", "--no-progress", "--output", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "closed loop succeeds: 6 of 6 steps" in out and "open loop fails" in out
+    summary = json.loads((tmp_path / "atlas.json").read_text())
+    loop = summary["closed_loop"]
+    assert loop["push"]["impulse"] == [20.0, 0.0, 0.0] and loop["closed_loop"]["success"]
+    assert not loop["open_loop"]["success"]
+    from hovi.examples.paper import build
+    prob = build("atlas", quick=True).problem
+    traj = hovi.load_trajectory(tmp_path / "atlas_trajectory.npz", hovi.Integrator(prob.model, s=1, dt=prob.dt))
+    assert traj.converged and traj.controls.shape == (prob.N, 2, prob.model.n_controls)
+
+
+@pytest.mark.parametrize("argv, says", [
+    (["--push", "pelvis:0.1,1,0,0"], "argument --push/--mass-scale: they act on the closed loop; add --closed-loop"),
+    (["--closed-loop", "-s", "2"], "argument --closed-loop: the motion is tracked in the contact simulator"),
+    (["--closed-loop", "--push", "pelvis:0.1,1,0,0", "--push", "pelvis:0.2,1,0,0"], "the closed loop takes one push"),
+])
+def test_closed_loop_arguments_are_checked(argv, says, tmp_path, capsys):
+    assert main(["example", "atlas", "--quick", "--no-animate", "--output", str(tmp_path)] + argv) == 2
+    err = capsys.readouterr().err
+    assert says in err and len(err.strip().splitlines()) == 1

@@ -1,5 +1,5 @@
 """The paper's Atlas example (quick) in closed loop in the contact simulator
-(bench/robot_tracking.py): time-varying LQR on its torques tracks the optimised motion
+(hovi.examples.paper.tracking): time-varying LQR on its torques tracks the optimised motion
 exactly from the optimised state, and still reaches the ball on one foot after a push and with
 every mass 10% off, where the open loop fails. The Spring Flamingo and LittleDog cases take minutes
 to solve: bench/control_robots.py."""
@@ -11,9 +11,8 @@ import pytest
 from hovi import control
 from hovi.control import Push
 from hovi.examples.paper import build, report
-from conftest import bench_module
 
-CL = bench_module("robot_tracking")
+from hovi.examples.paper import tracking as CL
 
 
 

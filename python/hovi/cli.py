@@ -596,6 +596,13 @@ def most_violated(result) -> dict:
 
 def cmd_example(args) -> int:
     from .examples.paper import report
+    if (args.push or args.mass_scale != 1.0) and not args.closed_loop:
+        raise ValueError("argument --push/--mass-scale: they act on the closed loop; add --closed-loop")
+    if len(args.push) > 1:
+        raise ValueError("argument --push: the closed loop takes one push")
+    if args.closed_loop and (args.transcription != "vi" or args.s != 1):
+        raise ValueError("argument --closed-loop: the motion is tracked in the contact simulator, whose time-stepping "
+                         "is the VI with s = 1 (leave out --transcription and -s)")
     example = get(ROBOT_EXAMPLE, args.name).build(quick=args.quick)
     prob = example.problem
     print(f"{args.name}: {example.description}; {prob.model.n} DoF, {prob.model.n_controls} inputs, N = {prob.N} "
@@ -603,7 +610,8 @@ def cmd_example(args) -> int:
     with Heartbeat(f"solving {args.name}", enabled=not args.no_progress):
         s = report.run(example, args.output, animation=not args.no_animate, fps=args.fps, verbose=not args.quiet,
                        method=args.transcription, s=args.s, checkpoint=args.checkpoint,
-                       progress=False if args.no_progress else None)
+                       progress=False if args.no_progress else None, closed_loop=args.closed_loop,
+                       push=args.push[0] if args.push else None, mass_scale=args.mass_scale)
     print(f"{s['status']}: {s['iterations']} IPOPT iterations, {s['solve_seconds']:.1f} s; constraint violation "
           f"{s['constraint_violation']:.2e}")
     for key in example.bounds:
@@ -615,7 +623,10 @@ def cmd_example(args) -> int:
     print("wrote " + ", ".join(s["files"]))
     if not s["feasible"]:
         print("NOT feasible: " + "; ".join(s["failures"]), file=sys.stderr)
-    return 0 if s["feasible"] else 1
+    tracked = s.get("closed_loop", {}).get("closed_loop", {}).get("success", True)
+    if not tracked:
+        print("the closed loop FAILED: it did not reach the example's goal (see the line above)", file=sys.stderr)
+    return 0 if s["feasible"] and tracked else 1
 
 
 def print_replay(s) -> None:
@@ -828,6 +839,14 @@ def main(argv=None) -> int:
                                                          "how far the solve is)")
     ex.add_argument("--no-progress", action="store_true", help="no line every 10 s during the solve and no progress "
                                                               "bar while the video renders")
+    ex.add_argument("--closed-loop", action="store_true",
+                    help="then track the optimised motion by time-varying LQR in the contact simulator and say "
+                         "whether it reaches the example's goal (VI, s = 1)")
+    ex.add_argument("--push", type=push, action="append", default=[], metavar="BODY:t,ix,iy,iz",
+                    help="with --closed-loop: push a body (an impulse in N s at time t in s; ,ax,ay,az adds an "
+                         "angular impulse in N m s), e.g. body:0.6,0.2,0,0")
+    ex.add_argument("--mass-scale", type=positive, default=1.0, metavar="F",
+                    help="with --closed-loop: every body's mass and inertia times F in the plant (default 1)")
     ex.add_argument("--checkpoint", default=None, metavar="FILE",
                     help="keep the contact homotopy's state in FILE (npz) after each relaxed solve and resume from it "
                          "if it exists: a solve of hours survives an interruption")

@@ -18,7 +18,7 @@ from .trajectory import ContactRecord, Discretization, StepInfo, Trajectory
 __all__ = ["ConvergenceError", "Integrator", "StepInfo", "Trajectory"]
 
 
-def _check_trajectory_memory(steps: int, s: int, n: int, count: int = 1) -> None:
+def check_trajectory_memory(steps: int, s: int, n: int, count: int = 1) -> None:
     """MemoryError, before anything is allocated, if ``count`` trajectories of ``steps`` steps (q, p
     and control points, (steps+1) (s+3) n doubles each) need more than this machine's physical memory."""
     need = count * (steps + 1) * (s + 3) * n * 8
@@ -327,7 +327,7 @@ class Integrator:
         contact = {k: raw.pop(k) for k in ("impulses", "gaps", "pivots", "impact") if k in raw}
         info = StepInfo(**raw)
         if not info.converged and raise_on_failure:
-            raise ConvergenceError(f"{self._what} did not converge ({info.status}) after {info.iterations} "
+            raise ConvergenceError(f"{self.step_kind} did not converge ({info.status}) after {info.iterations} "
                                    f"iterations, residual {info.residual:.3e}; try a smaller dt", info=info)
         info.control_points = qc
         if self.n_constraints:
@@ -338,7 +338,7 @@ class Integrator:
         return qc[-1].copy(), p_next, info
 
     @property
-    def _what(self) -> str:
+    def step_kind(self) -> str:
         """What a step solves, for the messages of failed steps."""
         return "Newton solve" if self.contacts is None else "contact step"
 
@@ -359,7 +359,7 @@ class Integrator:
         unless raise_on_failure=False, in which case the trajectory stops there.
         """
         steps = step_count(steps)
-        _check_trajectory_memory(steps, self.s, self.n)
+        check_trajectory_memory(steps, self.s, self.n)
         q0 = _core.real_array(q0, "q0")  # complex, text and object arrays refused, never cast
         if p0 is not None and qdot0 is not None:
             raise ValueError("give p0 or qdot0, not both")
@@ -377,9 +377,13 @@ class Integrator:
             bar = tqdm(total=steps, unit="step", desc="simulating")
         parts = self._chunks(q0, p0, steps, U, bar, chunk)
         traj = self.trajectory_of(parts)
+        m = self.model.n_controls
+        if m:  # the controls of the steps taken, per control point (zero when none were given)
+            traj.controls = (np.zeros((traj.steps, self.s + 1, m)) if U is None
+                             else U[:traj.steps].reshape(traj.steps, self.s + 1, m).copy())
         if not traj.converged and raise_on_failure:
             k = traj.steps
-            raise ConvergenceError(f"{self._what} did not converge at step {k} (t = {k * self.dt:.6g} s): "
+            raise ConvergenceError(f"{self.step_kind} did not converge at step {k} (t = {k * self.dt:.6g} s): "
                                    f"{traj.status[-1]}, residual {traj.residuals[-1]:.3e}; try a smaller dt",
                                    trajectory=traj)
         return traj
@@ -453,7 +457,7 @@ class Integrator:
         """
         steps = step_count(steps)
         Q, second, velocities = self._batch_states(q0s, p0s, qdot0s, ("q0s", "p0s", "qdot0s"))
-        _check_trajectory_memory(steps, self.s, self.n, 2 * len(Q))  # the C++ results and the stacked arrays
+        check_trajectory_memory(steps, self.s, self.n, 2 * len(Q))  # the C++ results and the stacked arrays
         U = self._core.rollout_controls(u, steps, len(Q))
         raw = self._core.rollout_batch(Q, second, velocities, steps, None if U is None else U.reshape(-1, U.shape[-1]),
                                        threads)

@@ -158,6 +158,8 @@ class Trajectory:
     status: List[str] = field(default_factory=list)
     multipliers: Optional[FloatArray] = None  # (K, s, n_constraints): λ^{k,0..s-1} of constrained steps
     contact: Optional[ContactRecord] = None  # impulses and gaps of a rollout with contacts
+    controls: Optional[FloatArray] = None  # (K, s+1, m): the controls of each step at its control points (a
+                                           # rollout's, a closed loop's applied ones, an optimiser's)
     solve_seconds: float = 0.0  # time spent in the C++ loop
     discretization: Optional[Discretization] = field(default=None, repr=False)
 
@@ -168,8 +170,9 @@ class Trajectory:
 
     @property
     def converged(self) -> bool:
-        """Whether every attempted step converged."""
-        return all(s == "converged" for s in self.status)
+        """Whether every attempted step converged: solved by the integrator ('converged') or by a
+        trajectory optimiser ('optimized': the DEL equations are its constraints)."""
+        return all(s in ("converged", "optimized") for s in self.status)
 
     def _discretization(self) -> Discretization:
         if self.discretization is None:
@@ -222,6 +225,8 @@ def save_trajectory(trajectory: Trajectory, path: str | os.PathLike[str]) -> Non
         arrays["factorizations"] = trajectory.factorizations
     if trajectory.multipliers is not None:
         arrays["multipliers"] = trajectory.multipliers
+    if trajectory.controls is not None:
+        arrays["controls"] = trajectory.controls
     if trajectory.contact is not None:
         c = trajectory.contact
         arrays.update(contact_impulses=c.impulses, contact_gaps=c.gaps, contact_directions=c.directions,
@@ -239,7 +244,7 @@ def save_trajectory(trajectory: Trajectory, path: str | os.PathLike[str]) -> Non
 
 REQUIRED = ("format_version", "joint_names", "s", "dt", "t", "q", "p", "control_points", "iterations", "residuals",
             "status", "solve_seconds")
-OPTIONAL = ("factorizations", "multipliers", "contact_impact", "contact_step_momenta")
+OPTIONAL = ("factorizations", "multipliers", "controls", "contact_impact", "contact_step_momenta")
 CONTACT = ("contact_impulses", "contact_gaps", "contact_directions", "contact_pivots")  # all or none
 
 
@@ -336,6 +341,11 @@ def check_arrays(arrays: Dict[str, Any], n_constraints: Optional[int] = None) ->
         _numbers(mult, "multipliers", (K, s, mult.shape[2] if n_constraints is None else n_constraints))
     elif n_constraints:
         raise ValueError(f"multipliers (K, s, {n_constraints}) are missing for a model with {n_constraints} constraints")
+    if "controls" in a:
+        u = a["controls"]
+        if u.ndim != 3 or u.shape[:2] != (K, s + 1):
+            raise ValueError(f"controls must have shape (K, s+1, m) with K = {K}, s = {s}, got {u.shape}")
+        _numbers(u, "controls", u.shape)
     given = [k for k in CONTACT if k in a]
     if given and len(given) != len(CONTACT):
         raise ValueError(f"a trajectory with contacts holds all of {', '.join(CONTACT)}; got only {', '.join(given)}")

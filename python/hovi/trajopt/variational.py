@@ -190,13 +190,15 @@ class VariationalTranscription(Transcription):
 
     def solution_trajectory(self, x) -> Trajectory:
         """The solution x as a hovi.Trajectory (``save``, ``load_trajectory``): its own configurations,
-        control points, momenta and multipliers, status 'optimized' (no Newton iterations, residuals NaN)."""
+        control points, momenta, multipliers and controls, status 'optimized' (no Newton iterations,
+        residuals NaN)."""
         arrays = self.trajectory(x)
         cp = arrays["q"][self._stage_points()]                               # (N, s+1, n)
         return Trajectory(t=arrays["t_knots"], q=np.vstack([cp[:, 0, :], cp[-1:, -1, :]]), p=arrays["p"],
                           control_points=cp, iterations=np.zeros(self.N, dtype=np.int64),
                           residuals=np.full(self.N, np.nan), factorizations=np.zeros(self.N, dtype=np.int64),
                           status=["optimized"] * self.N, multipliers=arrays["multipliers"],
+                          controls=self.stage_controls(x) if self.m else None,
                           discretization=self.integrator.discretization)
 
     def replay(self, x):

@@ -7,12 +7,14 @@ from __future__ import annotations
 import json
 import os
 import time
-from typing import Any, Dict, Tuple
+from typing import Any, Dict, Optional, Tuple
 
 import numpy as np
 
 from ... import trajopt
+from ...control import Push
 from ...trajopt import Result
+from ...trajopt.variational import VariationalTranscription
 from ...trajopt.transcriptions import from_name
 from .contact_figures import between_knot_text
 from .contact_replay import simulated_figures, simulated_text
@@ -239,12 +241,22 @@ def solve(example: Example, method: str = "vi", s: int = 1, verbose: bool = Fals
 
 def run(example: Example, output: str, *, animation: bool = True, plots: bool = True, fps: float = 25.0,
         verbose: bool = False, method: str = "vi", s: int = 1, checkpoint: str | None = None,
-        progress: bool | None = False) -> Dict[str, Any]:
+        progress: bool | None = False, closed_loop: bool = False, push: Optional[Push] = None,
+        mass_scale: float = 1.0) -> Dict[str, Any]:
     """Solve ``example`` (``method``, ``checkpoint`` as in ``solve``: the VI of order 2s by default),
     check it, replay it (VI only: the replay figures put the solution into the integrator's
     equations), execute it open loop in the contact simulator (VI with s = 1: contact_replay.py) and
     write its files into ``output``; returns the summary (also written as <name>.json) with 'feasible' and, if not,
-    'failures'. ``progress``: the video's progress bar (True, False, None: on a terminal)."""
+    'failures'. ``progress``: the video's progress bar (True, False, None: on a terminal).
+
+    closed_loop: also track the optimised motion by time-varying LQR in the contact simulator
+    (``tracking.closed_loop_figures``; VI with s = 1), with ``push`` and every mass times
+    ``mass_scale`` in the plant: the summary's 'closed_loop' says whether it reached the goal."""
+    if closed_loop and (method != "vi" or s != 1):
+        raise ValueError("closed loop: the optimised motion is tracked in the contact simulator, whose time-stepping "
+                         "is the VI with s = 1; solve with the VI and s = 1")
+    if not closed_loop and (push is not None or mass_scale != 1.0):
+        raise ValueError("a push or a mass scale is for the closed loop: ask for it (closed_loop=True)")
     os.makedirs(output, exist_ok=True)
     t0 = time.perf_counter()
     result = solve(example, method, s, verbose, checkpoint=checkpoint)
@@ -268,6 +280,14 @@ def run(example: Example, output: str, *, animation: bool = True, plots: bool = 
     np.savez(base + ".npz", t=tr["t"], q=tr["q"], u=tr["u"], contact_forces=example.contact_forces(tr["u"]),
              force_labels=np.array(example.force_labels), joint_names=np.array(example.robot.model.joint_names))
     files = [base + ".npz", base + ".json"]
+    if isinstance(result.transcription, VariationalTranscription):  # a hovi trajectory, with its controls
+        result.transcription.solution_trajectory(result.x).save(base + "_trajectory.npz")
+        files.insert(1, base + "_trajectory.npz")
+    if closed_loop:
+        from .tracking import closed_loop_figures, closed_loop_text
+        loop = closed_loop_figures(example, result, push=push, mass_factor=mass_scale)
+        summary["closed_loop"] = loop
+        summary["report"].append(closed_loop_text(loop))
     if plots:
         plot(example, result, base + ".png")
         files.append(base + ".png")

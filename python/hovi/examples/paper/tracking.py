@@ -1,10 +1,10 @@
-"""The paper's robots in closed loop in the contact simulator, the study behind control_robots.py,
-control_margin.py and control_videos.py: the optimised motion of an
-example tracked by time-varying LQR (``hovi.control``) on the robot's own joint torques, saturated
-at the example's torque limits, in the contact simulator (``Example.simulation`` on the robot's
-model, s = 1, the optimiser's dt), from the optimised initial state: as is, after a push, with every
-body's mass 10% off, and both; each run also open loop (the same torques without feedback) for
-comparison. Success is the example's own goal (``GOALS``), with the tracking error against the
+"""The paper's robots in closed loop in the contact simulator (``hovi example NAME --closed-loop``,
+and the studies of bench/control_robots.py, control_margin.py and control_videos.py): the optimised
+motion of an example tracked by time-varying LQR (``hovi.control``) on the robot's own joint torques,
+saturated at the example's torque limits, in the contact simulator (``Example.simulation`` on the
+robot's model, s = 1, the optimiser's dt), from the optimised initial state: as is, after a push,
+with every body's mass off by a factor, or both; each run also open loop (the same torques without
+feedback) for comparison. Success is the example's own goal (``GOALS``), with the tracking error against the
 optimised knots, the deepest penetration and the first failure.
 
 The nominal (``nominal``): where the simulator's open-loop replay of the optimised torques follows
@@ -37,17 +37,13 @@ from typing import Any, Callable, Dict, List, Mapping, Optional, Tuple
 
 import numpy as np
 
-import os
-import time
-
-from hovi import _core
-from hovi.control import ClosedLoop, Policy, Push, riccati_policy, simulate
-from hovi.examples.paper import build, report
-from hovi.examples.paper.contact_figures import BETWEEN_TOLERANCE
-from hovi.examples.paper.example import Example
-from hovi.integrator import Integrator
-from hovi.linearizer import Linearizer
-from hovi.trajopt.path_constraints import BodyPoint
+from ... import _core
+from ...control import ClosedLoop, Policy, Push, riccati_policy, simulate
+from ...integrator import Integrator
+from ...linearizer import Linearizer
+from ...trajopt.path_constraints import BodyPoint
+from .contact_figures import BETWEEN_TOLERANCE
+from .example import Example
 
 DEPARTED = 1e-3        # m or rad: a run has departed from the optimised knots beyond this (contact_replay.DEPARTED)
 UNLOADED = 1e-9        # N s: an optimiser's knot impulse at or below this is no contact (its Jacobian adds nothing)
@@ -663,22 +659,3 @@ def closed_loop_text(fig: Dict[str, Any]) -> str:
     if "open_loop" in fig:
         lines.append("  " + _run_text("open loop", fig["open_loop"]))
     return "\n".join(lines)
-
-
-def solve(name: str, solutions: str | None):
-    """(example, motion arrays, solve figures) of the quick example ``name``: solved once, or loaded
-    from DIR/<name>.npz (``solutions``, written there after a solve)."""
-    example = build(name, quick=True)
-    path = None if solutions is None else os.path.join(solutions, f"{name}.npz")
-    if path is not None and os.path.exists(path):
-        d = dict(np.load(path))
-        return example, d, {"loaded_from": path, "success": bool(d["success"])}
-    t0 = time.perf_counter()
-    result = report.solve(example)
-    wall = time.perf_counter() - t0
-    tr, tc = result.trajectory, result.transcription
-    d = {"knots": tr["q"][::tc.s], "p": tr["p"], "U": tc.stage_controls(result.x), "success": result.success}
-    if path is not None:
-        os.makedirs(solutions, exist_ok=True)
-        np.savez(path, **d)
-    return example, d, {"solve_seconds": wall, "success": bool(result.success), "status": result.status}
