@@ -67,3 +67,36 @@ def test_a_trajectory_carries_its_discretization_not_the_integrator():
     np.testing.assert_array_equal(Q[3 * 7:3 * 8], traj.control_points[7, :3])
     np.testing.assert_array_equal(Q[3 * 8], traj.q[8])
     np.testing.assert_array_equal(Q[-1], traj.q[-1])
+
+
+def test_controls_are_recorded_saved_and_loaded(tmp_path):
+    """A rollout keeps the controls of its steps per control point (held ones repeated, none given:
+    zero); the file carries them; a replay of the loaded controls is the rollout, bit for bit."""
+    model = hovi.examples.models.cartpole()
+    integ = hovi.Integrator(model, s=2, dt=0.01)
+    u = np.sin(np.arange(30))[:, None]                       # (steps, m): held over each step
+    traj = integ.rollout([0.0, 0.3], 30, u=u)
+    np.testing.assert_array_equal(traj.controls, np.repeat(u[:, None, :], 3, axis=1))
+    assert not integ.rollout([0.0, 0.3], 5).controls.any()  # no controls given: zero
+    traj.save(tmp_path / "c.npz")
+    back = hovi.load_trajectory(tmp_path / "c.npz", integ)
+    np.testing.assert_array_equal(back.controls, traj.controls)
+    np.testing.assert_array_equal(integ.rollout(back.q[0], 30, p0=back.p[0], u=back.controls).q, traj.q)
+    arrays = dict(np.load(tmp_path / "c.npz"))
+    arrays["controls"] = arrays["controls"][:, :2]
+    np.savez(tmp_path / "bad.npz", **arrays)
+    with pytest.raises(ValueError, match=r"controls must have shape \(K, s\+1, m\) with K = 30, s = 2, got \(30, 2, 1\)"):
+        hovi.load_trajectory(tmp_path / "bad.npz", integ)
+    assert hovi.Integrator(hovi.examples.models.pendulum(2)).rollout([0.1, 0.0], 3).controls is None  # no controls
+
+
+def test_an_optimised_trajectory_is_converged_and_carries_its_controls():
+    """A VI solution as a Trajectory: status 'optimized' counts as converged (the DEL equations are the
+    optimiser's constraints), and its controls are the solution's."""
+    from hovi import trajopt
+    from hovi.examples.swingups import pendulum_swingup
+    prob = pendulum_swingup(N=20, T=1.0)
+    result = trajopt.solve(prob, trajopt.VI(s=1), options={"print_level": 0})
+    traj = result.transcription.solution_trajectory(result.x)
+    assert traj.status == ["optimized"] * 20 and traj.converged
+    np.testing.assert_array_equal(traj.controls, result.transcription.stage_controls(result.x))
