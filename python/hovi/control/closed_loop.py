@@ -15,7 +15,7 @@ import numpy.typing as npt
 from .. import _core
 from .._checks import real_array, real_number, step_count, whole_number
 from .._typing import FloatArray
-from ..integrator import Integrator, _check_trajectory_memory
+from ..integrator import Integrator, check_trajectory_memory
 from ..trajectory import Trajectory
 from .policy import Policy
 
@@ -90,7 +90,7 @@ def failure_of(trajectory: Trajectory, plant: Integrator, steps: int) -> Optiona
     if trajectory.steps == steps or not trajectory.status:
         return None
     k = trajectory.steps
-    return (f"step {k} of {steps} (t = {k * plant.dt:.6g} s): the plant's {plant._what} failed "
+    return (f"step {k} of {steps} (t = {k * plant.dt:.6g} s): the plant's {plant.step_kind} failed "
             f"({trajectory.status[-1]}, residual {trajectory.residuals[-1]:.3e})")
 
 
@@ -172,7 +172,7 @@ def _runs(plants: Union[Integrator, Sequence[Integrator]], policy: Policy, q0: n
     if len(items) not in (1, B) or len(push_lists) not in (0, 1, B):
         raise ValueError(f"give one plant or {B}, and the pushes of one run or of {B}")
     steps = run_steps(steps)
-    _check_trajectory_memory(steps, items[0].s, items[0].n, B)
+    check_trajectory_memory(steps, items[0].s, items[0].n, B)
     Q, P = _states(items, q0, p0, qdot0, B)
     for b in range(B):
         items[0 if len(items) == 1 else b].check_start(Q[b], f"q0 (run {b})" if B > 1 else "q0")

@@ -13,7 +13,7 @@ import numpy.typing as npt
 from .. import _core
 from .._checks import real_array, real_number, whole_number
 from .._typing import FloatArray, IntArray
-from ..integrator import Integrator, _check_trajectory_memory
+from ..integrator import Integrator, check_trajectory_memory
 from ..trajectory import Trajectory
 from ..trajopt.costs import CallbackCost
 from ..trajopt.problem import Problem
@@ -102,7 +102,7 @@ class MPC:
             raise ValueError(f"the plant (n = {plant.n}, m = {plant.model.n_controls}) must have the controller "
                              f"model's n = {n} and m = {m}")
         steps = run_steps(steps)
-        _check_trajectory_memory(steps, plant.s, n)
+        check_trajectory_memory(steps, plant.s, n)
         q0 = real_array(q0, "q0", (n,))
         plant.check_start(q0, "q0")
         p0 = plant.momentum(q0, np.zeros(n) if qdot0 is None else real_array(qdot0, "qdot0", (n,)))
