@@ -1,6 +1,8 @@
 """Hostile input to hovi.control and the FDDP solver: every bad argument is a ValueError (or the
 model's ModelError) naming it, never a crash, a hang or silent garbage; a run the plant cannot
 finish is reported as such."""
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -59,7 +61,7 @@ def replace(policy, **fields):
     ("a first step that cannot be taken", lambda m, I, P: trajopt.FDDP(max_iterations=20).solve(
         held_problem(m, qdot0=[1e6, 1e6]).add_cost(trajopt.TerminalCost([0, 0], 1e12)), trajopt.VI(1)),
      ValueError, "the step from the initial guess failed"),
-    ("tvlqr without controls", lambda m, I, P: control.tvlqr(I, I.rollout([0, 3], 5)), ValueError, "controls u"),
+    ("tvlqr without controls", lambda m, I, P: control.tvlqr(I, dataclasses.replace(I.rollout([0, 3], 5), controls=None)), ValueError, "controls u"),
 ])
 def test_bad_input_is_named(setup, what, call, error, match):
     m, integ, policy = setup

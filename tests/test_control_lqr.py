@@ -413,10 +413,15 @@ def test_tvlqr_reproduces_its_trajectory_and_tracks_it_from_a_perturbed_start(ca
     assert err(opened) > 1.0                                                 # open loop loses the trajectory
 
 
-def test_tvlqr_refuses_a_trajectory_without_its_controls(cartpole_trajectory):
+def test_tvlqr_takes_the_trajectorys_own_controls_and_refuses_one_without(cartpole_trajectory):
+    """A rollout (or a loaded file) carries its controls: tvlqr reads them; without them it refuses."""
+    import dataclasses
     integ, traj, U = cartpole_trajectory
-    with pytest.raises(ValueError, match="controls"):
-        control.tvlqr(integ, traj)
+    own, given = control.tvlqr(integ, traj), control.tvlqr(integ, traj, U)
+    np.testing.assert_array_equal(own.gains, given.gains)
+    np.testing.assert_array_equal(own.u_ref, given.u_ref)
+    with pytest.raises(ValueError, match="give the trajectory's controls u"):
+        control.tvlqr(integ, dataclasses.replace(traj, controls=None))
     with pytest.raises(TypeError, match="Trajectory or a hovi.trajopt.Result"):
         control.tvlqr(integ, "trajectory")
 

@@ -7,8 +7,9 @@ in C++ (saturation, pushes, model mismatch, contacts, Monte-Carlo batches)::
     run = control.simulate(plant, policy, q0, steps=500, pushes=[control.Push(1.0, "pole", [0.5, 0, 0])])
 """
 from .closed_loop import ClosedLoop, Push, simulate, simulate_batch
-from .lqr import equilibrium_controls, lqr, riccati_policy, tvlqr
+from .lqr import equilibrium_controls, lqr, rest_momentum, riccati_policy, tvlqr
 from .mpc import MPC, MpcRun
 from .policy import Policy
+from .statics import static_controls
 
-__all__ = ["Policy", "lqr", "tvlqr", "riccati_policy", "equilibrium_controls", "Push", "ClosedLoop", "simulate", "simulate_batch", "MPC", "MpcRun"]
+__all__ = ["Policy", "lqr", "tvlqr", "riccati_policy", "equilibrium_controls", "rest_momentum", "static_controls", "Push", "ClosedLoop", "simulate", "simulate_batch", "MPC", "MpcRun"]

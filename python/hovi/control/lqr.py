@@ -17,6 +17,7 @@ from ..integrator import ConvergenceError, Integrator
 from ..linearizer import Linearizer
 from ..trajectory import Trajectory
 from .policy import Policy
+from .statics import static_controls
 
 
 def _weight(W: Any, size: int, name: str) -> FloatArray:
@@ -70,22 +71,37 @@ def _limits(integrator: Integrator, u_limits: Any) -> tuple[FloatArray, FloatArr
 
 
 def equilibrium_controls(integrator: Integrator, q: npt.ArrayLike) -> FloatArray:
-    """The held controls u (m,) that balance gravity at q: the least-squares solution of
-    actuation u = G(q) (inverse dynamics at rest). ``lqr`` checks that they hold q at rest."""
-    model = integrator.model
-    q = real_array(q, "q", (model.n,))
-    tau = model.inverse_dynamics(q, np.zeros(model.n), np.zeros(model.n))
-    u, *_ = np.linalg.lstsq(model.actuation, tau, rcond=None)
-    return np.asarray(u, dtype=np.float64)
+    """The held controls u (m,) that balance gravity at q (``static_controls``): least norm over the
+    controls and, with contacts, the contact forces (which then carry the weight with them). ``lqr``
+    checks that they hold q at rest."""
+    q = real_array(q, "q", (integrator.n,))
+    if integrator.contacts is None:
+        return static_controls(integrator.model, q)
+    with_inputs = integrator.contacts.core_model().with_inputs(integrator.model)  # the plant's, not the contacts' model
+    return static_controls(with_inputs, q)[:integrator.model.n_controls]
 
 
-def _check_rest(integrator: Integrator, q: FloatArray, u: FloatArray) -> None:
-    q_next, p_next, _ = integrator.step(q, np.zeros(integrator.n), u)
+def rest_momentum(integrator: Integrator, q: FloatArray, u: FloatArray) -> FloatArray:
+    """The momentum p (n,) of rest at q under held controls u: zero, or with contacts the momentum each
+    step starts from before its knot's impulse (the policy's state; one step from rest reaches it).
+    ValueError unless the step maps (q, p) to itself (q is not an equilibrium with u)."""
+    p = np.zeros(integrator.n)
+    if integrator.contacts is not None:
+        _, p, _ = integrator.step(q, p, u)
+    q_next, p_next, info = integrator.step(q, p, u)
     scale = 1.0 + np.abs(q).max()
-    drift = max(np.abs(q_next - q).max() / scale, np.abs(p_next).max() * integrator.dt / scale)
+    drift = max(np.abs(q_next - q).max() / scale, np.abs(p_next - p).max() * integrator.dt / scale)
     if drift > 1e-9:
-        raise ValueError(f"q is not an equilibrium with controls u = {np.round(u, 6).tolist()}: one step from rest moves "
-                         f"it by {drift:.2e} (relative); give u_eq (held controls that hold q at rest)")
+        loose = ""
+        if integrator.contacts is not None:
+            gaps = integrator.contacts.gaps(q)
+            far = np.flatnonzero(gaps > integrator.contact_tol)
+            loose = (f"; contacts {far.tolist()} do not touch the terrain at q (gaps {np.round(gaps[far], 6).tolist()} m): "
+                     "a standing pose has its feet on it (let the robot settle, e.g. a rollout of "
+                     "hovi.examples.standing, and take its last q)") if far.size else ""
+        raise ValueError(f"q is not an equilibrium with controls u = {np.round(u, 6).tolist()}: a step from rest moves it "
+                         f"by {drift:.2e} (relative){loose}; give u_eq (held controls that hold q at rest)")
+    return p
 
 
 def lqr(integrator: Integrator, q_eq: npt.ArrayLike, u_eq: Optional[npt.ArrayLike] = None, *, q_weight: Any = 1.0,
@@ -101,25 +117,47 @@ def lqr(integrator: Integrator, q_eq: npt.ArrayLike, u_eq: Optional[npt.ArrayLik
     n, m = integrator.n, integrator.model.n_controls
     q_eq = real_array(q_eq, "q_eq", (n,))
     u = equilibrium_controls(integrator, q_eq) if u_eq is None else real_array(u_eq, "u_eq", (m,))
-    _check_rest(integrator, q_eq, u)
-    lin = Linearizer(integrator).step_jacobians(q_eq, np.zeros(n), u, hold=True)
+    p_eq = rest_momentum(integrator, q_eq, u)
+    lin = Linearizer(integrator).step_jacobians(q_eq, p_eq, u, hold=True)  # with contacts: the stance held
     assert lin.A is not None and lin.B is not None
-    T = _core.control.velocity_state_map(integrator.model, q_eq[None], np.zeros((1, n)))[0]
+    T = _core.control.velocity_state_map(integrator.model, q_eq[None], p_eq[None])[0]
     Qx = T.T @ _user_weights(n, q_weight, v_weight, Q) @ T
     R = _weight(u_weight, m, "u_weight")
     if np.linalg.eigvalsh(R).min() <= 0:
         raise ValueError("u_weight must be positive definite")
-    P, K, _ = _core.control.discrete_are(lin.A, lin.B, Qx, R)
+    P, K = (_core.control.discrete_are(lin.A, lin.B, Qx, R)[:2] if integrator.contacts is None
+            else _stance_gains(lin.A, lin.B, Qx, R))
     lo, hi = _limits(integrator, u_limits)
-    return Policy(x_ref=np.concatenate([q_eq, np.zeros(n)])[None], u_ref=np.tile(u, (1, integrator.s + 1, 1)),
+    return Policy(x_ref=np.concatenate([q_eq, p_eq])[None], u_ref=np.tile(u, (1, integrator.s + 1, 1)),
                   gains=K[None], lower=lo, upper=hi, cost_to_go=P[None], dt=integrator.dt, s=integrator.s)
+
+
+def _stance_gains(A: FloatArray, B: FloatArray, Qx: FloatArray, R: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """(P, K) of LQR with the stance held: the gains of the backward Riccati recursion, run until they
+    stop changing. Held contacts keep the feet where they are, modes of eigenvalue 1 that no control
+    moves, so the DARE has no stabilising solution; the gains converge all the same (P grows along
+    those modes: it is the cost-to-go of the horizon run)."""
+    chunk, K = 500, None
+    for _ in range(40):
+        gains, P = _core.control.backward_riccati(np.repeat(A[None], chunk, 0), np.repeat(B[None], chunk, 0),
+                                                  np.repeat(Qx[None], chunk, 0), R, Qx if K is None else P0)
+        P0 = P[0]
+        if K is not None and np.abs(gains[0] - K).max() <= 1e-9 * (1 + np.abs(K).max()):
+            rho = float(np.abs(np.linalg.eigvals(A - B @ gains[0])).max())
+            if rho > 1 + 1e-8:
+                raise ValueError(f"LQR with the stance held does not stabilise the robot (closed-loop |eigenvalue| up to "
+                                 f"{rho:.6g}): some motion with the feet held is not controllable")
+            return P0, gains[0]
+        K = gains[0]
+    raise ValueError("LQR with the stance held: the Riccati gains did not converge over 20,000 steps")
 
 
 def tvlqr(integrator: Integrator, trajectory: Union[Trajectory, Any], u: Optional[npt.ArrayLike] = None, *,
           q_weight: Any = 1.0, v_weight: Any = 0.1, u_weight: Any = 0.01, Q: Any = None, final_weight: Any = None,
           u_limits: Any = None, smoothing: float = 0.0) -> Policy:
     """Finite-horizon time-varying LQR along a trajectory of ``integrator``: a Trajectory it computed
-    with controls u (as ``Integrator.rollout`` takes them), or a ``hovi.trajopt.Result`` of a VI
+    with controls u (as ``Integrator.rollout`` takes them; default the trajectory's own,
+    ``Trajectory.controls``, e.g. of a loaded optimised motion), or a ``hovi.trajopt.Result`` of a VI
     transcription with this integrator's s and dt (its replay and controls are used).
 
     Weights as ``lqr``; final_weight (2n, 2n) on (q, q̇) at the end (default: 10 Q). With contacts the
@@ -128,14 +166,16 @@ def tvlqr(integrator: Integrator, trajectory: Union[Trajectory, Any], u: Optiona
     _check_integrator(integrator)
     if not isinstance(trajectory, Trajectory):
         trajectory, u = _from_result(integrator, trajectory)
+    _check_trajectory(integrator, trajectory)
     if not trajectory.converged:
         raise ConvergenceError("the trajectory has unconverged steps; track its converged part")
     K = trajectory.steps
     if K < 1:
         raise ValueError("the trajectory has no steps")
-    U = integrator.controls_per_point(u, K)
+    U = integrator.controls_per_point(trajectory.controls if u is None else u, K)
     if U is None:
-        raise ValueError("give the trajectory's controls u (as Integrator.rollout takes them)")
+        raise ValueError("give the trajectory's controls u (as Integrator.rollout takes them; a trajectory that "
+                         "carries them, Trajectory.controls, needs none)")
     A, B = Linearizer(integrator).rollout_jacobians(trajectory, U, hold=True, smoothing=real_number(smoothing, "smoothing", minimum=0.0))
     # with contacts the policy's state is each step's own momentum (before its knot's impulse, as the Jacobians')
     p = trajectory.p if trajectory.contact is None or trajectory.contact.step_momenta is None \
@@ -167,10 +207,44 @@ def riccati_policy(integrator: Integrator, q: npt.ArrayLike, p: npt.ArrayLike, u
     R = _weight(u_weight, m, "u_weight")
     if np.linalg.eigvalsh(R).min() <= 0:
         raise ValueError("u_weight must be positive definite")
-    gains, P = _core.control.backward_riccati(A, B, Qx, R, T[-1].T @ WN @ T[-1])
+    try:
+        gains, P = _core.control.backward_riccati(A, B, Qx, R, T[-1].T @ WN @ T[-1])
+    except ValueError as e:  # R + B^T P B not positive definite: with R > 0, P overflowed or lost symmetry
+        raise ValueError(_diverged(A, "broke down (R + B^T P B lost positive definiteness)")) from e
+    finite = np.isfinite(P).all(axis=(1, 2))
+    finite[:K] &= np.isfinite(gains).all(axis=(1, 2))
+    if not finite.all():
+        k = int(np.flatnonzero(~finite).max())
+        raise ValueError(_diverged(A, f"overflowed (its cost-to-go or gains are not finite from step {k} back)"))
     lo, hi = _limits(integrator, u_limits)
     return Policy(x_ref=np.hstack([q[:K], p[:K]]), u_ref=U, gains=gains, lower=lo, upper=hi, cost_to_go=P,
                   dt=integrator.dt, s=s)
+
+
+def _diverged(A: FloatArray, what: str) -> str:
+    """The message of a backward Riccati recursion that ``what``, with the growth of A that caused it."""
+    rho = float(np.abs(np.linalg.eigvals(A)).max())
+    return (f"the backward Riccati recursion over the K = {len(A)} steps {what}: the step Jacobians A_k grow too fast "
+            f"(largest |eigenvalue| {rho:.3g}; the cost-to-go grows like {rho:.3g}^(2K)); use fewer steps or a "
+            "smaller dt, or check A")
+
+
+def _check_trajectory(integrator: Integrator, trajectory: Trajectory) -> None:
+    """ValueError unless ``trajectory`` is of the integrator's model (n, bodies), s and dt: linearised
+    by this integrator, another system's trajectory gives silently wrong gains."""
+    d = trajectory.discretization
+    if d is not None:
+        n, bodies, s, dt = d.model.n, list(d.model.body_names), d.s, d.dt
+    else:  # loaded without its integrator: what its arrays say
+        n, bodies, s = trajectory.q.shape[1], None, trajectory.control_points.shape[1] - 1
+        dt = float(trajectory.t[1] - trajectory.t[0]) if len(trajectory.t) > 1 else integrator.dt
+    if n != integrator.n or bodies not in (None, list(integrator.model.body_names)):
+        raise ValueError(f"trajectory is of another model (n = {n}, bodies {bodies}) than the integrator's (n = "
+                         f"{integrator.n}, bodies {list(integrator.model.body_names)}): give a trajectory of this "
+                         "integrator")
+    if s != integrator.s or abs(dt - integrator.dt) > 1e-9 * integrator.dt:
+        raise ValueError(f"trajectory was computed with s = {s}, dt = {dt:g}; the integrator has s = {integrator.s}, "
+                         f"dt = {integrator.dt:g}: they must match (linearise the integrator that computed it)")
 
 
 def _from_result(integrator: Integrator, result: Any) -> tuple[Trajectory, FloatArray]:
