@@ -1,5 +1,5 @@
 """The paper's three robots (hovi.examples.robots, models/*.urdf) against the cross-check figures of their
-parameter sheets (shared/robots/): DoF, total mass, standing heights, contacts on the ground in the
+sources (each URDF's header comment): DoF, total mass, standing heights, contacts on the ground in the
 nominal stance, the sign conventions stated there, a free fall from the stance, and hovi's mass
 matrix and gravity torques against Pinocchio's for the same URDF."""
 import numpy as np

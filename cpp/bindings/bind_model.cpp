@@ -141,7 +141,7 @@ void bind_model(py::module_& m) {
   py::class_<PyModel, std::shared_ptr<PyModel>> cls(m, "Model", R"doc(
 A tree of rigid bodies joined by 1-DoF revolute or prismatic joints (parents before children).
 
-Body frames sit at each body's centre of mass with the joint frame's orientation (ERRATA C-3);
+Body frames sit at each body's centre of mass with the joint frame's orientation (docs/paper.md C-3);
 ``joint_placements`` gives the joint frames (Pinocchio's ``oMi``). Twists are ordered
 (angular, linear) as in the paper. Build one with ``Model.from_urdf``, ``hovi.models``, or
 ``Model()`` followed by ``add_body``.

@@ -215,7 +215,7 @@ TEST(AutodiffDel, UnforcedHessianMatchesDirectly) {
 
 // Body frames away from the centre of mass (first moment h = m c != 0): K with the full spatial
 // inertia, V = -sum g^T (m p_i + R_i h_i). hovi's algorithms take gravity at the frame origin
-// (ERRATA C-3), so the derivatives are compared without gravity and the value with it.
+// (docs/paper.md C-3), so the derivatives are compared without gravity and the value with it.
 TEST(AutodiffDel, NonComFramesMatch) {
   Model model = forced_tree();
   for (int i = 0; i < model.n(); ++i) {

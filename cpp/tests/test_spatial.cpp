@@ -67,7 +67,7 @@ TEST(Spatial, CoadjointIdentities) {
   const double a = F.dot(ad(v1) * v2), b = v2.dot(adD(F) * v1), c = -v1.dot(adD(F) * v2);
   EXPECT_NEAR(a, b, 1e-13);
   EXPECT_NEAR(a, c, 1e-13);
-  EXPECT_LT((adD(F) + adD(F).transpose()).norm(), 1e-15);  // skew-symmetric (ERRATA C-7)
+  EXPECT_LT((adD(F) + adD(F).transpose()).norm(), 1e-15);  // skew-symmetric (docs/paper.md C-7)
   EXPECT_LT((adT(v1, F) - ad(v1).transpose() * F).norm(), 1e-13);
   EXPECT_LT((adD(F) * v1 - ad(v1).transpose() * F).norm(), 1e-13);
 }

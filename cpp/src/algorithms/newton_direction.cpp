@@ -40,7 +40,7 @@ NewtonWorkspace::NewtonWorkspace(const Model& model, const Quadrature& quad) : n
 
 namespace {
 
-// Derivatives of the discrete impulse F̄_i^a = w^a dt F̄_i (ERRATA C-6), a = 0..s-1.
+// Derivatives of the discrete impulse F̄_i^a = w^a dt F̄_i (docs/paper.md C-6), a = 0..s-1.
 void force_derivatives(const Model& model, const Quadrature& quad, const DelWorkspace& del, NewtonWorkspace& ws) {
   const int s = quad.s;
   const bool gravity = model.has_gravity();
@@ -82,7 +82,7 @@ void couple(BlockFamily& f, const Index& ix, int i, const DelWorkspace& del, con
 }
 
 // Body i's share of its parent's sums over chd (A.2 lines 1 and 2), with X^{0 rho} = Y^{0 nu} =
-// y^0 = 0 (ERRATA A-6):  Z_p^{a rho} += Z_i^{a rho} + sum_gamma K_i^{a gamma} X_i^{gamma rho}
+// y^0 = 0 (docs/paper.md A-6):  Z_p^{a rho} += Z_i^{a rho} + sum_gamma K_i^{a gamma} X_i^{gamma rho}
 // - corr^a X_i^{a rho}, and likewise ZG with Y; corr^a = ad^D_{μ̄ or Γ̄} S̄ (0 at a = 0).
 void propagate_blocks(BlockFamily& f, const Index& ix, int i, int p, const NewtonWorkspace& ws,
                       const std::vector<Vec6>& corr) {
@@ -142,7 +142,7 @@ bool newton_factor(const Model& model, const Quadrature& quad, DelWorkspace& del
       }
       for (int nu = 1; nu <= s; ++nu) {
         mom.ZG[ix.G(i, a, nu)].setZero();
-        if (a == nu && a < s)  // σ (D_1F̄ + ad^D_F̄ - D_2F̄ ad_v̄), ERRATA A-3
+        if (a == nu && a < s)  // σ (D_1F̄ + ad^D_F̄ - D_2F̄ ad_v̄), docs/paper.md A-3
           imp.ZG[ix.G(i, a, nu)] = ws.D1F[i * s + a] + adD(del.F[k]) - ws.D2F[i * s + a] * ad(del.v[k]);
         else
           imp.ZG[ix.G(i, a, nu)].setZero();

@@ -53,7 +53,7 @@ void PushSchedule::apply(int k, const VecX& q, VecX& p) {
     moved = true;
     J_.setZero();
     Vec3 x;
-    const Vec3 r = model_.point_in_com_frame(d.body, d.point);  // body frames sit at the COM (ERRATA C-3)
+    const Vec3 r = model_.point_in_com_frame(d.body, d.point);  // body frames sit at the COM (docs/paper.md C-3)
     body_point_jacobian(KinematicsView{model_, data_.g.data(), data_.Sbar.data(), 1}, d.body, r, x, J_);
     p.noalias() += J_.transpose() * d.impulse;
     for (int j = d.body; j >= 0; j = model_.parent[j]) p[j] += data_.Sbar[j].head<3>().dot(d.angular);  // ω_j . τ

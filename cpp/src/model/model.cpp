@@ -99,7 +99,7 @@ int Model::add_body(const BodySpec& spec_in, TriangleInequality triangle) {
   children.emplace_back();
   if (s.parent >= 0) children[s.parent].push_back(i);
 
-  // S_i = Ad_{T(c_i)}^{-1} S^J with S^J = (axis, 0) or (0, axis) in the joint frame (ERRATA C-3)
+  // S_i = Ad_{T(c_i)}^{-1} S^J with S^J = (axis, 0) or (0, axis) in the joint frame (docs/paper.md C-3)
   Twist SJ = Twist::Zero();
   if (s.type == JointType::Revolute) SJ.head<3>() = s.axis; else SJ.tail<3>() = s.axis;
   S.push_back(Ad(SE3::Translation(-s.com), SJ));

@@ -2,8 +2,7 @@
 LittleDog and Atlas v5, loaded from the URDFs shipped in the package (``hovi/urdf/``, the
 repository's ``models/``), with what a URDF does not hold: the base joint, the actuators, the
 Spring Flamingo's ankle springs, the foot contacts and a nominal standing configuration. The
-numbers and their sources are in the header comment of each URDF (from the parameter sheets
-``shared/robots/*.md``)."""
+numbers and their sources are in the header comment of each URDF."""
 from __future__ import annotations
 
 from dataclasses import dataclass

@@ -17,7 +17,7 @@ void forward_kinematics(const Model& model, Data& data, const Eigen::Ref<const V
 // Pose of joint frame i in the world (Pinocchio's oMi) after forward_kinematics.
 SE3 joint_placement(const Model& model, const Data& data, int i);
 
-// The spatial gravity wrench on body i at the world origin, F̄_i = [m p̂_i g; m g] (ERRATA C-4).
+// The spatial gravity wrench on body i at the world origin, F̄_i = [m p̂_i g; m g] (docs/paper.md C-4).
 Wrench gravity_wrench(const Model& model, const Data& data, int i);
 
 }  // namespace hovi

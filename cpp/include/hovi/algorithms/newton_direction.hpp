@@ -1,5 +1,5 @@
 // Appendix Algorithms A.1 (forward pass) and A.2 (backward pass), with the index ranges of
-// ERRATA A-1: the exact Newton direction dq = -J^{-1} r of the DEL equations with respect to
+// docs/paper.md A-1: the exact Newton direction dq = -J^{-1} r of the DEL equations with respect to
 // the control points q^{k,1..s}, in O(s^3 n). Index ranges: a, rho in 0..s; gamma, nu in 1..s
 // (stored at gamma-1, nu-1); the residual rows a in 0..s-1. Joint armature (del_residual.hpp)
 // depends on joint i's own control points only, so it enters the pivot block Λ_i alone.
@@ -50,7 +50,7 @@ struct NewtonWorkspace {
 
 // The part of Algorithm A.2 that does not depend on the residual (D, G, Π, Ψ, H, Φ, Λ^{-1}, X,
 // Y), O(s^3 n), from the state left in `del` by the last del_residual call. Returns false if a
-// pivot block Λ_i is singular (ERRATA A-8).
+// pivot block Λ_i is singular (docs/paper.md A-8).
 bool newton_factor(const Model& model, const Quadrature& quad, DelWorkspace& del, NewtonWorkspace& ws);
 
 // dq = -J^{-1} r for any right-hand side r (n x s) after newton_factor: the residual-dependent

@@ -2,7 +2,7 @@
 // shooting): state x^k = (q^k, p^k), controls u^k (m) held over step k, x^{k+1} = f(x^k, u^k) the VI
 // step, and the cost of the trajectory optimiser's Problem on the control points of each step:
 //   l^k = sum_a  |q^{k,a} - q_ref|^2_Wq + |q̇^{k,a} - q̇_ref|^2_Wv + |u^k - u_ref|^2_R,
-//   q̇^{k,a} = (1/dt) sum_b b^{ab} q^{k,b}  (the transcription's samples, ERRATA C-1),
+//   q̇^{k,a} = (1/dt) sum_b b^{ab} q^{k,b}  (the transcription's samples, docs/paper.md C-1),
 // with diagonal weights per sample (the quadrature weight w^a dt folded in), plus a terminal term on
 // the last sample. Its derivatives come from the exact step Jacobians and the control points'
 // sensitivities (Linearizer); the cost's Hessian is the Gauss-Newton one (the second derivatives of

@@ -5,7 +5,7 @@
 // The constraint forces are force elements of an augmented model (constraint.hpp), so
 // Algorithm 1 evaluates the first equations and the recursive solver factors their Jacobian J
 // (λ·d²h included) once per iteration. The KKT system [J C^T; Dh 0] is solved through its Schur
-// complement (ERRATA A-9): dz_r = -J^{-1} r and W = -J^{-1} C^T by s m + 1 recursive solves
+// complement (docs/paper.md A-9): dz_r = -J^{-1} r and W = -J^{-1} C^T by s m + 1 recursive solves
 // (O(s^2 n) each), then (Dh W) dλ = -h - Dh dz_r, an (s m) x (s m) dense system; in all
 // O(s^3 n + s^3 m n + s^3 m^3) per iteration: O(mn) + O(m^3) for s = 1 as in the paper.
 #pragma once

@@ -3,7 +3,7 @@
 // origin, (torque, force)); g is the pose of the body's centre-of-mass frame {i}.
 //
 // D1 is the derivative with respect to g under a left (spatial) perturbation,
-// D1 η = d/dt F̄(exp(t η^) g) (appendix C, ERRATA C-6); D2 = dF̄/dv̄; Du = dF̄/du.
+// D1 η = d/dt F̄(exp(t η^) g) (appendix C, docs/paper.md C-6); D2 = dF̄/dv̄; Du = dF̄/du.
 // Implement BodyWrench in C++ to add a new kind of force (the built-in kinds: forces/builtin_wrenches.hpp).
 #pragma once
 #include <memory>

@@ -1,7 +1,7 @@
 // The immutable kinematic tree (paper Sec. 2.3): n rigid bodies, each attached to its parent
 // by a one-degree-of-freedom revolute or prismatic joint, parents numbered before children.
 //
-// Frames follow ERRATA C-3: body frame {i} is the joint frame of joint i translated to the
+// Frames follow docs/paper.md C-3: body frame {i} is the joint frame of joint i translated to the
 // body's centre of mass c_i (orientation kept), so M_i = blockdiag(I_c, m 1) and p_i is the COM.
 // The joint frame itself is kept for output (joint_placement) and for URDF round trips.
 #pragma once

@@ -12,8 +12,8 @@ struct Quadrature {
   int s;    // number of intervals; s+1 control points
   VecX c;   // nodes c^0 = 0 < c^1 < ... < c^s = 1 (control point times t^{k,a} = (k + c^a) dt)
   VecX w;   // weights w^a, sum 1
-  MatX b;   // differentiation matrix b^{ab} = l_b'(c^a), so q̇^a = (1/dt) sum_b b^{ab} q^b (ERRATA C-1)
-  MatX a;   // a^{ab} = w^b b^{ba} (Prop. 1, ERRATA C-2)
+  MatX b;   // differentiation matrix b^{ab} = l_b'(c^a), so q̇^a = (1/dt) sum_b b^{ab} q^b (docs/paper.md C-1)
+  MatX a;   // a^{ab} = w^b b^{ba} (Prop. 1, docs/paper.md C-2)
 
   // Lagrange basis l_b(x) at x (x may lie outside [0, 1], for extrapolation).
   VecX basis(double x) const;

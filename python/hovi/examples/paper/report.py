@@ -133,7 +133,7 @@ def check(example: Example, result: Result, method: str = "vi") -> Tuple[Dict[st
 
 def plot(example: Example, result: Result, path: str) -> None:
     """Joint angles, actuator torques and contact forces against time, in one figure."""
-    from ...vis.plots import pyplot
+    from ...vis.plots import legend, pyplot
     plt = pyplot()
     tr, robot = result.trajectory, example.robot
     model = robot.model
@@ -146,13 +146,12 @@ def plot(example: Example, result: Result, path: str) -> None:
     for k in range(m):
         axes[1].plot(tr["t"], tr["u"][:, k], lw=1, label=robot.actuated[k])
     axes[1].set_title("actuator torques [N m]")
-    for ax in axes[:2]:
-        ax.legend(fontsize=6, ncol=2 if m > 6 else 1)
     forces = example.contact_forces(tr["u"])
     for k, label in enumerate(example.force_labels):
         axes[2].plot(tr["t"], forces[:, k], lw=1, label=label)
     axes[2].set_title("contact forces [N]")
-    axes[2].legend(fontsize=7, ncol=2)
+    for ax in axes:  # many joints: beside the axes, off the data
+        legend(ax, fontsize=6)
     for ax in axes:
         ax.set_xlabel("time [s]")
         ax.grid(True, alpha=0.3)
