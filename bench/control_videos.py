@@ -54,7 +54,7 @@ def runs(example, motion: Any, push: Optional[Push] = None, mass_factor: float =
     figures = CL.closed_loop_figures(example, motion, control=ctl, push=push, mass_factor=mass_factor)
     plant = CL.simulator(example, mass_factor)
     out = {}
-    for key, policy in (("closed_loop", ctl.policy), ("open_loop", CL.open_loop(ctl.policy))):
+    for key, policy in (("closed_loop", ctl.policy), ("open_loop", ctl.policy.without_feedback())):
         run = simulate(plant, policy, ctl.motion.q[0], ctl.motion.steps, qdot0=example.problem.qdot0, pushes=[push])
         out[key] = {"run": run, "figures": figures[key], "plant": plant, "push": push}
     return out

@@ -117,7 +117,7 @@ def test_atlas_has_no_knot_impulses_of_point_contacts(atlas):
 
 def test_open_loop_is_the_policy_without_feedback(atlas):
     _, _, ctl = atlas
-    ol = CL.open_loop(ctl.policy)
+    ol = ctl.policy.without_feedback()
     assert np.all(ol.gains == 0) and np.array_equal(ol.u_ref, ctl.policy.u_ref)
     assert np.array_equal(ol.lower, ctl.policy.lower) and np.any(ctl.policy.gains != 0)
     assert dataclasses.asdict(CL.WEIGHTS["atlas"])["task"] > 0

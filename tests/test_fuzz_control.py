@@ -251,9 +251,6 @@ def test_contacts_are_refused_or_consistent(body, point, radius, mu, plane, as_c
     assert finite(contacts.gaps(np.zeros(2)))
 
 
-@pytest.mark.xfail(strict=True, reason="python/hovi/contact: ContactPoint (a frozen dataclass) checks nothing when "
-                                       "made: any body, point and radius (text, NaN, a negative radius) is taken; "
-                                       "only Contacts checks them later")
 @SETTINGS
 @given(st.one_of(st.sampled_from(["mass", 0]), garbage), hostile([(3,), (2,)]), st.one_of(st.just(0.0), garbage))
 def test_contact_points_are_refused_or_consistent(body, point, radius):

@@ -326,3 +326,16 @@ def test_flat_foot_friction_and_body_are_named():
         args = {"body": "block", "centre": (0, 0, -0.1), "X": 0.1, "Y": 0.1, "mu": 0.5, "q0": q0, **kwargs}
         with pytest.raises(error, match=match):
             FlatFoot(model, **args)
+
+
+@pytest.mark.parametrize("args, error, match", [
+    (("foot", [0.0, 0.0]), ValueError, r"ContactPoint point must have shape \(3,\), got shape \(2,\)"),
+    (("foot", (0.0, 0.0, np.nan)), ValueError, "ContactPoint point must be finite, got nan"),
+    (("foot", (0, 0, 0), -0.01), ValueError, "ContactPoint radius must be >= 0"),
+    ((True, (0, 0, 0)), TypeError, "ContactPoint body must be a body name or an integer index"),
+    (("foot", (0, 0, 0), 0.0, 3), TypeError, "ContactPoint name must be a string"),
+])
+def test_a_contact_point_is_checked_when_made(args, error, match):
+    from hovi.contact import ContactPoint
+    with pytest.raises(error, match=match):
+        ContactPoint(*args)

@@ -93,6 +93,23 @@ class ContactPoint:
     radius: float = 0.0
     name: str = ""
 
+    def __post_init__(self) -> None:
+        # checked when made (point: a read-only float array): a bad one never reaches Contacts
+        if not isinstance(self.body, (str, int, np.integer)) or isinstance(self.body, (bool, np.bool_)):
+            raise TypeError(f"ContactPoint body must be a body name or an integer index, got "
+                            f"{type(self.body).__name__} {self.body!r:.60}")
+        try:
+            point = real_array(self.point, "ContactPoint point", (3,))
+        except (TypeError, ValueError) as e:
+            raise ValueError(f"{e}: a contact point must be 3 finite numbers (in the body's joint frame), got "
+                             f"{self.point!r:.60}") from None
+        point.flags.writeable = False
+        object.__setattr__(self, "body", self.body if isinstance(self.body, str) else int(self.body))
+        object.__setattr__(self, "point", point)
+        object.__setattr__(self, "radius", real_number(self.radius, "ContactPoint radius", minimum=0.0))
+        if not isinstance(self.name, str):
+            raise TypeError(f"ContactPoint name must be a string, got {type(self.name).__name__}")
+
 
 def friction_directions(plane: str = "") -> np.ndarray:
     """(d, 3) friction directions: +-x, +-y in 3D; in a vertical plane ('xz' or 'yz') its horizontal axis."""
@@ -145,7 +162,6 @@ class Contacts:
                 raise ValueError(f"{e}: a contact point must be 3 finite numbers (in the body's joint frame), got "
                                  f"{point!r:.60}") from None
             r = real_number(radius, f"contact point {i} ({body!r}) radius", minimum=0.0)
-            p.flags.writeable = False
             points_.append(ContactPoint(b, p, r, str(name)))
         self.points: Tuple[ContactPoint, ...] = tuple(points_)
         self.D.flags.writeable = False

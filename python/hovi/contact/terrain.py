@@ -5,7 +5,7 @@ it, phi(x) = z - h(x, y), with h piecewise constant (its gradient is (0, 0, 1) a
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Sequence, Tuple
+from typing import List, Sequence, Tuple
 
 import numpy as np
 

@@ -137,10 +137,10 @@ def _stance_gains(A: FloatArray, B: FloatArray, Qx: FloatArray, R: FloatArray) -
     stop changing. Held contacts keep the feet where they are, modes of eigenvalue 1 that no control
     moves, so the DARE has no stabilising solution; the gains converge all the same (P grows along
     those modes: it is the cost-to-go of the horizon run)."""
-    chunk, K = 500, None
+    chunk, K, P0 = 500, None, Qx
     for _ in range(40):
         gains, P = _core.control.backward_riccati(np.repeat(A[None], chunk, 0), np.repeat(B[None], chunk, 0),
-                                                  np.repeat(Qx[None], chunk, 0), R, Qx if K is None else P0)
+                                                  np.repeat(Qx[None], chunk, 0), R, P0)
         P0 = P[0]
         if K is not None and np.abs(gains[0] - K).max() <= 1e-9 * (1 + np.abs(K).max()):
             rho = float(np.abs(np.linalg.eigvals(A - B @ gains[0])).max())

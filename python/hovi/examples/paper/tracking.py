@@ -321,11 +321,6 @@ def make_policy(example: Example, nom: Nominal, weights: Weights, saturate: bool
                           u_limits=(lo, hi) if saturate else None)
 
 
-def open_loop(policy: Policy) -> Policy:
-    """The same feed-forward torques and saturation without feedback."""
-    return dataclasses.replace(policy, gains=np.zeros_like(policy.gains))
-
-
 @dataclass
 class Controller:
     """What the runs share: the nominal, the policy and the weights."""
@@ -600,7 +595,7 @@ def closed_loop_figures(example: Example, result: Any, *, push: Optional[Push] =
                            "nominal": {"kind": ctl.nominal.kind, **ctl.nominal.figures}}
     runs = {"closed_loop": ctl.policy}
     if open_loop_too:
-        runs["open_loop"] = open_loop(ctl.policy)
+        runs["open_loop"] = ctl.policy.without_feedback()
     for key, policy in runs.items():
         run = simulate(plant, policy, q0, motion.steps, qdot0=v0, pushes=pushes)
         out[key] = run_figures(example, motion, run, plant, limits)
