@@ -65,6 +65,7 @@ class TrajectoryBatch:
     discretization: Optional[Discretization] = field(default=None, repr=False)  # the integrator's model, s and dt
     contact: Optional[ContactRecord] = None  # with contacts: impulses (B, K, C, 2+d), gaps (B, K, C) and impact
                                              # (B, K), NaN where not reached; pivots (B, K), -1 there
+    controls: Optional[FloatArray] = None  # (B, K, s+1, m): each item's controls at the control points (m > 0)
 
     def __len__(self) -> int:
         return len(self.status)
@@ -94,7 +95,8 @@ class TrajectoryBatch:
                               self.contact.directions, self.contact.pivots[b, :attempted].copy(),
                               None if self.contact.impact is None else self.contact.impact[b, :k].copy(),
                               added_energy=None if self.contact.added_energy is None else
-                              self.contact.added_energy[b, :k].copy()))
+                              self.contact.added_energy[b, :k].copy()),
+                          controls=None if self.controls is None else self.controls[b, :k].copy())
 
     @classmethod
     def concatenate(cls, parts: Sequence[TrajectoryBatch]) -> TrajectoryBatch:

@@ -239,12 +239,12 @@ class Integrator:
         ``contact_tol``: a step from there would throw the body out with energy it never had."""
         if self.contacts is None:
             return
-        gaps = self.contacts.gaps(q)
+        gaps = self.contacts.gaps(_core.real_array(q, name))
         c = int(np.argmin(gaps))
         if gaps[c] < -self.contact_tol:
             point = self.contacts.points[c]
-            label = f"contact {c}" + (f" ({point.name!r}, body {self.model.body_names[point.body]!r})" if point.name
-                                      else f" (body {self.model.body_names[point.body]!r})")
+            body = self.model.body_names[int(point.body)]
+            label = f"contact {c}" + (f" ({point.name!r}, body {body!r})" if point.name else f" (body {body!r})")
             raise ValueError(f"{name}: {label} starts {-gaps[c]:.6g} m inside the terrain, deeper than contact_tol = "
                              f"{self.contact_tol:g}; start it on or above the terrain (a step from inside would "
                              "throw it out with energy it does not have)")
@@ -474,7 +474,16 @@ class Integrator:
             residuals=raw["residual"], factorizations=raw["factorizations"], steps=raw["steps"], status=raw["status"],
             errors=raw["errors"], solve_seconds=raw["seconds"], discretization=self.discretization,
             multipliers=raw["multipliers"].reshape(B, steps, self.s, self.n_constraints) if self.n_constraints else None,
-            contact=contact)
+            contact=contact, controls=self._batch_controls(U, B, steps))
+
+    def _batch_controls(self, U: Optional[FloatArray], B: int, steps: int) -> Optional[FloatArray]:
+        """(B, steps, s+1, m) controls of a batch as rollout_batch took them (zero when none were given)."""
+        m = self.model.n_controls
+        if not m:
+            return None
+        if U is None:
+            return np.zeros((B, steps, self.s + 1, m))
+        return np.array(U, dtype=np.float64).reshape(B, steps, self.s + 1, m)
 
     def step_batch(self, qs: npt.ArrayLike, ps: Optional[npt.ArrayLike] = None, u: Optional[npt.ArrayLike] = None, *,
                    qdots: Optional[npt.ArrayLike] = None, threads: Optional[int] = None) -> StepBatch:

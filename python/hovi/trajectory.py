@@ -361,10 +361,11 @@ def check_arrays(arrays: Dict[str, Any], n_constraints: Optional[int] = None) ->
         _numbers(gaps, "contact_gaps", (K, C))
         z = _numbers(a["contact_impulses"], "contact_impulses", (K, C, len(D) + 2))
         if K and z.min() < -1e-9 * (1 + np.abs(z).max()):  # λ, β, γ >= 0 (the solver's to round-off)
-            k, c, i = np.unravel_index(int(np.argmin(z)), z.shape)
-            what = "normal impulse" if i == 0 else "slack" if i == len(D) + 1 else f"friction impulse {i - 1}"
+            step, contact, entry = (int(x) for x in np.unravel_index(int(np.argmin(z)), z.shape))
+            what = ("normal impulse" if entry == 0 else "slack" if entry == len(D) + 1
+                    else f"friction impulse {entry - 1}")
             raise ValueError(f"contact_impulses must be >= 0 (normal and friction impulses, slacks), got the "
-                             f"{what} of contact {c} at step {k} = {z[k, c, i]:.6g}")
+                             f"{what} of contact {contact} at step {step} = {z[step, contact, entry]:.6g}")
         _numbers(a["contact_pivots"], "contact_pivots", (attempted,), "iu")
     if "contact_impact" in a:
         if not given:
