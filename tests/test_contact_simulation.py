@@ -358,10 +358,7 @@ def test_a_start_inside_the_terrain_is_refused_naming_the_contact_and_its_depth(
 
 def test_fddp_and_closed_loops_refuse_a_start_inside_the_terrain():
     from hovi import control, trajopt
-    model = hovi.Model()
-    model.add_body("slider", None, "prismatic", axis=(1, 0, 0))
-    model.add_body("mass", "slider", "prismatic", axis=(0, 0, 1), mass=2.0, inertia=np.eye(3) * 1e-3)
-    model.add_actuator(0)
+    model = block(actuated=True)
     contacts = Contacts(model, [("mass", (0.0, 0.0, 0.0))], Terrain(), mu=0.5, plane="xz")
     pr = trajopt.Problem(model, 10, 0.2, controls="held", u_bounds=(-40.0, 40.0))
     pr.initial_state([0.0, -1.0])
@@ -369,9 +366,7 @@ def test_fddp_and_closed_loops_refuse_a_start_inside_the_terrain():
     with pytest.raises(ValueError, match=r"the problem's q0: contact 0 \(body 'mass'\) starts 1 m inside"):
         trajopt.FDDP(contacts=contacts).solve(pr, trajopt.VI(1))
     plant = hovi.Integrator(model, s=1, dt=0.02, contacts=contacts)
-    policy = control.Policy.open_loop(np.zeros((1, 1)), dt=0.02, s=1, n=2) if hasattr(control.Policy, "open_loop") \
-        else control.Policy(np.zeros((1, 4)), np.zeros((1, 2, 1)), np.zeros((1, 1, 4)), np.full(1, -np.inf),
-                            np.full(1, np.inf), np.zeros((1, 4, 4)), 0.02, 1)
+    policy = control.Policy.open_loop(np.zeros((1, 1)), dt=0.02, s=1, n=2)
     with pytest.raises(ValueError, match=r"q0: contact 0 \(body 'mass'\) starts 1 m inside"):
         control.simulate(plant, policy, [0.0, -1.0], 5)
 

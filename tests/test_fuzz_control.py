@@ -18,7 +18,7 @@ from conftest import planar_point_mass
 hypothesis = pytest.importorskip("hypothesis")
 from hypothesis import HealthCheck, given, settings  # noqa: E402
 from hypothesis import strategies as st  # noqa: E402
-from hypothesis.extra import numpy as hnp  # noqa: E402
+from test_fuzz_newer_apis import arrays  # noqa: E402  (hostile arrays of any dtype or container)
 
 EXPECTED = (ValueError, TypeError)  # hovi.ModelError is a ValueError
 TOO_BIG = "more than this machine's"  # the MemoryError of runs that cannot fit in memory (as Integrator.rollout's)
@@ -37,24 +37,6 @@ values = st.one_of(st.floats(-3, 3), st.sampled_from([np.nan, np.inf, -np.inf, 1
 garbage = st.one_of(values, st.integers(-5, 5), st.sampled_from([2**40, -2**63]), st.booleans(), st.none(),
                     st.text(max_size=3), st.complex_numbers(max_magnitude=3),
                     st.sampled_from([[1.0, 2.0], [[1.0]], [[1.0, 2.0], [3.0]], {}, (), "x", b"x", object()]))
-
-
-@st.composite
-def arrays(draw, shapes, kinds=("plain", "list", "int", "complex", "object", "bool")):
-    """Arrays of one of ``shapes`` with hostile values, in one of ``kinds`` of dtype or container."""
-    a = draw(hnp.arrays(np.float64, draw(st.sampled_from(shapes)), elements=values))
-    kind = draw(st.sampled_from(kinds))
-    if kind == "list":
-        return a.tolist()
-    if kind == "int":
-        return np.clip(np.nan_to_num(a, nan=0, posinf=7, neginf=-7), -7, 7).astype(np.int64)
-    if kind == "complex":
-        return a + 1j * draw(st.sampled_from([0.0, 1.0]))
-    if kind == "object":
-        return np.array([draw(st.sampled_from(["x", 1.0, None]))] * a.size, dtype=object).reshape(a.shape)
-    if kind == "bool":
-        return a > 0
-    return a
 
 
 def hostile(shapes):
