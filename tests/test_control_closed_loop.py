@@ -417,3 +417,16 @@ def test_an_angular_push_adds_the_bodys_angular_jacobian_times_the_impulse():
     # the linear part alone, from the same run without the angular impulse
     lin = control.simulate(integ, policy, q0, 1, pushes=[control.Push(0.0, 2, imp, point=[0, 0, -0.1])])
     np.testing.assert_allclose(run.trajectory.p[0] - lin.trajectory.p[0], Jw.T @ tau, rtol=0, atol=1e-9)
+
+
+def test_a_closed_loop_trajectory_carries_the_controls_it_applied():
+    """ClosedLoop.trajectory.controls are the saturated controls the policy applied (ClosedLoop.u), so a
+    rollout of them from the same state is the closed loop's trajectory, bit for bit."""
+    model = models.cartpole()
+    integ = hovi.Integrator(model, s=2, dt=0.01)
+    policy = control.lqr(integ, [0.0, np.pi], u_limits=(-2.0, 2.0))
+    run = control.simulate(integ, policy, [0.1, np.pi - 0.3], 80)
+    np.testing.assert_array_equal(run.trajectory.controls, run.u)
+    assert np.abs(run.u).max() == 2.0                                     # saturated at some steps
+    np.testing.assert_array_equal(integ.rollout(run.trajectory.q[0], 80, u=run.trajectory.controls).q,
+                                  run.trajectory.q)

@@ -520,6 +520,9 @@ class Integrator:
         continuing the last: ``rollout``'s chunks, a closed loop of ``hovi.control``), with its contact
         record when the integrator has contacts."""
         traj = self._join(parts)
+        if "controls" in parts[0] and self.model.n_controls:  # a closed loop's applied controls, of its steps taken
+            applied = np.vstack([r["controls"] for r in parts]).reshape(-1, self.s + 1, self.model.n_controls)
+            traj.controls = applied[:traj.steps].copy()
         if "impulses" in parts[0]:
             pc = self._core.per_contact
             traj.contact = ContactRecord(
