@@ -96,3 +96,22 @@ def test_control_quick_mode(tmp_path):
     assert res["C"]["maps"]["cartpole_q1_v1"]["largest_a_at_b0"] > 0.1
     assert all(r["plant_converged"] for r in res["D"]["runs"])
     assert all(r["min_gap"] > -1e-9 for r in res["E"]["rows"])
+
+
+def test_se3_chart_quick_mode(tmp_path):
+    """bench/se3_chart.py --quick: the spinning body in a chart re-centred at every step keeps the order
+    2s against DOP853, chart and group alike; through the Dzhanibekov flip the group step keeps the
+    world angular momentum to the study's floor where the chart step drifts at O(dt^2s), and the
+    Euler-angle joints in one chart lose it while every step says 'converged'."""
+    import json
+    run_quick("se3_chart.py", [], tmp_path)
+    with open(tmp_path / "se3_chart_quick.json") as f:
+        out = json.load(f)
+    assert out["machine"]["cores"] >= 1
+    for row in out["order"]:
+        assert abs(row["order"] - 2 * row["s"]) < 0.35, row
+    flips = {(r["group"], r["s"]): r for r in out["flip"] if "s" in r}
+    for s in (1, 2):
+        assert flips[True, s]["angular_momentum_error"] < 1e-10 < flips[False, s]["angular_momentum_error"]
+    euler = out["flip"][-1]["euler_joints"]
+    assert euler["status"] == "converged" and euler["angular_momentum_error"] > 1e-2
