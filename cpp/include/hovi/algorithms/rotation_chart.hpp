@@ -1,0 +1,37 @@
+// A model's base rotation as a moving chart of SO(3) (Model::set_rotation_chart): joints j..j+2 turn
+// the body by R(θ) = R_1(θ_1) R_2(θ_2) R_3(θ3) about a centre C, its attitude C R(θ). A step starts
+// at θ = 0 about the attitude it starts from, so no step comes near the chart's singularity, and
+// its discrete Lagrangian is the one of the chart about its first point, L_d(R_0, R_1). That makes it
+// the variational integrator on the group: its first DEL equation, p^k = -D_1 L_d, moves the chart's
+// centre with R_0, which adds centre_term to the first residual (bench/README.md, "Free bodies on
+// SO(3)": measured, the world angular momentum of a free body kept to round-off).
+#pragma once
+#include "hovi/model/model.hpp"
+#include "hovi/quadrature/lobatto.hpp"
+
+namespace hovi {
+
+struct RotationChart {
+  Vec3 u[3];  // the three joints' axes
+
+  explicit RotationChart(const Model& model);
+  Mat3 rotation(const Vec3& theta) const;        // R(θ)
+  // E(θ): the body's angular velocity (in its own frame) = E(θ) θ̇
+  Mat3 rates_to_omega(const Vec3& theta) const;
+  // A(θ) = E(θ)^-1 R(θ)^T E(0): how coordinates θ about C R(δ) move about C as δ leaves 0
+  Mat3 centre_shift(const Vec3& theta) const;
+  Mat3 centre_shift_rate(const Vec3& theta, const Vec3& theta_dot) const;  // dA/dt along θ(t)
+  // The momentum p (3,) of the chart's joints at θ, carried to the chart about C R(θ) at θ = 0:
+  // the cotangent lift E(0)^T E(θ)^-T p of the change of coordinates.
+  Vec3 recentred_momentum(const Vec3& theta, const Vec3& p) const;
+};
+
+// The chart's term of a step's first DEL residual rows (the chart's joints): the action's derivative
+// along how the step's path moves in the fixed chart when its centre moves with the start,
+//   C = sum_a w^a dt [G^a . Y^a + P^a . Ẏ^a],  Y(t) = A(θ(t)) - l_0(t) 1 - l_s(t) A(θ^s),
+// from the chart joints' θ, θ̇ (3 x (s+1)), G = dL/dq + the joint forces and P = dL/dq̇ at the points.
+Vec3 centre_term(const RotationChart& chart, const Quadrature& quad, double dt, const Eigen::Ref<const MatX>& theta,
+                 const Eigen::Ref<const MatX>& theta_dot, const Eigen::Ref<const MatX>& G,
+                 const Eigen::Ref<const MatX>& P);
+
+}  // namespace hovi
