@@ -14,6 +14,7 @@
 #include "hovi/algorithms/kinematics.hpp"
 #include "hovi/algorithms/rotation_chart.hpp"
 #include "hovi/errors.hpp"
+#include "hovi/integrators/galerkin_integrator.hpp"
 #include "hovi/model/data.hpp"
 #include "hovi/parsers/model_serialization.hpp"
 
@@ -70,6 +71,10 @@ TEST(RotationChart, RefusesWhatIsNotAChain) {
   EXPECT_THROW(m.set_rotation_chart(0), ModelError);  // prismatic joints
   EXPECT_THROW(m.set_rotation_chart(5), ModelError);  // past the end
   EXPECT_NO_THROW(m.set_rotation_chart(3));
+}
+
+TEST(RotationChart, IsNotIntegratedBeforeItsStepsRecentreIt) {
+  EXPECT_THROW(GalerkinIntegrator(floating_chain(false), 1, 0.01), ModelError);
 }
 
 TEST(RotationChart, IsKeptBySerialization) {

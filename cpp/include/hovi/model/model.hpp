@@ -106,6 +106,14 @@ class Model {
   Vec3 point_in_com_frame(int i, const Vec3& point) const { return point - spec[i].com; }
   // The joints on the paths from `bodies` (valid indices) to the root, ascending: the ones that move them.
   std::vector<int> joints_moving(const std::vector<int>& bodies) const;
+  // Joints j, j+1, j+2 (revolute, each the child of the one before, no offset between them: R(θ) =
+  // R_1(θ_1) R_2(θ_2) R_3(θ_3), e.g. a floating base's yaw, pitch, roll) as a moving chart of SO(3):
+  // their rotation about a centre C that a step re-centres at the body's attitude
+  // (algorithms/rotation_chart.hpp; GalerkinIntegrator refuses such a model until its steps do).
+  // Throws ModelError unless they are such a chain.
+  void set_rotation_chart(int j);
+  // g_{par(j),j}(0) of the chart's first joint with the centre C inserted after its placement.
+  SE3 chart_placement(const Mat3& centre) const;
 
   // Topology
   std::vector<int> parent;                 // par(i), -1 for the world {0}
@@ -119,6 +127,7 @@ class Model {
   Vec3 gravity = Vec3(0, 0, -9.81);        // world frame
   JointForces joint_forces;                // springs, dampers, actuation map
   VecX armature;                           // a_i per joint, 0 where none (set_armature)
+  int rotation_chart = -1;                 // the chart's first joint (set_rotation_chart), -1: none
   std::vector<std::shared_ptr<const BodyWrench>> wrenches;  // external wrenches on bodies
   std::vector<std::shared_ptr<const Constraint>> constraints;  // holonomic constraints h(q) = 0
   std::vector<Visual> visuals;             // geometry for viewers (URDF <visual>), not dynamics
