@@ -177,8 +177,8 @@ def test_mutated_or_truncated_bytes_are_refused_never_loaded():
 def test_bytes_of_the_previous_format_are_refused_with_the_version():
     state = bytearray(everything().__getstate__())
     start = state.index(b"hovi.Model") + len(b"hovi.Model")
-    state[start:start + 4] = (2).to_bytes(4, sys.byteorder)
-    with pytest.raises(hovi.ModelError, match="format 2: this hovi reads format 3"):
+    state[start:start + 4] = (3).to_bytes(4, sys.byteorder)
+    with pytest.raises(hovi.ModelError, match="format 3: this hovi reads format 4"):
         hovi.Model.__new__(hovi.Model).__setstate__(bytes(state))
 
 

@@ -2,6 +2,8 @@
 
 #include <cassert>
 
+#include "hovi/algorithms/rotation_chart.hpp"
+
 namespace hovi {
 
 void del_residual(const Model& model, const Quadrature& quad, DelWorkspace& ws, const Eigen::Ref<const MatX>& q,
@@ -21,7 +23,8 @@ void del_residual(const Model& model, const Quadrature& quad, DelWorkspace& ws, 
     const int par = model.parent[i];
     for (int a = 0; a < S1; ++a) {
       const int k = ws.at(i, a);
-      const SE3 gpi = model.g_parent0[i] * exp_twist(model.S[i], q(i, a));
+      const SE3& g0 = i == model.rotation_chart ? ws.chart_placement : model.g_parent0[i];
+      const SE3 gpi = g0 * exp_twist(model.S[i], q(i, a));
       ws.g[k] = par >= 0 ? ws.g[ws.at(par, a)] * gpi : gpi;
       ws.Sbar[k] = Ad(ws.g[k], model.S[i]);
       ws.Mbar[k] = model.M[i].transformed(ws.g[k]);
@@ -58,9 +61,14 @@ void del_residual(const Model& model, const Quadrature& quad, DelWorkspace& ws, 
       if (actuated) Q += jf.actuation.row(i).dot(u.col(a));
       R[a] = ws.Sbar[k].dot(Omega) + wdt * Q;
     }
+    const int c = i - model.rotation_chart;  // a joint of the rotation chart: c = 0, 1, 2
+    const bool charted = model.rotation_chart >= 0 && c >= 0 && c < 3;
+    if (charted)
+      for (int a = 0; a < S1; ++a) ws.chart_G(c, a) = R[a] / (quad.w[a] * dt);  // dL/dq_i + Q_i at point a
     for (int b = 0; b < S1; ++b) {  // sum_b a^{ab} S̄^b . μ̄^b, the joint momentum (plus a_i q̇_i^b)
       double Smu = ws.Sbar[ws.at(i, b)].dot(ws.mu[ws.at(i, b)]);
       if (armature) Smu += model.armature[i] * ws.qdot(i, b);
+      if (charted) ws.chart_P(c, b) = Smu;  // dL/dq̇_i at point b
       for (int a = 0; a < S1; ++a) R[a] += quad.a(a, b) * Smu;
     }
     r(i, 0) = p[i] + R[0];
@@ -71,6 +79,11 @@ void del_residual(const Model& model, const Quadrature& quad, DelWorkspace& ws, 
         ws.mu[ws.at(par, a)] += ws.mu[ws.at(i, a)];
         ws.Gamma[ws.at(par, a)] += ws.Gamma[ws.at(i, a)];
       }
+  }
+  if (model.rotation_chart >= 0) {  // the chart's centre moves with q^{k,0}: p^k = -D_1 L_d on the group
+    const int j = model.rotation_chart;
+    r.block<3, 1>(j, 0) += centre_term(RotationChart(model), quad, dt, q.middleRows<3>(j), ws.qdot.middleRows<3>(j),
+                                        ws.chart_G, ws.chart_P);
   }
 }
 

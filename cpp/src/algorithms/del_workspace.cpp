@@ -16,6 +16,11 @@ DelWorkspace::DelWorkspace(const Model& model, const Quadrature& quad) : n(model
   u.resize(model.n_controls(), s + 1);
   wrenches.resize(n);
   for (const auto& w : model.wrenches) wrenches[w->body()].push_back(w.get());
+  if (model.rotation_chart >= 0) {
+    chart_placement = model.g_parent0[model.rotation_chart];
+    chart_G.resize(3, s + 1);
+    chart_P.resize(3, s + 1);
+  }
 }
 
 void DelWorkspace::kinematics_at(int a, Data& data) const {

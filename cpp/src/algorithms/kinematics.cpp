@@ -19,7 +19,8 @@ void forward_kinematics(const Model& model, Data& data, const Eigen::Ref<const V
   check_vector("q", q, model.n());
   for (int i = 0; i < model.n(); ++i) {
     const int p = model.parent[i];
-    const SE3 gpi = model.g_parent0[i] * exp_twist(model.S[i], q[i]);
+    const SE3& g0 = i == model.rotation_chart ? data.chart_placement : model.g_parent0[i];
+    const SE3 gpi = g0 * exp_twist(model.S[i], q[i]);
     data.g[i] = p >= 0 ? data.g[p] * gpi : gpi;
     data.Sbar[i] = Ad(data.g[i], model.S[i]);
     data.Mbar[i] = model.M[i].transformed(data.g[i]);

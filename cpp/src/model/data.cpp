@@ -6,5 +6,7 @@ Data::Data(const Model& model)
       IA(model.n()), pA(model.n()), U(model.n()), D(model.n()), u(model.n()), qdd(model.n()),
       tau(model.n()), Mq(model.n(), model.n()), Kvv(model.n(), model.n()), Kvq(model.n(), model.n()),
       Kqv(model.n(), model.n()), Kqq(model.n(), model.n()), Vqq(model.n(), model.n()),
-      sigma_m(model.n()), sigma_p(model.n()) {}
+      sigma_m(model.n()), sigma_p(model.n()) {
+  if (model.rotation_chart >= 0) chart_placement = model.g_parent0[model.rotation_chart];
+}
 }  // namespace hovi

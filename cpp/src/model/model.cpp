@@ -162,6 +162,28 @@ void Model::scale_mass(int body, double factor) {
   M[body] = SpatialInertia::AtCom(spec[body].mass, spec[body].inertia);
 }
 
+void Model::set_rotation_chart(int j) {
+  const auto refuse = [&](const std::string& why) {
+    throw ModelError("set_rotation_chart: joints " + std::to_string(j) + " to " + std::to_string(j + 2) + " " + why);
+  };
+  if (j < 0 || j + 2 >= n()) refuse("do not exist (the model has " + std::to_string(n()) + " joints)");
+  for (int i = j; i <= j + 2; ++i)
+    if (spec[i].type != JointType::Revolute) refuse("must be revolute ('" + spec[i].joint_name + "' is not)");
+  for (int i = j + 1; i <= j + 2; ++i)
+    if (parent[i] != i - 1 || (spec[i].placement.R - Mat3::Identity()).norm() > 1e-12 || spec[i].placement.p.norm() > 1e-12)
+      refuse("must be a chain without offsets ('" + spec[i].joint_name + "' is not the child of the joint before, "
+             "at its origin)");
+  Mat3 axes;
+  axes << spec[j].axis, spec[j + 1].axis, spec[j + 2].axis;
+  if (std::abs(axes.determinant()) < 1e-6) refuse("must turn about three independent axes");
+  rotation_chart = j;
+}
+
+SE3 Model::chart_placement(const Mat3& centre) const {
+  const Vec3 c = spec[rotation_chart].com;  // {j} is the joint frame moved to the COM: P C T(c) = g0 T(-c) C T(c)
+  return g_parent0[rotation_chart] * SE3::Translation(-c) * SE3(centre, Vec3::Zero()) * SE3::Translation(c);
+}
+
 void Model::add_damper(int joint, double damping) {
   check_joint(*this, joint, "add_damper");
   check_parameter(*this, joint, "add_damper", "damping", damping, true);

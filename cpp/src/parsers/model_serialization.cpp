@@ -9,8 +9,8 @@ namespace hovi {
 namespace {
 
 constexpr const char* kMagic = "hovi.Model";
-// 2: joint armature; 3: the header carries the payload's length and checksum.
-constexpr std::uint32_t kVersion = 3;
+// 2: joint armature; 3: the header carries the payload's length and checksum; 4: the rotation chart.
+constexpr std::uint32_t kVersion = 4;
 constexpr std::uint32_t kByteOrder = 0x01020304;  // reads back as 0x04030201 on the other byte order
 constexpr std::uint32_t kOtherByteOrder = 0x04030201;
 
@@ -163,6 +163,7 @@ std::string serialize(const Model& model) {
   }
   out.put(static_cast<int>(model.visuals.size()));
   for (const Visual& v : model.visuals) put(out, v);
+  out.put(model.rotation_chart);
   const std::string& payload = out.bytes();
   ByteWriter header;
   header.put(std::string(kMagic));
@@ -239,6 +240,8 @@ Model deserialize(const std::string& bytes) {
   for (int k = 0; k < n_constraints; ++k) model.add_constraint(get_constraint(in));
   const int n_visuals = in.get<int>();
   for (int k = 0; k < n_visuals; ++k) model.add_visual(get_visual(in));
+  const int chart = in.get<int>();
+  if (chart >= 0) model.set_rotation_chart(chart);  // checks it
   if (!in.at_end()) ByteReader::corrupt();
   return model;
 }

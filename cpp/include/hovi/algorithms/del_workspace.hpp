@@ -18,6 +18,8 @@ struct DelWorkspace {
 
   int n, s;
   double dt = 0;
+  SE3 chart_placement;              // g_{par,j}(0) of the rotation chart's joint j about its centre
+  MatX chart_G, chart_P;            // 3 x (s+1): the chart joints' dL/dq + forces and dL/dq̇ at the points
   std::vector<SE3> g;               // g_i^{k,a}
   std::vector<Twist> Sbar;          // S̄_i^{k,a} = Ad_g S_i
   std::vector<Twist> Sdot;          // Ṡ̄_i^{k,a} = ad_{v̄} S̄ (filled by the Newton direction)

@@ -10,6 +10,7 @@ namespace hovi {
 struct Data {
   explicit Data(const Model& model);
 
+  SE3 chart_placement;                 // g_{par,j}(0) of the rotation chart's joint j about its centre
   std::vector<SE3> g;                  // g_i, pose of body frame {i} (at the COM) in {0}
   std::vector<Twist> Sbar;             // S̄_i = Ad_{g_i} S_i, spatial joint twist
   std::vector<SpatialInertia> Mbar;    // M̄_i = Ad_{g_i}^{-T} M_i Ad_{g_i}^{-1}
