@@ -93,12 +93,13 @@ def test_a_failed_plant_step_is_flagged_and_warned(cartpole):
     assert runs[1].failure == run.failure
 
 
-def test_an_mpc_solve_that_raises_ends_the_run_flagged_with_what_was_done(cartpole):
+def test_an_mpc_solve_that_fails_ends_the_run_flagged_with_what_was_done(cartpole):
     integ, _ = cartpole
     mpc = control.MPC(held_problem(integ.model))
-    with pytest.warns(RuntimeWarning, match=r"MPC run ended early, at step 5 of 20 .*solve .*raised"):
+    with pytest.warns(RuntimeWarning, match=r"MPC run ended early, at step 5 of 20 .*solve .*failed"):
         run = mpc.run(integ, [0, 3], 20, pushes=HUGE_PUSH)
     assert run.trajectory.steps == 5 and len(run.u) == 5 and len(run.solve_seconds) == 5
+    assert run.trajectory.status[-1] == "controller_failed"  # the C++ loop ended there, in one run
     assert "the step from the initial guess failed" in run.failure and "FAILED at step 5" in repr(run)
     done = mpc.run(integ, [0, 3], 5)  # the part before the push, as a run of its own
     np.testing.assert_array_equal(run.trajectory.q, done.trajectory.q)

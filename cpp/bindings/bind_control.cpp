@@ -344,6 +344,7 @@ feasible, status, trace (iterations, 5: cost, stop, step, regularisation, gaps),
         d["solve_seconds"] = VecX(Eigen::Map<const VecX>(st.solve_seconds.data(), st.solve_seconds.size()));
         d["solve_iterations"] = Eigen::VectorXi(Eigen::Map<const Eigen::VectorXi>(st.iterations.data(), st.iterations.size()));
         d["solve_converged"] = Eigen::VectorXi(Eigen::Map<const Eigen::VectorXi>(st.converged.data(), st.converged.size()));
+        d["solve_failure"] = hook.failure().empty() ? py::object(py::none()) : py::object(py::str(hook.failure()));
         return d;
       }, py::arg("plant"), py::arg("problem"), py::arg("q0"), py::arg("p0"), py::arg("steps"), py::arg("period"),
       py::arg("max_iterations"), py::arg("tol"), py::arg("pushes"), py::arg("us_init") = py::none(), R"doc(
@@ -351,7 +352,8 @@ feasible, status, trace (iterations, 5: cost, stop, step, regularisation, gaps),
 (n,) under MPC (control/mpc.hpp): FDDP on `problem` re-solved every `period` steps (at most max_iterations,
 tol), warm-started from the last plan shifted; pushes: a list with one list of (step, body, point,
 impulse). Returns the plant's rollout dict with controls, and per solve solve_seconds, solve_iterations,
-solve_converged.
+solve_converged; a solve that fails from the plant's state ends the run (status 'controller_failed'),
+solve_failure its message (else None).
 )doc");
   m.def("closed_loop", [](const py::list& plants, const ArrayLike& x_ref, const ArrayLike& u_ref, const ArrayLike& gains,
                           const ArrayLike& lower, const ArrayLike& upper, const py::list& pushes, const ArrayLike& q0s,

@@ -127,7 +127,8 @@ class StepInfo:
     q^{k,0..s} of the step and, for a constrained model, ``multipliers`` (s, n_constraints)
     λ^{k,0..s-1}."""
     status: str            # 'converged', 'max_iterations', 'line_search_failed', 'singular_jacobian', 'non_finite',
-                           # 'continuation_stalled' (no step on the solution branch from q^k: it turns back before dt)
+                           # 'continuation_stalled' (no step on the solution branch from q^k: it turns back before dt),
+                           # 'lcp_failed' (a contact step), 'controller_failed' (an MPC solve from the state failed)
     converged: bool
     iterations: int        # Newton directions computed
     factorizations: int    # of them, those with a fresh Jacobian factorisation (the rest reused one)

@@ -12,7 +12,7 @@ MpcHook::MpcHook(ShootingProblem& problem, FddpOptions options, int period, cons
     throw InputError("the plant's n and m must be the controller's");
 }
 
-void MpcHook::before_step(int k, const VecX& q, VecX& p, MatX& uk) {
+bool MpcHook::before_step(int k, const VecX& q, VecX& p, MatX& uk) {
   pushes_.apply(k, q, p);
   const int n = pb_.nx() / 2, N = pb_.N();
   VecX x(2 * n);
@@ -30,10 +30,15 @@ void MpcHook::before_step(int k, const VecX& q, VecX& p, MatX& uk) {
     pb_.set_x0(x);
     BoxFddp solver(pb_, opt_);
     try {
-      plan_ = solver.solve(xs, us);
-    } catch (const InputError&) {  // a step from the shifted plan failed: start from the rollout of its controls
-      if (!xs.size()) throw;
-      plan_ = solver.solve(MatX(), us);
+      try {
+        plan_ = solver.solve(xs, us);
+      } catch (const InputError&) {  // a step from the shifted plan failed: start from the rollout of its controls
+        if (!xs.size()) throw;
+        plan_ = solver.solve(MatX(), us);
+      }
+    } catch (const InputError& e) {  // no plan from this state (its rollout fails): the run ends here
+      failure_ = e.what();
+      return false;
     }
     stats_.solve_seconds.push_back(plan_.seconds);
     stats_.iterations.push_back(plan_.iterations);
@@ -46,6 +51,7 @@ void MpcHook::before_step(int k, const VecX& q, VecX& p, MatX& uk) {
                      .cwiseMin(pb_.u_upper());
   uk = u.replicate(1, uk.cols());
   ++since_;
+  return true;
 }
 
 }  // namespace hovi

@@ -15,6 +15,7 @@ const char* to_string(SolveStatus status) {
     case SolveStatus::NonFinite: return "non_finite";
     case SolveStatus::ContinuationStalled: return "continuation_stalled";
     case SolveStatus::LcpFailed: return "lcp_failed";
+    case SolveStatus::ControllerFailed: return "controller_failed";
   }
   return "unknown";
 }

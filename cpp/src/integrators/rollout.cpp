@@ -1,4 +1,5 @@
 // GalerkinIntegrator::rollout: the loop over steps (galerkin_integrator.hpp) and its record.
+#include <cmath>
 #include <string>
 
 #include "hovi/integrators/galerkin_integrator.hpp"
@@ -71,7 +72,13 @@ Rollout GalerkinIntegrator::rollout(const VecX& q0, const VecX& p0, int N, const
     qc.col(0) = out.q.row(k).transpose();
     if (hook) {  // the hook's controls (and its momentum: an impulse) into uk and the record
       uk.setZero(m, S1);
-      hook->before_step(k, out.q.row(k).transpose(), p, uk);
+      if (!hook->before_step(k, out.q.row(k).transpose(), p, uk)) {  // no controls for this state: the run ends
+        SolveInfo stopped;
+        stopped.status = SolveStatus::ControllerFailed;
+        stopped.residual = NAN;
+        record_step(out, k, stopped, qc, p_next);
+        break;
+      }
       if (uk.rows() != m || uk.cols() != S1 || !uk.allFinite() || !p.allFinite())
         throw InputError("the controller gave controls of the wrong shape, or NaN or infinity, at step " +
                          std::to_string(k));

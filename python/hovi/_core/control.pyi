@@ -82,7 +82,8 @@ def mpc(plant: hovi._core.Integrator, problem: ShootingProblem, q0: numpy.typing
     (n,) under MPC (control/mpc.hpp): FDDP on `problem` re-solved every `period` steps (at most max_iterations,
     tol), warm-started from the last plan shifted; pushes: a list with one list of (step, body, point,
     impulse). Returns the plant's rollout dict with controls, and per solve solve_seconds, solve_iterations,
-    solve_converged.
+    solve_converged; a solve that fails from the plant's state ends the run (status 'controller_failed'),
+    solve_failure its message (else None).
     """
 def velocity_state_map(model: hovi._core.Model, q: numpy.typing.ArrayLike, p: numpy.typing.ArrayLike) -> numpy.typing.NDArray[numpy.float64]:
     """

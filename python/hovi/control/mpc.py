@@ -90,9 +90,8 @@ class MPC:
         of Push), all in C++. warm_start: controls (N, m) for the first solve (default zeros).
 
         A run that cannot go on ends there, flagged (``MpcRun.failure``) with a RuntimeWarning: when
-        the plant fails a step, and when a solve raises (e.g. FDDP's first rollout from the plant's
-        state fails after a push). A raising solve ends the C++ loop without its record, so the
-        loop, deterministic, is run again up to that step (a bisection: a few more runs)."""
+        the plant fails a step, and when a solve fails from the plant's state (e.g. FDDP's first
+        rollout from it, after a push): the trajectory's last status is then 'controller_failed'."""
         if not isinstance(plant, Integrator):
             raise TypeError(f"plant must be a hovi.Integrator, got {type(plant).__name__}")
         if abs(plant.dt - self.dt) > 1e-12 * self.dt:
@@ -109,27 +108,20 @@ class MPC:
         warm = None if warm_start is None else real_array(warm_start, "warm_start", (N, m))
         knots = [[k for push in push_list(pushes) for k in push.knots(plant.model, plant.dt, steps)]]
 
-        def loop(k: int) -> dict[str, Any]:  # the run's first k steps
-            return _core.control.mpc(plant.core, self._shooting, q0, p0, k, self.period, self.max_iterations,
-                                     self.tol, knots, warm)
-        try:
-            res, failure = loop(steps), None
-        except ValueError as e:
-            done, res = 0, loop(0)  # an input error raises here too
-            bad = steps
-            while bad - done > 1:  # the last k whose run the solve did not break
-                mid = (done + bad) // 2
-                try:
-                    res, done = loop(mid), mid
-                except ValueError:
-                    bad = mid
-            failure = (f"step {done} of {steps} (t = {done * plant.dt:.6g} s): the FDDP solve from the plant's state "
-                       f"raised: {e}")
+        res = _core.control.mpc(plant.core, self._shooting, q0, p0, steps, self.period, self.max_iterations, self.tol,
+                                knots, warm)
+        failure = None
+        if res["solve_failure"] is not None:  # the solve from the plant's state failed: the C++ loop ended there
+            k = int(res["steps"])
+            failure = (f"step {k} of {steps} (t = {k * plant.dt:.6g} s): the FDDP solve from the plant's state "
+                       f"failed: {res['solve_failure']}")
         traj = plant.trajectory_of([res])
         failure = failure or failure_of(traj, plant, steps)
         if failure is not None:
             warnings.warn(f"the MPC run ended early, at {failure}; see MpcRun.failure", RuntimeWarning, stacklevel=2)
         controls = res.get("controls", np.zeros((0, (plant.s + 1) * m)))  # none when no step ran
+        if res["solve_failure"] is not None:  # the step without controls is no step
+            controls = controls[:int(res["steps"])]
         return MpcRun(trajectory=traj, u=controls.reshape(-1, plant.s + 1, m), solve_seconds=res["solve_seconds"],
                       iterations=res["solve_iterations"], converged=res["solve_converged"], period=self.period,
                       dt=self.dt, failure=failure)

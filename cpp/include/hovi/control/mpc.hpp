@@ -6,6 +6,7 @@
 // plan's feedback policy u^j = us^j + K^j (x - xs^j) runs. The plant's step must equal the
 // problem's dt; it may be another model (mismatch) and have contacts.
 #pragma once
+#include <string>
 #include <vector>
 
 #include "hovi/control/box_fddp.hpp"
@@ -24,8 +25,10 @@ class MpcHook : public StepHook {
   // problem and pushes must outlive it; us_init (N x m): the first solve's warm start (empty: zeros).
   MpcHook(ShootingProblem& problem, FddpOptions options, int period, const Model& plant,
           const std::vector<Push>& pushes, const MatX& us_init);
-  void before_step(int k, const VecX& q, VecX& p, MatX& uk) override;
+  // False when the solve from the plant's state fails (FDDP's rollout from it): failure() says why.
+  bool before_step(int k, const VecX& q, VecX& p, MatX& uk) override;
   const MpcStats& stats() const { return stats_; }
+  const std::string& failure() const { return failure_; }
 
  private:
   ShootingProblem& pb_;
@@ -36,6 +39,7 @@ class MpcHook : public StepHook {
   MatX us_init_;
   int since_ = 0;  // plant steps since the last solve
   MpcStats stats_;
+  std::string failure_;
 };
 
 }  // namespace hovi

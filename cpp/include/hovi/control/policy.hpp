@@ -56,9 +56,10 @@ class PolicyHook : public StepHook {
   // model, policy and pushes must outlive it.
   PolicyHook(const Model& model, const Policy& policy, const std::vector<Push>& pushes)
       : policy_(policy), pushes_(model, pushes) {}
-  void before_step(int k, const VecX& q, VecX& p, MatX& uk) override {
+  bool before_step(int k, const VecX& q, VecX& p, MatX& uk) override {
     pushes_.apply(k, q, p);
     policy_.control(k, q, p, uk);
+    return true;
   }
 
  private:

@@ -32,7 +32,7 @@ namespace hovi {
 // LcpFailed: the contact step's linear complementarity subproblem found no solution, or its solution
 // missed the complementarity tolerance at the converged step.
 enum class SolveStatus { Converged, MaxIterations, LineSearchFailed, SingularJacobian, NonFinite, ContinuationStalled,
-                         LcpFailed };
+                         LcpFailed, ControllerFailed };
 const char* to_string(SolveStatus status);
 
 struct SolveInfo {

@@ -11,8 +11,10 @@ class StepHook {
  public:
   virtual ~StepHook() = default;
   // Before step k from (q, p): set uk (m x (s+1), the controls at the step's control points) and
-  // optionally add an impulse to p. Exceptions stop the rollout and reach its caller.
-  virtual void before_step(int k, const VecX& q, VecX& p, MatX& uk) = 0;
+  // optionally add an impulse to p. False: the controller has no controls for this state (e.g. an
+  // MPC solve failed from it), and the rollout ends there with status ControllerFailed. Exceptions
+  // stop the rollout and reach its caller.
+  virtual bool before_step(int k, const VecX& q, VecX& p, MatX& uk) = 0;
 };
 
 }  // namespace hovi
