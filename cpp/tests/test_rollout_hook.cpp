@@ -1,6 +1,9 @@
 // A rollout's StepHook (integrators/step_hook.hpp): its controls drive the steps, and a hook without
-// controls for a state ends the rollout there, status ControllerFailed, the steps before it kept.
+// controls for a state (or with infinite ones) ends the rollout there, status ControllerFailed, the
+// steps before it kept.
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 #include "hovi/integrators/galerkin_integrator.hpp"
 #include "hovi/models/pendulum.hpp"
@@ -9,16 +12,18 @@ using namespace hovi;
 
 namespace {
 
+// Controls of 0.5 up to step `stop`; there none (returns false) or, with `overflow`, infinite ones.
 class StopsAt : public StepHook {
  public:
-  explicit StopsAt(int k) : stop_(k) {}
+  explicit StopsAt(int k, bool overflow = false) : stop_(k), overflow_(overflow) {}
   bool before_step(int k, const VecX&, VecX&, MatX& uk) override {
-    uk.setConstant(0.5);
-    return k < stop_;
+    uk.setConstant(k >= stop_ && overflow_ ? INFINITY : 0.5);
+    return k < stop_ || overflow_;
   }
 
  private:
   int stop_;
+  bool overflow_;
 };
 
 }  // namespace
@@ -38,4 +43,8 @@ TEST(RolloutHook, AHookWithoutControlsEndsTheRolloutThere) {
   EXPECT_EQ(full.steps, 10);
   EXPECT_EQ(stopped.q.topRows(5), full.q.topRows(5));  // the steps before it, as the whole run's
   EXPECT_STREQ(to_string(SolveStatus::ControllerFailed), "controller_failed");
+  StopsAt overflows(4, true);  // infinite controls (a feedback that overflowed) end it the same way
+  const Rollout inf = integ.rollout(q0, p0, 10, MatX(), StepHistory(), &overflows);
+  EXPECT_EQ(inf.steps, 4);
+  EXPECT_EQ(inf.status.back(), SolveStatus::ControllerFailed);
 }

@@ -72,16 +72,18 @@ Rollout GalerkinIntegrator::rollout(const VecX& q0, const VecX& p0, int N, const
     qc.col(0) = out.q.row(k).transpose();
     if (hook) {  // the hook's controls (and its momentum: an impulse) into uk and the record
       uk.setZero(m, S1);
-      if (!hook->before_step(k, out.q.row(k).transpose(), p, uk)) {  // no controls for this state: the run ends
+      const bool controlled = hook->before_step(k, out.q.row(k).transpose(), p, uk);
+      if (uk.rows() != m || uk.cols() != S1 || !p.allFinite())
+        throw InputError("the controller gave controls of the wrong shape, or a momentum with NaN or infinity, at "
+                         "step " + std::to_string(k));
+      // no controls for this state (none, or not finite ones: an overflowing feedback): the run ends here
+      if (!controlled || !uk.allFinite()) {
         SolveInfo stopped;
         stopped.status = SolveStatus::ControllerFailed;
         stopped.residual = NAN;
         record_step(out, k, stopped, qc, p_next);
         break;
       }
-      if (uk.rows() != m || uk.cols() != S1 || !uk.allFinite() || !p.allFinite())
-        throw InputError("the controller gave controls of the wrong shape, or NaN or infinity, at step " +
-                         std::to_string(k));
       out.p.row(k) = p.transpose();
       out.controls.row(k) = Eigen::Map<const VecX>(uk.data(), uk.size()).transpose();
     } else {

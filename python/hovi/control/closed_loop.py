@@ -90,6 +90,9 @@ def failure_of(trajectory: Trajectory, plant: Integrator, steps: int) -> Optiona
     if trajectory.steps == steps or not trajectory.status:
         return None
     k = trajectory.steps
+    if trajectory.status[-1] == "controller_failed":
+        return (f"step {k} of {steps} (t = {k * plant.dt:.6g} s): the controller gave no finite controls "
+                "(controller_failed: e.g. feedback that overflowed on a state far from its reference)")
     return (f"step {k} of {steps} (t = {k * plant.dt:.6g} s): the plant's {plant.step_kind} failed "
             f"({trajectory.status[-1]}, residual {trajectory.residuals[-1]:.3e})")
 
