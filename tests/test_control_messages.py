@@ -258,4 +258,3 @@ def test_open_loop_refuses_controls_of_another_shape():
         control.Policy.open_loop(np.zeros(5), 0.01, 2, 2)
     with pytest.raises(ValueError, match="n must be >= 1"):
         control.Policy.open_loop(np.zeros((5, 1)), 0.01, 2, 0)
-
