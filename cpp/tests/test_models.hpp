@@ -9,27 +9,35 @@
 
 namespace hovi::test_models {
 
+// The BodySpec of body `name` on joint "<name>_joint" (the tests' models).
+inline BodySpec body_spec(const char* name, int parent, JointType type, const Vec3& axis, const SE3& placement,
+                          double mass, const Vec3& com, const Mat3& inertia) {
+  BodySpec s;
+  s.name = name;
+  s.joint_name = std::string(name) + "_joint";
+  s.parent = parent;
+  s.type = type;
+  s.axis = axis;
+  s.placement = placement;
+  s.mass = mass;
+  s.com = com;
+  s.inertia = inertia;
+  return s;
+}
+
 // A branched tree exercising everything the algorithms must handle: two prismatic joints, skewed
 // axes, rotated joint frames, offset centres of mass and full (non-diagonal) rotational inertias.
 inline Model branched_tree() {
   Model m;
   int count = 0;
   auto body = [&](const char* name, int parent, JointType t, Vec3 axis, Vec3 pos, double mass) {
-    BodySpec s;
-    s.name = name;
-    s.joint_name = std::string(name) + "_joint";
-    s.parent = parent;
-    s.type = t;
-    s.axis = axis;
-    s.placement = SE3(exp_twist((Twist() << 0.3, -0.2, 0.5, 0, 0, 0).finished(), 1.0 + 0.1 * count).R, pos);
-    s.mass = mass;
-    s.com = Vec3(0.05, -0.1, 0.2) * (1 + 0.2 * count);
     Mat3 A;
     A << 0.3, 0.1, -0.2, 0.05, 0.4, 0.1, -0.1, 0.2, 0.5;
     A += 0.1 * count * Mat3::Identity();
-    s.inertia = 0.1 * (A * A.transpose() + Mat3::Identity());
+    const SE3 placement(exp_twist((Twist() << 0.3, -0.2, 0.5, 0, 0, 0).finished(), 1.0 + 0.1 * count).R, pos);
+    const Vec3 com = Vec3(0.05, -0.1, 0.2) * (1 + 0.2 * count);
     ++count;
-    return m.add_body(s);
+    return m.add_body(body_spec(name, parent, t, axis, placement, mass, com, 0.1 * (A * A.transpose() + Mat3::Identity())));
   };
   const int a = body("a", -1, JointType::Revolute, Vec3(0, 0, 1), Vec3(0, 0, 0), 2.0);
   const int b = body("b", a, JointType::Prismatic, Vec3(1, 1, 0), Vec3(0.2, 0, 0.1), 1.0);

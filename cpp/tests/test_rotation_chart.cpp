@@ -17,6 +17,7 @@
 #include "hovi/integrators/galerkin_integrator.hpp"
 #include "hovi/model/data.hpp"
 #include "hovi/parsers/model_serialization.hpp"
+#include "test_models.hpp"
 
 using namespace hovi;
 
@@ -28,17 +29,7 @@ Model floating_chain(bool gravity) {
   Model m;
   auto add = [&](const char* name, int parent, JointType type, Vec3 axis, double mass, Mat3 inertia, Vec3 at,
                  Vec3 com) {
-    BodySpec s;
-    s.name = name;
-    s.joint_name = std::string(name) + "_joint";
-    s.parent = parent;
-    s.type = type;
-    s.axis = axis;
-    s.placement = SE3::Translation(at);
-    s.mass = mass;
-    s.inertia = inertia;
-    s.com = com;
-    return m.add_body(s);
+    return m.add_body(test_models::body_spec(name, parent, type, axis, SE3::Translation(at), mass, com, inertia));
   };
   const Mat3 Z = Mat3::Zero();
   int b = add("x", -1, JointType::Prismatic, Vec3::UnitX(), 0, Z, Vec3::Zero(), Vec3::Zero());

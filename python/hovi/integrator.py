@@ -320,8 +320,7 @@ class Integrator:
         Raises ConvergenceError if the solve fails and raise_on_failure (else check info.converged).
         """
         z0 = None if impulses is None else _core.real_array(impulses, "impulses").ravel()
-        if self.contacts is not None:
-            self.check_start(_core.real_array(q, "q"), "q")
+        self.check_start(q, "q")
         qc, p_next, raw = self._core.step(q, p, u, guess, multipliers, z0)
         lam = raw.pop("multipliers")
         contact = {k: raw.pop(k) for k in ("impulses", "gaps", "pivots", "impact") if k in raw}
