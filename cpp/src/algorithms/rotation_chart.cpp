@@ -48,17 +48,34 @@ Vec3 RotationChart::recentred_momentum(const Vec3& theta, const Vec3& p) const {
   return rates_to_omega(Vec3::Zero()).transpose() * rates_to_omega(theta).transpose().lu().solve(p);
 }
 
+Vec3 RotationChart::angles(const Mat3& R, Vec3 guess) const {
+  for (int it = 0; it < 20; ++it) {
+    const Eigen::AngleAxisd aa(rotation(guess).transpose() * R);
+    const Vec3 delta = aa.angle() * aa.axis();  // the body-frame rotation left
+    guess += rates_to_omega(guess).lu().solve(delta);
+    if (delta.norm() < 1e-15) break;
+  }
+  return guess;
+}
+
+void RotationChart::recentre_points(int j, const Vec3& theta, Eigen::Ref<MatX> points) const {
+  const Mat3 Rt = rotation(theta).transpose();
+  for (Eigen::Index a = 0; a < points.cols(); ++a) {
+    const Vec3 old = points.col(a).segment<3>(j);
+    points.col(a).segment<3>(j) = angles(Rt * rotation(old), old - theta);
+  }
+}
+
 Vec3 centre_term(const RotationChart& chart, const Quadrature& quad, double dt, const Eigen::Ref<const MatX>& theta,
                  const Eigen::Ref<const MatX>& theta_dot, const Eigen::Ref<const MatX>& G,
                  const Eigen::Ref<const MatX>& P) {
   const int s = quad.s;
-  const Mat3 end = chart.centre_shift(theta.col(s));
+  const Mat3 end = chart.centre_shift(theta.col(s)) - Mat3::Identity();
   Vec3 C = Vec3::Zero();
   for (int a = 0; a <= s; ++a) {
-    // Y vanishes at the ends (A(0) = 1); l_0 and l_s vanish at the interior points
-    const Mat3 Y = a == 0 || a == s ? Mat3::Zero() : Mat3(chart.centre_shift(theta.col(a)));
-    const Mat3 Ydot = chart.centre_shift_rate(theta.col(a), theta_dot.col(a)) -
-                      (quad.b(a, 0) * Mat3::Identity() + quad.b(a, s) * end) / dt;
+    // Y' vanishes at the ends (A(0) = 1); l_s vanishes at the interior points
+    const Mat3 Y = a == 0 || a == s ? Mat3::Zero() : Mat3(chart.centre_shift(theta.col(a)) - Mat3::Identity());
+    const Mat3 Ydot = chart.centre_shift_rate(theta.col(a), theta_dot.col(a)) - quad.b(a, s) * end / dt;
     C += quad.w[a] * dt * (Y.transpose() * G.col(a) + Ydot.transpose() * P.col(a));
   }
   return C;

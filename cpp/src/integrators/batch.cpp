@@ -13,10 +13,11 @@ using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 int checked_batch(const GalerkinIntegrator& integ, const BatchStates& x) {
-  const int n = integ.model().n();
+  const int n = integ.model().n(), nq = integ.model().nq();
   if (x.q.rows() == 0) throw InputError("the batch is empty (B = 0 initial states)");
-  if (x.q.cols() != n || x.second.cols() != n || x.second.rows() != x.q.rows())
-    throw InputError("the initial states must be two (B, n) arrays with n = " + std::to_string(n));
+  if (x.q.cols() != nq || x.second.cols() != n || x.second.rows() != x.q.rows())
+    throw InputError("the initial states must be (B, nq) and (B, n) arrays with nq = " + std::to_string(nq) +
+                     ", n = " + std::to_string(n));
   return static_cast<int>(x.q.rows());
 }
 
@@ -47,6 +48,8 @@ RolloutBatch rollout_batch(const GalerkinIntegrator& integ, const BatchStates& x
 }
 
 StepBatch step_batch(const GalerkinIntegrator& integ, const BatchStates& x, const MatX& u, int threads) {
+  if (integ.model().rotation_chart >= 0)
+    throw InputError("step_batch on a model with a free base is not supported yet: use rollout_batch with 1 step");
   const int B = checked_batch(integ, x);
   threads = thread_count(threads);
   const int n = integ.model().n(), S1 = integ.quadrature().s + 1, m = integ.model().n_controls();

@@ -224,13 +224,13 @@ SolveInfo ContactSolver::solve(const SolverOptions& opt, double tol, const Eigen
   evaluate(p, u, dt, qc, z, cur_);
   Step step{*this, tol, p, u, dt, qc, z, basis, 0.0, false, opt};
   step.phi_merit = Step::merit(cur_);
-  NewtonLoop loop = newton_loop(opt);
+  NewtonLoop loop = newton_loop(opt, model_);
   // Every iteration refactors: keeping the factorisation and the LCP's matrix while the iteration
   // contracts (as the integrator's simplified Newton) was measured no faster (bench/README.md, "Design
   // measurements"): the contraction of one active set is not that of the next.
   loop.reuse = false;
   loop.estimate_from_contraction = false;
-  SolveInfo info = newton_iterate(step, stopping_rule(opt, p), loop);
+  SolveInfo info = newton_iterate(step, stopping_rule(opt, p, model_), loop);
   if (info.status == SolveStatus::NonFinite && !step.solved) info.status = SolveStatus::LcpFailed;
   if (info.converged() && step.fresh_lcp) {
     // Stopped on the DEL correction: the impulses are those of the last LCP, which balance the

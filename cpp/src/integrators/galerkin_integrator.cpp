@@ -19,9 +19,8 @@ namespace hovi {
 namespace {
 Model checked(Model model) {
   if (model.n() == 0) throw ModelError("the model has no joints");
-  // Its step must re-centre the chart (algorithms/rotation_chart.hpp) in every workspace: not yet.
-  if (model.rotation_chart >= 0)
-    throw ModelError("a model with a rotation chart is not integrated yet (its steps must re-centre the chart)");
+  if (model.rotation_chart >= 0 && model.n_constraints())
+    throw ModelError("holonomic constraints on a model with a free base are not supported yet");
   return model;
 }
 
@@ -89,6 +88,14 @@ IntegratorWorkspace::IntegratorWorkspace(const Model& model, const Quadrature& q
       data(model),
       flow(model) {}
 
+void IntegratorWorkspace::set_chart_centre(const Model& model, const Mat3& centre) {
+  const SE3 placement = model.chart_placement(centre);
+  solver.set_chart_placement(placement);
+  if (contact) contact->set_chart_placement(placement);
+  if (continuation) continuation->del_h.chart_placement = continuation->data.chart_placement = placement;
+  data.chart_placement = placement;
+}
+
 GalerkinIntegrator::GalerkinIntegrator(Model model, int s, double dt, SolverOptions opt, ContactModel contacts,
                                        ContactOptions contact_options)
     : options(opt), model_(checked(std::move(model))),
@@ -99,6 +106,7 @@ GalerkinIntegrator::GalerkinIntegrator(Model model, int s, double dt, SolverOpti
   if (!(opt.reuse_contraction > 0 && opt.reuse_contraction < 1))
     throw InputError("reuse_contraction must lie in (0, 1)");
   if (has_contacts()) r_com_ = contacts_.points_in_com_frames(model_);
+  if (model_.rotation_chart >= 0) free_base_.emplace(model_);
   // E(b, a) = l_b(1 + c^a): the previous step's polynomial evaluated at this step's points.
   extrapolate_.resize(s + 1, s + 1);
   for (int a = 0; a <= s; ++a) extrapolate_.col(a) = quad_.basis(1 + quad_.c[a]);
@@ -122,18 +130,47 @@ GalerkinIntegrator::GalerkinIntegrator(Model model, int s, double dt, SolverOpti
 VecX GalerkinIntegrator::momentum(const VecX& q, const VecX& qdot) const {
   check_vector("qdot", qdot, model_.n());
   auto ws = pool_.acquire();
-  return mass_matrix(model_, ws->data, q) * qdot;  // O(n^2); used once per trajectory
+  if (!free_base_) return mass_matrix(model_, ws->data, q) * qdot;  // O(n^2); used once per trajectory
+  const auto [qc, C] = chart_state(*ws, q);
+  VecX x = qdot;
+  free_base_->velocity_to_chart(qc, C, x);
+  x = mass_matrix(model_, ws->data, qc) * x;
+  free_base_->momentum_to_public(qc, C, x);
+  return x;
 }
 
 VecX GalerkinIntegrator::velocity(const VecX& q, const VecX& p) const {
   auto ws = pool_.acquire();
-  return velocity_from_momentum(model_, ws->data, q, p);
+  if (!free_base_) return velocity_from_momentum(model_, ws->data, q, p);
+  const auto [qc, C] = chart_state(*ws, q);
+  VecX x = p;
+  free_base_->momentum_to_chart(qc, C, x);
+  x = velocity_from_momentum(model_, ws->data, qc, x);
+  free_base_->velocity_to_public(qc, C, x);
+  return x;
 }
 
 double GalerkinIntegrator::energy(const VecX& q, const VecX& p) const {
   auto ws = pool_.acquire();
-  const VecX qdot = velocity_from_momentum(model_, ws->data, q, p);
-  return kinetic_energy(model_, ws->data, q, qdot) + potential_energy(model_, ws->data, q);
+  if (!free_base_) {
+    const VecX qdot = velocity_from_momentum(model_, ws->data, q, p);
+    return kinetic_energy(model_, ws->data, q, qdot) + potential_energy(model_, ws->data, q);
+  }
+  check_vector("p", p, model_.n());
+  const auto [qc, C] = chart_state(*ws, q);
+  VecX x = p;
+  free_base_->momentum_to_chart(qc, C, x);
+  const VecX qdot = velocity_from_momentum(model_, ws->data, qc, x);
+  return kinetic_energy(model_, ws->data, qc, qdot) + potential_energy(model_, ws->data, qc);
+}
+
+std::pair<VecX, Mat3> GalerkinIntegrator::chart_state(IntegratorWorkspace& ws, const VecX& q) const {
+  check_vector("q", q, model_.nq());
+  VecX qc(model_.n());
+  Mat3 C;
+  free_base_->split(q, qc, C);
+  ws.data.chart_placement = model_.chart_placement(C);
+  return {qc, C};
 }
 
 MatX GalerkinIntegrator::lambda_guess(const MatX* lambda) const {
@@ -215,7 +252,10 @@ SolveInfo GalerkinIntegrator::free_step(IntegratorWorkspace& ws, const Eigen::Re
     if (total.converged()) return total;
   }
   if (!ws.constrained) {  // last: follow the solution branch from q^k in the step length
-    if (!ws.continuation) ws.continuation = std::make_unique<ContinuationWorkspace>(model_, quad_);
+    if (!ws.continuation) {
+      ws.continuation = std::make_unique<ContinuationWorkspace>(model_, quad_);
+      ws.continuation->del_h.chart_placement = ws.continuation->data.chart_placement = ws.data.chart_placement;
+    }
     total.add(step_continuation(ws.solver, *ws.continuation, model_, quad_, options, p, u, dt_, qc, p_next));
   }
   return total;
@@ -224,6 +264,12 @@ SolveInfo GalerkinIntegrator::free_step(IntegratorWorkspace& ws, const Eigen::Re
 SolveInfo GalerkinIntegrator::step(IntegratorWorkspace& ws, const Eigen::Ref<const VecX>& p,
                                    const Eigen::Ref<const MatX>& u, Eigen::Ref<MatX> qc, Eigen::Ref<VecX> p_next,
                                    StepHistory& h, ContactReport& report, bool flow) const {
+  if (free_base_) {
+    ws.p_chart = p;
+    recentre(ws, qc, h);
+    if (!has_contacts()) return free_step(ws, ws.p_chart, u, qc, p_next, h, flow);
+    return contact_step(ws, ws.p_chart, u, qc, p_next, h, report);
+  }
   if (!has_contacts()) return free_step(ws, p, u, qc, p_next, h, flow);  // stages 1-2
   return contact_step(ws, p, u, qc, p_next, h, report);                  // stages 1-5
 }
@@ -249,6 +295,21 @@ SolveInfo GalerkinIntegrator::step(const Eigen::Ref<const VecX>& p, const Eigen:
   }
   auto ws = pool_.acquire();
   return step(*ws, p, u, qc, p_next, history, out, false);
+}
+
+void GalerkinIntegrator::recentre(IntegratorWorkspace& ws, Eigen::Ref<MatX> qc, StepHistory& h) const {
+  const RotationChart& chart = free_base_->chart;
+  const int j = model_.rotation_chart, s = quad_.s;
+  const Vec3 theta = qc.col(0).segment<3>(j);
+  ws.p_chart.segment<3>(j) = chart.recentred_momentum(theta, ws.p_chart.segment<3>(j));
+  h.centre = h.centre * chart.rotation(theta);
+  qc.col(0).segment<3>(j).setZero();
+  if (h.previous.size()) {  // the history is in the chart of the step that ended at q^k
+    const Vec3 last = h.previous.col(s).segment<3>(j);
+    chart.recentre_points(j, last, h.previous);
+    if (h.before_previous.size()) chart.recentre_points(j, last, h.before_previous);
+  }
+  ws.set_chart_centre(model_, h.centre);
 }
 
 void GalerkinIntegrator::guess_from_velocity(const VecX& qdot, Eigen::Ref<MatX> qc) const {

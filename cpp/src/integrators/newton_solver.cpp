@@ -7,12 +7,15 @@
 
 namespace hovi {
 
-StoppingRule stopping_rule(const SolverOptions& opt, const Eigen::Ref<const VecX>& p) {
-  return StoppingRule(opt.tol, opt.step_tol, 1 + (p.size() ? p.cwiseAbs().maxCoeff() : 0.0));
+StoppingRule stopping_rule(const SolverOptions& opt, const Eigen::Ref<const VecX>& p, const Model& model) {
+  return StoppingRule(opt.tol, opt.step_tol, 1 + (p.size() ? p.cwiseAbs().maxCoeff() : 0.0),
+                      model.rotation_chart >= 0 ? 1e-13 : StoppingRule::kFloor);
 }
 
-NewtonLoop newton_loop(const SolverOptions& opt) {
+NewtonLoop newton_loop(const SolverOptions& opt, const Model& model) {
   NewtonLoop loop;
+  // a free base's chart: the Jacobian is off by O(θ), so the observed contraction is no error estimate
+  loop.estimate_from_contraction = model.rotation_chart < 0;
   loop.max_iterations = opt.max_iterations;
   loop.max_backtracks = opt.max_backtracks;
   loop.line_search = opt.line_search;
@@ -28,6 +31,11 @@ NewtonSolver::NewtonSolver(const Model& model, const Quadrature& quad)
       p_trial_(model.n()) {}
 
 NewtonSolver::~NewtonSolver() = default;
+
+void NewtonSolver::set_chart_placement(const SE3& placement) {
+  del.chart_placement = del_trial_.chart_placement = del_factor_.chart_placement = placement;
+  factor_valid_ = false;  // a kept factorisation belongs to the chart it was computed in
+}
 
 bool NewtonSolver::factor(const Model& model, const Quadrature& quad, const SolverOptions& opt,
                           const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u, double dt) {
@@ -116,7 +124,7 @@ SolveInfo NewtonSolver::solve(const Model& model, const Quadrature& quad, const 
   factor_valid_ = false;  // every solve starts from a fresh factorisation at its guess
   Step step{*this, model, quad, opt, p, u, dt, qc, p_next};
   step.norm2 = r_.norm();
-  return newton_iterate(step, stopping_rule(opt, p), newton_loop(opt));
+  return newton_iterate(step, stopping_rule(opt, p, model), newton_loop(opt, model));
 }
 
 }  // namespace hovi

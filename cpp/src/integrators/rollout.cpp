@@ -13,7 +13,7 @@ namespace hovi {
 void GalerkinIntegrator::start_rollout(const VecX& q0, const VecX& p0, int N, const MatX& u,
                                        const StepHistory& start, Rollout& out, bool hooked) const {
   const int n = model_.n(), s = quad_.s, S1 = s + 1, m = model_.n_controls();
-  check_vector("q0", q0, n);
+  check_vector("q0", q0, model_.nq());
   check_vector("p0", p0, n);
   if (N < 0) throw InputError("the number of steps must be non-negative");
   if (hooked) out.controls.setZero(N, S1 * m);
@@ -32,7 +32,7 @@ void GalerkinIntegrator::start_rollout(const VecX& q0, const VecX& p0, int N, co
   out.factorizations.resize(N);
   out.residual.resize(N);
   out.status.reserve(N);
-  out.q.row(0) = q0.transpose();
+  out.q.row(0) = q0.head(n).transpose();  // a free base: set by rollout
   out.p.row(0) = p0.transpose();
   if (!has_contacts()) return;
   out.contact.impulses.resize(N, contacts_.unknowns());
@@ -60,12 +60,23 @@ Rollout GalerkinIntegrator::rollout(const VecX& q0, const VecX& p0, int N, const
   const int n = model_.n(), s = quad_.s, S1 = s + 1, m = model_.n_controls(), mc = model_.n_constraints();
   Rollout out;
   start_rollout(q0, p0, N, u, h, out, hook != nullptr);
+  MatX attitude;  // a free base: (N+1) x 4, the base's attitude at q^k
+  if (free_base_) {
+    if (hook) throw InputError("a controller on a model with a free base is not supported yet");
+    VecX q(n), p(p0);
+    free_base_->split(q0, q, h.centre);
+    free_base_->momentum_to_chart(q, h.centre, p);
+    out.q.row(0) = q.transpose();
+    out.p.row(0) = p.transpose();
+    attitude.resize(N + 1, 4);
+    attitude.row(0) = rotation_quaternion(h.centre).transpose();
+  }
   const bool continued = h.z.size() > 0;  // a contact rollout continuing another (its first knot's impulse known)
   h.lambda = lambda_guess(h.lambda.size() ? &h.lambda : nullptr);
   if (!continued) h.z = VecX::Zero(contacts_.unknowns());
   auto ws = pool_.acquire();
   MatX qc(n, S1), uk(m, S1);
-  VecX p = p0, p_next(n);
+  VecX p = out.p.row(0).transpose(), p_next(n);
   ContactReport report;
   PredictorChoice predictor(options.predictor, s, uses_dense_direction(options.direction, model_, s));
   for (int k = 0; k < N; ++k) {
@@ -95,6 +106,15 @@ Rollout GalerkinIntegrator::rollout(const VecX& q0, const VecX& p0, int N, const
     const bool flow = predicted && predictor.flow();
     const SolveInfo info = step(*ws, p, uk, qc, p_next, h, report, flow);
     if (predicted) predictor.observe(flow, info.iterations);
+    if (free_base_) {  // q^k and p^k in the chart the step re-centred at q^k's attitude
+      p = ws->p_chart;
+      out.q.row(k) = qc.col(0).transpose();
+      out.p.row(k) = p.transpose();
+      if (info.converged())
+        attitude.row(k + 1) =
+            rotation_quaternion(h.centre * free_base_->chart.rotation(qc.col(s).segment<3>(model_.rotation_chart)))
+                .transpose();
+    }
     if (has_contacts()) {
       out.contact.impact[k] = report.impact;
       out.contact.pivots[k] = report.pivots;
@@ -114,7 +134,31 @@ Rollout GalerkinIntegrator::rollout(const VecX& q0, const VecX& p0, int N, const
     if (h.previous.size()) h.before_previous.swap(h.previous);
     h.previous = qc;
   }
+  if (free_base_) public_record(out, attitude);
   return out;
+}
+
+void GalerkinIntegrator::public_record(Rollout& out, const MatX& attitude) const {
+  const int n = model_.n(), j = model_.rotation_chart;
+  MatX q(out.q.rows(), model_.nq());
+  Eigen::Vector4d last = attitude.row(0).transpose();
+  for (int k = 0; k <= out.steps; ++k) {
+    Eigen::Vector4d quat = attitude.row(k).transpose();
+    if (quat.dot(last) < 0) quat = -quat;  // the sign that keeps the quaternion continuous in time
+    last = quat;
+    const VecX qk = out.q.row(k).transpose();
+    q.row(k) << qk.head(j).transpose(), quat.transpose(), qk.tail(n - j - 3).transpose();
+    const Mat3 R = quaternion_rotation(quat);
+    VecX x = out.p.row(k).transpose();
+    free_base_->momentum_to_public(qk, R, x);
+    out.p.row(k) = x.transpose();
+    if (out.contact.step_p.rows() > k) {
+      x = out.contact.step_p.row(k).transpose();
+      free_base_->momentum_to_public(qk, R, x);
+      out.contact.step_p.row(k) = x.transpose();
+    }
+  }
+  out.q.swap(q);
 }
 
 }  // namespace hovi

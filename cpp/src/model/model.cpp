@@ -167,9 +167,15 @@ void Model::set_rotation_chart(int j) {
     throw ModelError("set_rotation_chart: joints " + std::to_string(j) + " to " + std::to_string(j + 2) + " " + why);
   };
   if (j < 0 || j + 2 >= n()) refuse("do not exist (the model has " + std::to_string(n()) + " joints)");
+  if (j != 3) refuse("must follow the free base's three sliders (j = 3)");
+  for (int i = 0; i < 3; ++i)
+    if (spec[i].type != JointType::Prismatic || parent[i] != i - 1 || (spec[i].axis - Vec3::Unit(i)).norm() > 1e-12 ||
+        (spec[i].placement.R - Mat3::Identity()).norm() > 1e-12 || spec[i].placement.p.norm() > 1e-12)
+      refuse("must follow three sliders along the world's x, y, z from its origin ('" + spec[i].joint_name +
+             "' is not one)");
   for (int i = j; i <= j + 2; ++i)
     if (spec[i].type != JointType::Revolute) refuse("must be revolute ('" + spec[i].joint_name + "' is not)");
-  for (int i = j + 1; i <= j + 2; ++i)
+  for (int i = j; i <= j + 2; ++i)
     if (parent[i] != i - 1 || (spec[i].placement.R - Mat3::Identity()).norm() > 1e-12 || spec[i].placement.p.norm() > 1e-12)
       refuse("must be a chain without offsets ('" + spec[i].joint_name + "' is not the child of the joint before, "
              "at its origin)");

@@ -24,12 +24,22 @@ struct RotationChart {
   // The momentum p (3,) of the chart's joints at θ, carried to the chart about C R(θ) at θ = 0:
   // the cotangent lift E(0)^T E(θ)^-T p of the change of coordinates.
   Vec3 recentred_momentum(const Vec3& theta, const Vec3& p) const;
+  // θ with R(θ) = R, by Newton from a guess near it (R(θ)^T R = exp(E(θ) δ^)); within a quarter turn
+  // of the chart's centre, where a step's points lie.
+  Vec3 angles(const Mat3& R, Vec3 guess) const;
+  // Control points (n x (s+1), the chart's rows j..j+2) in the chart about C, re-expressed in the
+  // chart about C R(θ): each point's attitude kept.
+  void recentre_points(int j, const Vec3& theta, Eigen::Ref<MatX> points) const;
 };
 
-// The chart's term of a step's first DEL residual rows (the chart's joints): the action's derivative
-// along how the step's path moves in the fixed chart when its centre moves with the start,
-//   C = sum_a w^a dt [G^a . Y^a + P^a . Ẏ^a],  Y(t) = A(θ(t)) - l_0(t) 1 - l_s(t) A(θ^s),
-// from the chart joints' θ, θ̇ (3 x (s+1)), G = dL/dq + the joint forces and P = dL/dq̇ at the points.
+// The chart's term of a step's first DEL residual rows (the chart's joints). The action's derivative
+// along how the step's path moves in the fixed chart when its centre moves with the start is
+//   sum_a w^a dt [G^a . Y^a + P^a . Ẏ^a],  Y(t) = A(θ(t)) - l_0(t) 1 - l_s(t) A(θ^s),
+// G = dL/dq + the joint forces and P = dL/dq̇ at the points. Its part along Y - Y' = sum of the interior
+// l_b(t) 1 is the sum of the chart's interior DEL equations, which vanish at the solution; C keeps the
+// rest, Y'(t) = A(θ(t)) - 1 - l_s(t) (A(θ^s) - 1) = O(θ), so that the step's equations have the same
+// solution and the DEL Jacobian without C's derivative is off by O(θ) only (a Newton step contracts
+// fast). From the chart joints' θ, θ̇ (3 x (s+1)), G and P at the points.
 Vec3 centre_term(const RotationChart& chart, const Quadrature& quad, double dt, const Eigen::Ref<const MatX>& theta,
                  const Eigen::Ref<const MatX>& theta_dot, const Eigen::Ref<const MatX>& G,
                  const Eigen::Ref<const MatX>& P);

@@ -38,6 +38,9 @@ class ContactSolver {
                   const Eigen::Ref<const MatX>& u, double dt, Eigen::Ref<MatX> qc, Eigen::Ref<VecX> z,
                   std::vector<char>& basis, Eigen::Ref<VecX> p_next);
 
+  // The free base's chart about its centre (Model::chart_placement) in the solver's kinematics.
+  void set_chart_placement(const SE3& placement) { data_.chart_placement = del_.chart_placement = placement; }
+
   // At the iterate of the last solve: φ_c(q^{k+1}) (C) and the complements w (unknowns()).
   const VecX& gaps() const { return cur_.phi; }
   const VecX& complements() const { return cur_.w; }

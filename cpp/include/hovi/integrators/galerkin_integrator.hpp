@@ -28,8 +28,10 @@
 // trajectory optimiser's time-stepping, which it reproduces.
 #pragma once
 #include <memory>
+#include <optional>
 #include <vector>
 
+#include "hovi/algorithms/free_base.hpp"
 #include "hovi/integrators/constrained_solver.hpp"
 #include "hovi/integrators/contact_solver.hpp"
 #include "hovi/integrators/flow_predictor.hpp"
@@ -63,8 +65,11 @@ struct RolloutContacts {
                            // of the step's Jacobians and of a feedback policy; p without the half impulse)
 };
 
+// A model with a free base (Model::set_rotation_chart): q is public, (N+1) x nq, and p too (the
+// base's momentum in its own frame: algorithms/free_base.hpp); step k's control points are in the
+// chart about q^k's attitude (its angles 0 at q^{k,0}).
 struct Rollout {
-  MatX q, p;                   // (N+1) x n: q^k, p^k
+  MatX q, p;                   // (N+1) x nq and (N+1) x n: q^k, p^k
   MatX control_points;         // N x ((s+1) n): row k = vec(q^{k,0..s}) column-major (n per point)
   MatX multipliers;            // N x (s m_c): row k = vec(λ^{k,0..s-1}) column-major (constrained)
   MatX controls;               // N x ((s+1) m) as u: the controls a StepHook chose (empty without one)
@@ -79,6 +84,9 @@ struct Rollout {
 // What a step reads from the steps before it and leaves for the next (a rollout carries it; a single
 // step starts from an empty one). The step's guess and solution of its multipliers and impulses.
 struct StepHistory {
+  // A model with a free base: the centre of the chart q^k and the points below are given in (its
+  // attitude C R(θ)); the step moves it to q^k's attitude, which the step's points are then about.
+  Mat3 centre = Mat3::Identity();
   MatX before_previous, previous;  // n x (s+1): the control points of the last two steps (empty: not known)
   MatX lambda;                     // m_c x s: λ^{k,0..s-1}, guess in and solution out (constrained models)
   VecX z;                          // unknowns(): the impulses, guess in (zeros: none active) and solution out
@@ -102,6 +110,9 @@ struct IntegratorWorkspace {
   std::unique_ptr<ContinuationWorkspace> continuation;  // made at the first step_continuation
   Data data;
   FlowPredictor flow;
+  VecX p_chart;  // a free base: p^k in the chart about q^k's attitude
+  // The free base's chart about the centre C (its attitude at the step's start) in every workspace.
+  void set_chart_centre(const Model& model, const Mat3& centre);
 };
 
 // Thread safety: the model, contacts, quadrature, dt and options are fixed at construction (do not
@@ -125,6 +136,7 @@ class GalerkinIntegrator {
   const ContactModel& contacts() const { return contacts_; }
   const ContactOptions& contact_options() const { return contact_options_; }
 
+  // A free base: q public (nq), q̇ its velocity and p its momentum (algorithms/free_base.hpp).
   // p = dL/dq̇ = M(q) q̇, O(n^2). Its inverse reads a velocity back from a momentum: q̇ = M(q)^{-1} p,
   // and for a constrained model the q̇ with Dh(q) q̇ = 0 nearest to M^{-1} p in the kinetic-energy
   // metric (tangent_velocity.hpp), O(n m + m^3). The total energy K + V at (q, q̇(q, p)).
@@ -142,7 +154,9 @@ class GalerkinIntegrator {
   VecX constraint_values(const VecX& q) const;
   MatX constraint_jacobian(const VecX& q) const;
 
-  // One step, every stage (see the top): qc (n x (s+1)) column 0 must hold q^k and gets the control
+  // One step, every stage (see the top): qc (n x (s+1)) column 0 must hold q^k (a free base: in the
+  // chart about history.centre; on exit the step's points and history.centre are about q^k's
+  // attitude, p_next in that chart) and gets the control
   // points; history: what the steps before left (an empty one: the velocity guess, multipliers from
   // zero, no impulses active) and, on exit, this step's multipliers and impulses (kept on failure);
   // report (contacts, if given): the gaps, LCP pivots and impact. Iterations add up over the stages
@@ -167,7 +181,7 @@ class GalerkinIntegrator {
   void guess_from_history(const Eigen::Ref<const MatX>& before_previous, const Eigen::Ref<const MatX>& previous,
                           Eigen::Ref<MatX> qc) const;
 
-  // N steps from (q0, p0). u: N x ((s+1) m), row k = vec(u^{k,0..s}) column-major; may have 0
+  // N steps from (q0, p0) (a free base: public q0 (nq) and p0, and the record public). u: N x ((s+1) m), row k = vec(u^{k,0..s}) column-major; may have 0
   // columns when the model has no controls. start: the history of the step before (its control
   // points for the first guess, its multipliers, its impulses; empty: none). Stops at the first
   // failed step. hook: asked for each step's controls (and impulses) instead of u (then u may be
@@ -228,8 +242,18 @@ class GalerkinIntegrator {
   MatX lambda_guess(const MatX* lambda) const;
   void check_impulses(const VecX& z) const;  // InputError unless unknowns() finite numbers >= 0
 
+  // A free base: the chart re-centred at q^k's attitude (θ^k = 0), p^k and the history's points
+  // carried into it (StepHistory::centre).
+  void recentre(IntegratorWorkspace& ws, Eigen::Ref<MatX> qc, StepHistory& h) const;
+  // A free-base rollout's record in the public coordinates: q (N+1 x n, chart) with each row's
+  // attitude (N+1 x 4 quaternions) -> q (N+1 x nq); p and contact.step_p to the base's frame.
+  void public_record(Rollout& out, const MatX& attitude) const;
+  // A free base's public q (nq) -> its chart q (n, θ = 0) and centre, ws.data's kinematics about it.
+  std::pair<VecX, Mat3> chart_state(IntegratorWorkspace& ws, const VecX& q) const;
+
   Model model_;
   ContactModel contacts_;
+  std::optional<FreeBase> free_base_;  // with a rotation chart
   ContactOptions contact_options_;
   Quadrature quad_;
   double dt_;

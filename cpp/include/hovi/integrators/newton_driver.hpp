@@ -64,20 +64,22 @@ constexpr double kStepTol = 1e-15;
 class StoppingRule {
  public:
   static constexpr double kFloor = 1e-10;  // relative size of a correction that may be round-off
-  StoppingRule(double tol, double step_tol, double residual_scale)
-      : tol_(tol), step_tol_(step_tol), target_(tol * residual_scale) {}
+  // floor: kFloor, or lower for a Jacobian known to be off by a small relative amount (a free base's
+  // chart, algorithms/rotation_chart.hpp: its corrections shrink linearly, not quadratically)
+  StoppingRule(double tol, double step_tol, double residual_scale, double floor = kFloor)
+      : tol_(tol), step_tol_(step_tol), target_(tol * residual_scale), floor_(floor) {}
   bool residual_small(double residual) const { return tol_ > 0 && residual <= target_; }
   bool correction_small(double dx, double smallest, double x_norm, bool fresh) const {
     const double scale = 1 + x_norm;
-    return dx <= step_tol_ * scale || (fresh && dx > 0.5 * smallest && dx <= kFloor * scale);
+    return dx <= step_tol_ * scale || (fresh && dx > 0.5 * smallest && dx <= floor_ * scale);
   }
   bool contraction_small(double theta, double dx, double x_norm) const {
     return theta < 0.5 && theta / (1 - theta) * dx <= step_tol_ * (1 + x_norm);
   }
-  bool at_floor(double dx, double x_norm) const { return dx <= kFloor * (1 + x_norm); }
+  bool at_floor(double dx, double x_norm) const { return dx <= floor_ * (1 + x_norm); }
 
  private:
-  double tol_, step_tol_, target_;
+  double tol_, step_tol_, target_, floor_;
 };
 
 // Throws InputError unless dt is positive and finite, tol >= 0 (or > 0 if required), the

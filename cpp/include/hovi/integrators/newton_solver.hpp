@@ -52,8 +52,10 @@ struct SolverOptions {
 
 // The stopping rule (newton_driver.hpp) and the iteration these options ask for; the residual
 // test is relative to 1 + ||p^k||_inf.
-StoppingRule stopping_rule(const SolverOptions& opt, const Eigen::Ref<const VecX>& p);
-NewtonLoop newton_loop(const SolverOptions& opt);
+// A model with a free base: the lower floor and no contraction estimate, for its chart's Jacobian
+// (StoppingRule, NewtonLoop).
+StoppingRule stopping_rule(const SolverOptions& opt, const Eigen::Ref<const VecX>& p, const Model& model);
+NewtonLoop newton_loop(const SolverOptions& opt, const Model& model);
 
 class DenseDirection;
 
@@ -74,6 +76,9 @@ class NewtonSolver {
   bool direction(const Model& model, const Quadrature& quad, const SolverOptions& opt,
                  const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u, double dt,
                  const Eigen::Ref<const MatX>& r, Eigen::Ref<MatX> dq);
+
+  // The free base's chart about its centre (Model::chart_placement) in every workspace of the solve.
+  void set_chart_placement(const SE3& placement);
 
   DelWorkspace del;          // Algorithm 1 at the current iterate (also for direct callers)
   NewtonWorkspace newton;    // for direct callers of newton_direction

@@ -1,0 +1,113 @@
+#include "hovi/algorithms/free_base.hpp"
+
+#include <Eigen/LU>
+#include <cmath>
+#include <sstream>
+
+#include "hovi/errors.hpp"
+#include "hovi/spatial/se3.hpp"
+
+namespace hovi {
+
+namespace {
+
+// log of a rotation: the rotation vector φ with exp(φ^) = R
+Vec3 log_rotation(const Mat3& R) {
+  const Eigen::AngleAxisd aa(R);
+  return aa.angle() * aa.axis();
+}
+
+// The SE(3) logarithm (ω, v) of (R, x): ω = log R, v = V(ω)^-1 x with
+// V^-1 = 1 - W/2 + (1 - θ sin θ / (2 (1 - cos θ))) W^2 / θ^2, W = ω^, θ = |ω| (series below 1e-4).
+Twist log_se3(const SE3& g) {
+  const Vec3 w = log_rotation(g.R);
+  const double th = w.norm();
+  const double c = th < 1e-4 ? 1.0 / 12 + th * th / 720
+                             : (1 - th * std::sin(th) / (2 * (1 - std::cos(th)))) / (th * th);
+  const Mat3 W = hat(w);
+  Twist out;
+  out << w, g.p - 0.5 * W * g.p + c * (W * (W * g.p));
+  return out;
+}
+
+}  // namespace
+
+Mat3 quaternion_rotation(const Eigen::Ref<const VecX>& xyzw) {
+  return Eigen::Quaterniond(xyzw[3], xyzw[0], xyzw[1], xyzw[2]).normalized().toRotationMatrix();
+}
+
+Eigen::Vector4d rotation_quaternion(const Mat3& R) {
+  Eigen::Quaterniond q(R);
+  q.normalize();
+  if (q.w() < 0) q.coeffs() = -q.coeffs();  // one of the two: w >= 0
+  return q.coeffs();                        // (x, y, z, w)
+}
+
+FreeBase::FreeBase(const Model& model) : chart(model), j_(model.rotation_chart) {}
+
+void FreeBase::split(const Eigen::Ref<const VecX>& q_pub, Eigen::Ref<VecX> q, Mat3& centre) const {
+  const Eigen::Vector4d quat = q_pub.segment<4>(j_);
+  if (!(std::abs(quat.norm() - 1) <= 1e-6)) {
+    std::ostringstream os;
+    os << "q: the base's quaternion (entries " << j_ << " to " << j_ + 3 << ", x y z w) must have norm 1, its norm is "
+       << quat.norm();
+    throw InputError(os.str());
+  }
+  centre = quaternion_rotation(quat);
+  q.head(j_) = q_pub.head(j_);
+  q.segment<3>(j_).setZero();
+  q.tail(q.size() - j_ - 3) = q_pub.tail(q.size() - j_ - 3);
+}
+
+void FreeBase::join(const Eigen::Ref<const VecX>& q, const Mat3& centre, Eigen::Ref<VecX> q_pub) const {
+  q_pub.head(j_) = q.head(j_);
+  q_pub.segment<4>(j_) = rotation_quaternion(centre * chart.rotation(q.segment<3>(j_)));
+  q_pub.tail(q.size() - j_ - 3) = q.tail(q.size() - j_ - 3);
+}
+
+void FreeBase::velocity_to_chart(const Eigen::Ref<const VecX>& q, const Mat3& attitude, Eigen::Ref<VecX> x) const {
+  const Vec3 theta = q.segment<3>(j_);
+  x.head<3>() = (attitude * x.head<3>()).eval();
+  x.segment<3>(j_) = chart.rates_to_omega(theta).lu().solve(Vec3(x.segment<3>(j_)));
+}
+
+void FreeBase::velocity_to_public(const Eigen::Ref<const VecX>& q, const Mat3& attitude, Eigen::Ref<VecX> x) const {
+  const Vec3 theta = q.segment<3>(j_);
+  x.head<3>() = (attitude.transpose() * x.head<3>()).eval();
+  x.segment<3>(j_) = (chart.rates_to_omega(theta) * x.segment<3>(j_)).eval();
+}
+
+void FreeBase::momentum_to_public(const Eigen::Ref<const VecX>& q, const Mat3& attitude, Eigen::Ref<VecX> x) const {
+  const Vec3 theta = q.segment<3>(j_);
+  x.head<3>() = (attitude.transpose() * x.head<3>()).eval();
+  x.segment<3>(j_) = chart.rates_to_omega(theta).transpose().lu().solve(Vec3(x.segment<3>(j_)));
+}
+
+void FreeBase::momentum_to_chart(const Eigen::Ref<const VecX>& q, const Mat3& attitude, Eigen::Ref<VecX> x) const {
+  const Vec3 theta = q.segment<3>(j_);
+  x.head<3>() = (attitude * x.head<3>()).eval();
+  x.segment<3>(j_) = (chart.rates_to_omega(theta).transpose() * x.segment<3>(j_)).eval();
+}
+
+VecX FreeBase::integrate(const Eigen::Ref<const VecX>& q, const Eigen::Ref<const VecX>& v) const {
+  VecX out = q;
+  const SE3 M(quaternion_rotation(q.segment<4>(j_)), q.head<3>());
+  const SE3 M1 = M * exp_twist((Twist() << v.segment<3>(j_), v.head<3>()).finished(), 1.0);
+  out.head<3>() = M1.p;
+  out.segment<4>(j_) = rotation_quaternion(M1.R);
+  out.tail(out.size() - j_ - 4) += v.tail(v.size() - j_ - 3);
+  return out;
+}
+
+VecX FreeBase::difference(const Eigen::Ref<const VecX>& q0, const Eigen::Ref<const VecX>& q1) const {
+  VecX v(q0.size() - 1);
+  const SE3 M0(quaternion_rotation(q0.segment<4>(j_)), q0.head<3>());
+  const SE3 M1(quaternion_rotation(q1.segment<4>(j_)), q1.head<3>());
+  const Twist t = log_se3(M0.inverse() * M1);
+  v.head<3>() = t.tail<3>();
+  v.segment<3>(j_) = t.head<3>();
+  v.tail(v.size() - j_ - 3) = q1.tail(v.size() - j_ - 3) - q0.tail(v.size() - j_ - 3);
+  return v;
+}
+
+}  // namespace hovi
