@@ -1,9 +1,9 @@
 """Every robot users load: each URDF shipped by example-robot-data through hovi and Pinocchio.
 
 For every URDF file of example-robot-data's robots directory: hovi.Model.from_urdf with
-base="fixed", and also base="floating" where an example-robot-data loader gives the robot a free
+base="fixed", and also base="euler" where an example-robot-data loader gives the robot a free
 flyer (or the file has no movable joint: a single body, e.g. a drone). Pinocchio builds the same
-tree: welded root, or a composite root joint of PX, PY, PZ, RZ, RY, RX (hovi's floating base,
+tree: welded root, or a composite root joint of PX, PY, PZ, RZ, RY, RX (hovi's Euler-angle base,
 x, y, z then Z-Y-X Euler angles). At random states (fixed seed) the script compares the mass
 matrix, forward dynamics (ABA, random torques) and inverse dynamics (RNEA), relative to the
 largest entry; and takes one Galerkin step (s = 1) with hovi and checks it against the discrete
@@ -46,7 +46,7 @@ STATES = 3
 QUICK = ["panda_description/urdf/panda.urdf", "romeo_description/urdf/romeo.urdf",
          "solo_description/robots/solo12.urdf", "hector_description/robots/quadrotor_base.urdf",
          "tiago_description/robots/tiago.urdf"]
-FLOATING_ROOT = ("PX", "PY", "PZ", "RZ", "RY", "RX")  # hovi's floating base, in order
+FLOATING_ROOT = ("PX", "PY", "PZ", "RZ", "RY", "RX")  # hovi's Euler-angle base, in order
 
 
 def robots_dir() -> str:
@@ -190,7 +190,7 @@ def compare(pin, root: str, rel: str, base: str, cls, rng) -> dict:
     if pm is None:
         row.update(status="pinocchio_failed", message=pin_error)
         return row
-    tw = Twin(pin, h, pm, base == "floating")
+    tw = Twin(pin, h, pm, base == "euler")
     armature = np.zeros(h.n)
     a_srdf = srdf_armature(pin, pm, root, cls)
     if a_srdf is not None:
@@ -234,7 +234,7 @@ def compare(pin, root: str, rel: str, base: str, cls, rng) -> dict:
 
 
 def cases(root: str, quick: bool):
-    """(urdf, base, loader class or None, loader names) for every file, fixed and where it applies floating."""
+    """(urdf, base, loader class or None, loader names) for every file, fixed and where it applies on the Euler-angle base."""
     by_file = loaders()
     for rel in urdf_files(root):
         if quick and rel not in QUICK:
@@ -244,7 +244,7 @@ def cases(root: str, quick: bool):
         names = [name for name, _ in users]
         yield rel, "fixed", cls, names
         if any(c.free_flyer for _, c in users) or hovi_has_no_joint(os.path.join(root, rel)):
-            yield rel, "floating", cls, names
+            yield rel, "euler", cls, names
 
 
 def hovi_has_no_joint(path: str) -> bool:
@@ -258,13 +258,13 @@ def hovi_has_no_joint(path: str) -> bool:
 def table(rows) -> list[str]:
     """One line per URDF file: the fixed and floating results, the worst differences, and the
     armature the sweep set or the refusal's message."""
-    out = ["| URDF (example-robot-data loaders) | n (fixed / floating) | fixed | floating | max rel. diff M, FD, ID | step residual | "
+    out = ["| URDF (example-robot-data loaders) | n (fixed / euler) | fixed | euler | max rel. diff M, FD, ID | step residual | "
            "armature set, or the refusal |", "|---|---|---|---|---|---|---|"]
     by_file = defaultdict(dict)
     for r in rows:
         by_file[r["urdf"]][r["base"]] = r
     for rel, cases_ in by_file.items():
-        fixed, floating = cases_["fixed"], cases_.get("floating")
+        fixed, floating = cases_["fixed"], cases_.get("euler")
         both = [r for r in (fixed, floating) if r]
         compared = [r for r in both if r["status"] in ("match", "mismatch")]
         diff = max((max(r["max_rel_M"], r["max_rel_FD"], r["max_rel_ID"]) for r in compared), default=None)

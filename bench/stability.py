@@ -162,7 +162,7 @@ PITCH_OFFSET = 1e-4  # the floating base's pitch: pi/2 - PITCH_OFFSET, M(q) cond
 
 def floating_pendulum(n, length=0.5, mass=1.0, radius=0.02):
     """hovi.examples.models.pendulum(n) whose joint 1 is replaced by a floating base (x, y, z, then Z-Y-X
-    Euler angles, as Model.from_urdf(base='floating')) carrying link 1: n + 5 joints."""
+    Euler angles, as Model.from_urdf(base='euler')) carrying link 1: n + 5 joints."""
     model = hovi.Model()
     base = [("prismatic", [1, 0, 0]), ("prismatic", [0, 1, 0]), ("prismatic", [0, 0, 1]),
             ("revolute", [0, 0, 1]), ("revolute", [0, 1, 0])]

@@ -159,7 +159,7 @@ def test_thread_count_from_the_environment(pendulum_batch, monkeypatch):
     (lambda i, Q: i.rollout_batch(Q[0], 3), r"q0s must be a 2-D array of shape \(B, 5\)"),
     (lambda i, Q: i.rollout_batch(Q[:, :4], 3), r"q0s must be a 2-D array of shape \(B, 5\)"),
     (lambda i, Q: i.rollout_batch(Q[:0], 3), "the batch is empty"),
-    (lambda i, Q: i.rollout_batch(Q, 3, qdot0s=Q[:3]), "qdot0s must have the shape of q0s"),
+    (lambda i, Q: i.rollout_batch(Q, 3, qdot0s=Q[:3]), "qdot0s must have shape"),
     (lambda i, Q: i.rollout_batch(Q, 3, qdot0s=Q, p0s=Q), "give p0s or qdot0s, not both"),
     (lambda i, Q: i.rollout_batch(np.where(Q > 0.5, np.nan, Q), 3), "q0s contains NaN or infinity"),
     (lambda i, Q: i.rollout_batch(Q, 3, qdot0s=np.full(Q.shape, np.inf)), "qdot0s contains NaN or infinity"),

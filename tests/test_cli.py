@@ -434,14 +434,14 @@ def test_a_robot_on_the_ground_at_order_four_locates_its_impacts(tmp_path, capsy
 @pytest.mark.parametrize("argv, says", [
     (["simulate", "pendulum:2", "--base", "floating"], "argument --base: the built-in 'pendulum:2' has a fixed base; "
                                                         "--base floating applies to URDF files"),
-    (["info", "littledog", "--base", "planar"], "argument --base: the built-in 'littledog' has a floating base"),
+    (["info", "littledog", "--base", "planar"], "argument --base: the built-in 'littledog' has an Euler-angle floating base"),
 ])
 def test_a_base_other_than_a_built_in_models_own_is_refused(argv, says, tmp_path, capsys):
     """``hovi simulate pendulum:2 --base floating`` ignored the flag and simulated a fixed base."""
     assert main(argv + ["--output", str(tmp_path)] * (argv[0] == "simulate")) == 2
     err = capsys.readouterr().err
     assert says in err and len(err.strip().splitlines()) == 1 and "Traceback" not in err
-    assert main(["info", "littledog", "--base", "floating"]) == 0  # its own base, said again, is fine
+    assert main(["info", "littledog", "--base", "euler"]) == 0  # its own base, said again, is fine
 
 
 def test_simulate_pushes_a_standing_robot(tmp_path, capsys):

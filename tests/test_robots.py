@@ -40,7 +40,7 @@ def test_dof_controls_mass(robot):
         assert B[model.joint_index(joint), k] == 1.0
     assert np.all(robot.effort_limits > 0) and np.all(np.isfinite(robot.effort_limits))
     assert {v["shape"] for v in model.visuals} <= {"box", "cylinder", "sphere"}
-    root = 5 if robot.base == "floating" else 2                  # the root link's body, after the base's
+    root = 5 if robot.base == "euler" else 2                  # the root link's body, after the base's
     assert {v["link"] for v in model.visuals} >= set(model.body_names[root:])
 
 

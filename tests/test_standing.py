@@ -15,7 +15,7 @@ def test_robot_stands_for_ten_seconds(name):
     st = standing(name)
     dt = st.integrator.dt
     traj = st.integrator.rollout(st.q0, int(round(10.0 / dt)), u=st.u)
-    base = 3 if st.robot.base == "floating" else 2
+    base = 3 if st.robot.base == "euler" else 2
     k1 = int(round(1.0 / dt))
     assert np.abs(traj.q[-1, :base] - traj.q[k1, :base]).max() <= 1e-3     # base drift after settling
     assert np.abs(traj.q[-1] - st.q0).max() <= 0.01                         # still in its pose (rad, m)

@@ -41,8 +41,8 @@ def test_fixed_joint_is_merged_and_matches_pinocchio():
                                    rtol=1e-10, atol=1e-10)
 
 
-def test_floating_base_matches_pinocchio_composite_joint():
-    model = hovi.Model.from_urdf(CHAIN, base="floating")
+def test_euler_base_matches_pinocchio_composite_joint():
+    model = hovi.Model.from_urdf(CHAIN, base="euler")
     assert model.n == 8
     assert model.joint_types[:6] == ["prismatic"] * 3 + ["revolute"] * 3
     # The same base as a Pinocchio composite joint: translations x, y, z then rotations z, y, x.

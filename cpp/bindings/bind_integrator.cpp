@@ -43,9 +43,9 @@ void each_finished(const std::vector<std::string>& errors, py::list& status, F f
   }
 }
 
-// The states of a batch: (B, n) arrays q and p, or q and q̇.
-MatX batch_states(const PyIntegrator& p, const py::handle& x, const char* name, long rows) {
-  return as_matrix(x, name, rows, p.n());
+// The states of a batch: (B, nq) q, (B, n) p or q̇.
+MatX batch_states(const PyIntegrator& p, const py::handle& x, const char* name, long rows, bool configuration) {
+  return as_matrix(x, name, rows, configuration ? p.nq() : p.n());
 }
 
 // A step's guess of its impulses (C (2 + d),) or none (empty: none active).
@@ -111,7 +111,8 @@ held over the step or (s+1, m) per control point; multipliers (s, n_constraints)
             const auto& g = p.integ();
             return uses_dense_direction(g.options.direction, g.model(), g.quadrature().s) ? "dense" : "recursive";
           }, "The Newton direction computed: 'dense' or 'recursive'.")
-      .def_property_readonly("n", &PyIntegrator::n, "Number of joints n of the model.")
+      .def_property_readonly("n", &PyIntegrator::n, "Number of joints n of the model (the velocity's size, nv).")
+      .def_property_readonly("nq", &PyIntegrator::nq, "The configuration's size: n, or n + 1 with a free base.")
       .def_property_readonly("n_controls", &PyIntegrator::m, "Number of control inputs m of the model.")
       .def("rollout_controls", [](const PyIntegrator& p, const OptArrayLike& u, long steps, std::optional<long> batch) {
             return p.rollout_controls(u, steps, batch ? *batch : -1);
@@ -156,22 +157,22 @@ None. Raises ValueError as rollout_controls.)")
       .def_property_readonly("differentiation_matrix", [](const PyIntegrator& p) { return MatX(p.quad().b); },
                              "(s+1, s+1) b^{ab} = l_b'(c^a): q̇^a = (1/dt) sum_b b^{ab} q^b.")
       .def("momentum", [](PyIntegrator& p, const ArrayLike& q, const ArrayLike& qd) {
-            return p.integ().momentum(as_vector(q, "q", p.n()), as_vector(qd, "qdot", p.n()));
-          }, py::arg("q"), py::arg("qdot"), "q, qdot: (n,); returns p = M(q) q̇, (n,).")
+            return p.integ().momentum(as_vector(q, "q", p.nq()), as_vector(qd, "qdot", p.n()));
+          }, py::arg("q"), py::arg("qdot"), "q (nq,), qdot (n,); returns p = M(q) q̇, (n,).")
       .def("velocity", [](PyIntegrator& p, const ArrayLike& q, const ArrayLike& mom) {
-            return p.integ().velocity(as_vector(q, "q", p.n()), as_vector(mom, "p", p.n()));
-          }, py::arg("q"), py::arg("p"), "q, p: (n,); returns the velocity q̇ (n,) of momentum p (see hovi.Integrator.velocity).")
+            return p.integ().velocity(as_vector(q, "q", p.nq()), as_vector(mom, "p", p.n()));
+          }, py::arg("q"), py::arg("p"), "q (nq,), p (n,); returns the velocity q̇ (n,) of momentum p (see hovi.Integrator.velocity).")
       .def("energy", [](PyIntegrator& p, const ArrayLike& q, const ArrayLike& mom) {
-            return p.integ().energy(as_vector(q, "q", p.n()), as_vector(mom, "p", p.n()));
-          }, py::arg("q"), py::arg("p"), "q, p: (n,); returns K + V at (q, velocity(q, p)), a float.")
+            return p.integ().energy(as_vector(q, "q", p.nq()), as_vector(mom, "p", p.n()));
+          }, py::arg("q"), py::arg("p"), "q (nq,), p (n,); returns K + V at (q, velocity(q, p)), a float.")
       .def("energies", [](PyIntegrator& p, const ArrayLike& Q, const ArrayLike& P) {
-            const MatX q = as_matrix(Q, "q", -1, p.n()), mom = as_matrix(P, "p", q.rows(), p.n());
+            const MatX q = as_matrix(Q, "q", -1, p.nq()), mom = as_matrix(P, "p", q.rows(), p.n());
             const GalerkinIntegrator& integ = p.integ();
             VecX E(q.rows());
             py::gil_scoped_release release;
             for (int k = 0; k < q.rows(); ++k) E[k] = integ.energy(q.row(k).transpose(), mom.row(k).transpose());
             return E;
-          }, py::arg("q"), py::arg("p"), "q, p: (K, n); returns (K,) energy of every row, in C++ (GIL released).")
+          }, py::arg("q"), py::arg("p"), "q (K, nq), p (K, n); returns (K,) energy of every row, in C++ (GIL released).")
       .def("del_residual", [](PyIntegrator& p, const ArrayLike& qc, const ArrayLike& mom, const OptArrayLike& u) {
             MatX r(p.n(), p.s());
             VecX p_next(p.n());
@@ -189,14 +190,22 @@ None. Raises ValueError as rollout_controls.)")
       .def("step", [](PyIntegrator& p, const ArrayLike& q, const ArrayLike& mom, const OptArrayLike& u,
                       const OptArrayLike& guess, const OptArrayLike& multipliers, const OptArrayLike& impulses) {
             const GalerkinIntegrator& integ = p.integ();
-            const VecX qk = as_vector(q, "q", p.n()), pk = as_vector(mom, "p", p.n());
+            const VecX q_in = as_vector(q, "q", p.nq());
+            VecX qk = q_in.head(p.n()), pk = as_vector(mom, "p", p.n());
             const MatX uk = p.controls(u);
             if (integ.has_contacts() && !(guess.is_none() && multipliers.is_none()))
               throw InputError("guess and multipliers are not taken with contacts (the contact step makes its own guesses)");
+            StepHistory h;
+            const bool free = integ.model().rotation_chart >= 0;
+            if (free) {  // the chart about q's attitude (θ = 0), the momentum in it
+              if (!guess.is_none()) throw InputError("guess is not taken for a model with a free base");
+              const FreeBase base(integ.model());
+              base.split(q_in, qk, h.centre);
+              base.momentum_to_chart(qk, h.centre, pk);
+            }
             MatX qc(p.n(), p.s() + 1);
             if (!guess.is_none()) qc = p.control_points(guess, "guess");
             qc.col(0) = qk;
-            StepHistory h;
             h.lambda = multipliers.is_none() ? MatX::Zero(p.mc(), p.s()) : p.multipliers_arg(multipliers);
             h.z = impulses_arg(p, impulses);
             VecX p_next(p.n());
@@ -208,6 +217,13 @@ None. Raises ValueError as rollout_controls.)")
             }
             StrDict d = info_dict(info);
             d["multipliers"] = MatX(h.lambda.transpose());
+            if (free) {  // the end state public
+              const FreeBase base(integ.model());
+              VecX q_next(p.nq());
+              base.join(qc.col(p.s()), h.centre, q_next);
+              base.momentum_to_public(qc.col(p.s()), h.centre * base.chart.rotation(qc.col(p.s()).segment<3>(3)), p_next);
+              d["q_next"] = q_next;
+            }
             if (integ.has_contacts()) {
               d["impulses"] = h.z;
               d["gaps"] = report.phi;
@@ -217,16 +233,17 @@ None. Raises ValueError as rollout_controls.)")
             return py::make_tuple(MatX(qc.transpose()), p_next, d);
           }, py::arg("q"), py::arg("p"), py::arg("u") = py::none(), py::arg("guess") = py::none(),
           py::arg("multipliers") = py::none(), py::arg("impulses") = py::none(), R"doc(
-One step from q, p (n,) (GIL released): guess (s+1, n) for a single Newton solve of the DEL equations
+One step from q (nq,), p (n,) (GIL released): guess (s+1, n) for a single Newton solve of the DEL equations
 (no contacts), else every stage with its fallbacks (hovi.Integrator.step); multipliers (s, m_c) and
-impulses (C (2 + d),) the first guesses. Returns (control points (s+1, n), p_next (n,), info dict with
+impulses (C (2 + d),) the first guesses. A free base: the control points in the chart about q's
+attitude and the end state q_next (nq,) in the dict. Returns (control points (s+1, n), p_next (n,), info dict with
 status, converged, iterations, factorizations, residual_evaluations, residual, multipliers (s, m_c), and
 with contacts impulses (C (2 + d),), gaps at the end (C,), pivots and impact).
 )doc")
       .def("rollout", [](PyIntegrator& p, const ArrayLike& q0, const ArrayLike& p0, int steps, const OptArrayLike& u,
                          const OptArrayLike& previous, const OptArrayLike& multipliers, const OptArrayLike& impulses) {
             const GalerkinIntegrator& integ = p.integ();
-            const VecX q = as_vector(q0, "q0", p.n()), mom = as_vector(p0, "p0", p.n());
+            const VecX q = as_vector(q0, "q0", p.nq()), mom = as_vector(p0, "p0", p.n());
             MatX U(0, 0);
             if (!u.is_none()) U = as_matrix(u, "u", steps, (p.s() + 1) * p.m());
             else if (p.m() > 0) U = MatX::Zero(steps, (p.s() + 1) * p.m());
@@ -245,18 +262,19 @@ with contacts impulses (C (2 + d),), gaps at the end (C,), pivots and impact).
             return rollout_dict(r, seconds);
           }, py::arg("q0"), py::arg("p0"), py::arg("steps"), py::arg("u") = py::none(), py::arg("previous") = py::none(),
           py::arg("multipliers") = py::none(), py::arg("impulses") = py::none(), R"doc(
-`steps` steps from q0, p0 (n,) in C++ (GIL released); u (steps, (s+1) m); what the step before left:
+`steps` steps from q0 (nq,), p0 (n,) in C++ (GIL released); u (steps, (s+1) m); what the step before left:
 previous, its control points (s+1, n) (for the predictor), multipliers (s, m_c), impulses (C (2 + d),)
 (default none active). Returns a dict: q, p (K+1, n), control_points (K, (s+1) n), iterations,
-factorizations, residual, status (per attempted step), multipliers (K, s m_c), steps K, seconds, and
+factorizations, residual, status (per attempted step), multipliers (K, s m_c), steps K, seconds (a
+free base: q (K+1, nq), step k's control points in the chart about q^k's attitude), and
 with contacts pivots, impulses (K, C (2 + d)), gaps (K, C), impact (K,) and step_p (K+1, n).
 )doc")
       .def("rollout_batch", [](PyIntegrator& p, const ArrayLike& q0, const ArrayLike& second, bool velocities, int steps,
                                const OptArrayLike& u, const OptInt& threads) {
             const GalerkinIntegrator& integ = p.integ();
             const int n = p.n(), s = p.s(), S1 = s + 1, m = p.m(), mc = p.mc();
-            const MatX Q = batch_states(p, q0, "q0s", -1);
-            const MatX V = batch_states(p, second, velocities ? "qdot0s" : "p0s", Q.rows());
+            const MatX Q = batch_states(p, q0, "q0s", -1, true);
+            const MatX V = batch_states(p, second, velocities ? "qdot0s" : "p0s", Q.rows(), false);
             if (steps < 0) throw InputError("steps must be non-negative");
             const long B = Q.rows();
             MatX U(0, 0);
@@ -269,7 +287,7 @@ with contacts pivots, impulses (K, C (2 + d)), gaps (K, C), impact (K,) and step
               r = rollout_batch(integ, {Q, V, velocities}, steps, U, nthreads);
             }
             const double nan = std::numeric_limits<double>::quiet_NaN();
-            auto q = filled<double>({B, steps + 1, n}, nan), mom = filled<double>({B, steps + 1, n}, nan);
+            auto q = filled<double>({B, steps + 1, p.nq()}, nan), mom = filled<double>({B, steps + 1, n}, nan);
             auto cp = filled<double>({B, steps, S1 * n}, nan), lam = filled<double>({B, steps, s * mc}, nan);
             MatX res = MatX::Constant(B, steps, nan), impact = res;
             Eigen::MatrixXi its = Eigen::MatrixXi::Constant(B, steps, -1), facs = its, piv = its;
@@ -309,10 +327,10 @@ with contacts pivots, impulses (K, C (2 + d)), gaps (K, C), impact (K,) and step
             return d;
           }, py::arg("q0s"), py::arg("second"), py::arg("velocities"), py::arg("steps"), py::arg("u") = py::none(),
           py::arg("threads") = py::none(), R"doc(
-`steps` steps from each of B initial states, q0s (B, n) with second (B, n) the momenta p0 or, if
+`steps` steps from each of B initial states, q0s (B, nq) with second (B, n) the momenta p0 or, if
 velocities, the velocities q̇0 (p0 = M(q0) q̇0 per state); u (B steps, (s+1) m), state b's controls
 in rows b steps .. (b+1) steps - 1. In C++ on `threads` threads (None: HOVI_NUM_THREADS or every
-core), GIL released; each state exactly as rollout. Returns a dict: q, p (B, steps+1, n) and
+core), GIL released; each state exactly as rollout. Returns a dict: q (B, steps+1, nq), p (B, steps+1, n) and
 control_points (B, steps, (s+1) n), multipliers (B, steps, s m_c), residual (B, steps) (NaN
 where not reached), iterations, factorizations (B, steps) (-1 where not attempted), steps (B,)
 completed, status (B,) ('converged', the failed step's status, or 'error'), seconds (B,) and
@@ -323,8 +341,8 @@ steps, C), impact (B, steps) (NaN where not reached) and pivots (B, steps) (-1 w
                             const OptArrayLike& u, const OptInt& threads) {
             const GalerkinIntegrator& integ = p.integ();
             const int n = p.n(), s = p.s(), S1 = s + 1, m = p.m(), mc = p.mc();
-            const MatX Q = batch_states(p, q, "qs", -1);
-            const MatX V = batch_states(p, second, velocities ? "qdots" : "ps", Q.rows());
+            const MatX Q = batch_states(p, q, "qs", -1, true);
+            const MatX V = batch_states(p, second, velocities ? "qdots" : "ps", Q.rows(), false);
             const long B = Q.rows();
             const MatX U = u.is_none() ? MatX::Zero(B, S1 * m) : as_matrix(u, "u (B, (s+1) m)", B, S1 * m);
             const int nthreads = threads_arg(threads);

@@ -5,6 +5,7 @@
 #include "hovi/algorithms/body_points.hpp"
 #include "hovi/algorithms/dynamics.hpp"
 #include "hovi/algorithms/energy.hpp"
+#include "hovi/algorithms/free_base.hpp"
 #include "hovi/algorithms/stacked_constraints.hpp"
 #include "hovi/constraints/builtin_constraints.hpp"
 #include "hovi/algorithms/force_jacobians.hpp"
@@ -55,11 +56,44 @@ JointType parse_type(const std::string& t) {
   throw ModelError("joint_type must be 'revolute' or 'prismatic', got '" + t + "'");
 }
 
+}  // namespace
+
+VecX PyModel::config(const py::handle& q) {
+  if (model.rotation_chart < 0) return vec(q, "q");
+  const VecX q_pub = as_vector(q, "q", model.nq());
+  VecX out(model.n());
+  FreeBase(model).split(q_pub, out, attitude);
+  ws().chart_placement = model.chart_placement(attitude);
+  return out;
+}
+
+VecX PyModel::velocity(const VecX& q, const py::handle& v, const char* name) {
+  VecX out = vec(v, name);
+  if (model.rotation_chart >= 0) FreeBase(model).velocity_to_chart(q, attitude, out);
+  return out;
+}
+
+MatX PyModel::velocity_map(const VecX& q) {
+  MatX T = MatX::Identity(model.n(), model.n());
+  const FreeBase base(model);
+  for (int i = 0; i < model.n(); ++i) base.velocity_to_chart(q, attitude, T.col(i));
+  return T;
+}
+
+void PyModel::chart_coordinates_only(const char* what) const {
+  if (model.rotation_chart >= 0)
+    throw ModelError(std::string(what) + " is not available for a model with a free base yet (it is in joint "
+                     "coordinates; load the robot with base='euler' for them)");
+}
+
+namespace {
+
 BaseJoint parse_base(const std::string& b) {
   if (b == "fixed") return BaseJoint::Fixed;
   if (b == "floating") return BaseJoint::Floating;
+  if (b == "euler") return BaseJoint::Euler;
   if (b == "planar") return BaseJoint::Planar;
-  throw InputError("base must be 'fixed', 'floating' or 'planar', got '" + b + "'");
+  throw InputError("base must be 'fixed', 'floating', 'euler' or 'planar', got '" + b + "'");
 }
 
 SE3 as_se3(const py::handle& obj, const char* name) {
@@ -166,9 +200,11 @@ Body frames sit at each body's centre of mass with the joint frame's orientation
           py::arg("planar_normal") = py::make_tuple(0.0, 1.0, 0.0), R"doc(
 Load a URDF file (source: a path) or XML string (source: the text); returns a Model.
 
-base: 'fixed' (root link welded to the world), 'floating' (6 joints x, y, z, yaw, pitch, roll:
-Z-Y-X Euler angles, singular at pitch = ±pi/2) or 'planar' (2 prismatic + 1 revolute about
-planar_normal (3,), default the x-z plane). expand_joints: expand URDF floating/planar joints the
+base: 'fixed' (root link welded to the world), 'floating' (the free joint, as Pinocchio's free
+flyer: q = (x, y, z, qx, qy, qz, qw, joints...), nq = n + 1, the base's velocity (linear, angular) in
+its own frame; integrated on the group, no singular attitude), 'euler' (6 joints x, y, z, yaw, pitch,
+roll: Z-Y-X Euler angles, singular at pitch = ±pi/2; the paper's robots) or 'planar' (2 prismatic + 1
+revolute about planar_normal (3,), default the x-z plane). expand_joints: expand URDF floating/planar joints the
 same way instead of raising. Fixed joints are merged (inertia lumped into the parent);
 continuous joints become revolute joints without limits; mimic joints are kept as metadata
 (integrated as independent joints). Raises hovi.URDFError naming the link or joint at fault. A link
@@ -188,12 +224,37 @@ is loaded as given with a UserWarning naming the link (URDF files in use carry s
               s.parent = self.model.body_index(parent.cast<std::string>());
               if (s.parent < 0) throw ModelError("add_body('" + name + "'): no body named '" + parent.cast<std::string>() + "'");
             } else s.parent = parent.cast<int>();
-            s.type = parse_type(joint_type);
-            s.axis = as_vector(axis, "axis", 3);
-            if (!placement.is_none()) s.placement = as_se3(placement, "placement");
             s.mass = mass;
             s.com = as_vector(com, "com", 3);
             s.inertia = as_matrix(inertia, "inertia", 3, 3);
+            if (joint_type == "free") {  // x, y, z sliders and yaw, pitch, roll in a chart of SO(3)
+              if (s.parent != -1 || self.model.n() != 0 || !placement.is_none())
+                throw ModelError("add_body('" + name + "'): a free joint must be the model's first body, on the world "
+                                 "(parent None, no placement)");
+              s.type = JointType::Revolute;
+              s.axis = Vec3::UnitX();
+              Model().add_body(s);  // the body's own checks (mass, inertia) before the model changes
+              const char* suffix[] = {"_x", "_y", "_z", "_rz", "_ry"};
+              const Vec3 axes[] = {Vec3::UnitX(), Vec3::UnitY(), Vec3::UnitZ(), Vec3::UnitZ(), Vec3::UnitY()};
+              for (int k = 0; k < 5; ++k) {
+                BodySpec b;
+                b.name = name + suffix[k];
+                b.joint_name = s.joint_name + suffix[k];
+                b.parent = k - 1;
+                b.type = k < 3 ? JointType::Prismatic : JointType::Revolute;
+                b.axis = axes[k];
+                self.model.add_body(b);
+              }
+              s.joint_name += "_rx";
+              s.parent = 4;
+              const int i = self.model.add_body(s);
+              self.model.set_rotation_chart(3);
+              self.changed("add_body");
+              return i;
+            }
+            s.type = parse_type(joint_type);
+            s.axis = as_vector(axis, "axis", 3);
+            if (!placement.is_none()) s.placement = as_se3(placement, "placement");
             s.limits.lower = lower;
             s.limits.upper = upper;
             const int i = self.model.add_body(s);
@@ -205,7 +266,9 @@ is loaded as given with a UserWarning naming the link (URDF files in use carry s
           py::arg("inertia") = py::array_t<double>(std::vector<py::ssize_t>{3, 3}, std::vector<double>(9, 0.0).data()),
           py::arg("joint_name") = "", py::arg("lower") = -std::numeric_limits<double>::infinity(),
           py::arg("upper") = std::numeric_limits<double>::infinity(), R"doc(
-Append a body; returns its index. parent: index or body name, None for the world.
+Append a body; returns its index. parent: index or body name, None for the world. joint_type:
+'revolute', 'prismatic' or 'free' (the first body only: the free joint, as URDF base='floating' gives;
+six joints, the body the last, q as Pinocchio's free flyer).
 placement: (4, 4) pose of the joint frame in the parent's joint frame at q = 0 (default identity).
 axis: (3,) joint axis in the joint frame. com: (3,) centre of mass in the joint frame. inertia:
 (3, 3) rotational inertia about the COM (joint-frame axes): symmetric, no negative principal moment, and
@@ -223,8 +286,31 @@ position limits. Raises hovi.ModelError naming the body on invalid input.
                         return pm;
                       }))
       .def_property_readonly("n", [](const PyModel& s) { return s.model.n(); }, "Number of joints = DoF = bodies.")
-      .def_property_readonly("nq", [](const PyModel& s) { return s.model.n(); }, "Size of q (= n: one coordinate per joint).")
-      .def_property_readonly("nv", [](const PyModel& s) { return s.model.n(); }, "Size of q̇ (= n).")
+      .def_property_readonly("nv", [](const PyModel& s) { return s.model.n(); },
+                             "The velocity's size: the degrees of freedom, n.")
+      .def_property_readonly("nq", [](const PyModel& s) { return s.model.nq(); },
+                             "The configuration's size: n, or n + 1 with a free base (its attitude a quaternion).")
+      .def_property_readonly("free_base", [](const PyModel& s) { return s.model.rotation_chart >= 0; },
+                             "True if joints 0-5 are the free joint (URDF base='floating'): q as Pinocchio's free flyer.")
+      .def("neutral", [](const PyModel& s) {
+            VecX q = VecX::Zero(s.model.nq());
+            if (s.model.rotation_chart >= 0) q[6] = 1;  // the identity quaternion (0, 0, 0, 1)
+            return q;
+          }, "The zero configuration (nq,): the joints at 0, a free base at the origin with the identity attitude.")
+      .def("integrate", [](const PyModel& s, const ArrayLike& q, const ArrayLike& v) {
+            const VecX qv = as_vector(q, "q", s.model.nq()), vv = as_vector(v, "v", s.model.n());
+            if (s.model.rotation_chart < 0) return VecX(qv + vv);
+            return FreeBase(s.model).integrate(qv, vv);
+          }, py::arg("q"), py::arg("v"),
+          "q ⊕ v (nq,): the configuration reached from q (nq,) along the velocity v (n,) in unit time; a free "
+          "base moves along its body twist (Pinocchio's integrate), the other joints by q + v.")
+      .def("difference", [](const PyModel& s, const ArrayLike& q0, const ArrayLike& q1) {
+            const VecX a = as_vector(q0, "q0", s.model.nq()), b = as_vector(q1, "q1", s.model.nq());
+            if (s.model.rotation_chart < 0) return VecX(b - a);
+            return FreeBase(s.model).difference(a, b);
+          }, py::arg("q0"), py::arg("q1"),
+          "q1 ⊖ q0 (n,): the velocity v with integrate(q0, v) = q1 (Pinocchio's difference; a free base by the "
+          "logarithm of SE(3)).")
       .def_property_readonly("total_mass", [](const PyModel& s) { return s.model.total_mass(); }, "Sum of the body masses (kg).")
       .def_property(
           "gravity", [](const PyModel& s) { return Vec3(s.model.gravity); },
@@ -367,18 +453,20 @@ h = P (x(q) - target) with P the rows of `axes` ('xyz', or e.g. 'xz' for planar 
       .def_property_readonly("n_constraints", [](const PyModel& s) { return s.model.n_constraints(); },
                              "Number of constraint equations.")
       .def("constraint_values", [](PyModel& s, const ArrayLike& q) {
-            const VecX qv = s.vec(q, "q");
+            const VecX qv = s.config(q);
             forward_kinematics(s.model, s.ws(), qv);
             VecX h(s.model.n_constraints());
             constraint_values(s.model, KinematicsView{s.model, s.ws().g.data(), s.ws().Sbar.data(), 1}, qv, h);
             return h;
-          }, py::arg("q"), "q: (n,); returns h(q), (n_constraints,), of all constraints stacked.")
+          }, py::arg("q"), "q: (nq,); returns h(q), (n_constraints,), of all constraints stacked.")
       .def("constraint_jacobian", [](PyModel& s, const ArrayLike& q) {
-            forward_kinematics(s.model, s.ws(), s.vec(q, "q"));
+            const VecX qv = s.config(q);
+            forward_kinematics(s.model, s.ws(), qv);
             MatX J(s.model.n_constraints(), s.model.n());
             constraint_jacobian(s.model, KinematicsView{s.model, s.ws().g.data(), s.ws().Sbar.data(), 1}, J);
+            if (s.model.rotation_chart >= 0) J = J * s.velocity_map(qv);
             return J;
-          }, py::arg("q"), "q: (n,); returns Dh(q), (n_constraints, n).")
+          }, py::arg("q"), "q: (nq,); returns Dh(q), (n_constraints, n) (a free base: in its velocity's coordinates).")
       .def_property_readonly("n_controls", [](const PyModel& s) { return s.model.n_controls(); },
                              "Number m of control inputs (add_actuator, add_control).")
       .def_property_readonly("actuation", [](const PyModel& s) { return MatX(s.model.joint_forces.actuation); },
@@ -438,44 +526,58 @@ previous value. Raises hovi.ModelError unless armature is finite and non-negativ
             return os.str();
           })
       .def("body_poses", [](PyModel& s, const ArrayLike& q) {
-            forward_kinematics(s.model, s.ws(), s.vec(q, "q"));
+            forward_kinematics(s.model, s.ws(), s.config(q));
             std::vector<Mat4> out;
             for (const SE3& g : s.ws().g) out.push_back(g.matrix());
             return stack(out);
           }, py::arg("q"), "q: (n,) joint positions; returns (n, 4, 4) world poses g_i of the body frames (at each centre of mass).")
       .def("joint_placements", [](PyModel& s, const ArrayLike& q) {
-            forward_kinematics(s.model, s.ws(), s.vec(q, "q"));
+            forward_kinematics(s.model, s.ws(), s.config(q));
             std::vector<Mat4> out;
             for (int i = 0; i < s.model.n(); ++i) out.push_back(joint_placement(s.model, s.ws(), i).matrix());
             return stack(out);
           }, py::arg("q"), "q: (n,) joint positions; returns (n, 4, 4) world poses of the joint frames (Pinocchio's oMi).")
       .def("spatial_twists", [](PyModel& s, const ArrayLike& q) {
-            forward_kinematics(s.model, s.ws(), s.vec(q, "q"));
+            forward_kinematics(s.model, s.ws(), s.config(q));
             return stack(s.ws().Sbar);
           }, py::arg("q"), "q: (n,) joint positions; returns (n, 6) spatial joint twists S̄_i = Ad_{g_i} S_i, (angular, linear).")
       .def("spatial_velocities", [](PyModel& s, const ArrayLike& q, const ArrayLike& qd) {
-            forward_kinematics(s.model, s.ws(), s.vec(q, "q"), s.vec(qd, "qdot"));
+            const VecX qc = s.config(q);
+            forward_kinematics(s.model, s.ws(), qc, s.velocity(qc, qd, "qdot"));
             return stack(s.ws().v);
           }, py::arg("q"), py::arg("qdot"), "q, qdot: (n,); returns (n, 6) spatial velocities v̄_i = (ġ g^{-1})^∨, (angular, linear).")
       .def("kinetic_energy", [](PyModel& s, const ArrayLike& q, const ArrayLike& qd) {
-            return kinetic_energy(s.model, s.ws(), s.vec(q, "q"), s.vec(qd, "qdot"));
+            const VecX qc = s.config(q);
+            return kinetic_energy(s.model, s.ws(), qc, s.velocity(qc, qd, "qdot"));
           }, py::arg("q"), py::arg("qdot"), "Kinetic energy K = 1/2 q̇^T M(q) q̇ (joint armature included); q, qdot: (n,); returns a float.")
       .def("potential_energy", [](PyModel& s, const ArrayLike& q) {
-            return potential_energy(s.model, s.ws(), s.vec(q, "q"));
+            return potential_energy(s.model, s.ws(), s.config(q));
           }, py::arg("q"), "q: (n,); the gravitational potential -sum m_i g^T p_i (p_i the centre of mass) plus the springs' 1/2 k (q - rest)^2.")
       .def("energy", [](PyModel& s, const ArrayLike& q, const ArrayLike& qd) {
-            const VecX qv = s.vec(q, "q");
-            return kinetic_energy(s.model, s.ws(), qv, s.vec(qd, "qdot")) + potential_energy(s.model, s.ws(), qv);
+            const VecX qv = s.config(q);
+            return kinetic_energy(s.model, s.ws(), qv, s.velocity(qv, qd, "qdot")) + potential_energy(s.model, s.ws(), qv);
           }, py::arg("q"), py::arg("qdot"), "Total mechanical energy K + V; q, qdot: (n,); returns a float.")
       .def("mass_matrix", [](PyModel& s, const ArrayLike& q) {
-            return MatX(mass_matrix(s.model, s.ws(), s.vec(q, "q")));
-          }, py::arg("q"), "q: (n,); returns the joint-space mass matrix M(q), (n, n), the joint armature on its diagonal.")
+            const VecX qc = s.config(q);
+            const MatX M = mass_matrix(s.model, s.ws(), qc);
+            if (s.model.rotation_chart < 0) return M;
+            const MatX T = s.velocity_map(qc);
+            return MatX(T.transpose() * M * T);
+          }, py::arg("q"), "q: (nq,); returns the joint-space mass matrix M(q), (n, n), the joint armature on its diagonal (a free base: in its velocity's coordinates).")
       .def("forward_dynamics", [](PyModel& s, const ArrayLike& q, const ArrayLike& qd, const OptArrayLike& tau) {
             const VecX t = tau.is_none() ? VecX::Zero(s.model.n()) : s.vec(tau, "tau");
-            return VecX(forward_dynamics(s.model, s.ws(), s.vec(q, "q"), s.vec(qd, "qdot"), t));
+            const VecX qc = s.config(q);
+            if (s.model.rotation_chart < 0) return VecX(forward_dynamics(s.model, s.ws(), qc, s.vec(qd, "qdot"), t));
+            // a = T^-1 (q̈ - Ṫ v) with q̈ = FD(q, T v, T^-T tau)
+            const MatX T = s.velocity_map(qc);
+            const VecX v = s.vec(qd, "qdot");
+            const FreeBase base(s.model);
+            const VecX qdd = forward_dynamics(s.model, s.ws(), qc, T * v, T.transpose().lu().solve(t));
+            return VecX(T.lu().solve(qdd - base.velocity_rate(qc, s.attitude, v)));
           }, py::arg("q"), py::arg("qdot"), py::arg("tau") = py::none(),
           "q, qdot, tau: (n,) (tau default zero); returns q̈ = FD(q, q̇, tau), (n,), by the articulated-body algorithm (O(n)), gravity and the model's forces included.")
       .def("kinetic_energy_hessians", [](PyModel& s, const ArrayLike& q, const ArrayLike& qd) {
+            s.chart_coordinates_only("kinetic_energy_hessians");
             kinetic_hessians(s.model, s.ws(), s.vec(q, "q"), s.vec(qd, "qdot"));
             const Data& d = s.ws();
             return py::make_tuple(d.Kvv, d.Kvq, d.Kqv, d.Kqq);
@@ -484,10 +586,12 @@ Algorithm 2, O(n^2). q, qdot: (n,); returns (Kvv, Kvq, Kqv, Kqq), each (n, n), w
 Kqv[i, j] = d/dq̇_j (dK/dq_i) = Kvq.T, Kqq = d2K/dq2.
 )doc")
       .def("gravity_hessian", [](PyModel& s, const ArrayLike& q) {
+            s.chart_coordinates_only("gravity_hessian");
             return MatX(gravity_hessian(s.model, s.ws(), s.vec(q, "q")));
           }, py::arg("q"), "Algorithm 3, O(n^2). q: (n,); returns d2V_g/dq2 (n, n) of the gravitational potential (springs not included).")
       .def("force_jacobians", [](PyModel& s, const ArrayLike& q, const ArrayLike& qd, const OptArrayLike& u) {
             const VecX uu = u.is_none() ? VecX::Zero(s.model.n_controls()) : as_vector(u, "u", s.model.n_controls());
+            s.chart_coordinates_only("force_jacobians");
             ForceJacobians fj(s.model);
             force_jacobians(s.model, s.ws(), s.vec(q, "q"), s.vec(qd, "qdot"), uu, fj);
             return py::make_tuple(fj.Q, fj.Qq, fj.Qv, fj.Qu);
@@ -497,7 +601,14 @@ the generalized non-conservative force: joint springs, dampers and
 actuators plus the body wrench elements mapped to joint space (gravity not included).
 )doc")
       .def("inverse_dynamics", [](PyModel& s, const ArrayLike& q, const ArrayLike& qd, const ArrayLike& qdd) {
-            return VecX(inverse_dynamics(s.model, s.ws(), s.vec(q, "q"), s.vec(qd, "qdot"), s.vec(qdd, "qddot")));
+            const VecX qc = s.config(q);
+            if (s.model.rotation_chart < 0)
+              return VecX(inverse_dynamics(s.model, s.ws(), qc, s.vec(qd, "qdot"), s.vec(qdd, "qddot")));
+            // tau = T^T ID(q, T v, T a + Ṫ v)
+            const MatX T = s.velocity_map(qc);
+            const VecX v = s.vec(qd, "qdot");
+            const VecX a = T * s.vec(qdd, "qddot") + FreeBase(s.model).velocity_rate(qc, s.attitude, v);
+            return VecX(T.transpose() * inverse_dynamics(s.model, s.ws(), qc, T * v, a));
           }, py::arg("q"), py::arg("qdot"), py::arg("qddot"),
           "q, qdot, qddot: (n,); returns tau = M(q) q̈ + C(q, q̇) q̇ + G(q), (n,), by recursive Newton-Euler (O(n)).");
 
@@ -510,7 +621,7 @@ actuators plus the body wrench elements mapped to joint space (gravity not inclu
 
   m.def("body_point_kinematics", [](PyModel& pm, const ArrayLike& Q, const std::vector<int>& bodies,
                                     const ArrayLike& points) {
-        const MatX q = as_matrix(Q, "q", -1, pm.model.n()).transpose();
+        const MatX q_in = as_matrix(Q, "q", -1, pm.model.nq());
         MatX r = as_matrix(points, "points", static_cast<long>(bodies.size()), 3).transpose();
         for (int i = 0; i < r.cols(); ++i) {  // joint frame -> COM frame
           if (bodies[i] < 0 || bodies[i] >= pm.model.n())
@@ -518,8 +629,21 @@ actuators plus the body wrench elements mapped to joint space (gravity not inclu
           r.col(i) = pm.model.point_in_com_frame(bodies[i], r.col(i));
         }
         MatX X, J;  // the GIL stays held: pm.ws() is the model's one shared workspace
-        body_point_kinematics(pm.model, pm.ws(), q, bodies, r, X, &J);
-        const int n = pm.model.n(), P = static_cast<int>(q.cols()), m = static_cast<int>(r.cols());
+        const int n = pm.model.n(), P = static_cast<int>(q_in.rows()), m = static_cast<int>(r.cols());
+        if (pm.model.rotation_chart < 0) {
+          body_point_kinematics(pm.model, pm.ws(), q_in.transpose(), bodies, r, X, &J);
+        } else {  // a free base: each configuration in its own chart, the Jacobians in its velocity (J T)
+          X.resize(3, P * m);
+          J.resize(3, P * m * n);
+          MatX Xp, Jp;
+          for (int p = 0; p < P; ++p) {
+            const VecX qc = pm.config(py::cast(VecX(q_in.row(p).transpose())));
+            body_point_kinematics(pm.model, pm.ws(), qc, bodies, r, Xp, &Jp);
+            const MatX T = pm.velocity_map(qc);
+            X.middleCols(p * m, m) = Xp;
+            for (int i = 0; i < m; ++i) J.middleCols((p * m + i) * n, n) = Jp.middleCols(i * n, n) * T;
+          }
+        }
         py::array_t<double> Xs(std::vector<py::ssize_t>{P, m, 3}), Js(std::vector<py::ssize_t>{P, m, 3, n});
         auto x = Xs.mutable_unchecked<3>();
         auto j = Js.mutable_unchecked<4>();
@@ -531,7 +655,8 @@ actuators plus the body wrench elements mapped to joint space (gravity not inclu
             }
         return py::make_tuple(Xs, Js);
       }, py::arg("model"), py::arg("q"), py::arg("bodies"), py::arg("points"), R"doc(
-World positions (P, m, 3) and Jacobians (P, m, 3, n) of m body points at P configurations q (P, n):
+World positions (P, m, 3) and Jacobians (P, m, 3, n) of m body points at P configurations q (P, nq)
+(a free base: the Jacobians in its velocity, v):
 point i is points[i] (in the body's joint frame, as for add_point_constraint) of body bodies[i].
 One forward kinematics per configuration serves all the points.
 )doc");

@@ -70,6 +70,7 @@ class PyIntegrator {
   double dt() const { return integ_.dt(); }
   const Quadrature& quad() const { return integ_.quadrature(); }
   int n() const { return integ_.model().n(); }
+  int nq() const { return integ_.model().nq(); }
   int s() const { return integ_.quadrature().s; }
   int m() const { return integ_.model().n_controls(); }
   int mc() const { return integ_.model().n_constraints(); }

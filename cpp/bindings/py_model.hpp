@@ -25,6 +25,15 @@ struct PyModel {
     return *data;
   }
   VecX vec(const py::handle& x, const char* name) { return as_vector(x, name, model.n()); }
+  // The model's algorithms' q: a free base's public q (nq,) in the chart about its attitude (θ = 0),
+  // the workspace's kinematics about it; else q (n,).
+  VecX config(const py::handle& q);
+  // A velocity (n,) at config(q)'s q: a free base's v -> q̇ = T v; else as given.
+  VecX velocity(const VecX& q, const py::handle& v, const char* name);
+  Mat3 attitude = Mat3::Identity();  // a free base: config's attitude
+  MatX velocity_map(const VecX& q);  // T (n x n) at config(q)'s q: q̇ = T v
+  // ModelError for a free base: `what` is in joint coordinates, which the free base does not have.
+  void chart_coordinates_only(const char* what) const;
 };
 
 // What an object built from a PyModel (it copies the model) remembers of it: a later change to

@@ -42,7 +42,7 @@ def resolve_model(spec: str, base: Optional[str] = None) -> Tuple[Model, str]:
         return load_urdf(spec, base or "fixed"), base or "fixed"
     model, own = built_in_model(spec, accepted)
     if base is not None and base != own:
-        raise ModelSpecError(f"argument --base: the built-in '{spec}' has a {own} base; --base {base} applies to "
+        raise ModelSpecError(f"argument --base: the built-in '{spec}' has {base_words(own)}; --base {base} applies to "
                              "URDF files")
     return model, own
 
@@ -97,11 +97,13 @@ def load_model(spec: str, base: Optional[str] = None) -> Model:
 
 
 def initial_state(model: Model, spread: float, seed: int):
-    """q0 uniform in [-spread, spread] (clipped to joint limits), zero velocity."""
+    """q0 moved from the neutral configuration by a velocity uniform in [-spread, spread] per joint
+    (clipped to joint limits; a free base turned by it), zero velocity."""
     rng = np.random.default_rng(seed)
-    q0 = rng.uniform(-spread, spread, model.n)
+    v = rng.uniform(-spread, spread, model.n)
     lo, hi = model.lower_limits, model.upper_limits
-    return np.clip(q0, np.where(np.isfinite(lo), lo, -np.inf), np.where(np.isfinite(hi), hi, np.inf))
+    v = np.clip(v, np.where(np.isfinite(lo), lo, -np.inf), np.where(np.isfinite(hi), hi, np.inf))
+    return model.integrate(model.neutral(), v)
 
 
 #: The built-in robots that stand on their terrain in ``hovi simulate`` unless --no-ground
@@ -124,10 +126,15 @@ class GroundScene:
     what: str              # one line: what is simulated
 
 
+def base_words(base: str) -> str:
+    """'a fixed base', 'a floating base', 'an Euler-angle floating base' or 'a planar base'."""
+    return "an Euler-angle floating base" if base == "euler" else f"a {base} base"
+
+
 def base_coordinates(base: str) -> Tuple[int, int]:
-    """(number of base coordinates, index of the base's height z) of a 'floating' (x, y, z, yaw,
-    pitch, roll) or 'planar' (x, z, pitch) base; (0, -1) for 'fixed'."""
-    return {"floating": (6, 2), "planar": (3, 1)}.get(base, (0, -1))
+    """(number of base coordinates in q, index of the base's height z) of a 'floating' (x, y, z and a
+    quaternion), 'euler' (x, y, z, yaw, pitch, roll) or 'planar' (x, z, pitch) base; (0, -1) for 'fixed'."""
+    return {"floating": (7, 2), "euler": (6, 2), "planar": (3, 1)}.get(base, (0, -1))
 
 
 def wants_ground(args, spec_is_robot: bool) -> bool:
@@ -178,7 +185,7 @@ def ground_scene(args, model: Model, base: str, robot_name: Optional[str]) -> Gr
         integ, contacts = st.integrator, st.contacts
         q0 = st.q0.copy()
         spread = 0.0 if args.spread is None else args.spread
-        q0[nb:] += rng.uniform(-spread, spread, model.n - nb)
+        q0[nb:] += rng.uniform(-spread, spread, model.nq - nb)
         return GroundScene(st.model, integ, contacts, lift(contacts, q0, base, args.drop), st.u,
                            [c.name for c in st.robot.contacts],
                            f"standing on the ground (joint PD about its standing pose and static feed-forward "
@@ -196,7 +203,7 @@ def ground_scene(args, model: Model, base: str, robot_name: Optional[str]) -> Gr
     dt = GROUND_DT if args.dt is None else args.dt
     integ = Integrator(model, s=s, dt=dt, tol=args.tol, contacts=contacts)
     q0 = initial_state(model, np.pi / 12 if args.spread is None else args.spread, args.seed)
-    q0[:nb] = 0.0
+    q0[:nb] = model.neutral()[:nb]
     return GroundScene(model, integ, contacts, lift(contacts, q0, base, args.drop), None,
                        [f"{link}_{i}" for i, (link, _) in enumerate(args.contact)],
                        f"on the ground with {len(args.contact)} contact point(s), mu = {mu:g}"
@@ -353,7 +360,7 @@ def contact_report(scene: GroundScene, traj, base: str) -> dict:
           f"{active} of {len(scene.names)} contacts; horizontal {np.hypot(force[0], force[1]):.3g} N")
     nb, z = base_coordinates(base)
     if nb:
-        position = [0, 1, 2] if base == "floating" else [0, 1]
+        position = [0, 1, 2] if base in ("floating", "euler") else [0, 1]
         k0 = max(0, traj.steps - int(round(min(1.0, traj.t[-1] / 2) / dt)))  # the last second, or half
         moved = float(np.linalg.norm(traj.q[-1, position] - traj.q[k0, position]))
         out.update({"base_height_end": float(traj.q[-1, z]), "base_moved_end": moved,
@@ -373,7 +380,7 @@ def free_fall_note(model: Model, base: str, duration: float, robot: bool = False
     g = float(np.linalg.norm(np.asarray(model.gravity, dtype=float)))
     how = ("--no-ground: leave it out for the robot standing on the ground" if robot else
            "--ground with --contact LINK:x,y,z (points of its links) simulates it on the ground")
-    return (f"note: this model has a {base} base and no ground ({how}): the robot free-falls under gravity, about "
+    return (f"note: this model has {base_words(base)} and no ground ({how}): the robot free-falls under gravity, about "
             f"{0.5 * g * duration ** 2:.3g} m in {duration:.3g} s")
 
 
@@ -469,7 +476,7 @@ def cmd_info(args) -> int:
     model = load_model(args.model, args.base)
     print(model.summary(), end="")
     rng = np.random.default_rng(args.seed)
-    q = rng.uniform(-np.pi / 2, np.pi / 2, model.n)
+    q = model.integrate(model.neutral(), rng.uniform(-np.pi / 2, np.pi / 2, model.n))
     qd = rng.uniform(-1, 1, model.n)
     K, V = model.kinetic_energy(q, qd), model.potential_energy(q)
     print(f"random state (seed {args.seed}): K = {K:.6g} J, V = {V:.6g} J, E = {K + V:.6g} J")
@@ -726,7 +733,7 @@ def push(text: str):
 
 def add_model_args(p):
     p.add_argument("model", nargs="?", default="pendulum:32", help=model_listing() + " (default: pendulum:32)")
-    p.add_argument("--base", default=None, choices=["fixed", "floating", "planar"],
+    p.add_argument("--base", default=None, choices=["fixed", "floating", "euler", "planar"],
                    help="how a URDF's root link is attached to the world (default: fixed)")
     p.add_argument("--seed", type=seed, default=0, help="seed of the random initial state (default: 0)")
 

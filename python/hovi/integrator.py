@@ -185,8 +185,14 @@ class Integrator:
 
     @property
     def n(self) -> int:
-        """Number of joints n of the model."""
+        """Number of joints n of the model: the size of a velocity or momentum (nv)."""
         return self._core.n
+
+    @property
+    def nq(self) -> int:
+        """The size of a configuration: n, or n + 1 for a model with a free base (its attitude a
+        quaternion, as Pinocchio's free flyer)."""
+        return self._core.nq
 
     @property
     def nodes(self) -> FloatArray:
@@ -322,6 +328,7 @@ class Integrator:
         z0 = None if impulses is None else _core.real_array(impulses, "impulses").ravel()
         self.check_start(q, "q")
         qc, p_next, raw = self._core.step(q, p, u, guess, multipliers, z0)
+        q_next = raw.pop("q_next", qc[-1])  # a free base: its end state (the points are in its chart)
         lam = raw.pop("multipliers")
         contact = {k: raw.pop(k) for k in ("impulses", "gaps", "pivots", "impact") if k in raw}
         info = StepInfo(**raw)
@@ -334,7 +341,7 @@ class Integrator:
         if contact:
             info.impulses, info.gaps = contact["impulses"].reshape(-1, self._core.per_contact), contact["gaps"]
             info.pivots, info.impact = int(contact["pivots"]), float(contact["impact"])
-        return qc[-1].copy(), p_next, info
+        return np.array(q_next, copy=True), p_next, info
 
     @property
     def step_kind(self) -> str:
@@ -419,17 +426,17 @@ class Integrator:
         """(q (B, n), second (B, n), velocities) of a batch of states given with momenta or
         velocities (default: at rest); each checked against the constraints as a single call does."""
         Q = _core.real_array(q, names[0])  # complex, text and object arrays refused, never cast
-        if Q.ndim != 2 or Q.shape[1] != self.n:
-            raise ValueError(f"{names[0]} must be a 2-D array of shape (B, {self.n}), got shape {Q.shape}")
+        if Q.ndim != 2 or Q.shape[1] != self.nq:
+            raise ValueError(f"{names[0]} must be a 2-D array of shape (B, {self.nq}), got shape {Q.shape}")
         if len(Q) == 0:
             raise ValueError(f"the batch is empty: {names[0]} has no rows (B = 0)")
         if p is not None and qdot is not None:
             raise ValueError(f"give {names[1]} or {names[2]}, not both")
         velocities = p is None
-        second = (_core.real_array(p, names[1]) if p is not None else np.zeros_like(Q) if qdot is None
+        second = (_core.real_array(p, names[1]) if p is not None else np.zeros((len(Q), self.n)) if qdot is None
                   else _core.real_array(qdot, names[2]))
-        if second.shape != Q.shape:
-            raise ValueError(f"{names[1] if p is not None else names[2]} must have the shape of {names[0]}, {Q.shape}, "
+        if second.shape != (len(Q), self.n):
+            raise ValueError(f"{names[1] if p is not None else names[2]} must have shape {(len(Q), self.n)}, "
                              f"got {second.shape}")
         if self.n_constraints or self.contacts is not None:
             for b in range(len(Q)):
@@ -544,7 +551,7 @@ class Integrator:
         assert self.contacts is not None
         K = normal.shape[-2]
         q = np.where(np.isfinite(q), q, 0.0)  # the rows a failed batch item never reached
-        z = self.contacts.positions(q.reshape(-1, self.n)).reshape(*q.shape[:-1], -1, 3)[..., 2]
+        z = self.contacts.positions(q.reshape(-1, self.nq)).reshape(*q.shape[:-1], -1, 3)[..., 2]
         rise = z[..., 1:K + 1, :] - z[..., :K, :]
         lifted = (normal > 0) & (rise > 10 * self.contact_tol)
         work: FloatArray = np.where(lifted, normal * rise, 0.0).sum(axis=-1) / (2 * self.dt)

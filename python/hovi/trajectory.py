@@ -377,7 +377,7 @@ def check_arrays(arrays: Dict[str, Any], n_constraints: Optional[int] = None) ->
     if "contact_step_momenta" in a:
         if not given:
             raise ValueError("contact_step_momenta given without the other contact arrays")
-        _numbers(a["contact_step_momenta"], "contact_step_momenta", (K + 1, a["q"].shape[1]))
+        _numbers(a["contact_step_momenta"], "contact_step_momenta", (K + 1, a["p"].shape[1]))
     return a
 
 

@@ -89,6 +89,18 @@ void FreeBase::momentum_to_chart(const Eigen::Ref<const VecX>& q, const Mat3& at
   x.segment<3>(j_) = (chart.rates_to_omega(theta).transpose() * x.segment<3>(j_)).eval();
 }
 
+VecX FreeBase::velocity_rate(const Eigen::Ref<const VecX>& q, const Mat3& attitude,
+                             const Eigen::Ref<const VecX>& v) const {
+  // d/dt (R_b v_lin) = R_b (ω × v_lin) + R_b v̇_lin; d/dt (E^-1 ω) = E^-1 ω̇ - E^-1 Ė E^-1 ω
+  const Vec3 theta = q.segment<3>(j_), omega = v.segment<3>(j_);
+  const Mat3 E = chart.rates_to_omega(theta);
+  const Vec3 rates = E.lu().solve(omega);
+  VecX out = VecX::Zero(v.size());
+  out.head<3>() = attitude * omega.cross(Vec3(v.head<3>()));
+  out.segment<3>(j_) = -E.lu().solve(chart.rates_to_omega_rate(theta, rates) * rates);
+  return out;
+}
+
 VecX FreeBase::integrate(const Eigen::Ref<const VecX>& q, const Eigen::Ref<const VecX>& v) const {
   VecX out = q;
   const SE3 M(quaternion_rotation(q.segment<4>(j_)), q.head<3>());

@@ -1,68 +1,67 @@
 #include "hovi/algorithms/rotation_chart.hpp"
 
 #include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
 
 namespace hovi {
 
-namespace {
-
-Mat3 axis_rotation(const Vec3& u, double angle) {
-  return exp_twist((Twist() << u, Vec3::Zero()).finished(), angle).R;
-}
-
-}  // namespace
-
-RotationChart::RotationChart(const Model& model) {
-  for (int k = 0; k < 3; ++k) u[k] = model.spec[model.rotation_chart + k].axis;
-}
+RotationChart::RotationChart(const Model&) {}
 
 Mat3 RotationChart::rotation(const Vec3& theta) const {
-  return axis_rotation(u[0], theta[0]) * axis_rotation(u[1], theta[1]) * axis_rotation(u[2], theta[2]);
+  const double ca = std::cos(theta[0]), sa = std::sin(theta[0]), cb = std::cos(theta[1]), sb = std::sin(theta[1]),
+               cc = std::cos(theta[2]), sc = std::sin(theta[2]);
+  Mat3 R;  // Rz(a) Ry(b) Rx(c)
+  R << ca * cb, ca * sb * sc - sa * cc, ca * sb * cc + sa * sc,
+       sa * cb, sa * sb * sc + ca * cc, sa * sb * cc - ca * sc,
+       -sb, cb * sc, cb * cc;
+  return R;
 }
 
 Mat3 RotationChart::rates_to_omega(const Vec3& theta) const {
-  const Mat3 R2t = axis_rotation(u[1], theta[1]).transpose(), R3t = axis_rotation(u[2], theta[2]).transpose();
+  // ω = Rx^T Ry^T z ȧ + Rx^T y ḃ + x ċ
+  const double cb = std::cos(theta[1]), sb = std::sin(theta[1]), cc = std::cos(theta[2]), sc = std::sin(theta[2]);
   Mat3 E;
-  E << R3t * R2t * u[0], R3t * u[1], u[2];
+  E << -sb, 0, 1,
+       cb * sc, cc, 0,
+       cb * cc, -sc, 0;
   return E;
 }
 
+Mat3 RotationChart::rates_to_omega_rate(const Vec3& theta, const Vec3& theta_dot) const {
+  const double cb = std::cos(theta[1]), sb = std::sin(theta[1]), cc = std::cos(theta[2]), sc = std::sin(theta[2]);
+  const double db = theta_dot[1], dc = theta_dot[2];
+  Mat3 dE;
+  dE << -cb * db, 0, 0,
+        -sb * sc * db + cb * cc * dc, -sc * dc, 0,
+        -sb * cc * db - cb * sc * dc, -cc * dc, 0;
+  return dE;
+}
+
 Mat3 RotationChart::centre_shift(const Vec3& theta) const {
-  return rates_to_omega(theta).lu().solve(rotation(theta).transpose() * rates_to_omega(Vec3::Zero()));
+  return rates_to_omega(theta).inverse() * rotation(theta).transpose() * rates_to_omega(Vec3::Zero());
 }
 
 Mat3 RotationChart::centre_shift_rate(const Vec3& theta, const Vec3& theta_dot) const {
-  // A = E^-1 R^T E(0): dA/dt = -E^-1 (Ė A + ω̂ R^T E(0)), with Ṙ^T = -ω̂ R^T, ω = E θ̇ and
-  // Ė = θ̇_2 dE/dθ_2 + θ̇_3 dE/dθ_3 (dR_k^T/dθ_k = -û_k R_k^T; E does not depend on θ_1).
-  const Mat3 R2t = axis_rotation(u[1], theta[1]).transpose(), R3t = axis_rotation(u[2], theta[2]).transpose();
-  const Mat3 E = rates_to_omega(theta);
-  Mat3 dE = Mat3::Zero();
-  dE.col(0) = -theta_dot[1] * (R3t * hat(u[1]) * R2t * u[0]) - theta_dot[2] * (hat(u[2]) * R3t * R2t * u[0]);
-  dE.col(1) = -theta_dot[2] * (hat(u[2]) * R3t * u[1]);
-  const Mat3 shift = centre_shift(theta);
-  const Mat3 rhs = dE * shift + hat(E * theta_dot) * rotation(theta).transpose() * rates_to_omega(Vec3::Zero());
-  return -E.lu().solve(rhs);
+  // A = E^-1 R^T E(0): dA/dt = -E^-1 (Ė A + ω̂ R^T E(0)), with Ṙ^T = -ω̂ R^T and ω = E θ̇
+  const Mat3 E = rates_to_omega(theta), Einv = E.inverse();
+  const Mat3 RtE0 = rotation(theta).transpose() * rates_to_omega(Vec3::Zero());
+  return -Einv * (rates_to_omega_rate(theta, theta_dot) * (Einv * RtE0) + hat(E * theta_dot) * RtE0);
 }
 
 Vec3 RotationChart::recentred_momentum(const Vec3& theta, const Vec3& p) const {
   return rates_to_omega(Vec3::Zero()).transpose() * rates_to_omega(theta).transpose().lu().solve(p);
 }
 
-Vec3 RotationChart::angles(const Mat3& R, Vec3 guess) const {
-  for (int it = 0; it < 20; ++it) {
-    const Eigen::AngleAxisd aa(rotation(guess).transpose() * R);
-    const Vec3 delta = aa.angle() * aa.axis();  // the body-frame rotation left
-    guess += rates_to_omega(guess).lu().solve(delta);
-    if (delta.norm() < 1e-15) break;
-  }
-  return guess;
+Vec3 RotationChart::angles(const Mat3& R) const {
+  return Vec3(std::atan2(R(1, 0), R(0, 0)), -std::asin(std::clamp(R(2, 0), -1.0, 1.0)), std::atan2(R(2, 1), R(2, 2)));
 }
 
 void RotationChart::recentre_points(int j, const Vec3& theta, Eigen::Ref<MatX> points) const {
   const Mat3 Rt = rotation(theta).transpose();
   for (Eigen::Index a = 0; a < points.cols(); ++a) {
     const Vec3 old = points.col(a).segment<3>(j);
-    points.col(a).segment<3>(j) = angles(Rt * rotation(old), old - theta);
+    points.col(a).segment<3>(j) = angles(Rt * rotation(old));
   }
 }
 

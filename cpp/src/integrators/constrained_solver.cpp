@@ -130,7 +130,7 @@ SolveInfo ConstrainedSolver::solve(const SolverOptions& opt, const Eigen::Ref<co
   NewtonLoop loop = newton_loop(opt, aug_);
   loop.reuse = false;                      // every constrained iteration refactors
   loop.estimate_from_contraction = false;
-  return newton_iterate(step, stopping_rule(opt, p, aug_), loop);
+  return newton_iterate(step, stopping_rule(opt, p), loop);
 }
 
 }  // namespace hovi

@@ -230,7 +230,7 @@ SolveInfo ContactSolver::solve(const SolverOptions& opt, double tol, const Eigen
   // measurements"): the contraction of one active set is not that of the next.
   loop.reuse = false;
   loop.estimate_from_contraction = false;
-  SolveInfo info = newton_iterate(step, stopping_rule(opt, p, model_), loop);
+  SolveInfo info = newton_iterate(step, stopping_rule(opt, p), loop);
   if (info.status == SolveStatus::NonFinite && !step.solved) info.status = SolveStatus::LcpFailed;
   if (info.converged() && step.fresh_lcp) {
     // Stopped on the DEL correction: the impulses are those of the last LCP, which balance the

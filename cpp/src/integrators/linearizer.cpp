@@ -13,7 +13,9 @@ Linearizer::Linearizer(const GalerkinIntegrator& integ)
     : model_(integ.model()), quad_(integ.quadrature()), dt_(integ.dt()), mc_(model_.n_constraints()),
       nz_(integ.contacts().unknowns()), aug_(mc_ ? with_constraint_forces(model_) : model_),
       contact_(integ.has_contacts() ? std::make_unique<ContactJacobians>(model_, quad_, dt_, integ.contacts()) : nullptr),
-      pool_([this] { return std::make_unique<Workspace>(aug_, model_, quad_); }) {}
+      pool_([this] { return std::make_unique<Workspace>(aug_, model_, quad_); }) {
+  model_.refuse_free_base("the linearisation (and what is built on it: LQR, FDDP, MPC)");
+}
 
 void Linearizer::del_jacobian(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u, MatX& Jq, MatX* Ju,
                               const Eigen::Ref<const MatX>& lambda, MatX* Dh) const {

@@ -7,15 +7,16 @@
 
 namespace hovi {
 
-StoppingRule stopping_rule(const SolverOptions& opt, const Eigen::Ref<const VecX>& p, const Model& model) {
-  return StoppingRule(opt.tol, opt.step_tol, 1 + (p.size() ? p.cwiseAbs().maxCoeff() : 0.0),
-                      model.rotation_chart >= 0 ? 1e-13 : StoppingRule::kFloor);
+StoppingRule stopping_rule(const SolverOptions& opt, const Eigen::Ref<const VecX>& p) {
+  return StoppingRule(opt.tol, opt.step_tol, 1 + (p.size() ? p.cwiseAbs().maxCoeff() : 0.0));
 }
 
 NewtonLoop newton_loop(const SolverOptions& opt, const Model& model) {
   NewtonLoop loop;
-  // a free base's chart: the Jacobian is off by O(θ), so the observed contraction is no error estimate
+  // a free base's chart: the Jacobian is off by O(θ), so the observed contraction is no error estimate,
+  // and the iterate's error is about its last correction (not far below it): that one is applied
   loop.estimate_from_contraction = model.rotation_chart < 0;
+  loop.apply_last_correction = model.rotation_chart >= 0;
   loop.max_iterations = opt.max_iterations;
   loop.max_backtracks = opt.max_backtracks;
   loop.line_search = opt.line_search;
@@ -124,7 +125,7 @@ SolveInfo NewtonSolver::solve(const Model& model, const Quadrature& quad, const 
   factor_valid_ = false;  // every solve starts from a fresh factorisation at its guess
   Step step{*this, model, quad, opt, p, u, dt, qc, p_next};
   step.norm2 = r_.norm();
-  return newton_iterate(step, stopping_rule(opt, p, model), newton_loop(opt, model));
+  return newton_iterate(step, stopping_rule(opt, p), newton_loop(opt, model));
 }
 
 }  // namespace hovi

@@ -132,7 +132,7 @@ SolveInfo step_continuation(NewtonSolver& solver, ContinuationWorkspace& ws, con
     throw InputError("invalid continuation options");
   if (model.n_constraints()) throw InputError("step_continuation solves the DEL equations without constraints");
   const int s = quad.s;
-  const StoppingRule rule = stopping_rule(opt, p, model);
+  const StoppingRule rule = stopping_rule(opt, p);
   SolveInfo info;
   ContinuationReport rep;
   auto finish = [&](SolveStatus status) {

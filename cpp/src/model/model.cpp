@@ -179,10 +179,16 @@ void Model::set_rotation_chart(int j) {
     if (parent[i] != i - 1 || (spec[i].placement.R - Mat3::Identity()).norm() > 1e-12 || spec[i].placement.p.norm() > 1e-12)
       refuse("must be a chain without offsets ('" + spec[i].joint_name + "' is not the child of the joint before, "
              "at its origin)");
-  Mat3 axes;
-  axes << spec[j].axis, spec[j + 1].axis, spec[j + 2].axis;
-  if (std::abs(axes.determinant()) < 1e-6) refuse("must turn about three independent axes");
+  for (int k = 0; k < 3; ++k)
+    if ((spec[j + k].axis - Vec3::Unit(2 - k)).norm() > 1e-12)
+      refuse("must turn about z, y and x (yaw, pitch, roll; '" + spec[j + k].joint_name + "' does not)");
   rotation_chart = j;
+}
+
+void Model::refuse_free_base(const std::string& what) const {
+  if (rotation_chart >= 0)
+    throw ModelError(what + " is not available for a model with a free base yet (it works in joint coordinates): "
+                     "load the robot with base='euler' for it");
 }
 
 SE3 Model::chart_placement(const Mat3& centre) const {

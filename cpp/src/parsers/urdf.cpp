@@ -231,7 +231,7 @@ class TreeBuilder {
     if (opt_.base == BaseJoint::Fixed) {
       visit(*root, -1, SE3::Identity());
     } else {
-      const bool floating = opt_.base == BaseJoint::Floating;
+      const bool floating = opt_.base == BaseJoint::Floating || opt_.base == BaseJoint::Euler;
       root_body = add_chain(floating ? floating_chain() : planar_chain(opt_.planar_normal),
                             floating ? kFloatingSuffix : kPlanarSuffix, root->name, root->name + "_base",
                             -1, SE3::Identity());
@@ -251,6 +251,7 @@ class TreeBuilder {
       model.add_body(s, TriangleInequality::Accept);  // each link's inertia was checked (and warned about)
     }
     for (const Visual& v : visuals_) model.add_visual(v);
+    if (opt_.base == BaseJoint::Floating) model.set_rotation_chart(3);
     return model;
   }
 

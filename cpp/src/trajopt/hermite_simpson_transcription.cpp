@@ -40,6 +40,7 @@ HermiteSimpsonTranscription::HermiteSimpsonTranscription(const Model& model, int
     : model_(model), aug_(with_constraint_forces(model)), geometry_(constraint_forces_only(model)), N_(N),
       n_(model.n()), m_(model.n_controls()), mc_(model.n_constraints()), dt_(dt), controls_(controls),
       implicit_(implicit), pool_([this] { return std::make_unique<Workspace>(model_, aug_, geometry_); }) {
+  model.refuse_free_base("trajectory optimisation");
   if (n_ == 0) throw ModelError("the model has no joints");
   if (N < 1) throw InputError("the number of stages N must be at least 1, got " + std::to_string(N));
   if (!(dt > 0) || !std::isfinite(dt)) throw InputError("dt must be positive and finite, got " + std::to_string(dt));

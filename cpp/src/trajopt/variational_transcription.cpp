@@ -24,6 +24,7 @@ VariationalTranscription::VariationalTranscription(const Model& model, int s, in
       n_(model.n()), m_(model.n_controls()), mc_(model.n_constraints()), dt_(dt), controls_(controls),
       pool_([this] { return std::make_unique<Workspace>(aug_, model_, quad_); }) {
   if (n_ == 0) throw ModelError("the model has no joints");
+  model.refuse_free_base("trajectory optimisation");
   if (N < 1) throw InputError("the number of stages N must be at least 1, got " + std::to_string(N));
   if (!(dt > 0) || !std::isfinite(dt)) throw InputError("dt must be positive and finite, got " + std::to_string(dt));
   n_variables_ = lambda_offset() + N_ * s * mc_;

@@ -32,9 +32,11 @@ class Model:
         """
         Load a URDF file (source: a path) or XML string (source: the text); returns a Model.
         
-        base: 'fixed' (root link welded to the world), 'floating' (6 joints x, y, z, yaw, pitch, roll:
-        Z-Y-X Euler angles, singular at pitch = ±pi/2) or 'planar' (2 prismatic + 1 revolute about
-        planar_normal (3,), default the x-z plane). expand_joints: expand URDF floating/planar joints the
+        base: 'fixed' (root link welded to the world), 'floating' (the free joint, as Pinocchio's free
+        flyer: q = (x, y, z, qx, qy, qz, qw, joints...), nq = n + 1, the base's velocity (linear, angular) in
+        its own frame; integrated on the group, no singular attitude), 'euler' (6 joints x, y, z, yaw, pitch,
+        roll: Z-Y-X Euler angles, singular at pitch = ±pi/2; the paper's robots) or 'planar' (2 prismatic + 1
+        revolute about planar_normal (3,), default the x-z plane). expand_joints: expand URDF floating/planar joints the
         same way instead of raising. Fixed joints are merged (inertia lumped into the parent);
         continuous joints become revolute joints without limits; mimic joints are kept as metadata
         (integrated as independent joints). Raises hovi.URDFError naming the link or joint at fault. A link
@@ -65,7 +67,9 @@ class Model:
         """
     def add_body(self, name: str, parent: int | str | None, joint_type: str = 'revolute', axis: numpy.typing.ArrayLike = (0.0, 0.0, 1.0), placement: numpy.typing.ArrayLike | None = None, mass: typing.SupportsFloat | typing.SupportsIndex = 0.0, com: numpy.typing.ArrayLike = (0.0, 0.0, 0.0), inertia: numpy.typing.ArrayLike = ..., joint_name: str = '', lower: typing.SupportsFloat | typing.SupportsIndex = ..., upper: typing.SupportsFloat | typing.SupportsIndex = ...) -> int:
         """
-        Append a body; returns its index. parent: index or body name, None for the world.
+        Append a body; returns its index. parent: index or body name, None for the world. joint_type:
+        'revolute', 'prismatic' or 'free' (the first body only: the free joint, as URDF base='floating' gives;
+        six joints, the body the last, q as Pinocchio's free flyer).
         placement: (4, 4) pose of the joint frame in the parent's joint frame at q = 0 (default identity).
         axis: (3,) joint axis in the joint frame. com: (3,) centre of mass in the joint frame. inertia:
         (3, 3) rotational inertia about the COM (joint-frame axes): symmetric, no negative principal moment, and
@@ -128,15 +132,19 @@ class Model:
         """
     def constraint_jacobian(self, q: numpy.typing.ArrayLike) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         """
-        q: (n,); returns Dh(q), (n_constraints, n).
+        q: (nq,); returns Dh(q), (n_constraints, n) (a free base: in its velocity's coordinates).
         """
     def constraint_values(self, q: numpy.typing.ArrayLike) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         """
-        q: (n,); returns h(q), (n_constraints,), of all constraints stacked.
+        q: (nq,); returns h(q), (n_constraints,), of all constraints stacked.
         """
     def copy(self) -> Model:
         """
         An independent copy (later changes to either do not affect the other).
+        """
+    def difference(self, q0: numpy.typing.ArrayLike, q1: numpy.typing.ArrayLike) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        q1 ⊖ q0 (n,): the velocity v with integrate(q0, v) = q1 (Pinocchio's difference; a free base by the logarithm of SE(3)).
         """
     def energy(self, q: numpy.typing.ArrayLike, qdot: numpy.typing.ArrayLike) -> float:
         """
@@ -155,6 +163,10 @@ class Model:
     def gravity_hessian(self, q: numpy.typing.ArrayLike) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         """
         Algorithm 3, O(n^2). q: (n,); returns d2V_g/dq2 (n, n) of the gravitational potential (springs not included).
+        """
+    def integrate(self, q: numpy.typing.ArrayLike, v: numpy.typing.ArrayLike) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        q ⊕ v (nq,): the configuration reached from q (nq,) along the velocity v (n,) in unit time; a free base moves along its body twist (Pinocchio's integrate), the other joints by q + v.
         """
     def inverse_dynamics(self, q: numpy.typing.ArrayLike, qdot: numpy.typing.ArrayLike, qddot: numpy.typing.ArrayLike) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         """
@@ -179,7 +191,11 @@ class Model:
         """
     def mass_matrix(self, q: numpy.typing.ArrayLike) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         """
-        q: (n,); returns the joint-space mass matrix M(q), (n, n), the joint armature on its diagonal.
+        q: (nq,); returns the joint-space mass matrix M(q), (n, n), the joint armature on its diagonal (a free base: in its velocity's coordinates).
+        """
+    def neutral(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        The zero configuration (nq,): the joints at 0, a free base at the origin with the identity attitude.
         """
     def potential_energy(self, q: numpy.typing.ArrayLike) -> float:
         """
@@ -238,6 +254,11 @@ class Model:
     def effort_limits(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         """
         (n,) joint effort limits (URDF metadata, the default control bounds of trajopt; inf where none).
+        """
+    @property
+    def free_base(self) -> bool:
+        """
+        True if joints 0-5 are the free joint (URDF base='floating'): q as Pinocchio's free flyer.
         """
     @property
     def friction(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
@@ -305,12 +326,12 @@ class Model:
     @property
     def nq(self) -> int:
         """
-        Size of q (= n: one coordinate per joint).
+        The configuration's size: n, or n + 1 with a free base (its attitude a quaternion).
         """
     @property
     def nv(self) -> int:
         """
-        Size of q̇ (= n).
+        The velocity's size: the degrees of freedom, n.
         """
     @property
     def parents(self) -> list[int]:
@@ -425,15 +446,15 @@ class Integrator:
         """
     def energies(self, q: numpy.typing.ArrayLike, p: numpy.typing.ArrayLike) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         """
-        q, p: (K, n); returns (K,) energy of every row, in C++ (GIL released).
+        q (K, nq), p (K, n); returns (K,) energy of every row, in C++ (GIL released).
         """
     def energy(self, q: numpy.typing.ArrayLike, p: numpy.typing.ArrayLike) -> float:
         """
-        q, p: (n,); returns K + V at (q, velocity(q, p)), a float.
+        q (nq,), p (n,); returns K + V at (q, velocity(q, p)), a float.
         """
     def momentum(self, q: numpy.typing.ArrayLike, qdot: numpy.typing.ArrayLike) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         """
-        q, qdot: (n,); returns p = M(q) q̇, (n,).
+        q (nq,), qdot (n,); returns p = M(q) q̇, (n,).
         """
     def newton_direction(self, control_points: numpy.typing.ArrayLike, p: numpy.typing.ArrayLike, u: numpy.typing.ArrayLike | None = None) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         """
@@ -445,18 +466,19 @@ class Integrator:
         """
     def rollout(self, q0: numpy.typing.ArrayLike, p0: numpy.typing.ArrayLike, steps: typing.SupportsInt | typing.SupportsIndex, u: numpy.typing.ArrayLike | None = None, previous: numpy.typing.ArrayLike | None = None, multipliers: numpy.typing.ArrayLike | None = None, impulses: numpy.typing.ArrayLike | None = None) -> dict[str, typing.Any]:
         """
-        `steps` steps from q0, p0 (n,) in C++ (GIL released); u (steps, (s+1) m); what the step before left:
+        `steps` steps from q0 (nq,), p0 (n,) in C++ (GIL released); u (steps, (s+1) m); what the step before left:
         previous, its control points (s+1, n) (for the predictor), multipliers (s, m_c), impulses (C (2 + d),)
         (default none active). Returns a dict: q, p (K+1, n), control_points (K, (s+1) n), iterations,
-        factorizations, residual, status (per attempted step), multipliers (K, s m_c), steps K, seconds, and
+        factorizations, residual, status (per attempted step), multipliers (K, s m_c), steps K, seconds (a
+        free base: q (K+1, nq), step k's control points in the chart about q^k's attitude), and
         with contacts pivots, impulses (K, C (2 + d)), gaps (K, C), impact (K,) and step_p (K+1, n).
         """
     def rollout_batch(self, q0s: numpy.typing.ArrayLike, second: numpy.typing.ArrayLike, velocities: bool, steps: typing.SupportsInt | typing.SupportsIndex, u: numpy.typing.ArrayLike | None = None, threads: int | None = None) -> dict[str, typing.Any]:
         """
-        `steps` steps from each of B initial states, q0s (B, n) with second (B, n) the momenta p0 or, if
+        `steps` steps from each of B initial states, q0s (B, nq) with second (B, n) the momenta p0 or, if
         velocities, the velocities q̇0 (p0 = M(q0) q̇0 per state); u (B steps, (s+1) m), state b's controls
         in rows b steps .. (b+1) steps - 1. In C++ on `threads` threads (None: HOVI_NUM_THREADS or every
-        core), GIL released; each state exactly as rollout. Returns a dict: q, p (B, steps+1, n) and
+        core), GIL released; each state exactly as rollout. Returns a dict: q (B, steps+1, nq), p (B, steps+1, n) and
         control_points (B, steps, (s+1) n), multipliers (B, steps, s m_c), residual (B, steps) (NaN
         where not reached), iterations, factorizations (B, steps) (-1 where not attempted), steps (B,)
         completed, status (B,) ('converged', the failed step's status, or 'error'), seconds (B,) and
@@ -472,9 +494,10 @@ class Integrator:
         """
     def step(self, q: numpy.typing.ArrayLike, p: numpy.typing.ArrayLike, u: numpy.typing.ArrayLike | None = None, guess: numpy.typing.ArrayLike | None = None, multipliers: numpy.typing.ArrayLike | None = None, impulses: numpy.typing.ArrayLike | None = None) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], dict[str, typing.Any]]:
         """
-        One step from q, p (n,) (GIL released): guess (s+1, n) for a single Newton solve of the DEL equations
+        One step from q (nq,), p (n,) (GIL released): guess (s+1, n) for a single Newton solve of the DEL equations
         (no contacts), else every stage with its fallbacks (hovi.Integrator.step); multipliers (s, m_c) and
-        impulses (C (2 + d),) the first guesses. Returns (control points (s+1, n), p_next (n,), info dict with
+        impulses (C (2 + d),) the first guesses. A free base: the control points in the chart about q's
+        attitude and the end state q_next (nq,) in the dict. Returns (control points (s+1, n), p_next (n,), info dict with
         status, converged, iterations, factorizations, residual_evaluations, residual, multipliers (s, m_c), and
         with contacts impulses (C (2 + d),), gaps at the end (C,), pivots and impact).
         """
@@ -497,7 +520,7 @@ class Integrator:
         """
     def velocity(self, q: numpy.typing.ArrayLike, p: numpy.typing.ArrayLike) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         """
-        q, p: (n,); returns the velocity q̇ (n,) of momentum p (see hovi.Integrator.velocity).
+        q (nq,), p (n,); returns the velocity q̇ (n,) of momentum p (see hovi.Integrator.velocity).
         """
     @property
     def differentiation_matrix(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
@@ -517,7 +540,7 @@ class Integrator:
     @property
     def n(self) -> int:
         """
-        Number of joints n of the model.
+        Number of joints n of the model (the velocity's size, nv).
         """
     @property
     def n_constraints(self) -> int:
@@ -538,6 +561,11 @@ class Integrator:
     def nodes(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         """
         (s+1,) Lobatto nodes c^a on [0, 1].
+        """
+    @property
+    def nq(self) -> int:
+        """
+        The configuration's size: n, or n + 1 with a free base.
         """
     @property
     def per_contact(self) -> int:
@@ -591,7 +619,8 @@ class Linearizer:
         """
 def body_point_kinematics(model: Model, q: numpy.typing.ArrayLike, bodies: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], points: numpy.typing.ArrayLike) -> tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64]]:
     """
-    World positions (P, m, 3) and Jacobians (P, m, 3, n) of m body points at P configurations q (P, n):
+    World positions (P, m, 3) and Jacobians (P, m, 3, n) of m body points at P configurations q (P, nq)
+    (a free base: the Jacobians in its velocity, v):
     point i is points[i] (in the body's joint frame, as for add_point_constraint) of body bodies[i].
     One forward kinematics per configuration serves all the points.
     """

@@ -217,14 +217,14 @@ class Contacts:
         return np.array([c.radius for c in self.points])
 
     def gaps(self, q: np.ndarray) -> np.ndarray:
-        """The signed gaps (C,) of the contacts to the terrain at configuration q (n,) (of a sphere's
+        """The signed gaps (C,) of the contacts to the terrain at configuration q (nq,) (of a sphere's
         surface, for a contact with a radius)."""
-        q = real_array(q, "q", (self.with_inputs.n,))
+        q = real_array(q, "q", (self.with_inputs.nq,))
         gaps: np.ndarray = self.core_model().gaps(self.positions(q[None])[0])
         return gaps
 
     def positions(self, Q: np.ndarray) -> np.ndarray:
-        """(K, C, 3) world positions of the contact points (the spheres' centres) at configurations Q (K, n)."""
+        """(K, C, 3) world positions of the contact points (the spheres' centres) at configurations Q (K, nq)."""
         X, _ = _core.body_point_kinematics(self.with_inputs, Q, [int(c.body) for c in self.points],
                                            np.array([c.point for c in self.points]))
         positions: np.ndarray = X

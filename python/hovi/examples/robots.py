@@ -104,7 +104,7 @@ def littledog() -> Robot:
         joint_q[f"{leg}_knee"] = -1.55 if front else 1.55
         contacts.append(ContactPoint(f"{leg}_lower_leg", (-0.0265 if front else 0.0265, 0.0, -0.0985),
                                      radius=0.0103, name=f"{leg[0]}{leg.split('_')[1][0]}_foot"))
-    return _robot("littledog", "floating", contacts, [0.0, 0.0, 0.146, 0.0, 0.0, 0.0], joint_q)
+    return _robot("littledog", "euler", contacts, [0.0, 0.0, 0.146, 0.0, 0.0, 0.0], joint_q)
 
 
 _ATLAS_KNEE = 0.8  # the stance's knee flexion (rad); hip and ankle pitch by half of it keep pelvis and soles level
@@ -128,4 +128,4 @@ def atlas() -> Robot:
     contacts = [ContactPoint(f"{s}_foot", (x, y, -0.07645), name=f"{s}_{end}_{side}")
                 for s, sides in (("l", (("out", 0.066), ("in", -0.0626))), ("r", (("in", 0.0626), ("out", -0.066))))
                 for end, x in (("heel", -0.0876), ("toe", 0.1728)) for side, y in sides]
-    return _robot("atlas", "floating", contacts, [0.0, 0.0, height, 0.0, 0.0, 0.0], joint_q)
+    return _robot("atlas", "euler", contacts, [0.0, 0.0, height, 0.0, 0.0, 0.0], joint_q)

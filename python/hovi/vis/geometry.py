@@ -239,13 +239,12 @@ def round_scale(x: float, at_most: bool = False) -> float:
 def carriages(model: Model) -> List[tuple[int, np.ndarray]]:
     """(body, unit axis (3,) in its joint frame) of each body with mass on a prismatic joint: a cart or a
     slider, drawn as a box on a rail (the massless prismatic joints of a floating or planar base are not)."""
-    q0 = np.zeros(model.n)
+    q0 = model.neutral()
     at0 = model.joint_placements(q0)
     out = []
     for i, (kind, mass) in enumerate(zip(model.joint_types, model.masses)):
         if kind == "prismatic" and mass > 0:
-            q1 = q0.copy()
-            q1[i] = 1.0
+            q1 = model.integrate(q0, np.eye(model.n)[i])
             axis = at0[i, :3, :3].T @ (model.joint_placements(q1)[i, :3, 3] - at0[i, :3, 3])
             out.append((i, axis / np.linalg.norm(axis)))
     return out
@@ -271,7 +270,7 @@ def rail_lines(model: Model, q: Sequence[float] | np.ndarray, margin: Optional[f
 def _segments(model: Model) -> tuple[list, list, float, float]:
     """What ``default_shapes`` draws: (segments (body, a, b, b is a leaf end) in the body's joint frame,
     the centres of mass in them, the capsules' radius, the carriage box's length) at q = 0."""
-    q0 = np.zeros(model.n)
+    q0 = model.neutral()
     joints = model.joint_placements(q0)
     coms = model.body_poses(q0)[:, :3, 3]
     parents = model.parents
@@ -337,8 +336,8 @@ def motion_arrays(model: Model, motion: Motion, times: Optional[Sequence[float]]
     else:
         q = np.atleast_2d(np.asarray(motion, dtype=float))
         t = np.arange(q.shape[0]) / rate if times is None else np.asarray(times, dtype=float)
-    if q.ndim != 2 or q.shape[1] != model.n:
-        raise ValueError(f"configurations must be (N, {model.n}) for this model, got shape {q.shape}")
+    if q.ndim != 2 or q.shape[1] != model.nq:
+        raise ValueError(f"configurations must be (N, {model.nq}) for this model, got shape {q.shape}")
     return t, q
 
 

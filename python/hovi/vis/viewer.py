@@ -112,8 +112,8 @@ class Viewer:
             path = self._body_paths[shape.body].append(self._safe(shape.name))
             self._send(mc.commands.SetObject(_geometry(shape), _material(shape.rgba), path))
             self._send(mc.commands.SetTransform(_local_transform(shape), path))
-        self._rails(np.zeros(model.n))
-        self.display(np.zeros(model.n))
+        self._rails(model.neutral())
+        self.display(model.neutral())
 
     @staticmethod
     def _safe(name: str) -> str:
@@ -144,10 +144,10 @@ class Viewer:
             self._visualizer = None
 
     def display(self, q: Sequence[float] | np.ndarray) -> None:
-        """Pose the model at q: (n,) joint positions."""
+        """Pose the model at q: (nq,) joint positions (a free base: position and quaternion first)."""
         q = np.asarray(q, dtype=float)
-        if q.shape != (self.model.n,) or not np.all(np.isfinite(q)):
-            raise ValueError(f"q must be {self.model.n} finite numbers, got shape {q.shape}")
+        if q.shape != (self.model.nq,) or not np.all(np.isfinite(q)):
+            raise ValueError(f"q must be {self.model.nq} finite numbers, got shape {q.shape}")
         commands = _meshcat().commands
         for path, frame in zip(self._body_paths, body_frames(self.model, q)):
             self._send(commands.SetTransform(frame, path))
@@ -343,7 +343,7 @@ class Viewer:
         the configurations q ((n,) or (N, n); default zeros)."""
         if self._corners is None:
             self._corners = [shape_corners(s) for s in self.shapes]
-        qs = np.atleast_2d(np.zeros(self.model.n) if q is None else np.asarray(q, dtype=float))
+        qs = np.atleast_2d(self.model.neutral() if q is None else np.asarray(q, dtype=float))
         points = []
         for qk in qs[:: max(1, len(qs) // 50)]:
             frames = body_frames(self.model, qk)

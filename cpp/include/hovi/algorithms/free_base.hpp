@@ -2,8 +2,8 @@
 // that states pass between hovi and Pinocchio unchanged. The public configuration q (nq = n + 1)
 // holds the base's position (x, y, z) and its attitude as a unit quaternion (qx, qy, qz, qw) where the
 // chart holds three angles; a velocity v (n) the base's linear and angular velocity in its own frame;
-// a momentum p_v the conjugate of v, p_v = T^T p for q̇ = T v (docs/free_base.md). Inside a step the
-// base turns in the chart: angles θ about a centre C, its attitude C R(θ).
+// a momentum p_v the conjugate of v, p_v = T^T p for q̇ = T v (docs/how-it-works.md, "The free
+// base"). Inside a step the base turns in the chart: angles θ about a centre C, its attitude C R(θ).
 #pragma once
 #include "hovi/algorithms/rotation_chart.hpp"
 
@@ -24,6 +24,8 @@ class FreeBase {
   void velocity_to_public(const Eigen::Ref<const VecX>& q, const Mat3& attitude, Eigen::Ref<VecX> x) const;
   void momentum_to_public(const Eigen::Ref<const VecX>& q, const Mat3& attitude, Eigen::Ref<VecX> x) const;
   void momentum_to_chart(const Eigen::Ref<const VecX>& q, const Mat3& attitude, Eigen::Ref<VecX> x) const;
+  // Ṫ v, so that q̈ = T a + Ṫ v for an acceleration a (the derivative of v).
+  VecX velocity_rate(const Eigen::Ref<const VecX>& q, const Mat3& attitude, const Eigen::Ref<const VecX>& v) const;
   int joint() const { return j_; }
 
   // Pinocchio's integrate and difference: the base by the group, q ⊕ v = (M exp(v)) with M = (R, x),

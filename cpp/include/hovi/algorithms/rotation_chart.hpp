@@ -1,32 +1,31 @@
 // A model's base rotation as a moving chart of SO(3) (Model::set_rotation_chart): joints j..j+2 turn
-// the body by R(θ) = R_1(θ_1) R_2(θ_2) R_3(θ3) about a centre C, its attitude C R(θ). A step starts
+// the body by R(θ) = Rz(θ_1) Ry(θ_2) Rx(θ_3) about a centre C, its attitude C R(θ). A step starts
 // at θ = 0 about the attitude it starts from, so no step comes near the chart's singularity, and
 // its discrete Lagrangian is the one of the chart about its first point, L_d(R_0, R_1). That makes it
 // the variational integrator on the group: its first DEL equation, p^k = -D_1 L_d, moves the chart's
-// centre with R_0, which adds centre_term to the first residual (bench/README.md, "Free bodies on
-// SO(3)": measured, the world angular momentum of a free body kept to round-off).
+// centre with R_0, which adds centre_term to the first residual (docs/how-it-works.md, "The free
+// base"; measured in bench/README.md, "Free bodies on SE(3)").
 #pragma once
 #include "hovi/model/model.hpp"
 #include "hovi/quadrature/lobatto.hpp"
 
 namespace hovi {
 
+// The chart is Z-Y-X: R(θ) = Rz(θ_1) Ry(θ_2) Rx(θ_3) (Model::set_rotation_chart checks the axes).
 struct RotationChart {
-  Vec3 u[3];  // the three joints' axes
-
   explicit RotationChart(const Model& model);
   Mat3 rotation(const Vec3& theta) const;        // R(θ)
   // E(θ): the body's angular velocity (in its own frame) = E(θ) θ̇
   Mat3 rates_to_omega(const Vec3& theta) const;
+  Mat3 rates_to_omega_rate(const Vec3& theta, const Vec3& theta_dot) const;  // dE/dt along θ(t)
   // A(θ) = E(θ)^-1 R(θ)^T E(0): how coordinates θ about C R(δ) move about C as δ leaves 0
   Mat3 centre_shift(const Vec3& theta) const;
   Mat3 centre_shift_rate(const Vec3& theta, const Vec3& theta_dot) const;  // dA/dt along θ(t)
   // The momentum p (3,) of the chart's joints at θ, carried to the chart about C R(θ) at θ = 0:
   // the cotangent lift E(0)^T E(θ)^-T p of the change of coordinates.
   Vec3 recentred_momentum(const Vec3& theta, const Vec3& p) const;
-  // θ with R(θ) = R, by Newton from a guess near it (R(θ)^T R = exp(E(θ) δ^)); within a quarter turn
-  // of the chart's centre, where a step's points lie.
-  Vec3 angles(const Mat3& R, Vec3 guess) const;
+  // θ with R(θ) = R, |θ_2| <= π/2 (a step's points lie within a fraction of that of the centre).
+  Vec3 angles(const Mat3& R) const;
   // Control points (n x (s+1), the chart's rows j..j+2) in the chart about C, re-expressed in the
   // chart about C R(θ): each point's attitude kept.
   void recentre_points(int j, const Vec3& theta, Eigen::Ref<MatX> points) const;

@@ -64,22 +64,20 @@ constexpr double kStepTol = 1e-15;
 class StoppingRule {
  public:
   static constexpr double kFloor = 1e-10;  // relative size of a correction that may be round-off
-  // floor: kFloor, or lower for a Jacobian known to be off by a small relative amount (a free base's
-  // chart, algorithms/rotation_chart.hpp: its corrections shrink linearly, not quadratically)
-  StoppingRule(double tol, double step_tol, double residual_scale, double floor = kFloor)
-      : tol_(tol), step_tol_(step_tol), target_(tol * residual_scale), floor_(floor) {}
+  StoppingRule(double tol, double step_tol, double residual_scale)
+      : tol_(tol), step_tol_(step_tol), target_(tol * residual_scale) {}
   bool residual_small(double residual) const { return tol_ > 0 && residual <= target_; }
   bool correction_small(double dx, double smallest, double x_norm, bool fresh) const {
     const double scale = 1 + x_norm;
-    return dx <= step_tol_ * scale || (fresh && dx > 0.5 * smallest && dx <= floor_ * scale);
+    return dx <= step_tol_ * scale || (fresh && dx > 0.5 * smallest && dx <= kFloor * scale);
   }
   bool contraction_small(double theta, double dx, double x_norm) const {
     return theta < 0.5 && theta / (1 - theta) * dx <= step_tol_ * (1 + x_norm);
   }
-  bool at_floor(double dx, double x_norm) const { return dx <= floor_ * (1 + x_norm); }
+  bool at_floor(double dx, double x_norm) const { return dx <= kFloor * (1 + x_norm); }
 
  private:
-  double tol_, step_tol_, target_, floor_;
+  double tol_, step_tol_, target_;
 };
 
 // Throws InputError unless dt is positive and finite, tol >= 0 (or > 0 if required), the
@@ -99,6 +97,9 @@ struct NewtonLoop {
   // none fresh (the round-off floor test needs an exact Jacobian).
   bool fixed_jacobian = false;
   bool estimate_from_contraction = true;  // the θ test of StoppingRule
+  // Converged on a small correction: apply it (one more residual) instead of stopping before it, for
+  // an iteration that contracts only linearly (its error is about that correction).
+  bool apply_last_correction = false;
 };
 
 // NoLcpSolution: the contact step's complementarity subproblem has none (contact_solver.hpp).
@@ -150,8 +151,14 @@ SolveInfo newton_iterate(Problem& pb, const StoppingRule& rule, const NewtonLoop
       reuse = false;
       continue;
     }
-    if (pb.feasible() && rule.correction_small(dx, smallest, pb.iterate_norm(), exact))
+    if (pb.feasible() && rule.correction_small(dx, smallest, pb.iterate_norm(), exact)) {
+      if (loop.apply_last_correction) {
+        pb.trial(1);
+        ++info.residual_evaluations;
+        pb.commit();
+      }
       return finish(SolveStatus::Converged);
+    }
     smallest = std::min(smallest, dx);
     if (!pb.accept_direction(dx, previous)) return finish(SolveStatus::LineSearchFailed);
     // tryStep: backtracking from the full step.

@@ -52,9 +52,9 @@ struct SolverOptions {
 
 // The stopping rule (newton_driver.hpp) and the iteration these options ask for; the residual
 // test is relative to 1 + ||p^k||_inf.
-// A model with a free base: the lower floor and no contraction estimate, for its chart's Jacobian
-// (StoppingRule, NewtonLoop).
-StoppingRule stopping_rule(const SolverOptions& opt, const Eigen::Ref<const VecX>& p, const Model& model);
+StoppingRule stopping_rule(const SolverOptions& opt, const Eigen::Ref<const VecX>& p);
+// A model with a free base: no contraction estimate and the last correction applied, for its chart's
+// Jacobian (NewtonLoop).
 NewtonLoop newton_loop(const SolverOptions& opt, const Model& model);
 
 class DenseDirection;

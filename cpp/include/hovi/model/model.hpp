@@ -106,14 +106,16 @@ class Model {
   Vec3 point_in_com_frame(int i, const Vec3& point) const { return point - spec[i].com; }
   // The joints on the paths from `bodies` (valid indices) to the root, ascending: the ones that move them.
   std::vector<int> joints_moving(const std::vector<int>& bodies) const;
-  // The free base: joints 0-2 sliders along the world's x, y, z and joints 3-5 revolute (each the
-  // child of the one before, no offsets: R(θ) = R_1(θ_1) R_2(θ_2) R_3(θ_3), e.g. yaw, pitch, roll)
+  // The free base: joints 0-2 sliders along the world's x, y, z and joints 3-5 revolute about z, y, x
+  // (each the child of the one before, no offsets: yaw, pitch, roll, R(θ) = Rz(θ_1) Ry(θ_2) Rx(θ_3))
   // whose rotation is a moving chart of SO(3) about a centre C that each step re-centres at the
   // body's attitude (algorithms/rotation_chart.hpp). The model's public configuration then has
   // nq = n + 1 (the three angles replaced by a unit quaternion, algorithms/free_base.hpp). j must be 3.
   // Throws ModelError unless the joints are such a chain.
   void set_rotation_chart(int j);
   int nq() const { return n() + (rotation_chart >= 0 ? 1 : 0); }
+  // ModelError naming `what` for a model with a free base, where `what` works in joint coordinates only.
+  void refuse_free_base(const std::string& what) const;
   // g_{par(j),j}(0) of the chart's first joint with the centre C inserted after its placement.
   SE3 chart_placement(const Mat3& centre) const;
 

@@ -19,7 +19,10 @@
 
 namespace hovi {
 
-enum class BaseJoint { Fixed, Floating, Planar };
+// Floating: the free joint (Model::set_rotation_chart: its attitude on SO(3), a quaternion in the
+// public configuration); Euler: the same six joints with yaw, pitch, roll as coordinates (singular
+// at pitch ±90°), as the paper's robots.
+enum class BaseJoint { Fixed, Floating, Euler, Planar };
 
 struct UrdfOptions {
   BaseJoint base = BaseJoint::Fixed;  // how the root link is attached to the world
