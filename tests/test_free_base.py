@@ -222,3 +222,26 @@ def test_a_cube_on_an_edge_at_50_degrees_tips_over_and_rests_on_its_side(s, dt):
     assert abs(abs(R[2, 0]) - 1) < 1e-9          # its x axis (a side's normal) now vertical: on its side
     assert abs(traj.q[-1, 2] - 0.1) < 1e-9       # the centre at half the side above the ground
     assert np.abs(traj.qdot[-2]).max() < 1e-7    # at rest (the last row's p is before its knot's impulse)
+
+
+def test_a_free_base_trajectory_is_saved_and_loaded(tmp_path):
+    m, corners = cube()
+    integ = hovi.Integrator(m, s=2, dt=0.01, contacts=Contacts(m, corners, Terrain(), mu=0.8))
+    traj = integ.rollout(edge_pose(np.radians(50)), 30)
+    traj.save(tmp_path / "cube.npz")
+    back = hovi.load_trajectory(tmp_path / "cube.npz", integ)
+    assert back.q.shape == (31, m.nq) and np.array_equal(back.q, traj.q) and np.array_equal(back.p, traj.p)
+    np.testing.assert_array_equal(back.energy, traj.energy)
+
+
+def test_what_is_not_on_the_free_base_yet_says_so():
+    m, _ = cube()
+    integ = hovi.Integrator(m, s=1, dt=0.01)
+    with pytest.raises(hovi.ModelError, match="free base"):
+        hovi.Linearizer(integ)
+    with pytest.raises(hovi.ModelError, match="free base"):
+        m.gravity_hessian(m.neutral())
+    with pytest.raises(ValueError, match="step_batch"):
+        integ.step_batch(m.neutral()[None])
+    with pytest.raises(ValueError, match="norm 1"):
+        integ.rollout(np.r_[0, 0, 0, 1.0, 1.0, 0, 0], 1)

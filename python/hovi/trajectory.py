@@ -306,10 +306,12 @@ def check_arrays(arrays: Dict[str, Any], n_constraints: Optional[int] = None) ->
     if not np.allclose(t, np.arange(K + 1) * dt, rtol=1e-12, atol=1e-12 * dt):
         k = int(np.argmax(np.abs(t - np.arange(K + 1) * dt)))
         raise ValueError(f"t must be k dt (dt = {dt}), got t[{k}] = {t[k]}")
-    q = _numbers(a["q"], "q", (K + 1, n))
+    # a free base: q has n + 1 columns (its quaternion) and each step's control points are in its own chart
+    free = np.ndim(a["q"]) == 2 and np.shape(a["q"])[1] == n + 1
+    q = _numbers(a["q"], "q", (K + 1, n + free))
     _numbers(a["p"], "p", (K + 1, n))
     cp = _numbers(a["control_points"], "control_points", (K, s + 1, n))
-    if K and not (np.allclose(cp[:, 0], q[:-1], rtol=1e-12, atol=1e-12)
+    if K and not free and not (np.allclose(cp[:, 0], q[:-1], rtol=1e-12, atol=1e-12)
                   and np.allclose(cp[:, -1], q[1:], rtol=1e-12, atol=1e-12)):
         raise ValueError("control_points must start at q^k and end at q^{k+1} in every step k, they do not")
     status = a["status"]
