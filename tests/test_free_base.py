@@ -245,3 +245,36 @@ def test_what_is_not_on_the_free_base_yet_says_so():
         integ.step_batch(m.neutral()[None])
     with pytest.raises(ValueError, match="norm 1"):
         integ.rollout(np.r_[0, 0, 0, 1.0, 1.0, 0, 0], 1)
+
+
+@pytest.mark.parametrize("rel, free", [("solo_description/robots/solo12.urdf", True),
+                                       ("panda_description/urdf/panda.urdf", False)])
+def test_a_pinocchio_model_becomes_a_hovi_model_in_one_call(rel, free, rng):
+    """hovi.from_pinocchio: Pinocchio's joints in its own order (a free flyer as the free joint), so q
+    and v pass unchanged; mass matrix, nonlinear effects and limits as Pinocchio's."""
+    pin = pytest.importorskip("pinocchio")
+    path = erd_urdf(rel)
+    pm = pin.buildModelFromUrdf(path, pin.JointModelFreeFlyer()) if free else pin.buildModelFromUrdf(path)
+    pd = pm.createData()
+    h = hovi.from_pinocchio(pm)
+    assert h.nq == pm.nq and h.nv == pm.nv and h.free_base == free
+    assert h.joint_names[-(pm.njoints - 1 - free):] == list(pm.names)[1 + free:]
+    for _ in range(3):
+        q = pin.randomConfiguration(pm, -np.ones(pm.nq), np.ones(pm.nq)) if not free else \
+            np.r_[rng.uniform(-1, 1, 3), random_quaternion(rng), rng.uniform(-1, 1, pm.nq - 7)]
+        v = rng.uniform(-1, 1, pm.nv)
+        M = pin.crba(pm, pd, q)
+        M = np.triu(M) + np.triu(M, 1).T
+        np.testing.assert_allclose(h.mass_matrix(q), M, rtol=0, atol=1e-10 * np.abs(M).max())
+        nle = pin.nonLinearEffects(pm, pd, q, v)
+        np.testing.assert_allclose(h.inverse_dynamics(q, v, np.zeros(h.n)), nle, rtol=0, atol=1e-10 * np.abs(nle).max())
+
+
+def test_what_hovi_has_no_joint_for_is_named():
+    pin = pytest.importorskip("pinocchio")
+    pm = pin.Model()
+    pm.addJoint(0, pin.JointModelSpherical(), pin.SE3.Identity(), "ball")
+    with pytest.raises(hovi.ModelError, match="'ball' is a JointModelSpherical"):
+        hovi.from_pinocchio(pm)
+    with pytest.raises(TypeError, match="pinocchio.Model"):
+        hovi.from_pinocchio("solo12")

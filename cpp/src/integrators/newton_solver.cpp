@@ -13,10 +13,10 @@ StoppingRule stopping_rule(const SolverOptions& opt, const Eigen::Ref<const VecX
 
 NewtonLoop newton_loop(const SolverOptions& opt, const Model& model) {
   NewtonLoop loop;
-  // a free base's chart: the Jacobian is off by O(θ), so the observed contraction is no error estimate,
-  // and the iterate's error is about its last correction (not far below it): that one is applied
-  loop.estimate_from_contraction = model.rotation_chart < 0;
-  loop.apply_last_correction = model.rotation_chart >= 0;
+  // a free base's chart: the Jacobian leaves out the chart term's derivative, so Newton converges
+  // linearly at a rate that varies: its error is estimated from the larger of the last two
+  // contractions, and a small last correction is applied (the iterate's error is about that size)
+  loop.steady_contraction = loop.apply_last_correction = model.rotation_chart >= 0;
   loop.max_iterations = opt.max_iterations;
   loop.max_backtracks = opt.max_backtracks;
   loop.line_search = opt.line_search;

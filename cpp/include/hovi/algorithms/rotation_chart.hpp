@@ -36,9 +36,9 @@ struct RotationChart {
 //   sum_a w^a dt [G^a . Y^a + P^a . Ẏ^a],  Y(t) = A(θ(t)) - l_0(t) 1 - l_s(t) A(θ^s),
 // G = dL/dq + the joint forces and P = dL/dq̇ at the points. Its part along Y - Y' = sum of the interior
 // l_b(t) 1 is the sum of the chart's interior DEL equations, which vanish at the solution; C keeps the
-// rest, Y'(t) = A(θ(t)) - 1 - l_s(t) (A(θ^s) - 1) = O(θ), so that the step's equations have the same
-// solution and the DEL Jacobian without C's derivative is off by O(θ) only (a Newton step contracts
-// fast). From the chart joints' θ, θ̇ (3 x (s+1)), G and P at the points.
+// rest, Y'(t) = A(θ(t)) - 1 - l_s(t) (A(θ^s) - 1) = O(θ): the step's equations have the same
+// solution and C's derivative is small: the joints' DEL Jacobian without it gives a Newton direction
+// off by about 1e-3 (docs/how-it-works.md). From the chart joints' θ, θ̇ (3 x (s+1)), G and P at the points.
 Vec3 centre_term(const RotationChart& chart, const Quadrature& quad, double dt, const Eigen::Ref<const MatX>& theta,
                  const Eigen::Ref<const MatX>& theta_dot, const Eigen::Ref<const MatX>& G,
                  const Eigen::Ref<const MatX>& P);

@@ -97,6 +97,9 @@ struct NewtonLoop {
   // none fresh (the round-off floor test needs an exact Jacobian).
   bool fixed_jacobian = false;
   bool estimate_from_contraction = true;  // the θ test of StoppingRule
+  // The θ test on the larger of the last two observed contractions (two needed): for an iteration
+  // that converges linearly at a rate that varies from one correction to the next.
+  bool steady_contraction = false;
   // Converged on a small correction: apply it (one more residual) instead of stopping before it, for
   // an iteration that contracts only linearly (its error is about that correction).
   bool apply_last_correction = false;
@@ -118,6 +121,7 @@ SolveInfo newton_iterate(Problem& pb, const StoppingRule& rule, const NewtonLoop
   bool reuse = keep;              // may the kept factorisation serve this iteration?
   double previous = INFINITY;     // ||dx||_inf of the previous full step
   double smallest = INFINITY;     // the smallest trusted correction so far
+  double last_theta = 1;          // the contraction observed before (steady_contraction)
   for (;;) {
     if (!pb.finite()) return finish(SolveStatus::NonFinite);
     if (rule.residual_small(pb.stationarity()) && pb.feasible()) return finish(SolveStatus::Converged);
@@ -185,7 +189,9 @@ SolveInfo newton_iterate(Problem& pb, const StoppingRule& rule, const NewtonLoop
     }
     reuse = keep && (lambda == 1 || loop.fixed_jacobian);  // after a damped step the Jacobian is refactored
     const bool have_theta = lambda == 1 && previous < INFINITY;
-    const double theta = have_theta ? dx / previous : 1;  // observed contraction
+    const double observed = have_theta ? dx / previous : 1;  // observed contraction
+    const double theta = loop.steady_contraction ? std::max(observed, last_theta) : observed;
+    last_theta = observed;
     previous = lambda == 1 ? dx : INFINITY;
     pb.commit();
     if (loop.estimate_from_contraction && have_theta && pb.finite() && pb.feasible() &&
