@@ -353,7 +353,7 @@ steps, C), impact (B, steps) (NaN where not reached) and pivots (B, steps) (-1 w
             }
             const double nan = std::numeric_limits<double>::quiet_NaN();
             auto cp = filled<double>({B, S1, n}, nan), lam = filled<double>({B, s, mc}, nan);
-            MatX p_next = MatX::Constant(B, n, nan);
+            MatX p_next = MatX::Constant(B, n, nan), q_next = MatX::Constant(B, p.nq(), nan);
             VecX res = VecX::Constant(B, nan), seconds = VecX::Zero(B);
             Eigen::VectorXi its = Eigen::VectorXi::Constant(B, -1), facs = its, evals = its, piv = its;
             const int nz = p.nz(), C = integ.contacts().size();
@@ -365,6 +365,7 @@ steps, C), impact (B, steps) (NaN where not reached) and pivots (B, steps) (-1 w
               put_rows(cp, b, MatX(it.qc.transpose()), S1);
               put_rows(lam, b, MatX(it.lambda.transpose()), s);
               p_next.row(b) = it.p_next.transpose();
+              q_next.row(b) = it.q_next.transpose();
               res[b] = it.info.residual;
               its[b] = it.info.iterations;
               facs[b] = it.info.factorizations;
@@ -378,7 +379,8 @@ steps, C), impact (B, steps) (NaN where not reached) and pivots (B, steps) (-1 w
               status.append(to_string(it.info.status));
               seconds[b] = it.seconds;
             });
-            StrDict d("control_points"_a = cp, "multipliers"_a = lam, "p_next"_a = p_next, "residual"_a = res,
+            StrDict d("control_points"_a = cp, "multipliers"_a = lam, "q_next"_a = q_next, "p_next"_a = p_next,
+                      "residual"_a = res,
                       "iterations"_a = its, "factorizations"_a = facs, "residual_evaluations"_a = evals,
                       "converged"_a = converged, "status"_a = status, "seconds"_a = seconds,
                       "errors"_a = error_list(r.errors));
@@ -390,11 +392,12 @@ steps, C), impact (B, steps) (NaN where not reached) and pivots (B, steps) (-1 w
             return d;
           }, py::arg("qs"), py::arg("second"), py::arg("velocities"), py::arg("u") = py::none(),
           py::arg("threads") = py::none(), R"doc(
-One step (the fallbacks of step without a guess) from each of B states, qs (B, n) with second
+One step (the fallbacks of step without a guess) from each of B states, qs (B, nq) with second
 (B, n) the momenta p or, if velocities, the velocities q̇; u (B, (s+1) m), row b = state b's
 controls per control point. In C++ on `threads` threads (None: HOVI_NUM_THREADS or every core),
 GIL released; each state exactly as step. Returns a dict: control_points (B, s+1, n) (the last
-iterate where a solve failed), p_next (B, n), multipliers (B, s, m_c), residual (B,), iterations,
+iterate where a solve failed; a free base: in the chart about q's attitude), q_next (B, nq), p_next
+(B, n), multipliers (B, s, m_c), residual (B,), iterations,
 factorizations, residual_evaluations (B,), converged (B,), status (B,) (or 'error'), seconds (B,)
 and errors (B,) (an exception's message, or None); with contacts impulses (B, C (2 + d)), gaps (B, C)
 and pivots (B,).

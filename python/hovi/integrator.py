@@ -271,12 +271,13 @@ class Integrator:
 
     # --- momentum and energy -----------------------------------------------------------------
     def momentum(self, q: npt.ArrayLike, qdot: npt.ArrayLike) -> FloatArray:
-        """q, qdot: (n,); returns p = dL/dq̇ = M(q) q̇ (n,): the discrete momentum to start from (for a constrained model give a
-        q̇ with Dh(q) q̇ = 0, e.g. from ``project``)."""
+        """q (nq,), qdot (n,); returns p = dL/dq̇ = M(q) q̇ (n,): the discrete momentum to start from (for a
+        constrained model give a q̇ with Dh(q) q̇ = 0, e.g. from ``project``; a free base: q̇ its velocity
+        in its own frame, as Pinocchio's, and p the conjugate)."""
         return self._core.momentum(q, qdot)
 
     def velocity(self, q: npt.ArrayLike, p: npt.ArrayLike) -> FloatArray:
-        """q, p: (n,); returns the velocity q̇ (n,) of a discrete momentum p: M(q)^{-1} p, O(n).
+        """q (nq,), p (n,); returns the velocity q̇ (n,) of a discrete momentum p: M(q)^{-1} p, O(n).
 
         For a constrained model, the q̇ with Dh(q) q̇ = 0 nearest to M^{-1} p in the kinetic-energy
         metric: ``[M Dh^T; Dh 0] [q̇; μ] = [p; 0]``, solved in O(n m + m^3) with the recursive
@@ -287,7 +288,7 @@ class Integrator:
         return self._core.velocity(q, p)
 
     def energy(self, q: npt.ArrayLike, p: npt.ArrayLike) -> float:
-        """q, p: (n,); returns K + V at (q, ``velocity(q, p)``)."""
+        """q (nq,), p (n,); returns K + V at (q, ``velocity(q, p)``)."""
         return self._core.energy(q, p)
 
     def energies(self, q: npt.ArrayLike, p: npt.ArrayLike) -> FloatArray:
@@ -312,8 +313,8 @@ class Integrator:
              guess: Optional[npt.ArrayLike] = None, multipliers: Optional[npt.ArrayLike] = None,
              impulses: Optional[npt.ArrayLike] = None, raise_on_failure: bool = True
              ) -> Tuple[FloatArray, FloatArray, StepInfo]:
-        """One step from q, p (n,) with controls u ((m,) or (s+1, m)): returns (q_next (n,), p_next (n,),
-        info). ``info.control_points`` holds q^{k,0..s} and,
+        """One step from q (nq,), p (n,) with controls u ((m,) or (s+1, m)): returns (q_next (nq,), p_next
+        (n,), info) (a free base: the control points in the chart about q's attitude). ``info.control_points`` holds q^{k,0..s} and,
         for a constrained model, ``info.multipliers`` λ^{k,0..s-1} (s, n_constraints).
 
         guess: initial control points (s+1, n) for a single Newton solve; by default Newton starts
@@ -351,7 +352,7 @@ class Integrator:
     def rollout(self, q0: npt.ArrayLike, steps: int, *, p0: Optional[npt.ArrayLike] = None,
                 qdot0: Optional[npt.ArrayLike] = None, u: Optional[npt.ArrayLike] = None,
                 raise_on_failure: bool = True, progress: bool = False, chunk: int = 500) -> Trajectory:
-        """Simulate ``steps`` steps from q0 (n,) with p0 (n,) (or qdot0 (n,), default zero velocity), in C++.
+        """Simulate ``steps`` steps from q0 (nq,) with p0 (n,) (or qdot0 (n,), default zero velocity), in C++.
 
         Each step starts Newton from the control points of the last two steps extrapolated; if that solve
         fails it retries from q^k + c^a dt q̇^k (q̇^k = ``velocity(q^k, p^k)``), then from
@@ -449,7 +450,7 @@ class Integrator:
     def rollout_batch(self, q0s: npt.ArrayLike, steps: int, *, p0s: Optional[npt.ArrayLike] = None,
                       qdot0s: Optional[npt.ArrayLike] = None, u: Optional[npt.ArrayLike] = None,
                       threads: Optional[int] = None) -> TrajectoryBatch:
-        """``steps`` steps from each of B initial states at once: q0s (B, n) with p0s (B, n) or qdot0s
+        """``steps`` steps from each of B initial states at once: q0s (B, nq) with p0s (B, n) or qdot0s
         (B, n) (default: at rest), in C++ on ``threads`` threads (default: the environment variable
         HOVI_NUM_THREADS, else every core), with the GIL released.
 
@@ -493,7 +494,7 @@ class Integrator:
 
     def step_batch(self, qs: npt.ArrayLike, ps: Optional[npt.ArrayLike] = None, u: Optional[npt.ArrayLike] = None, *,
                    qdots: Optional[npt.ArrayLike] = None, threads: Optional[int] = None) -> StepBatch:
-        """One step from each of B states at once: qs (B, n) with ps (B, n) or qdots (B, n) (default: at
+        """One step from each of B states at once: qs (B, nq) with ps (B, n) or qdots (B, n) (default: at
         rest), controls u (B, m) held or (B, s+1, m) per control point; in C++ on ``threads``
         threads (default: HOVI_NUM_THREADS, else every core), GIL released.
 
@@ -510,7 +511,7 @@ class Integrator:
         if "impulses" in raw:
             contact = dict(impulses=raw["impulses"].reshape(len(Q), -1, self._core.per_contact), gaps=raw["gaps"],
                            pivots=raw["pivots"])
-        return StepBatch(q_next=cp[:, -1].copy(), p_next=raw["p_next"], control_points=cp, converged=raw["converged"],
+        return StepBatch(q_next=raw["q_next"], p_next=raw["p_next"], control_points=cp, converged=raw["converged"],
                          iterations=raw["iterations"], factorizations=raw["factorizations"],
                          residual_evaluations=raw["residual_evaluations"], residuals=raw["residual"],
                          status=raw["status"], errors=raw["errors"], solve_seconds=raw["seconds"],

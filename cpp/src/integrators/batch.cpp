@@ -1,6 +1,7 @@
 #include "hovi/integrators/batch.hpp"
 
 #include <chrono>
+#include <optional>
 
 #include "hovi/errors.hpp"
 #include "hovi/parallel/parallel_for.hpp"
@@ -48,8 +49,6 @@ RolloutBatch rollout_batch(const GalerkinIntegrator& integ, const BatchStates& x
 }
 
 StepBatch step_batch(const GalerkinIntegrator& integ, const BatchStates& x, const MatX& u, int threads) {
-  if (integ.model().rotation_chart >= 0)
-    throw InputError("step_batch on a model with a free base is not supported yet: use rollout_batch with 1 step");
   const int B = checked_batch(integ, x);
   threads = thread_count(threads);
   const int n = integ.model().n(), S1 = integ.quadrature().s + 1, m = integ.model().n_controls();
@@ -60,13 +59,30 @@ StepBatch step_batch(const GalerkinIntegrator& integ, const BatchStates& x, cons
   out.errors = parallel_for(B, threads, [&](int b, int) {
     const auto t0 = Clock::now();
     StepBatchItem& it = out.items[b];
-    const VecX p = momentum(integ, x, b);
+    VecX p = momentum(integ, x, b);
     const MatX uk = Eigen::Map<const MatX>(MatX(u.row(b)).data(), m, S1);
     it.qc.resize(n, S1);
-    it.qc.col(0) = x.q.row(b).transpose();
     it.p_next.resize(n);
     StepHistory h;
+    const bool free = integ.model().rotation_chart >= 0;
+    std::optional<FreeBase> base;
+    if (free) {  // the chart about q's attitude (θ = 0), the momentum in it
+      base.emplace(integ.model());
+      VecX q0(n);
+      base->split(x.q.row(b).transpose(), q0, h.centre);
+      base->momentum_to_chart(q0, h.centre, p);
+      it.qc.col(0) = q0;
+    } else {
+      it.qc.col(0) = x.q.row(b).transpose();
+    }
     it.info = integ.step(p, uk, it.qc, it.p_next, h, &it.contact);
+    it.q_next = it.qc.col(S1 - 1);
+    if (free) {  // the end state public
+      it.q_next.resize(integ.model().nq());
+      base->join(it.qc.col(S1 - 1), h.centre, it.q_next);
+      const Vec3 theta = it.qc.col(S1 - 1).segment<3>(integ.model().rotation_chart);
+      base->momentum_to_public(it.qc.col(S1 - 1), h.centre * base->chart.rotation(theta), it.p_next);
+    }
     it.lambda = h.lambda;
     it.z = h.z;
     it.seconds = since(t0);

@@ -503,11 +503,12 @@ class Integrator:
         """
     def step_batch(self, qs: numpy.typing.ArrayLike, second: numpy.typing.ArrayLike, velocities: bool, u: numpy.typing.ArrayLike | None = None, threads: int | None = None) -> dict[str, typing.Any]:
         """
-        One step (the fallbacks of step without a guess) from each of B states, qs (B, n) with second
+        One step (the fallbacks of step without a guess) from each of B states, qs (B, nq) with second
         (B, n) the momenta p or, if velocities, the velocities q̇; u (B, (s+1) m), row b = state b's
         controls per control point. In C++ on `threads` threads (None: HOVI_NUM_THREADS or every core),
         GIL released; each state exactly as step. Returns a dict: control_points (B, s+1, n) (the last
-        iterate where a solve failed), p_next (B, n), multipliers (B, s, m_c), residual (B,), iterations,
+        iterate where a solve failed; a free base: in the chart about q's attitude), q_next (B, nq), p_next
+        (B, n), multipliers (B, s, m_c), residual (B,), iterations,
         factorizations, residual_evaluations (B,), converged (B,), status (B,) (or 'error'), seconds (B,)
         and errors (B,) (an exception's message, or None); with contacts impulses (B, C (2 + d)), gaps (B, C)
         and pivots (B,).

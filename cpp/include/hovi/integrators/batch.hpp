@@ -35,7 +35,9 @@ RolloutBatch rollout_batch(const GalerkinIntegrator& integ, const BatchStates& x
                            int threads = 0);
 
 struct StepBatchItem {
-  MatX qc;      // n x (s+1): the control points (the last iterate if the solve failed)
+  MatX qc;      // n x (s+1): the control points (the last iterate if the solve failed; a free base: in the
+                // chart about q's attitude)
+  VecX q_next;  // nq: the end configuration (a free base's public one)
   VecX p_next;
   MatX lambda;  // m_c x s: the multipliers of a constrained model
   VecX z;       // the impulses (contacts)
