@@ -124,10 +124,14 @@ TEST(RotationChart, RolloutKeepsTheWorldMomenta) {
   }
 }
 
-TEST(RotationChart, IsRefusedWhereNotSupportedYet) {
-  Model m = floating_chain(false);
-  const GalerkinIntegrator integ(m, 1, 0.01);
+TEST(RotationChart, RolloutTakesThePublicConfiguration) {
+  const GalerkinIntegrator integ(floating_chain(false), 1, 0.01);
   EXPECT_THROW(integ.rollout(VecX::Zero(7), VecX::Zero(7), 1, MatX()), InputError);  // q0 must have nq = 8
+  VecX q0 = VecX::Zero(8);
+  q0[6] = 2;  // a quaternion of norm 2
+  EXPECT_THROW(integ.rollout(q0, VecX::Zero(7), 1, MatX()), InputError);
+  q0[6] = 1;
+  EXPECT_EQ(integ.rollout(q0, VecX::Zero(7), 1, MatX()).q.cols(), 8);
 }
 
 TEST(RotationChart, IsKeptBySerialization) {
