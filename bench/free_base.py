@@ -270,6 +270,12 @@ def cube(base: str, a: float = 0.2):
     return m, corners
 
 
+def edge_pose(angle: float, a: float = 0.2) -> np.ndarray:
+    """The free cube turned by ``angle`` about y (0: flat), its edge (a/2, ±a/2, -a/2) on the ground at x = 0."""
+    h, c, s = a / 2, np.cos(angle), np.sin(angle)
+    return np.r_[h * (s - c), 0.0, h * (s + c), 0.0, np.sin(angle / 2), 0.0, np.cos(angle / 2)]
+
+
 def to_base(base, q_free):
     """A free-base configuration as the Euler base's (x, y, z, yaw, pitch, roll)."""
     return q_free if base == "free" else np.r_[q_free[:3], zyx_angles(quaternion_matrix(q_free[3:7]))]
@@ -306,10 +312,7 @@ def cube_run(base, s, dt, q_free, v, T):
 
 
 def cube_study(quick: bool) -> dict:
-    half = 0.1
-    angle = np.radians(50)
-    edge = np.r_[half * (np.sin(angle) - np.cos(angle)), 0, half * (np.sin(angle) + np.cos(angle)),
-                 0, np.sin(angle / 2), 0, np.cos(angle / 2)]
+    edge = edge_pose(np.radians(50))
     rng = np.random.default_rng(7)
     drops = []
     for _ in range(5 if quick else 100):

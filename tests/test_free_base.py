@@ -2,29 +2,23 @@
 integrated on the group, its state in Pinocchio's conventions (q = (x, y, z, qx, qy, qz, qw, joints),
 the base's velocity in its own frame). Checked against Pinocchio (mass matrix, nonlinear effects,
 kinetic energy, integrate and difference at random unit quaternions), against a high-accuracy
-reference of the same continuous system (Pinocchio's forward dynamics and the quaternion's own
-kinematics, DOP853 at 1e-13: the order 2s), by Noether (the world momenta of a free body through the
+reference of the same continuous system (hovi's forward dynamics of the free base, itself checked
+against Pinocchio's here, and the quaternion's own kinematics, DOP853 at 1e-13: the order 2s), by Noether (the world momenta of a free body through the
 Dzhanibekov flip) and by a cube that tips over an edge the Euler angles cannot pass."""
-import os
-
 import numpy as np
 import pytest
 
 import hovi
-from conftest import erd_urdf
+from conftest import bench_module, erd_urdf
 from hovi.contact import Contacts, Terrain
+
+# the test models, the reference and the cube's poses are bench/free_base.py's (one home for each)
+fb = bench_module("free_base")
+quaternion_matrix, reference, edge_pose = fb.quaternion_matrix, fb.reference, fb.edge_pose
 
 ROBOTS = ["solo_description/robots/solo12.urdf", "talos_data/robots/talos_reduced.urdf",
           "anymal_b_simple_description/robots/anymal.urdf", "hyq_description/robots/hyq_no_sensors.urdf",
           "go1_description/urdf/go1.urdf", "romeo_description/urdf/romeo_small.urdf"]
-
-
-def quaternion_matrix(q):
-    """Rotation matrix of a unit quaternion (x, y, z, w), written out."""
-    x, y, z, w = q / np.linalg.norm(q)
-    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-                     [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-                     [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
 
 
 def random_quaternion(rng):
@@ -100,47 +94,12 @@ def test_robots_with_the_free_joint_match_pinocchio(rel, rng):
 def free_body(gravity=True):
     """An asymmetric rigid body on the free joint (principal moments 1, 2, 3 kg m^2 about axes turned
     from its frame's, its centre of mass off the joint frame's origin)."""
-    m = hovi.Model()
-    R = quaternion_matrix(np.array([0.2, -0.3, 0.1, 0.9]))
-    m.add_body("body", None, "free", mass=2.0, com=(0.05, -0.02, 0.03), inertia=R @ np.diag([1.0, 2.0, 3.0]) @ R.T)
-    if not gravity:
-        m.gravity = np.zeros(3)
-    return m
+    return fb.body(gravity=gravity)
 
 
 def floating_chain():
     """The free body with a two-link arm on skewed revolute joints."""
-    m = free_body()
-    m.add_body("upper", "body", "revolute", axis=(0.3, 1, 0.2), placement=np.block(
-        [[np.eye(3), np.array([[0.2], [0.0], [0.1]])], [np.zeros((1, 3)), np.ones((1, 1))]]), mass=0.6,
-        com=(0.15, 0, 0), inertia=np.diag([0.002, 0.01, 0.01]))
-    m.add_body("lower", "upper", "revolute", axis=(0, 0, 1), placement=np.block(
-        [[np.eye(3), np.array([[0.3], [0.0], [0.0]])], [np.zeros((1, 3)), np.ones((1, 1))]]), mass=0.4,
-        com=(0.12, 0.01, 0), inertia=np.diag([0.001, 0.006, 0.006]))
-    return m
-
-
-def reference(model, q0, v0, T):
-    """(q, v) at T of the continuous system, from hovi's own forward dynamics in the free base's
-    coordinates and the free joint's kinematics (ẋ = R v_lin, quaternion q̇ = q ⊗ (ω/2, 0)),
-    DOP853 at rtol = atol = 1e-13."""
-    from scipy.integrate import solve_ivp
-
-    def rhs(_, y):
-        q, v = y[:model.nq], y[model.nq:]
-        quat = q[3:7] / np.linalg.norm(q[3:7])
-        R = quaternion_matrix(quat)
-        w = v[3:6]
-        x, yq, z, s = quat
-        dquat = 0.5 * np.array([s * w[0] + yq * w[2] - z * w[1], s * w[1] + z * w[0] - x * w[2],
-                                s * w[2] + x * w[1] - yq * w[0], -(x * w[0] + yq * w[1] + z * w[2])])
-        return np.r_[R @ v[:3], dquat, v[6:], model.forward_dynamics(np.r_[q[:3], quat, q[7:]], v)]
-
-    sol = solve_ivp(rhs, (0, T), np.r_[q0, v0], method="DOP853", rtol=1e-13, atol=1e-13)
-    y = sol.y[:, -1]
-    q = y[:model.nq]
-    q[3:7] /= np.linalg.norm(q[3:7])
-    return q, y[model.nq:]
+    return fb.chain()
 
 
 def test_forward_dynamics_is_pinocchios_on_the_test_models(rng):
@@ -180,7 +139,7 @@ def test_the_dzhanibekov_flip_keeps_the_world_momenta(s, dt):
     m = free_body(gravity=False)
     integ = hovi.Integrator(m, s=s, dt=dt)
     # about the body's intermediate principal axis (the inertia's second column, turned), slightly off
-    R = quaternion_matrix(np.array([0.2, -0.3, 0.1, 0.9]))
+    R = quaternion_matrix(fb.TURN)
     w = 3.0 * R[:, 1] + 0.05 * R[:, 0]
     traj = integ.rollout(m.neutral(), int(round(20 / dt)), qdot0=np.r_[0.2, -0.1, 0.3, w])
     assert traj.converged
@@ -196,17 +155,9 @@ def test_the_dzhanibekov_flip_keeps_the_world_momenta(s, dt):
     assert np.ptp(E) <= {1: 1e-2, 2: 1e-4, 3: 1e-5}[s] * E[0]
 
 
-def cube(a=0.2):
-    m = hovi.Model()
-    m.add_body("cube", None, "free", mass=1.0, inertia=np.eye(3) * a * a / 6)
-    corners = [("cube", (sx * a / 2, sy * a / 2, sz * a / 2)) for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)]
-    return m, corners
-
-
-def edge_pose(angle, a=0.2):
-    """The cube turned by ``angle`` about y (0: flat), its edge (a/2, ±a/2, -a/2) on the ground at x = 0."""
-    h, c, s = a / 2, np.cos(angle), np.sin(angle)
-    return np.r_[h * (s - c), 0.0, h * (s + c), 0.0, np.sin(angle / 2), 0.0, np.cos(angle / 2)]
+def cube():
+    """The 1 kg, 0.2 m cube on the free joint and its eight corners."""
+    return fb.cube("free")
 
 
 @pytest.mark.parametrize("s, dt", [(1, 0.01), (1, 0.005), (2, 0.01), (2, 0.005)])
@@ -288,3 +239,26 @@ def test_a_batch_of_steps_is_the_single_steps(rng):
     for b in range(4):
         q1, p1, _ = integ.step(Q[b], integ.momentum(Q[b], V[b]))
         assert np.array_equal(batch.q_next[b], q1) and np.array_equal(batch.p_next[b], p1)
+
+
+def test_a_free_joint_only_at_the_root_and_states_of_its_size():
+    """add_body(..., 'free') takes the model's first body on the world only; integrate, difference and
+    the rollout take q of nq entries and v of n; each refusal names the argument, the model unchanged."""
+    m, _ = cube()
+    with pytest.raises(hovi.ModelError, match="first body, on the world"):
+        m.add_body("second", None, "free", mass=1.0, inertia=np.eye(3))
+    with pytest.raises(hovi.ModelError, match="first body, on the world"):
+        m.add_body("child", "cube", "free", mass=1.0, inertia=np.eye(3))
+    bad = hovi.Model()
+    with pytest.raises(hovi.ModelError):
+        bad.add_body("b", None, "free", mass=-1.0, inertia=np.eye(3))  # the body's own checks first
+    assert bad.n == 0
+    assert m.n == 6 and m.nq == 7
+    with pytest.raises(ValueError, match="q"):
+        m.integrate(np.zeros(6), np.zeros(6))
+    with pytest.raises(ValueError, match="v"):
+        m.integrate(m.neutral(), np.zeros(7))
+    with pytest.raises(ValueError, match="q1"):
+        m.difference(m.neutral(), np.zeros(6))
+    with pytest.raises(ValueError, match="q0"):
+        hovi.Integrator(m, s=1, dt=0.01).rollout(np.zeros(6), 1)

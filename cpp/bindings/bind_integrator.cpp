@@ -200,8 +200,7 @@ None. Raises ValueError as rollout_controls.)")
             if (free) {  // the chart about q's attitude (θ = 0), the momentum in it
               if (!guess.is_none()) throw InputError("guess is not taken for a model with a free base");
               const FreeBase base(integ.model());
-              base.split(q_in, qk, h.centre);
-              base.momentum_to_chart(qk, h.centre, pk);
+              base.state_to_chart(q_in, qk, h.centre, pk);
             }
             MatX qc(p.n(), p.s() + 1);
             if (!guess.is_none()) qc = p.control_points(guess, "guess");
@@ -220,8 +219,7 @@ None. Raises ValueError as rollout_controls.)")
             if (free) {  // the end state public
               const FreeBase base(integ.model());
               VecX q_next(p.nq());
-              base.join(qc.col(p.s()), h.centre, q_next);
-              base.momentum_to_public(qc.col(p.s()), h.centre * base.chart.rotation(qc.col(p.s()).segment<3>(3)), p_next);
+              base.state_to_public(qc.col(p.s()), h.centre, q_next, p_next);
               d["q_next"] = q_next;
             }
             if (integ.has_contacts()) {

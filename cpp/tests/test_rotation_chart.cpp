@@ -142,7 +142,7 @@ TEST(RotationChart, IsKeptBySerialization) {
 
 TEST(RotationChart, KinematicsTurnTheBodyAboutTheCentre) {
   const Model m = floating_chain(true);
-  const RotationChart chart(m);
+  const RotationChart chart{};
   Data d(m);
   const Mat3 C = chart.rotation(Vec3(0.7, -1.1, 2.0));
   d.chart_placement = m.chart_placement(C);
@@ -166,7 +166,7 @@ TEST(RotationChart, KinematicsTurnTheBodyAboutTheCentre) {
 // with p = 0 is D_1 L_d, also along the chart (the centre moves with g0), by central differences.
 TEST(RotationChart, FirstResidualIsTheGroupDerivativeOfTheDiscreteLagrangian) {
   const Model m = floating_chain(true);
-  const RotationChart chart(m);
+  const RotationChart chart{};
   const Quadrature quad(1);
   const double dt = 0.05;
   const int n = m.n();
@@ -212,7 +212,7 @@ TEST(RotationChart, FirstResidualIsTheGroupDerivativeOfTheDiscreteLagrangian) {
 // chart held fixed while a step is taken) drifts at O(dt^2s).
 double momentum_drift(int s, bool group) {
   const Model m = floating_chain(false);
-  const RotationChart chart(m);
+  const RotationChart chart{};
   const Quadrature quad(s);
   const double dt = s < 3 ? 0.02 : 0.1;  // s = 3: a step whose O(dt^6) shows above round-off
   const int n = m.n();

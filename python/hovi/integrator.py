@@ -368,6 +368,8 @@ class Integrator:
         steps = step_count(steps)
         check_trajectory_memory(steps, self.s, self.n)
         q0 = _core.real_array(q0, "q0")  # complex, text and object arrays refused, never cast
+        if q0.shape != (self.nq,):  # named here: the momentum below would call it q
+            raise ValueError(f"q0 must be a 1-D array of length {self.nq}, got shape {q0.shape}")
         if p0 is not None and qdot0 is not None:
             raise ValueError("give p0 or qdot0, not both")
         if p0 is None:

@@ -82,7 +82,7 @@ void del_residual(const Model& model, const Quadrature& quad, DelWorkspace& ws, 
   }
   if (model.rotation_chart >= 0) {  // the chart's centre moves with q^{k,0}: p^k = -D_1 L_d on the group
     const int j = model.rotation_chart;
-    r.block<3, 1>(j, 0) += centre_term(RotationChart(model), quad, dt, q.middleRows<3>(j), ws.qdot.middleRows<3>(j),
+    r.block<3, 1>(j, 0) += centre_term(RotationChart(), quad, dt, q.middleRows<3>(j), ws.qdot.middleRows<3>(j),
                                         ws.chart_G, ws.chart_P);
   }
 }

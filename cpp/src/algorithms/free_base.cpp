@@ -43,7 +43,7 @@ Eigen::Vector4d rotation_quaternion(const Mat3& R) {
   return q.coeffs();                        // (x, y, z, w)
 }
 
-FreeBase::FreeBase(const Model& model) : chart(model), j_(model.rotation_chart) {}
+FreeBase::FreeBase(const Model& model) : j_(model.rotation_chart) {}
 
 void FreeBase::split(const Eigen::Ref<const VecX>& q_pub, Eigen::Ref<VecX> q, Mat3& centre) const {
   const Eigen::Vector4d quat = q_pub.segment<4>(j_);
@@ -87,6 +87,18 @@ void FreeBase::momentum_to_chart(const Eigen::Ref<const VecX>& q, const Mat3& at
   const Vec3 theta = q.segment<3>(j_);
   x.head<3>() = (attitude * x.head<3>()).eval();
   x.segment<3>(j_) = (chart.rates_to_omega(theta).transpose() * x.segment<3>(j_)).eval();
+}
+
+void FreeBase::state_to_chart(const Eigen::Ref<const VecX>& q_pub, Eigen::Ref<VecX> q, Mat3& centre,
+                              Eigen::Ref<VecX> p) const {
+  split(q_pub, q, centre);
+  momentum_to_chart(q, centre, p);  // θ = 0: the attitude is the centre
+}
+
+void FreeBase::state_to_public(const Eigen::Ref<const VecX>& q, const Mat3& centre, Eigen::Ref<VecX> q_pub,
+                               Eigen::Ref<VecX> p) const {
+  join(q, centre, q_pub);
+  momentum_to_public(q, centre * chart.rotation(q.segment<3>(j_)), p);
 }
 
 VecX FreeBase::velocity_rate(const Eigen::Ref<const VecX>& q, const Mat3& attitude,

@@ -6,8 +6,6 @@
 
 namespace hovi {
 
-RotationChart::RotationChart(const Model&) {}
-
 Mat3 RotationChart::rotation(const Vec3& theta) const {
   const double ca = std::cos(theta[0]), sa = std::sin(theta[0]), cb = std::cos(theta[1]), sb = std::sin(theta[1]),
                cc = std::cos(theta[2]), sc = std::sin(theta[2]);

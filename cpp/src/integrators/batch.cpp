@@ -69,8 +69,7 @@ StepBatch step_batch(const GalerkinIntegrator& integ, const BatchStates& x, cons
     if (free) {  // the chart about q's attitude (θ = 0), the momentum in it
       base.emplace(integ.model());
       VecX q0(n);
-      base->split(x.q.row(b).transpose(), q0, h.centre);
-      base->momentum_to_chart(q0, h.centre, p);
+      base->state_to_chart(x.q.row(b).transpose(), q0, h.centre, p);
       it.qc.col(0) = q0;
     } else {
       it.qc.col(0) = x.q.row(b).transpose();
@@ -79,9 +78,7 @@ StepBatch step_batch(const GalerkinIntegrator& integ, const BatchStates& x, cons
     it.q_next = it.qc.col(S1 - 1);
     if (free) {  // the end state public
       it.q_next.resize(integ.model().nq());
-      base->join(it.qc.col(S1 - 1), h.centre, it.q_next);
-      const Vec3 theta = it.qc.col(S1 - 1).segment<3>(integ.model().rotation_chart);
-      base->momentum_to_public(it.qc.col(S1 - 1), h.centre * base->chart.rotation(theta), it.p_next);
+      base->state_to_public(it.qc.col(S1 - 1), h.centre, it.q_next, it.p_next);
     }
     it.lambda = h.lambda;
     it.z = h.z;

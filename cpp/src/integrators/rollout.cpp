@@ -64,8 +64,7 @@ Rollout GalerkinIntegrator::rollout(const VecX& q0, const VecX& p0, int N, const
   if (free_base_) {
     if (hook) throw InputError("a controller on a model with a free base is not supported yet");
     VecX q(n), p(p0);
-    free_base_->split(q0, q, h.centre);
-    free_base_->momentum_to_chart(q, h.centre, p);
+    free_base_->state_to_chart(q0, q, h.centre, p);
     out.q.row(0) = q.transpose();
     out.p.row(0) = p.transpose();
     attitude.resize(N + 1, 4);

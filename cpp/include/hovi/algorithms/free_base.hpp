@@ -28,12 +28,18 @@ class FreeBase {
   VecX velocity_rate(const Eigen::Ref<const VecX>& q, const Mat3& attitude, const Eigen::Ref<const VecX>& v) const;
   int joint() const { return j_; }
 
+  // A whole state: public (q_pub: nq; p in place) -> the chart about q's attitude (q: n with θ = 0,
+  // its centre), and a chart state (q: n, any θ, about centre; p in place) -> public (q_pub: nq).
+  void state_to_chart(const Eigen::Ref<const VecX>& q_pub, Eigen::Ref<VecX> q, Mat3& centre, Eigen::Ref<VecX> p) const;
+  void state_to_public(const Eigen::Ref<const VecX>& q, const Mat3& centre, Eigen::Ref<VecX> q_pub,
+                       Eigen::Ref<VecX> p) const;
+
   // Pinocchio's integrate and difference: the base by the group, q ⊕ v = (M exp(v)) with M = (R, x),
   // and v = log(M_0^-1 M_1); the other joints by addition. q: nq, v: n.
   VecX integrate(const Eigen::Ref<const VecX>& q, const Eigen::Ref<const VecX>& v) const;
   VecX difference(const Eigen::Ref<const VecX>& q0, const Eigen::Ref<const VecX>& q1) const;
 
-  const RotationChart chart;
+  const RotationChart chart{};
 
  private:
   int j_;  // the chart's first joint (3)

@@ -13,7 +13,6 @@ namespace hovi {
 
 // The chart is Z-Y-X: R(θ) = Rz(θ_1) Ry(θ_2) Rx(θ_3) (Model::set_rotation_chart checks the axes).
 struct RotationChart {
-  explicit RotationChart(const Model& model);
   Mat3 rotation(const Vec3& theta) const;        // R(θ)
   // E(θ): the body's angular velocity (in its own frame) = E(θ) θ̇
   Mat3 rates_to_omega(const Vec3& theta) const;
