@@ -157,6 +157,8 @@ TEST(RotationChart, KinematicsTurnTheBodyAboutTheCentre) {
   const Mat3 dR = (chart.rotation(theta + h * rates) - chart.rotation(theta - h * rates)) / (2 * h);
   const Mat3 W = chart.rotation(theta).transpose() * dR;
   EXPECT_LT((Vec3(W(2, 1), W(0, 2), W(1, 0)) - chart.rates_to_omega(theta) * rates).norm(), 1e-9);
+  // the chart's inverse: angles(R(θ)) = θ (|θ_2| < π/2), in closed form
+  EXPECT_LT((chart.angles(chart.rotation(theta)) - theta).norm(), 1e-14);
   // dA/dt against differences of A along θ(t) = θ + t θ̇
   const Mat3 dA = (chart.centre_shift(theta + h * rates) - chart.centre_shift(theta - h * rates)) / (2 * h);
   EXPECT_LT((chart.centre_shift_rate(theta, rates) - dA).norm(), 1e-8);
