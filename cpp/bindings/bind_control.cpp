@@ -360,7 +360,7 @@ solve_failure its message (else None).
                           const ArrayLike& p0s, int steps, const OptInt& threads) {
         if (plants.empty()) throw InputError("give at least one plant");
         const Policy policy = policy_arg(x_ref, u_ref, gains, lower, upper);
-        const MatX Q0 = as_matrix(q0s, "q0s", -1, -1), P0 = as_matrix(p0s, "p0s", Q0.rows(), Q0.cols());
+        const MatX Q0 = as_matrix(q0s, "q0s", -1, -1), P0 = as_matrix(p0s, "p0s", Q0.rows(), -1);
         if (steps < 0) throw InputError("steps must be non-negative");
         const int nthreads = threads_arg(threads);
         return run_batch(plants, policy, pushes, Q0, P0, steps, nthreads);
@@ -368,9 +368,9 @@ solve_failure its message (else None).
       py::arg("pushes"), py::arg("q0s"), py::arg("p0s"), py::arg("steps"), py::arg("threads") = py::none(), R"doc(
 B closed-loop runs of `steps` steps in C++ (GIL released, `threads` threads): plants, a list of one or
 B _core.Integrator (with or without contacts); the policy u^{k,a} = clamp(u_ref^{k,a} - K^k (x - x_ref^k))
-from x_ref (S, 2n), u_ref (S, (s+1) m), gains (S, m, 2n), lower, upper (m,); pushes: a list of one or
+from x_ref (S, nq + n), u_ref (S, (s+1) m), gains (S, m, 2n), lower, upper (m,); pushes: a list of one or
 B lists of (step, body, point (3,) in the joint frame, world impulse (3,)[, world angular impulse (3,)]);
-q0s, p0s (B, n). Returns
+q0s (B, nq), p0s (B, n). Returns
 (items: B rollout dicts with `controls` (K, (s+1) m), or None for an item that raised, errors (B,)).
 )doc");
 }

@@ -120,31 +120,37 @@ class Linearizer:
                              "not differentiable there (a contact switch); linearise away from impacts")
         impulses = None if info.impulses is None else info.impulses.reshape(1, -1)
         Am, Bm = self._core.step_jacobians(info.control_points, u, A, B, info.multipliers, impulses,
-                                           real_number(smoothing, "smoothing", minimum=0.0))
+                                           real_number(smoothing, "smoothing", minimum=0.0), self._start(q))
         if Bm is not None and hold:
             Bm = _hold(Bm, self.integrator.model.n_controls)
         return StepLinearization(q_next, p_next, info.control_points, Am, Bm)
 
+    def _start(self, q: npt.ArrayLike) -> Optional[FloatArray]:
+        """A free base's step start q^k (its attitude places the step's chart), else None."""
+        return _core.real_array(q, "q") if self.integrator.model.free_base else None
+
     def linearize_at(self, control_points: npt.ArrayLike, u: Optional[npt.ArrayLike] = None, *, A: bool = True,
                      B: bool = True, hold: bool = False, multipliers: Optional[npt.ArrayLike] = None,
-                     impulses: Optional[npt.ArrayLike] = None, smoothing: float = 0.0
-                     ) -> Tuple[Optional[FloatArray], Optional[FloatArray]]:
+                     impulses: Optional[npt.ArrayLike] = None, smoothing: float = 0.0,
+                     start: Optional[npt.ArrayLike] = None) -> Tuple[Optional[FloatArray], Optional[FloatArray]]:
         """(A (2n, 2n), B (2n, (s+1) m)) at given converged control points (s+1, n) of a step, with its
         multipliers (s, m_c) for a constrained model, or with contacts its impulses (C, 2 + d) and
         ``smoothing`` as for ``step_jacobians``; None for what was not asked for. Control points (K, s+1, n)
         (with u (K, s+1, m), multipliers (K, s, m_c), impulses (K, C, 2 + d)) give K steps at once, in C++:
-        (K, 2n, 2n) and (K, 2n, (s+1) m)."""
+        (K, 2n, 2n) and (K, 2n, (s+1) m). A model with a free base needs the step's ``start`` q^k (nq,), or
+        (K, nq): its control points are in the chart about that attitude."""
         smoothing = real_number(smoothing, "smoothing", minimum=0.0)
         cps = _core.real_array(control_points, "control_points")
         if cps.ndim == 3:
             K = len(cps)
             rows = [None if x is None else np.ascontiguousarray(_core.real_array(x, name).reshape(K, -1))
                     for x, name in ((u, "u"), (multipliers, "multipliers"), (impulses, "impulses"))]
+            starts = None if start is None else np.ascontiguousarray(_core.real_array(start, "start").reshape(K, -1))
             Am, Bm = self._core.rollout_jacobians(np.ascontiguousarray(cps.reshape(K, -1)), rows[0], A, B, rows[1],
-                                                  rows[2], smoothing)
+                                                  rows[2], smoothing, starts)
         else:
             z = None if impulses is None else _core.real_array(impulses, "impulses").reshape(1, -1)
-            Am, Bm = self._core.step_jacobians(cps, u, A, B, multipliers, z, smoothing)
+            Am, Bm = self._core.step_jacobians(cps, u, A, B, multipliers, z, smoothing, start)
         if Bm is not None and hold:
             Bm = _hold(Bm, self.integrator.model.n_controls)
         return Am, Bm
@@ -174,8 +180,9 @@ class Linearizer:
             impulses = np.ascontiguousarray(trajectory.contact.impulses.reshape(K, -1))
         if trajectory.multipliers is not None:
             mult = np.ascontiguousarray(trajectory.multipliers.reshape(K, -1))
+        starts = np.ascontiguousarray(trajectory.q[:K]) if integ.model.free_base else None
         As, Bs = self._core.rollout_jacobians(cps, U, A, B, mult, impulses,
-                                              real_number(smoothing, "smoothing", minimum=0.0))
+                                              real_number(smoothing, "smoothing", minimum=0.0), starts)
         if Bs is not None and hold:
             Bs = _hold(Bs, integ.model.n_controls)
         return As, Bs
@@ -205,9 +212,10 @@ class Linearizer:
         if K and todo.size:
             mult = None if batch.multipliers is None else batch.multipliers[todo].reshape(todo.size * K, -1)
             z = None if batch.contact is None else batch.contact.impulses[todo].reshape(todo.size * K, -1)
+            starts = batch.q[todo, :K].reshape(todo.size * K, -1) if integ.model.free_base else None
             a, b_, errs = self._core.rollout_jacobians_batch(
                 batch.control_points[todo].reshape(todo.size * K, -1), K,
-                None if U is None else U[todo].reshape(todo.size * K, -1), A, B, mult, z, 0.0, threads)
+                None if U is None else U[todo].reshape(todo.size * K, -1), A, B, mult, z, 0.0, threads, starts)
             for i, e in zip(todo, errs):
                 errors[i] = e
             linearised = todo[[e is None for e in errs]]

@@ -8,7 +8,7 @@ namespace hovi {
 Rollout closed_loop(const GalerkinIntegrator& plant, const Policy& policy, const std::vector<Push>& pushes,
                     const VecX& q0, const VecX& p0, int N) {
   const Model& model = plant.model();
-  policy.check(model.n(), model.n_controls(), plant.quadrature().s);
+  policy.check(model, plant.quadrature().s);
   check_pushes(model, pushes);
   PolicyHook hook(model, policy, pushes);
   return plant.rollout(q0, p0, N, MatX(), StepHistory(), &hook);

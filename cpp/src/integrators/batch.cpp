@@ -88,20 +88,22 @@ StepBatch step_batch(const GalerkinIntegrator& integ, const BatchStates& x, cons
 }
 
 std::vector<std::string> trajectory_jacobians_batch(const Linearizer& lin, int B, int K, const MatX& C, const MatX& U,
-                                                    const MatX& W, double* As, double* Bs, double smoothing, int threads) {
+                                                    const MatX& W, double* As, double* Bs, double smoothing, int threads,
+                                                    const MatX& starts) {
   if (B < 1) throw InputError("the batch is empty (B = 0 trajectories)");
   threads = thread_count(threads);
   const int n = lin.model().n(), s = lin.quadrature().s, m = lin.model().n_controls();
   const Eigen::Index rows = static_cast<Eigen::Index>(B) * K;
   if (K < 0 || C.rows() != rows || C.cols() != (s + 1) * n || U.rows() != rows || U.cols() != (s + 1) * m ||
-      (W.size() && W.rows() != rows))
+      (W.size() && W.rows() != rows) || (starts.size() && starts.rows() != rows))
     throw InputError("control points, controls and the steps' multipliers or impulses must have B K rows");
   const std::size_t a_size = std::size_t(K) * 4 * n * n, b_size = std::size_t(K) * 2 * n * (s + 1) * m;
   return parallel_for(B, threads, [&](int b, int) {
     const Eigen::Index first = static_cast<Eigen::Index>(b) * K;
     const int failed = lin.trajectory_jacobians(C.middleRows(first, K), U.middleRows(first, K),
                                                 W.size() ? MatX(W.middleRows(first, K)) : MatX(),
-                                                As ? As + b * a_size : nullptr, Bs ? Bs + b * b_size : nullptr, smoothing);
+                                                As ? As + b * a_size : nullptr, Bs ? Bs + b * b_size : nullptr, smoothing,
+                                                starts.size() ? MatX(starts.middleRows(first, K)) : MatX());
     if (failed >= 0) throw InputError("the DEL Jacobian is singular at step " + std::to_string(failed));
   });
 }

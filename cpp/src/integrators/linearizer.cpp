@@ -14,7 +14,10 @@ Linearizer::Linearizer(const GalerkinIntegrator& integ)
       nz_(integ.contacts().unknowns()), aug_(mc_ ? with_constraint_forces(model_) : model_),
       contact_(integ.has_contacts() ? std::make_unique<ContactJacobians>(model_, quad_, dt_, integ.contacts()) : nullptr),
       pool_([this] { return std::make_unique<Workspace>(aug_, model_, quad_); }) {
-  model_.refuse_free_base("the linearisation (and what is built on it: LQR, FDDP, MPC)");
+  if (model_.rotation_chart >= 0) {
+    if (contact_) model_.refuse_free_base("the linearisation through contact");
+    free_ = std::make_unique<FreeBaseJacobians>(model_, quad_, dt_);
+  }
 }
 
 void Linearizer::del_jacobian(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u, MatX& Jq, MatX* Ju,
@@ -41,8 +44,19 @@ void Linearizer::del_jacobian(const Eigen::Ref<const MatX>& qc, const Eigen::Ref
 }
 
 bool Linearizer::step_jacobians(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u, MatX* A, MatX* B,
-                                const Eigen::Ref<const MatX>& lambda, MatX* Yx, MatX* Yu, double smoothing) const {
+                                const Eigen::Ref<const MatX>& lambda, MatX* Yx, MatX* Yu, double smoothing,
+                                const Eigen::Ref<const VecX>& start) const {
   if (smoothing != 0 && !contact_) throw InputError("smoothing is for an integrator with contacts");
+  if (free_) {
+    if (Yx || Yu) model_.refuse_free_base("the control points' sensitivities (FDDP)");
+    if (start.size() != model_.nq())
+      throw InputError("a free base's linearisation needs the step's start q (" + std::to_string(model_.nq()) +
+                       " entries)");
+    VecX q(model_.n());
+    Mat3 centre;
+    FreeBase(model_).split(start, q, centre);
+    return free_->step_jacobians(qc, u, centre, A, B);
+  }
   if (!(smoothing >= 0) || !std::isfinite(smoothing)) throw InputError("smoothing must be finite and >= 0");
   if (contact_) {  // the contact step; s = 1: its one unknown control point is q^{k+1}, the top rows of A and B
     if ((Yx || Yu) && quad_.s != 1) throw InputError("the control points' sensitivities through contact need s = 1");
@@ -114,16 +128,22 @@ bool Linearizer::step_jacobians(const Eigen::Ref<const MatX>& qc, const Eigen::R
 }
 
 int Linearizer::trajectory_jacobians(const Eigen::Ref<const MatX>& C, const Eigen::Ref<const MatX>& U,
-                                     const Eigen::Ref<const MatX>& W, double* As, double* Bs, double smoothing) const {
+                                     const Eigen::Ref<const MatX>& W, double* As, double* Bs, double smoothing,
+                                     const Eigen::Ref<const MatX>& starts) const {
   using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
   const int n = model_.n(), s = quad_.s, S1 = s + 1, m = model_.n_controls();
   const int rows = contact_ ? static_cast<int>(W.cols()) : mc_, cols = contact_ ? 1 : s;  // one step's w
   MatX A, B, qc(n, S1), uk(m, S1), wk(rows, cols);
+  if (free_ && (starts.rows() != C.rows() || starts.cols() != model_.nq()))
+    throw InputError("a free base's linearisation needs every step's start q (steps x " +
+                     std::to_string(model_.nq()) + ")");
   for (int k = 0; k < C.rows(); ++k) {
     for (int c = 0; c < S1; ++c) qc.col(c) = C.row(k).segment(c * n, n).transpose();
     for (int c = 0; c < S1; ++c) uk.col(c) = U.row(k).segment(c * m, m).transpose();
     for (int c = 0; c < cols && rows; ++c) wk.col(c) = W.row(k).segment(c * rows, rows).transpose();
-    if (!step_jacobians(qc, uk, As ? &A : nullptr, Bs ? &B : nullptr, wk, nullptr, nullptr, smoothing)) return k;
+    const VecX start = free_ ? VecX(starts.row(k).transpose()) : VecX();
+    if (!step_jacobians(qc, uk, As ? &A : nullptr, Bs ? &B : nullptr, wk, nullptr, nullptr, smoothing, start))
+      return k;
     if (As) Eigen::Map<RowMajor>(As + std::size_t(k) * 4 * n * n, 2 * n, 2 * n) = A;
     if (Bs) Eigen::Map<RowMajor>(Bs + std::size_t(k) * 2 * n * S1 * m, 2 * n, S1 * m) = B;
   }

@@ -62,7 +62,6 @@ Rollout GalerkinIntegrator::rollout(const VecX& q0, const VecX& p0, int N, const
   start_rollout(q0, p0, N, u, h, out, hook != nullptr);
   MatX attitude;  // a free base: (N+1) x 4, the base's attitude at q^k
   if (free_base_) {
-    if (hook) throw InputError("a controller on a model with a free base is not supported yet");
     VecX q(n), p(p0);
     free_base_->state_to_chart(q0, q, h.centre, p);
     out.q.row(0) = q.transpose();
@@ -82,7 +81,8 @@ Rollout GalerkinIntegrator::rollout(const VecX& q0, const VecX& p0, int N, const
     qc.col(0) = out.q.row(k).transpose();
     if (hook) {  // the hook's controls (and its momentum: an impulse) into uk and the record
       uk.setZero(m, S1);
-      const bool controlled = hook->before_step(k, out.q.row(k).transpose(), p, uk);
+      const bool controlled = free_base_ ? public_hook(*hook, k, qc.col(0), h.centre, p, uk)
+                                         : hook->before_step(k, out.q.row(k).transpose(), p, uk);
       if (uk.rows() != m || uk.cols() != S1 || !p.allFinite())
         throw InputError("the controller gave controls of the wrong shape, or a momentum with NaN or infinity, at "
                          "step " + std::to_string(k));
@@ -135,6 +135,16 @@ Rollout GalerkinIntegrator::rollout(const VecX& q0, const VecX& p0, int N, const
   }
   if (free_base_) public_record(out, attitude);
   return out;
+}
+
+bool GalerkinIntegrator::public_hook(StepHook& hook, int k, const VecX& q, const Mat3& centre, VecX& p,
+                                     MatX& uk) const {
+  VecX q_pub(model_.nq());
+  free_base_->state_to_public(q, centre, q_pub, p);
+  const bool controlled = hook.before_step(k, q_pub, p, uk);
+  if (p.allFinite())
+    free_base_->momentum_to_chart(q, centre * free_base_->chart.rotation(q.segment<3>(model_.rotation_chart)), p);
+  return controlled;
 }
 
 void GalerkinIntegrator::public_record(Rollout& out, const MatX& attitude) const {

@@ -597,26 +597,28 @@ class Linearizer:
         control_points (s+1, n), u (m,) or (s+1, m), multipliers (s, m_c) of a constrained model; returns
         (dq ((s+1) n, (s+1) n), du ((s+1) n, (s+1) (m + m_c)) or None, dh (s m_c, (s+1) n) or None).
         """
-    def rollout_jacobians(self, control_points: numpy.typing.ArrayLike, u: numpy.typing.ArrayLike | None = None, want_A: bool = True, want_B: bool = True, multipliers: numpy.typing.ArrayLike | None = None, impulses: numpy.typing.ArrayLike | None = None, smoothing: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> tuple[numpy.typing.NDArray[numpy.float64] | None, numpy.typing.NDArray[numpy.float64] | None]:
+    def rollout_jacobians(self, control_points: numpy.typing.ArrayLike, u: numpy.typing.ArrayLike | None = None, want_A: bool = True, want_B: bool = True, multipliers: numpy.typing.ArrayLike | None = None, impulses: numpy.typing.ArrayLike | None = None, smoothing: typing.SupportsFloat | typing.SupportsIndex = 0.0, starts: numpy.typing.ArrayLike | None = None) -> tuple[numpy.typing.NDArray[numpy.float64] | None, numpy.typing.NDArray[numpy.float64] | None]:
         """
         control_points (K, (s+1) n) of K converged steps, u (K, (s+1) m), multipliers (K, s m_c) of a
         constrained model, or with contacts impulses (K, C (2 + d)) and smoothing (the central-path parameter,
-        in (N s)^2; 0 holds each contact's state); returns (A (K, 2n, 2n) or None, B (K, 2n, (s+1) m) or
+        in (N s)^2; 0 holds each contact's state), with a free base the steps' starts q^k (K, nq); returns (A (K, 2n, 2n) or None, B (K, 2n, (s+1) m) or
         None), computed in C++ (GIL released).
         """
-    def rollout_jacobians_batch(self, control_points: numpy.typing.ArrayLike, steps: typing.SupportsInt | typing.SupportsIndex, u: numpy.typing.ArrayLike | None = None, want_A: bool = True, want_B: bool = True, multipliers: numpy.typing.ArrayLike | None = None, impulses: numpy.typing.ArrayLike | None = None, smoothing: typing.SupportsFloat | typing.SupportsIndex = 0.0, threads: int | None = None) -> tuple[numpy.typing.NDArray[numpy.float64] | None, numpy.typing.NDArray[numpy.float64] | None, list]:
+    def rollout_jacobians_batch(self, control_points: numpy.typing.ArrayLike, steps: typing.SupportsInt | typing.SupportsIndex, u: numpy.typing.ArrayLike | None = None, want_A: bool = True, want_B: bool = True, multipliers: numpy.typing.ArrayLike | None = None, impulses: numpy.typing.ArrayLike | None = None, smoothing: typing.SupportsFloat | typing.SupportsIndex = 0.0, threads: int | None = None, starts: numpy.typing.ArrayLike | None = None) -> tuple[numpy.typing.NDArray[numpy.float64] | None, numpy.typing.NDArray[numpy.float64] | None, list]:
         """
         rollout_jacobians of B trajectories of `steps` converged steps each: control_points (B steps, (s+1) n),
-        u (B steps, (s+1) m), multipliers (B steps, s m_c) or impulses (B steps, C (2 + d)), trajectory b in
+        u (B steps, (s+1) m), multipliers (B steps, s m_c) or impulses (B steps, C (2 + d)), starts (B steps, nq)
+        with a free base, trajectory b in
         rows b steps .. (b+1) steps - 1; in C++ on `threads` threads (None: HOVI_NUM_THREADS or every core),
         GIL released. Returns (A (B, steps, 2n, 2n) or None, B (B, steps, 2n, (s+1) m) or None, errors (B,):
         None, or the message for a trajectory with a singular step, whose blocks are left unset).
         """
-    def step_jacobians(self, control_points: numpy.typing.ArrayLike, u: numpy.typing.ArrayLike | None = None, want_A: bool = True, want_B: bool = True, multipliers: numpy.typing.ArrayLike | None = None, impulses: numpy.typing.ArrayLike | None = None, smoothing: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"] | None, typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"] | None]:
+    def step_jacobians(self, control_points: numpy.typing.ArrayLike, u: numpy.typing.ArrayLike | None = None, want_A: bool = True, want_B: bool = True, multipliers: numpy.typing.ArrayLike | None = None, impulses: numpy.typing.ArrayLike | None = None, smoothing: typing.SupportsFloat | typing.SupportsIndex = 0.0, start: numpy.typing.ArrayLike | None = None) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"] | None, typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"] | None]:
         """
         At a converged step's control points (s+1, n) (and multipliers (s, m_c), or with contacts its impulses
-        (1, C (2 + d)) and the smoothing): returns (A (2n, 2n) or None, B (2n, (s+1) m) or None), the
-        Jacobians of (q^{k+1}, p^{k+1}) by (q^k, p^k) and u^{k,0..s}.
+        (1, C (2 + d)) and the smoothing; with a free base its start q^k (nq,)): returns (A (2n, 2n) or None,
+        B (2n, (s+1) m) or None), the Jacobians of (q^{k+1}, p^{k+1}) by (q^k, p^k) and u^{k,0..s} (a free
+        base: in tangent coordinates, (q ⊖ q_ref, p)).
         """
 def body_point_kinematics(model: Model, q: numpy.typing.ArrayLike, bodies: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], points: numpy.typing.ArrayLike) -> tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64]]:
     """

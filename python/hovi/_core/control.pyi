@@ -66,9 +66,9 @@ def closed_loop(plants: list, x_ref: numpy.typing.ArrayLike, u_ref: numpy.typing
     """
     B closed-loop runs of `steps` steps in C++ (GIL released, `threads` threads): plants, a list of one or
     B _core.Integrator (with or without contacts); the policy u^{k,a} = clamp(u_ref^{k,a} - K^k (x - x_ref^k))
-    from x_ref (S, 2n), u_ref (S, (s+1) m), gains (S, m, 2n), lower, upper (m,); pushes: a list of one or
+    from x_ref (S, nq + n), u_ref (S, (s+1) m), gains (S, m, 2n), lower, upper (m,); pushes: a list of one or
     B lists of (step, body, point (3,) in the joint frame, world impulse (3,)[, world angular impulse (3,)]);
-    q0s, p0s (B, n). Returns
+    q0s (B, nq), p0s (B, n). Returns
     (items: B rollout dicts with `controls` (K, (s+1) m), or None for an item that raised, errors (B,)).
     """
 def discrete_are(A: numpy.typing.ArrayLike, B: numpy.typing.ArrayLike, Q: numpy.typing.ArrayLike, R: numpy.typing.ArrayLike) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], int]:

@@ -104,9 +104,9 @@ def _plants(plants: Union[Integrator, Sequence[Integrator]], policy: Policy) -> 
     for p in items:
         if not isinstance(p, Integrator):
             raise TypeError(f"a plant must be a hovi.Integrator, got {type(p).__name__}")
-        if p.n != policy.n or p.model.n_controls != policy.m or p.s != policy.s:
-            raise ValueError(f"the plant (n = {p.n}, m = {p.model.n_controls}, s = {p.s}) does not fit the policy "
-                             f"(n = {policy.n}, m = {policy.m}, s = {policy.s})")
+        if p.n != policy.n or p.nq != policy.nq or p.model.n_controls != policy.m or p.s != policy.s:
+            raise ValueError(f"the plant (nq = {p.nq}, n = {p.n}, m = {p.model.n_controls}, s = {p.s}) does not fit the "
+                             f"policy (nq = {policy.nq}, n = {policy.n}, m = {policy.m}, s = {policy.s})")
         if abs(p.dt - policy.dt) > 1e-12 * policy.dt:
             raise ValueError(f"the plant's dt ({p.dt:g}) is not the policy's ({policy.dt:g}): its gains are those of "
                              "steps of its dt; make the policy on an integrator of the plant's dt")
@@ -151,11 +151,11 @@ def _per_run(value: Any, name: str, B: int, n: int) -> FloatArray:
 
 
 def _states(plants: List[Integrator], q0: Any, p0: Any, qdot0: Any, B: int) -> tuple[FloatArray, FloatArray]:
-    """The runs' initial (q, p), each (B, n); p from qdot0 (default rest) when p0 is not given."""
+    """The runs' initial q (B, nq) and p (B, n); p from qdot0 (default rest) when p0 is not given."""
     n = plants[0].n
     if p0 is not None and qdot0 is not None:
         raise ValueError("give p0 or qdot0, not both")
-    Q = _per_run(q0, "q0", B, n)
+    Q = _per_run(q0, "q0", B, plants[0].nq)
     if p0 is not None:
         return Q, _per_run(p0, "p0", B, n)
     V = np.zeros((B, n)) if qdot0 is None else _per_run(qdot0, "qdot0", B, n)

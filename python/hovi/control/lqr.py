@@ -74,11 +74,27 @@ def equilibrium_controls(integrator: Integrator, q: npt.ArrayLike) -> FloatArray
     """The held controls u (m,) that balance gravity at q (``static_controls``): least norm over the
     controls and, with contacts, the contact forces (which then carry the weight with them). ``lqr``
     checks that they hold q at rest."""
-    q = real_array(q, "q", (integrator.n,))
+    q = real_array(q, "q", (integrator.nq,))
+    if integrator.model.free_base:
+        return _step_equilibrium(integrator, q)
     if integrator.contacts is None:
         return static_controls(integrator.model, q)
     with_inputs = integrator.contacts.core_model().with_inputs(integrator.model)  # the plant's, not the contacts' model
     return static_controls(with_inputs, q)[:integrator.model.n_controls]
+
+
+def _step_equilibrium(integrator: Integrator, q: FloatArray) -> FloatArray:
+    """The held controls u (m,) under which a step from rest at q ends at rest (p^{k+1} = 0), least norm, by
+    Gauss-Newton on the step with its exact B: a free base's statics, whose forces the chart holds."""
+    lin, m = Linearizer(integrator), integrator.model.n_controls
+    u, p0 = np.zeros(m), np.zeros(integrator.n)
+    for _ in range(20):
+        step = lin.step_jacobians(q, p0, u, A=False, hold=True)
+        assert step.B is not None
+        if np.abs(step.p_next).max() <= 1e-13 * (1 + np.abs(u).max()):
+            break
+        u = u - np.linalg.lstsq(step.B[integrator.n:], step.p_next, rcond=None)[0]
+    return u
 
 
 def rest_momentum(integrator: Integrator, q: FloatArray, u: FloatArray) -> FloatArray:
@@ -90,7 +106,8 @@ def rest_momentum(integrator: Integrator, q: FloatArray, u: FloatArray) -> Float
         _, p, _ = integrator.step(q, p, u)
     q_next, p_next, info = integrator.step(q, p, u)
     scale = 1.0 + np.abs(q).max()
-    drift = max(np.abs(q_next - q).max() / scale, np.abs(p_next - p).max() * integrator.dt / scale)
+    dq = integrator.model.difference(q, q_next) if integrator.model.free_base else q_next - q
+    drift = max(np.abs(dq).max() / scale, np.abs(p_next - p).max() * integrator.dt / scale)
     if drift > 1e-9:
         loose = ""
         if integrator.contacts is not None:
@@ -106,8 +123,10 @@ def rest_momentum(integrator: Integrator, q: FloatArray, u: FloatArray) -> Float
 
 def lqr(integrator: Integrator, q_eq: npt.ArrayLike, u_eq: Optional[npt.ArrayLike] = None, *, q_weight: Any = 1.0,
         v_weight: Any = 0.1, u_weight: Any = 0.01, Q: Any = None, u_limits: Any = None) -> Policy:
-    """Infinite-horizon discrete LQR of ``integrator`` at rest at q_eq (n,) with held controls u_eq
-    (m,) (default: ``equilibrium_controls``), from the exact step Jacobians A, B there.
+    """Infinite-horizon discrete LQR of ``integrator`` at rest at q_eq (nq,) with held controls u_eq
+    (m,) (default: ``equilibrium_controls``), from the exact step Jacobians A, B there. On a free base
+    the state is in tangent coordinates (``Model.difference``, Pinocchio's): the base's position and
+    attitude errors in its own frame, so any attitude can be the reference.
 
     Costs per step: (q, q̇) weighted by Q (2n, 2n), or blockdiag(q_weight, v_weight) (numbers, n
     numbers or (n, n)), and u by u_weight (R: number, m numbers or (m, m), positive definite);
@@ -115,12 +134,12 @@ def lqr(integrator: Integrator, q_eq: npt.ArrayLike, u_eq: Optional[npt.ArrayLik
     ValueError if q_eq is not an equilibrium or (A, B) is not stabilisable."""
     _check_integrator(integrator)
     n, m = integrator.n, integrator.model.n_controls
-    q_eq = real_array(q_eq, "q_eq", (n,))
+    q_eq = real_array(q_eq, "q_eq", (integrator.nq,))
     u = equilibrium_controls(integrator, q_eq) if u_eq is None else real_array(u_eq, "u_eq", (m,))
     p_eq = rest_momentum(integrator, q_eq, u)
     lin = Linearizer(integrator).step_jacobians(q_eq, p_eq, u, hold=True)  # with contacts: the stance held
     assert lin.A is not None and lin.B is not None
-    T = _core.control.velocity_state_map(integrator.model, q_eq[None], p_eq[None])[0]
+    T = _rest_state_map(integrator, q_eq, p_eq)
     Qx = T.T @ _user_weights(n, q_weight, v_weight, Q) @ T
     R = _weight(u_weight, m, "u_weight")
     if np.linalg.eigvalsh(R).min() <= 0:
@@ -130,6 +149,19 @@ def lqr(integrator: Integrator, q_eq: npt.ArrayLike, u_eq: Optional[npt.ArrayLik
     lo, hi = _limits(integrator, u_limits)
     return Policy(x_ref=np.concatenate([q_eq, p_eq])[None], u_ref=np.tile(u, (1, integrator.s + 1, 1)),
                   gains=K[None], lower=lo, upper=hi, cost_to_go=P[None], dt=integrator.dt, s=integrator.s)
+
+
+def _rest_state_map(integrator: Integrator, q: FloatArray, p: FloatArray) -> FloatArray:
+    """T = d(q, q̇)/d(q, p) (2n, 2n) at (q, p); a free base (tangent coordinates) at rest, p = 0, where
+    q̇ = M(q)^-1 p does not move with q: blockdiag(1, M^-1)."""
+    if not integrator.model.free_base:
+        T: FloatArray = _core.control.velocity_state_map(integrator.model, q[None], p[None])[0]
+        return T
+    n = integrator.n
+    assert not np.any(p), "a free base's LQR is at rest"
+    T = np.eye(2 * n)
+    T[n:, n:] = np.linalg.inv(integrator.model.mass_matrix(q))
+    return T
 
 
 def _stance_gains(A: FloatArray, B: FloatArray, Qx: FloatArray, R: FloatArray) -> tuple[FloatArray, FloatArray]:
@@ -192,6 +224,9 @@ def riccati_policy(integrator: Integrator, q: npt.ArrayLike, p: npt.ArrayLike, u
     for Jacobians computed otherwise (e.g. each step of a contact motion linearised on its own).
     Weights as ``tvlqr``."""
     _check_integrator(integrator)
+    if integrator.model.free_base:
+        raise ValueError("time-varying LQR on a model with a free base is not supported yet (its cost's state map "
+                         "away from rest); lqr at an equilibrium is")
     n, m, s = integrator.n, integrator.model.n_controls, integrator.s
     A = real_array(A, "A")
     K = A.shape[0] if A.ndim == 3 else -1

@@ -30,7 +30,10 @@ class Policy:
     equilibrium) holds at every step; S of them (time-varying LQR) hold at steps 0..S-1 and the last
     after that.
 
-    x_ref (S, 2n), u_ref (S, s+1, m), gains (S, m, 2n), lower and upper (m,) (±inf: no limit),
+    On a model with a free base x^k - x_ref^k is in tangent coordinates, (q_ref ⊖ q, p - p_ref) with
+    ⊖ ``Model.difference`` (x_ref's q has nq = n + 1 entries: the attitude's quaternion).
+
+    x_ref (S, nq + n), u_ref (S, s+1, m), gains (S, m, 2n), lower and upper (m,) (±inf: no limit),
     cost_to_go (S+1, 2n, 2n) or (1, 2n, 2n): x^T P x of the linear-quadratic problem (the loop does
     not use it: any number of rows is taken), dt > 0 and s >= 1 of the integrator it was made for (a
     closed loop refuses a plant of another dt or s). Arrays may be nested lists; every field is
@@ -56,8 +59,11 @@ class Policy:
         if x_ref.shape[:1] != (S,) or u_ref.shape[:1] != (S,):
             raise ValueError(f"x_ref, u_ref and gains must each have one row per stage: got shapes {x_ref.shape}, "
                              f"{u_ref.shape} and {gains.shape}")
+        if x_ref.ndim != 2 or x_ref.shape[1] not in (n2, n2 + 1):
+            raise ValueError(f"x_ref must have shape (S, nq + n) = ({S}, {n2}) or, with a free base, ({S}, {n2 + 1}), "
+                             f"got shape {x_ref.shape}")
         fields = dict(
-            x_ref=real_array(x_ref, "x_ref", (S, n2)), u_ref=real_array(u_ref, "u_ref", (S, s + 1, m)), gains=gains,
+            x_ref=real_array(x_ref, "x_ref", (S, x_ref.shape[1])), u_ref=real_array(u_ref, "u_ref", (S, s + 1, m)), gains=gains,
             lower=real_array(self.lower, "lower", (m,), finite=False),
             upper=real_array(self.upper, "upper", (m,), finite=False),
             cost_to_go=real_array(self.cost_to_go, "cost_to_go", (None, n2, n2)),
@@ -96,18 +102,31 @@ class Policy:
     @property
     def n(self) -> int:
         """The degrees of freedom n of the model it was made for."""
-        return int(self.x_ref.shape[1] // 2)
+        return int(self.gains.shape[2] // 2)
+
+    @property
+    def nq(self) -> int:
+        """The configuration's size nq of the model it was made for (n + 1 with a free base)."""
+        return int(self.x_ref.shape[1] - self.n)
 
     @property
     def m(self) -> int:
         """The number of controls m."""
         return int(self.gains.shape[1])
 
-    def control(self, k: int, q: npt.ArrayLike, p: npt.ArrayLike) -> FloatArray:
-        """The controls (s+1, m) at step k >= 0 from the state q, p (n,): what the C++ loop computes."""
+    def control(self, k: int, q: npt.ArrayLike, p: npt.ArrayLike, model: Any = None) -> FloatArray:
+        """The controls (s+1, m) at step k >= 0 from the state q (nq,), p (n,): what the C++ loop
+        computes. A free base needs its ``model`` (for ``Model.difference``)."""
         j = min(step_count(k, "k"), self.stages - 1)
-        x = np.concatenate([real_array(q, "q", (self.n,)), real_array(p, "p", (self.n,))])
-        du = -self.gains[j] @ (x - self.x_ref[j])
+        q, p = real_array(q, "q", (self.nq,)), real_array(p, "p", (self.n,))
+        q_ref = self.x_ref[j, :self.nq]
+        if self.nq == self.n:
+            dq = q - q_ref
+        elif model is None or getattr(model, "nq", None) != self.nq:
+            raise ValueError(f"a policy on a free base needs its model (nq = {self.nq}) for the state's difference")
+        else:
+            dq = model.difference(q_ref, q)
+        du = -self.gains[j] @ np.concatenate([dq, p - self.x_ref[j, self.nq:]])
         out: FloatArray = np.clip(self.u_ref[j] + du[None, :], self.lower, self.upper)
         return out
 

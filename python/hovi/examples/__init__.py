@@ -2,7 +2,7 @@
 and the documentation read:
 
 - ``hovi.examples.models``: built-in models (the paper's n-link pendulum, an acrobot, a cart-pole,
-  a four-bar, a slider-crank), ``hovi simulate NAME``;
+  a four-bar, a slider-crank, a quadrotor on the free joint), ``hovi simulate NAME``;
 - ``hovi.examples.robots``: the paper's three robots from the URDFs shipped as ``hovi/urdf``
   (Spring Flamingo, LittleDog, Atlas), ``hovi simulate NAME``;
 - ``hovi.examples.swingups``: trajectory optimisations (swing-ups, a slider-crank to a target),
@@ -51,6 +51,7 @@ REGISTRY: Tuple[Entry, ...] = (
     Entry(MODEL, "cartpole", "models:cartpole", "a cart on a rail with a hanging pole, pushed at the cart"),
     Entry(MODEL, "fourbar", "models:fourbar", "a planar crank-rocker four-bar: a closed chain (loop constraint)"),
     Entry(MODEL, "slider_crank", "models:slider_crank", "a planar slider-crank: a closed chain (point constraint)"),
+    Entry(MODEL, "quadrotor", "models:quadrotor", "a quadrotor on the free joint (SE(3)), four thrust controls"),
     Entry(ROBOT, "spring_flamingo", "robots:spring_flamingo", "Spring Flamingo: planar 9-DoF biped with ankle springs"),
     Entry(ROBOT, "littledog", "robots:littledog", "LittleDog: 18-DoF quadruped with spherical feet"),
     Entry(ROBOT, "atlas", "robots:atlas", "Atlas v5: floating-base humanoid with flat feet"),

@@ -58,6 +58,19 @@ def cartpole(cart_mass: float = 1.0, pole_mass: float = 0.3, pole_length: float 
     return m
 
 
+def quadrotor(mass: float = 1.0, arm: float = 0.2, drag: float = 0.02) -> _core.Model:
+    """A quadrotor on the free joint (q = (x, y, z, qx, qy, qz, qw), nq = 7, n = 6): a body of ``mass``
+    with four rotors at ``arm`` along +x, +y, -x, -y, rotor k's thrust u[k] (N) along the body's z and
+    its drag torque ``drag`` u[k] (N m) about z, turning the other way on neighbouring rotors. Hovers at
+    u = mass g / 4 each."""
+    m = _core.Model()
+    m.add_body("body", None, "free", mass=mass, inertia=mass * np.diag([0.01, 0.01, 0.018]))
+    for k, (x, y) in enumerate([(arm, 0.0), (0.0, arm), (-arm, 0.0), (0.0, -arm)]):
+        m.add_point_wrench("body", force=(0.0, 0.0, 1.0), torque=(0.0, 0.0, drag * (-1) ** k), point=(x, y, 0.0),
+                           frame="body", control=m.add_control())
+    return m
+
+
 def _along_x(L: float, mass: float) -> Dict[str, Any]:
     """A slender rod along x from its joint: centre of mass at L/2."""
     return dict(mass=mass, com=[L / 2, 0, 0], inertia=np.diag([1e-4, mass * L * L / 12, mass * L * L / 12]))

@@ -59,9 +59,9 @@ StepBatch step_batch(const GalerkinIntegrator& integ, const BatchStates& x, cons
 // W ((B K) x the steps' other unknowns, or empty: Linearizer::trajectory_jacobians), the rows
 // b K .. (b+1) K - 1 item b's; A_k of item b goes to
 // As[b K + k] (a (B, K, 2n, 2n) row-major array), B_k to Bs likewise (null: not computed). A
-// singular step is item b's error.
+// singular step is item b's error. A free base: the steps' public starts q^k, (B K) x nq, likewise.
 std::vector<std::string> trajectory_jacobians_batch(const Linearizer& lin, int B, int K, const MatX& C, const MatX& U,
                                                     const MatX& W, double* As, double* Bs, double smoothing = 0,
-                                                    int threads = 0);
+                                                    int threads = 0, const MatX& starts = MatX());
 
 }  // namespace hovi

@@ -248,6 +248,9 @@ class GalerkinIntegrator {
   // A free-base rollout's record in the public coordinates: q (N+1 x n, chart) with each row's
   // attitude (N+1 x 4 quaternions) -> q (N+1 x nq); p and contact.step_p to the base's frame.
   void public_record(Rollout& out, const MatX& attitude) const;
+  // A free base's hook sees the public state: the chart q (any θ) about centre and p -> public, the
+  // hook's call, and its p back into the chart.
+  bool public_hook(StepHook& hook, int k, const VecX& q, const Mat3& centre, VecX& p, MatX& uk) const;
   // A free base's public q (nq) -> its chart q (n, θ = 0) and centre, ws.data's kinematics about it.
   std::pair<VecX, Mat3> chart_state(IntegratorWorkspace& ws, const VecX& q) const;
 

@@ -11,12 +11,14 @@
 // With contacts the step is the contact step (its impulses z among the unknowns), linearised with
 // each contact's state held (smoothing = 0) or smoothed across contact switches (smoothing > 0):
 // contact_jacobians.hpp.
+// A free base: the step in tangent coordinates, from its start's attitude (free_base_jacobians.hpp).
 #pragma once
 #include <memory>
 
 #include "hovi/algorithms/del_jacobian.hpp"
 #include "hovi/algorithms/stacked_constraints.hpp"
 #include "hovi/integrators/contact_jacobians.hpp"
+#include "hovi/integrators/free_base_jacobians.hpp"
 #include "hovi/integrators/galerkin_integrator.hpp"
 
 namespace hovi {
@@ -42,18 +44,20 @@ class Linearizer {
   // held). Returns false if dR/dy is singular. Yx, Yu (if given): the sensitivities of the step's
   // interior and last control points y = q^{k,1..s} (s n rows, point a-1 in rows (a-1) n ..),
   // dy/d(q^k, p^k) (s n x 2n) and dy/du (s n x (s+1) m): what a cost on the control points needs
-  // (the FDDP of control/; through contact s = 1, y = q^{k+1}).
+  // (the FDDP of control/; through contact s = 1, y = q^{k+1}). A free base: `start` is the step's
+  // public q^k (nq), whose attitude is the chart's centre; A and B act on tangent coordinates.
   bool step_jacobians(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u, MatX* A, MatX* B,
                       const Eigen::Ref<const MatX>& w = MatX(), MatX* Yx = nullptr, MatX* Yu = nullptr,
-                      double smoothing = 0) const;
+                      double smoothing = 0, const Eigen::Ref<const VecX>& start = VecX()) const;
   // step_jacobians along K converged steps: control points C (K x (s+1) n, row k = vec(q^{k,0..s})
   // column-major), controls U (K x (s+1) m, likewise) and the steps' other unknowns W (K x s m_c,
   // vec(λ^{k,0..s-1}), of a constrained model; K x unknowns() with contacts; else empty). A_k goes
   // to As[k] and B_k to Bs[k], row-major blocks of a (K, 2n, 2n) and a (K, 2n, (s+1) m) array (null:
   // not computed). Returns -1, or the first step whose dR/dy is singular (the blocks from it on are
-  // left as they were).
+  // left as they were). A free base: the steps' public starts q^k (K x nq).
   int trajectory_jacobians(const Eigen::Ref<const MatX>& C, const Eigen::Ref<const MatX>& U,
-                           const Eigen::Ref<const MatX>& W, double* As, double* Bs, double smoothing = 0) const;
+                           const Eigen::Ref<const MatX>& W, double* As, double* Bs, double smoothing = 0,
+                           const Eigen::Ref<const MatX>& starts = MatX()) const;
 
  private:
   struct Workspace {
@@ -69,6 +73,7 @@ class Linearizer {
   int mc_, nz_;  // constraint equations; contact unknowns per step
   Model aug_;  // the model with its constraint forces (constraint.hpp); == model_ without constraints
   std::unique_ptr<ContactJacobians> contact_;  // with contacts
+  std::unique_ptr<FreeBaseJacobians> free_;    // with a free base
   mutable WorkspacePool<Workspace> pool_;
 };
 
