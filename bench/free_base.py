@@ -17,6 +17,10 @@ base and MuJoCo's free joint.
    tip onto its side; dropped from 0.3 m in 100 random attitudes with a random spin it must come to
    rest on a face within 3 s. Free base and Euler base, s = 1 and 2, dt = 0.01 and 0.005: runs that
    converged at every step, runs at rest on a face, run time per simulated second.
+4. The linearisation: A and B of a step (``Linearizer.rollout_jacobians`` over a 20-step rollout
+   from a tumbling state with random controls), on the free base (tangent coordinates) and on the
+   Euler base, for the actuated floating chain and Solo12 (example-robot-data, every joint
+   actuated); time per step and the free base's ratio.
 
     python bench/free_base.py [--quick]
 
@@ -32,7 +36,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 import hovi
-from common import markdown_table, publish, study_parser, write_json
+from common import erd_urdf, markdown_table, publish, study_parser, write_json
 from hovi.contact import Contacts, Terrain
 
 INERTIA = np.array([1.0, 2.0, 3.0])             # principal moments (kg m^2)
@@ -77,8 +81,9 @@ def body(base: str = "free", gravity: bool = True, com=(0.05, -0.02, 0.03)) -> h
     return m
 
 
-def chain() -> hovi.Model:
-    m = body()
+def chain(base: str = "free") -> hovi.Model:
+    """The body with a two-link arm, on the free joint or on the Euler-angle joints."""
+    m = body(base)
     place = lambda x, z: np.block([[np.eye(3), np.array([[x], [0.0], [z]])], [np.zeros((1, 3)), np.ones((1, 1))]])
     m.add_body("upper", "body", "revolute", axis=(0.3, 1, 0.2), placement=place(0.2, 0.1), mass=0.6,
                com=(0.15, 0, 0), inertia=np.diag([0.002, 0.01, 0.01]))
@@ -278,14 +283,14 @@ def edge_pose(angle: float, a: float = 0.2) -> np.ndarray:
 
 def to_base(base, q_free):
     """A free-base configuration as the Euler base's (x, y, z, yaw, pitch, roll)."""
-    return q_free if base == "free" else np.r_[q_free[:3], zyx_angles(quaternion_matrix(q_free[3:7]))]
+    return q_free if base == "free" else np.r_[q_free[:3], zyx_angles(quaternion_matrix(q_free[3:7])), q_free[7:]]
 
 
 def velocity_to_base(base, q_free, v):
     if base == "free":
         return v
     R = quaternion_matrix(q_free[3:7])
-    return np.r_[R @ v[:3], np.linalg.solve(rates_to_omega(zyx_angles(R)), v[3:])]
+    return np.r_[R @ v[:3], np.linalg.solve(rates_to_omega(zyx_angles(R)), v[3:6]), v[6:]]
 
 
 def on_a_face(q, base) -> bool:
@@ -332,6 +337,44 @@ def cube_study(quick: bool) -> dict:
     return out
 
 
+def actuated(model: hovi.Model, first: int) -> hovi.Model:
+    """The model with every joint from index ``first`` on actuated."""
+    for name in model.joint_names[first:]:
+        model.add_actuator(name)
+    return model
+
+
+def linearisation_study(quick: bool) -> list:
+    rng = np.random.default_rng(3)
+    chain_models = {b: (lambda b=b: actuated(chain(b), 6)) for b in ("free", "euler")}
+    solo = erd_urdf("solo_description/robots/solo12.urdf")
+    solo_models = {b: (lambda b=b: actuated(hovi.Model.from_urdf(solo, base="floating" if b == "free" else b), 6))
+                   for b in ("free", "euler")}
+    out = []
+    for name, builders in (("floating chain", chain_models), ("solo12", solo_models)):
+        state = None
+        for s in ([1] if quick else [1, 2]):
+            for base, build in builders.items():
+                model = build()
+                integ = hovi.Integrator(model, s=s, dt=0.01)
+                if state is None:  # one tumbling state, given to both bases
+                    quat = rng.normal(size=4)
+                    q_free = np.r_[0, 0, 1.0, quat / np.linalg.norm(quat), 0.3 * rng.normal(size=model.nq - 7)]
+                    v = np.r_[rng.normal(size=6), rng.normal(size=model.nv - 6)]
+                    state = q_free, v
+                q0, v0 = to_base(base, state[0]), velocity_to_base(base, state[0], state[1])
+                u = 0.5 * rng.normal(size=(20, s + 1, model.n_controls))
+                traj = integ.rollout(q0, 20, qdot0=v0, u=u)
+                lin = hovi.Linearizer(integ)
+                runs, t0 = 0, time.perf_counter()
+                while runs < 2 or time.perf_counter() - t0 < (0.1 if quick else 0.5):
+                    lin.rollout_jacobians(traj, u)
+                    runs += 1
+                out.append(dict(system=name, n=model.nv, s=s, base=base,
+                                ms_per_step=1e3 * (time.perf_counter() - t0) / (runs * 20)))
+    return out
+
+
 def readme(results) -> str:
     lines = ["Measured by `bench/free_base.py` (bench/results/free_base.json).", "",
              "Order of (q ⊖ q_ref, v - v_ref) at T = 0.8 s against DOP853 at 1e-13, last halving of dt:", ""]
@@ -355,18 +398,34 @@ def readme(results) -> str:
                               f"{r['converged']}/{r['drops']}", f"{r['rest_on_a_face']}/{r['drops']}",
                               f"{1e3 * r['seconds_per_second']:.3g} ms", ", ".join(r["failures"]) or "-"]
                              for k, r in results["cube"].items()])
+    lines += ["", "The linearisation (A and B of a step, `Linearizer.rollout_jacobians`, every joint actuated), per step:",
+              ""]
+    by = {(r["system"], r["s"], r["base"]): r for r in results["linearisation"]}
+    lines += markdown_table(["system", "n", "s", "free base (tangent)", "Euler base", "ratio"],
+                            [[sy, str(by[(sy, s, "free")]["n"]), str(s), f"{by[(sy, s, 'free')]['ms_per_step']:.3g} ms",
+                              f"{by[(sy, s, 'euler')]['ms_per_step']:.3g} ms",
+                              f"{by[(sy, s, 'free')]['ms_per_step'] / by[(sy, s, 'euler')]['ms_per_step']:.2f}"]
+                             for (sy, s, base) in by if base == "free"])
+    ratios = [by[(sy, s, "free")]["ms_per_step"] / by[(sy, s, "euler")]["ms_per_step"] for (sy, s, b) in by if b == "free"]
+    lines += ["", f"Where the free base loses: its linearisation costs {min(ratios):.1f} to {max(ratios):.1f} times the "
+              "Euler base's, for the six evaluations of the step's residual that give its derivative by the chart "
+              "centre's turn, and for the tangent maps; the share falls as n grows. LQR designs once; time-varying LQR "
+              "and MPC, which would pay it per step, are not on the free base yet."]
     return "\n".join(lines)
 
 
 def main() -> None:
     args = study_parser(__doc__).parse_args()
-    results = dict(order=order_study(args.quick), flip=flip_study(args.quick), cube=cube_study(args.quick))
+    results = dict(order=order_study(args.quick), flip=flip_study(args.quick), cube=cube_study(args.quick),
+                   linearisation=linearisation_study(args.quick))
     for k, r in results["order"].items():
         print(f"order {k}: errors {', '.join(f'{e:.2e}' for e in r['error'])}, order {r['order']:.2f}")
     for r in results["flip"]:
         print({k: (f"{v:.3g}" if isinstance(v, float) else v) for k, v in r.items()})
     for k, r in results["cube"].items():
         print(k, r)
+    for r in results["linearisation"]:
+        print(r)
     write_json("free_base_quick.json" if args.quick else "free_base.json", results)
     publish("free-base", readme(results), args.quick)
 

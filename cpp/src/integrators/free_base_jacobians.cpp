@@ -4,6 +4,7 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "hovi/algorithms/del_residual.hpp"
 #include "hovi/util/central_differences.hpp"
@@ -37,24 +38,53 @@ bool FreeBaseJacobians::step_jacobians(const Eigen::Ref<const MatX>& qc, const E
   residual(*w, qc, u, w->r, w->pn);
   const VecX p0 = -w->r.col(0);  // r^{k,0} = p^k + ...: the step's chart momentum p^k
 
-  // The chart's rows of r^{k,0} (with its centre term) by central differences in q^{k,0..s} and u^{k,0..s}.
-  auto chart_rows = [&](MatX& x, int row, int col, MatX& J, int Jcol) {
-    const double x0 = x(row, col), step = kCentralStep * std::max(1.0, std::abs(x0));
-    const double xp = x0 + step, xm = x0 - step;
-    x(row, col) = xp;
-    residual(*w, w->q, w->u, w->rp, w->pp);
-    x(row, col) = xm;
-    residual(*w, w->q, w->u, w->rm, w->pm);
-    x(row, col) = x0;
-    J.block(j, Jcol, 3, 1) = (w->rp.block(j, 0, 3, 1) - w->rm.block(j, 0, 3, 1)) / (xp - xm);
-  };
-  w->q = qc;
-  w->u = u;
-  for (int b = 0; b < S1; ++b)
-    for (int i = 0; i < n; ++i) chart_rows(w->q, i, b, Jq, b * n + i);
-  if (want_u)
-    for (int a = 0; a < S1; ++a)
-      for (int i = 0; i < m; ++i) chart_rows(w->u, i, a, Ju, a * m + i);
+  // The chart's rows of r^{k,0} gain the centre term's derivative. With Y' = 0 at the ends,
+  //   C = sum_b Y'_b^T r^b + sum_a w^a dt D_a^T P_a,  D_a = Ẏ'_a - sum_b b^{ab} Y'_b / dt
+  // (rotation_chart.hpp; r^b the interior DEL rows, P_a the chart joints' dL/dq̇), so that dC comes
+  // from the rows of Jq and Ju, dP_a = Kvq(a) dq^a + sum_c b^{ac} / dt Kvv(a) dq^c, and A's derivatives.
+  const auto th = qc.middleRows(j, 3);
+  const MatX thd = th * quad_.b.transpose() / dt_;
+  const MatX P = w->res.chart_P;
+  std::vector<Mat3> Y(S1, Mat3::Zero()), D(S1);
+  for (int b = 1; b < s; ++b) Y[b] = chart.centre_shift(th.col(b)) - Mat3::Identity();
+  const Mat3 end = chart.centre_shift(th.col(s)) - Mat3::Identity();
+  for (int a = 0; a < S1; ++a) {
+    D[a] = chart.centre_shift_rate(th.col(a), thd.col(a)) - quad_.b(a, s) * end / dt_;
+    for (int b = 1; b < s; ++b) D[a] -= quad_.b(a, b) * Y[b] / dt_;
+  }
+  MatX dC = MatX::Zero(3, S1 * n);
+  for (int b = 1; b < s; ++b) dC.noalias() += Y[b].transpose() * Jq.block(b * n + j, 0, 3, S1 * n);
+  for (int a = 0; a < S1; ++a) {
+    dC.block(0, a * n, 3, n).noalias() += (quad_.w[a] * dt_) * D[a].transpose() * w->jac.Kvq[a].middleRows(j, 3);
+    for (int c = 0; c < S1; ++c)
+      if (quad_.b(a, c) != 0)
+        dC.block(0, c * n, 3, n).noalias() += (quad_.w[a] * quad_.b(a, c)) * D[a].transpose() * w->jac.Kvv[a].middleRows(j, 3);
+  }
+  // the chart's own columns: Y' and D move with θ (A's second derivative by central differences of its closed form)
+  for (int c = 0; c < S1; ++c)
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 e = Vec3::Unit(k);
+      const Mat3 dA = chart.centre_shift_rate(th.col(c), e);  // dA(θ^c)/dθ_k
+      const Vec3 tp = th.col(c) + kCentralStep * e, tm = th.col(c) - kCentralStep * e;
+      const Mat3 dAdot = (chart.centre_shift_rate(tp, thd.col(c)) - chart.centre_shift_rate(tm, thd.col(c))) /
+                         (2 * kCentralStep);  // d/dθ_k of Ȧ(θ^c, θ̇^c) at fixed θ̇
+      Vec3 col = Vec3::Zero();
+      if (c > 0 && c < s) col += dA.transpose() * w->r.col(c).segment<3>(j);
+      for (int a = 0; a < S1; ++a) {
+        Mat3 dD = (quad_.b(a, c) / dt_) * chart.centre_shift_rate(th.col(a), e);
+        if (a == c) dD += dAdot;
+        if (c == s) dD -= (quad_.b(a, s) / dt_) * dA;
+        if (c > 0 && c < s) dD -= (quad_.b(a, c) / dt_) * dA;
+        col += (quad_.w[a] * dt_) * dD.transpose() * P.col(a);
+      }
+      dC.col(c * n + j + k) += col;
+    }
+  Jq.block(j, 0, 3, S1 * n) += dC;
+  if (want_u) {
+    MatX dCu = MatX::Zero(3, S1 * m);
+    for (int b = 1; b < s; ++b) dCu.noalias() += Y[b].transpose() * Ju.block(b * n + j, 0, 3, S1 * m);
+    Ju.block(j, 0, 3, S1 * m) += dCu;
+  }
   // R's derivative by the centre's turn C exp(δω), every point's chart coordinates held.
   MatX& dR_dw = w->dR_dw;
   dR_dw.resize(sn + n, 3);

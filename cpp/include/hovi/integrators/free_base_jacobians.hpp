@@ -6,9 +6,9 @@
 // (δv, δω, δr) of q^k moves the base's position by C δv, the chart's centre to C exp(δω) (every point's
 // chart coordinates held) and the joints by δr; y = q^{k,1..s} follows by the implicit function theorem
 // on R(y; q^k, p^k, u, C) = 0 as in linearizer.hpp, and the outputs through the public maps at q^{k+1}
-// (docs/how-it-works.md, "The free base"). The DEL Jacobian is exact but for the chart's rows of r^{k,0}
-// (its centre term's derivative needs the chart's third derivatives) and R's derivative by the centre,
-// which come from central differences of the explicit residual (error about 1e-10 of their scale).
+// (docs/how-it-works.md, "The free base"). Exact but for R's derivative by the centre's turn (central
+// differences of the explicit residual, six evaluations) and the chart's A(θ) second derivative in the
+// centre term's (central differences of its closed form): errors about 1e-10 of their scale.
 #pragma once
 #include "hovi/algorithms/del_jacobian.hpp"
 #include "hovi/algorithms/free_base.hpp"
@@ -31,7 +31,7 @@ class FreeBaseJacobians {
     Workspace(const Model& model, const Quadrature& quad) : jac(model, quad), res(model, quad) {}
     DelJacobianWorkspace jac;
     DelWorkspace res;
-    MatX Jq, Ju, q, u, r, rp, rm, dR_dw, sol;
+    MatX Jq, Ju, r, rp, rm, dR_dw, sol;
     VecX zero, pn, pp, pm;
   };
   // (r^{k,0..s-1}, p^{k+1}) at control points q with p^k = 0, the centre's placement already set.
