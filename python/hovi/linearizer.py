@@ -43,7 +43,8 @@ class DelJacobian:
 class StepLinearization:
     """One converged step and its Jacobians. State ordering x = (q, p).
 
-    A = d(q^{k+1}, p^{k+1}) / d(q^k, p^k), (2n, 2n).
+    A = d(q^{k+1}, p^{k+1}) / d(q^k, p^k), (2n, 2n). On a model with a free base the state is in tangent
+    coordinates, (q ⊖ q_ref, p - p_ref) with ⊖ ``Model.difference``.
     B = d(q^{k+1}, p^{k+1}) / du: (2n, (s+1) m) with column block a for u^{k,a}, or (2n, m) for a
     control held over the step (hold=True, the sum of the blocks).
     """
@@ -71,6 +72,9 @@ class Linearizer:
     linearise the contact step with its contact state held (each contact in flight, sticking or
     sliding as in the step: cpp/include/hovi/integrators/contact_jacobians.hpp), exact away from
     contact switches; the momentum is the step's state, before the next knot's impulse.
+
+    With a free base (``Model.free_base``) A and B act on tangent coordinates, (q ⊖ q_ref, p - p_ref)
+    (cpp/include/hovi/integrators/free_base_jacobians.hpp; not yet through contact).
     """
 
     def __init__(self, integrator: Integrator) -> None:
