@@ -220,14 +220,14 @@ Finite-horizon LQR: A (N, n, n), B (N, n, m), Q (n, n) or (N, n, n), R (m, m) or
 returns (K (N, m, n), P (N+1, n, n)), u^k = -K^k x^k, cost-to-go x^T P^k x.
 )doc");
   m.def("velocity_state_map", [](const PyModel& model, const ArrayLike& q, const ArrayLike& p) {
-        const MatX Q = as_matrix(q, "q", -1, model.model.n()), P = as_matrix(p, "p", Q.rows(), model.model.n());
+        const MatX Q = as_matrix(q, "q", -1, model.model.nq()), P = as_matrix(p, "p", Q.rows(), model.model.n());
         Data data(model.model);
         std::vector<MatX> out(Q.rows());
         for (long k = 0; k < Q.rows(); ++k) velocity_state_map(model.model, data, Q.row(k).transpose(), P.row(k).transpose(), out[k]);
         return stack(out);
       }, py::arg("model"), py::arg("q"), py::arg("p"), R"doc(
-T = d(q, q̇)/d(q, p) (K, 2n, 2n) at states q, p (K, n), q̇ = M(q)^{-1} p: a cost x_user^T W x_user on
-(q, q̇) is x^T (T^T W T) x on the integrator's state x = (q, p).
+T = d(q, q̇)/d(q, p) (K, 2n, 2n) at states q (K, nq), p (K, n), q̇ = M(q)^{-1} p: a cost x_user^T W x_user on
+(q, q̇) is x^T (T^T W T) x on the integrator's state x = (q, p) (a free base: q's part a tangent vector).
 )doc");
   py::class_<PyShootingProblem>(m, "ShootingProblem", R"doc(
 The VI as the dynamics of an optimal control problem (control/shooting_problem.hpp): N steps of an

@@ -87,6 +87,6 @@ def mpc(plant: hovi._core.Integrator, problem: ShootingProblem, q0: numpy.typing
     """
 def velocity_state_map(model: hovi._core.Model, q: numpy.typing.ArrayLike, p: numpy.typing.ArrayLike) -> numpy.typing.NDArray[numpy.float64]:
     """
-    T = d(q, q̇)/d(q, p) (K, 2n, 2n) at states q, p (K, n), q̇ = M(q)^{-1} p: a cost x_user^T W x_user on
-    (q, q̇) is x^T (T^T W T) x on the integrator's state x = (q, p).
+    T = d(q, q̇)/d(q, p) (K, 2n, 2n) at states q (K, nq), p (K, n), q̇ = M(q)^{-1} p: a cost x_user^T W x_user on
+    (q, q̇) is x^T (T^T W T) x on the integrator's state x = (q, p) (a free base: q's part a tangent vector).
     """

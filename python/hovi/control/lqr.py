@@ -139,7 +139,7 @@ def lqr(integrator: Integrator, q_eq: npt.ArrayLike, u_eq: Optional[npt.ArrayLik
     p_eq = rest_momentum(integrator, q_eq, u)
     lin = Linearizer(integrator).step_jacobians(q_eq, p_eq, u, hold=True)  # with contacts: the stance held
     assert lin.A is not None and lin.B is not None
-    T = _rest_state_map(integrator, q_eq, p_eq)
+    T = _core.control.velocity_state_map(integrator.model, q_eq[None], p_eq[None])[0]
     Qx = T.T @ _user_weights(n, q_weight, v_weight, Q) @ T
     R = _weight(u_weight, m, "u_weight")
     if np.linalg.eigvalsh(R).min() <= 0:
@@ -149,19 +149,6 @@ def lqr(integrator: Integrator, q_eq: npt.ArrayLike, u_eq: Optional[npt.ArrayLik
     lo, hi = _limits(integrator, u_limits)
     return Policy(x_ref=np.concatenate([q_eq, p_eq])[None], u_ref=np.tile(u, (1, integrator.s + 1, 1)),
                   gains=K[None], lower=lo, upper=hi, cost_to_go=P[None], dt=integrator.dt, s=integrator.s)
-
-
-def _rest_state_map(integrator: Integrator, q: FloatArray, p: FloatArray) -> FloatArray:
-    """T = d(q, q̇)/d(q, p) (2n, 2n) at (q, p); a free base (tangent coordinates) at rest, p = 0, where
-    q̇ = M(q)^-1 p does not move with q: blockdiag(1, M^-1)."""
-    if not integrator.model.free_base:
-        T: FloatArray = _core.control.velocity_state_map(integrator.model, q[None], p[None])[0]
-        return T
-    n = integrator.n
-    assert not np.any(p), "a free base's LQR is at rest"
-    T = np.eye(2 * n)
-    T[n:, n:] = np.linalg.inv(integrator.model.mass_matrix(q))
-    return T
 
 
 def _stance_gains(A: FloatArray, B: FloatArray, Qx: FloatArray, R: FloatArray) -> tuple[FloatArray, FloatArray]:
@@ -220,20 +207,17 @@ def riccati_policy(integrator: Integrator, q: npt.ArrayLike, p: npt.ArrayLike, u
                    B: npt.ArrayLike, *, q_weight: Any = 1.0, v_weight: Any = 0.1, u_weight: Any = 0.01, Q: Any = None,
                    final_weight: Any = None, u_limits: Any = None) -> Policy:
     """The time-varying LQR Policy of given step Jacobians A (K, 2n, 2n), B (K, 2n, m) (held controls)
-    along references q, p (K+1, n) with controls u (K, s+1, m): what ``tvlqr`` does after linearising,
+    along references q (K+1, nq), p (K+1, n) with controls u (K, s+1, m): what ``tvlqr`` does after linearising,
     for Jacobians computed otherwise (e.g. each step of a contact motion linearised on its own).
     Weights as ``tvlqr``."""
     _check_integrator(integrator)
-    if integrator.model.free_base:
-        raise ValueError("time-varying LQR on a model with a free base is not supported yet (its cost's state map "
-                         "away from rest); lqr at an equilibrium is")
     n, m, s = integrator.n, integrator.model.n_controls, integrator.s
     A = real_array(A, "A")
     K = A.shape[0] if A.ndim == 3 else -1
     if A.shape != (K, 2 * n, 2 * n) or K < 1:
         raise ValueError(f"A must have shape (K, {2 * n}, {2 * n}), got {A.shape}")
     B = real_array(B, "B", (K, 2 * n, m))
-    q, p = real_array(q, "q", (K + 1, n)), real_array(p, "p", (K + 1, n))
+    q, p = real_array(q, "q", (K + 1, integrator.nq)), real_array(p, "p", (K + 1, n))
     U = real_array(u, "u", (K, s + 1, m))
     T = _core.control.velocity_state_map(integrator.model, q, p)
     W = _user_weights(n, q_weight, v_weight, Q)
@@ -271,7 +255,7 @@ def _check_trajectory(integrator: Integrator, trajectory: Trajectory) -> None:
     if d is not None:
         n, bodies, s, dt = d.model.n, list(d.model.body_names), d.s, d.dt
     else:  # loaded without its integrator: what its arrays say
-        n, bodies, s = trajectory.q.shape[1], None, trajectory.control_points.shape[1] - 1
+        n, bodies, s = trajectory.p.shape[1], None, trajectory.control_points.shape[1] - 1
         dt = float(trajectory.t[1] - trajectory.t[0]) if len(trajectory.t) > 1 else integrator.dt
     if n != integrator.n or bodies not in (None, list(integrator.model.body_names)):
         raise ValueError(f"trajectory is of another model (n = {n}, bodies {bodies}) than the integrator's (n = "

@@ -6,7 +6,8 @@
 
 namespace hovi {
 
-// T = d(q, q̇)/d(q, p) (2n x 2n) at (q, p); models without holonomic constraints.
+// T = d(q, q̇)/d(q, p) (2n x 2n) at (q, p); models without holonomic constraints. A free base: q public
+// (nq), p and q̇ = v its public momentum and velocity, and q's derivative a tangent δ (q ⊕ δ).
 void velocity_state_map(const Model& model, Data& data, const Eigen::Ref<const VecX>& q,
                         const Eigen::Ref<const VecX>& p, MatX& T);
 
