@@ -1,7 +1,6 @@
 #include "hovi/integrators/free_base_jacobians.hpp"
 
 #include <Eigen/Geometry>
-#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -11,54 +10,29 @@
 
 namespace hovi {
 
-FreeBaseJacobians::FreeBaseJacobians(const Model& model, const Quadrature& quad, double dt)
-    : model_(model), quad_(quad), dt_(dt), base_(model),
-      pool_([this] { return std::make_unique<Workspace>(model_, quad_); }) {}
-
-void FreeBaseJacobians::residual(Workspace& w, const Eigen::Ref<const MatX>& q, const Eigen::Ref<const MatX>& u,
-                                 MatX& r, VecX& p_next) const {
-  r.resize(model_.n(), quad_.s);
-  p_next.resize(model_.n());
-  del_residual(model_, quad_, w.res, q, w.zero, u, dt_, r, p_next);
-}
-
-bool FreeBaseJacobians::step_jacobians(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u,
-                                       const Mat3& centre, MatX* A, MatX* B) const {
-  auto w = pool_.acquire();
-  const int n = model_.n(), s = quad_.s, S1 = s + 1, m = model_.n_controls(), j = base_.joint(), sn = s * n;
-  const int nr = n - j - 3;  // the joints after the base
-  const bool want_u = B != nullptr && m > 0;
-  const RotationChart& chart = base_.chart;
-  const SE3 placement = model_.chart_placement(centre);
-  w->jac.data.chart_placement = w->res.chart_placement = placement;
-  w->zero.setZero(n);
-  MatX &Jq = w->Jq, &Ju = w->Ju;
-  Jq.resize(S1 * n, S1 * n);
-  del_jacobian(model_, quad_, w->jac, qc, u, dt_, Jq, want_u ? &Ju : nullptr);
-  residual(*w, qc, u, w->r, w->pn);
-  const VecX p0 = -w->r.col(0);  // r^{k,0} = p^k + ...: the step's chart momentum p^k
-
-  // The chart's rows of r^{k,0} gain the centre term's derivative. With Y' = 0 at the ends,
-  //   C = sum_b Y'_b^T r^b + sum_a w^a dt D_a^T P_a,  D_a = Ẏ'_a - sum_b b^{ab} Y'_b / dt
-  // (rotation_chart.hpp; r^b the interior DEL rows, P_a the chart joints' dL/dq̇), so that dC comes
-  // from the rows of Jq and Ju, dP_a = Kvq(a) dq^a + sum_c b^{ac} / dt Kvv(a) dq^c, and A's derivatives.
+void add_centre_term_jacobian(const Model& model, const Quadrature& quad, double dt, const Eigen::Ref<const MatX>& qc,
+                              const MatX& r, const MatX& P, const DelJacobianWorkspace& ws, MatX& Jq, MatX* Ju) {
+  // With Y' = 0 at the ends, C = sum_b Y'_b^T r^b + sum_a w^a dt D_a^T P_a, D_a = Ẏ'_a - sum_b b^{ab} Y'_b / dt
+  // (r^b the interior DEL rows): dC from the rows of Jq and Ju, dP_a = Kvq(a) dq^a + sum_c b^{ac} / dt
+  // Kvv(a) dq^c, and A's derivatives.
+  const RotationChart chart;
+  const int n = model.n(), s = quad.s, S1 = s + 1, j = model.rotation_chart;
   const auto th = qc.middleRows(j, 3);
-  const MatX thd = th * quad_.b.transpose() / dt_;
-  const MatX P = w->res.chart_P;
+  const MatX thd = th * quad.b.transpose() / dt;
   std::vector<Mat3> Y(S1, Mat3::Zero()), D(S1);
   for (int b = 1; b < s; ++b) Y[b] = chart.centre_shift(th.col(b)) - Mat3::Identity();
   const Mat3 end = chart.centre_shift(th.col(s)) - Mat3::Identity();
   for (int a = 0; a < S1; ++a) {
-    D[a] = chart.centre_shift_rate(th.col(a), thd.col(a)) - quad_.b(a, s) * end / dt_;
-    for (int b = 1; b < s; ++b) D[a] -= quad_.b(a, b) * Y[b] / dt_;
+    D[a] = chart.centre_shift_rate(th.col(a), thd.col(a)) - quad.b(a, s) * end / dt;
+    for (int b = 1; b < s; ++b) D[a] -= quad.b(a, b) * Y[b] / dt;
   }
   MatX dC = MatX::Zero(3, S1 * n);
   for (int b = 1; b < s; ++b) dC.noalias() += Y[b].transpose() * Jq.block(b * n + j, 0, 3, S1 * n);
   for (int a = 0; a < S1; ++a) {
-    dC.block(0, a * n, 3, n).noalias() += (quad_.w[a] * dt_) * D[a].transpose() * w->jac.Kvq[a].middleRows(j, 3);
+    dC.block(0, a * n, 3, n).noalias() += (quad.w[a] * dt) * D[a].transpose() * ws.Kvq[a].middleRows(j, 3);
     for (int c = 0; c < S1; ++c)
-      if (quad_.b(a, c) != 0)
-        dC.block(0, c * n, 3, n).noalias() += (quad_.w[a] * quad_.b(a, c)) * D[a].transpose() * w->jac.Kvv[a].middleRows(j, 3);
+      if (quad.b(a, c) != 0)
+        dC.block(0, c * n, 3, n).noalias() += (quad.w[a] * quad.b(a, c)) * D[a].transpose() * ws.Kvv[a].middleRows(j, 3);
   }
   // the chart's own columns: Y' and D move with θ (A's second derivative by central differences of its closed form)
   for (int c = 0; c < S1; ++c)
@@ -69,83 +43,136 @@ bool FreeBaseJacobians::step_jacobians(const Eigen::Ref<const MatX>& qc, const E
       const Mat3 dAdot = (chart.centre_shift_rate(tp, thd.col(c)) - chart.centre_shift_rate(tm, thd.col(c))) /
                          (2 * kCentralStep);  // d/dθ_k of Ȧ(θ^c, θ̇^c) at fixed θ̇
       Vec3 col = Vec3::Zero();
-      if (c > 0 && c < s) col += dA.transpose() * w->r.col(c).segment<3>(j);
+      if (c > 0 && c < s) col += dA.transpose() * r.col(c).segment<3>(j);
       for (int a = 0; a < S1; ++a) {
-        Mat3 dD = (quad_.b(a, c) / dt_) * chart.centre_shift_rate(th.col(a), e);
+        Mat3 dD = (quad.b(a, c) / dt) * chart.centre_shift_rate(th.col(a), e);
         if (a == c) dD += dAdot;
-        if (c == s) dD -= (quad_.b(a, s) / dt_) * dA;
-        if (c > 0 && c < s) dD -= (quad_.b(a, c) / dt_) * dA;
-        col += (quad_.w[a] * dt_) * dD.transpose() * P.col(a);
+        if (c == s) dD -= (quad.b(a, s) / dt) * dA;
+        if (c > 0 && c < s) dD -= (quad.b(a, c) / dt) * dA;
+        col += (quad.w[a] * dt) * dD.transpose() * P.col(a);
       }
       dC.col(c * n + j + k) += col;
     }
   Jq.block(j, 0, 3, S1 * n) += dC;
-  if (want_u) {
-    MatX dCu = MatX::Zero(3, S1 * m);
-    for (int b = 1; b < s; ++b) dCu.noalias() += Y[b].transpose() * Ju.block(b * n + j, 0, 3, S1 * m);
-    Ju.block(j, 0, 3, S1 * m) += dCu;
+  if (Ju && Ju->cols() > 0) {
+    MatX dCu = MatX::Zero(3, Ju->cols());
+    for (int b = 1; b < s; ++b) dCu.noalias() += Y[b].transpose() * Ju->block(b * n + j, 0, 3, Ju->cols());
+    Ju->middleRows(j, 3) += dCu;
   }
-  // R's derivative by the centre's turn C exp(δω), every point's chart coordinates held.
-  MatX& dR_dw = w->dR_dw;
+}
+
+TangentStep::TangentStep(const FreeBase& base, const Mat3& centre, const Eigen::Ref<const MatX>& qc, const VecX& p0,
+                         const VecX& pn)
+    : base_(base), n_(int(qc.rows())), j_(base.joint()), C_(centre) {
+  const RotationChart& chart = base.chart;
+  const Vec3 theta = qc.col(qc.cols() - 1).segment<3>(j_);
+  Rs_ = chart.rotation(theta);
+  R1_ = C_ * Rs_;
+  E_ = chart.rates_to_omega(theta);
+  Et_.compute(E_.transpose());
+  p_lin0_ = C_.transpose() * p0.head<3>();
+  p_lin1_ = R1_.transpose() * pn.head<3>();
+  const Vec3 w_ang = Et_.solve(Vec3(pn.segment<3>(j_)));
+  for (int k = 0; k < 3; ++k) M_.col(k) = chart.rates_to_omega_rate(theta, Vec3::Unit(k)).transpose() * w_ang;
+}
+
+MatX TangentStep::inputs(const MatX& d_q0, const MatX& d_turn, bool with_p) const {
+  // q^{k,0}'s position moves by C δv, the centre turns by δω, the joints by δr; the chart momentum
+  // p^k = diag(C, E(0)^T, 1) p turns with the centre: d(C p_v) = -C p̂_v δω.
+  const int n = n_, j = j_, nr = n - j - 3, rows = int(d_q0.rows());
+  MatX X = MatX::Zero(rows, 2 * n);
+  X.leftCols(3) = d_q0.leftCols(3) * C_;
+  X.middleCols(j, 3) = d_turn;
+  X.middleCols(j + 3, nr) = d_q0.middleCols(j + 3, nr);
+  if (with_p) {
+    X.block(0, j, 3, 3) -= C_ * hat(p_lin0_);
+    X.block(0, n, 3, 3) += C_;
+    X.block(j, n + j, 3, 3) += base_.chart.rates_to_omega(Vec3::Zero()).transpose();
+    X.block(j + 3, n + j + 3, nr, nr) += MatX::Identity(nr, nr);
+  }
+  return X;
+}
+
+MatX TangentStep::turn() const {
+  MatX W = MatX::Zero(3, 2 * n_);
+  W.middleCols(j_, 3).setIdentity();
+  return W;
+}
+
+void TangentStep::outputs(const MatX& dq_end, const MatX& dp_end, const MatX& turn, MatX& out) const {
+  // q^{k+1} = (x, C R(θ^s), r): δω^{k+1} = R(θ^s)^T δω + E(θ^s) dθ^s, δv^{k+1} = R1^T dx; its public
+  // momentum (R1^T p_x, E^-T p_θ, p_r) through both.
+  const int n = n_, j = j_;
+  out.resize(2 * n, dq_end.cols());
+  out.topRows(n) = dq_end;
+  out.topRows(3) = R1_.transpose() * dq_end.topRows(3);
+  out.middleRows(j, 3) = E_ * dq_end.middleRows(j, 3) + Rs_.transpose() * turn;
+  out.bottomRows(n) = dp_end;
+  out.middleRows(n, 3) = R1_.transpose() * dp_end.topRows(3) + hat(p_lin1_) * out.middleRows(j, 3);
+  out.middleRows(n + j, 3) = Et_.solve(dp_end.middleRows(j, 3) - M_ * dq_end.middleRows(j, 3));
+}
+
+FreeBaseJacobians::FreeBaseJacobians(const Model& model, const Quadrature& quad, double dt)
+    : model_(model), quad_(quad), dt_(dt), base_(model),
+      pool_([this] { return std::make_unique<Workspace>(model_, quad_); }) {}
+
+void FreeBaseJacobians::turn_derivative(DelWorkspace& res, const Eigen::Ref<const MatX>& qc,
+                                        const Eigen::Ref<const MatX>& u, const Mat3& centre,
+                                        const std::function<VecX(const SE3&)>* knot, MatX& dR_dw) const {
+  const int n = model_.n(), s = quad_.s, sn = s * n;
+  const VecX zero = VecX::Zero(n);
+  MatX rp(n, s), rm(n, s);
+  VecX pp(n), pm(n);
   dR_dw.resize(sn + n, 3);
   for (int l = 0; l < 3; ++l) {
     const Mat3 turn = Eigen::AngleAxisd(kCentralStep, Vec3::Unit(l)).toRotationMatrix();
-    w->res.chart_placement = model_.chart_placement(centre * turn);
-    residual(*w, qc, u, w->rp, w->pp);
-    w->res.chart_placement = model_.chart_placement(centre * turn.transpose());
-    residual(*w, qc, u, w->rm, w->pm);
-    dR_dw.col(l).head(sn) = Eigen::Map<const VecX>(w->rp.data(), sn) - Eigen::Map<const VecX>(w->rm.data(), sn);
-    dR_dw.col(l).tail(n) = w->pp - w->pm;
+    const SE3 plus = model_.chart_placement(centre * turn), minus = model_.chart_placement(centre * turn.transpose());
+    res.chart_placement = plus;
+    del_residual(model_, quad_, res, qc, zero, u, dt_, rp, pp);
+    res.chart_placement = minus;
+    del_residual(model_, quad_, res, qc, zero, u, dt_, rm, pm);
+    if (knot) {
+      rp.col(0) += (*knot)(plus);
+      rm.col(0) += (*knot)(minus);
+    }
+    dR_dw.col(l).head(sn) = Eigen::Map<const VecX>(rp.data(), sn) - Eigen::Map<const VecX>(rm.data(), sn);
+    dR_dw.col(l).tail(n) = pp - pm;
   }
   dR_dw /= 2 * kCentralStep;
-  w->res.chart_placement = placement;
+  res.chart_placement = model_.chart_placement(centre);
+}
+
+bool FreeBaseJacobians::step_jacobians(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u,
+                                       const Mat3& centre, MatX* A, MatX* B) const {
+  auto w = pool_.acquire();
+  const int n = model_.n(), s = quad_.s, S1 = s + 1, m = model_.n_controls(), sn = s * n;
+  const bool want_u = B != nullptr && m > 0;
+  w->jac.data.chart_placement = w->res.chart_placement = model_.chart_placement(centre);
+  w->zero.setZero(n);
+  MatX &Jq = w->Jq, &Ju = w->Ju;
+  Jq.resize(S1 * n, S1 * n);
+  del_jacobian(model_, quad_, w->jac, qc, u, dt_, Jq, want_u ? &Ju : nullptr);
+  w->r.resize(n, s);
+  w->pn.resize(n);
+  del_residual(model_, quad_, w->res, qc, w->zero, u, dt_, w->r, w->pn);
+  const VecX p0 = -w->r.col(0);  // r^{k,0} = p^k + ...: the step's chart momentum p^k
+  add_centre_term_jacobian(model_, quad_, dt_, qc, w->r, MatX(w->res.chart_P), w->jac, Jq, want_u ? &Ju : nullptr);
+  turn_derivative(w->res, qc, u, centre, nullptr, w->dR_dw);
 
   const Eigen::PartialPivLU<MatX> lu(Jq.topRightCorner(sn, sn));
   const double scale = Jq.topRightCorner(sn, sn).cwiseAbs().maxCoeff();
   if (!(lu.matrixLU().diagonal().cwiseAbs().minCoeff() > 1e-14 * scale)) return false;
-
-  // The end: its attitude R1 = C R(θ^s), its public momentum (R1^T p_x, E^-T p_θ, p_r).
-  const Vec3 theta = qc.col(s).segment<3>(j);
-  const Mat3 Rs = chart.rotation(theta), R1 = centre * Rs, E = chart.rates_to_omega(theta);
-  const Eigen::PartialPivLU<Mat3> Et(E.transpose());
-  const Vec3 p_lin1 = R1.transpose() * w->pn.head<3>(), w_ang = Et.solve(Vec3(w->pn.segment<3>(j)));
-  Mat3 M;  // d(E^T) along dθ^s applied to E^-T p_θ: column k for dθ_k
-  for (int k = 0; k < 3; ++k) M.col(k) = chart.rates_to_omega_rate(theta, Vec3::Unit(k)).transpose() * w_ang;
+  const TangentStep step(base_, centre, qc, p0, w->pn);
   const auto P_y = Jq.bottomRightCorner(n, sn);
-  // Columns with residual derivative X (sn rows), direct p^{k+1} derivative Pd and centre turn Wc -> out (2n rows).
-  auto propagate = [&](const MatX& X, const MatX& Pd, const MatX& Wc, MatX& out) {
-    w->sol = -lu.solve(X);
-    const auto ys = w->sol.bottomRows(n);
-    const MatX dp = P_y * w->sol + Pd;
-    out.resize(2 * n, X.cols());
-    out.topRows(n) = ys;
-    out.topRows(3) = R1.transpose() * ys.topRows(3);
-    out.middleRows(j, 3) = E * ys.middleRows(j, 3) + Rs.transpose() * Wc;
-    out.bottomRows(n) = dp;
-    out.middleRows(n, 3) = R1.transpose() * dp.topRows(3) + hat(p_lin1) * out.middleRows(j, 3);
-    out.middleRows(n + j, 3) = Et.solve(dp.middleRows(j, 3) - M * ys.middleRows(j, 3));
-  };
   if (A) {
-    // Inputs (δv, δω, δr, δp): q^{k,0}'s position moves by C δv, the centre by δω, the joints by δr;
-    // the chart momentum p^k = diag(C, E(0)^T, 1) p with C turning: d(C p_v) = -C p̂_v δω.
-    const auto Jq0 = Jq.topLeftCorner(sn, n), P0 = Jq.bottomLeftCorner(n, n);
-    MatX X = MatX::Zero(sn, 2 * n), Pd = MatX::Zero(n, 2 * n), Wc = MatX::Zero(3, 2 * n);
-    X.leftCols(3) = Jq0.leftCols(3) * centre;
-    Pd.leftCols(3) = P0.leftCols(3) * centre;
-    X.middleCols(j, 3) = dR_dw.topRows(sn);
-    X.block(0, j, 3, 3) -= centre * hat(Vec3(centre.transpose() * p0.head<3>()));
-    Pd.middleCols(j, 3) = dR_dw.bottomRows(n);
-    Wc.middleCols(j, 3).setIdentity();
-    X.middleCols(j + 3, nr) = Jq0.middleCols(j + 3, nr);
-    Pd.middleCols(j + 3, nr) = P0.middleCols(j + 3, nr);
-    X.block(0, n, 3, 3) = centre;
-    X.block(j, n + j, 3, 3) = chart.rates_to_omega(Vec3::Zero()).transpose();
-    X.block(j + 3, n + j + 3, nr, nr).setIdentity();
-    propagate(X, Pd, Wc, *A);
+    w->sol = -lu.solve(step.inputs(Jq.topLeftCorner(sn, n), w->dR_dw.topRows(sn), true));
+    const MatX Pd = step.inputs(Jq.bottomLeftCorner(n, n), w->dR_dw.bottomRows(n), false);
+    step.outputs(w->sol.bottomRows(n), P_y * w->sol + Pd, step.turn(), *A);
   }
   if (B) {
     if (want_u) {
-      propagate(Ju.topRows(sn), Ju.bottomRows(n), MatX::Zero(3, S1 * m), *B);
+      w->sol = -lu.solve(Ju.topRows(sn));
+      step.outputs(w->sol.bottomRows(n), P_y * w->sol + Ju.bottomRows(n), MatX::Zero(3, S1 * m), *B);
     } else {
       B->setZero(2 * n, S1 * m);
     }

@@ -10,11 +10,44 @@
 // differences of the explicit residual, six evaluations) and the chart's A(θ) second derivative in the
 // centre term's (central differences of its closed form): errors about 1e-10 of their scale.
 #pragma once
+#include <Eigen/LU>
+#include <functional>
+
 #include "hovi/algorithms/del_jacobian.hpp"
+#include "hovi/algorithms/del_workspace.hpp"
 #include "hovi/algorithms/free_base.hpp"
 #include "hovi/util/workspace_pool.hpp"
 
 namespace hovi {
+
+// The centre term's derivative (rotation_chart.hpp's C) added to the chart's rows of r^{k,0} in Jq
+// (and Ju, if given): from the step's DEL rows r (n x s, at p^k = 0), the chart joints' dL/dq̇ P
+// (3 x (s+1)) and ws's Kvq, Kvv at the control points qc (ws: del_jacobian's, at qc).
+void add_centre_term_jacobian(const Model& model, const Quadrature& quad, double dt, const Eigen::Ref<const MatX>& qc,
+                              const MatX& r, const MatX& P, const DelJacobianWorkspace& ws, MatX& Jq, MatX* Ju);
+
+// One step of a free base in tangent coordinates: its inputs (δv, δω, δr, δp) at q^k and outputs at
+// q^{k+1}, for the step's chart about C (θ^{k,0} = 0) whose unknowns may be more than y (contact_jacobians.hpp).
+class TangentStep {
+ public:
+  // qc: the control points; p0, pn: the chart momenta p^k and p^{k+1}.
+  TangentStep(const FreeBase& base, const Mat3& centre, const Eigen::Ref<const MatX>& qc, const VecX& p0,
+              const VecX& pn);
+  // The input columns (rows x 2n) of a function with chart derivatives d_q0 by q^{k,0} (rows x n) and
+  // d_turn by the centre's turn (rows x 3). with_p: its first n rows are r^{k,0} (d/dp^k = 1).
+  MatX inputs(const MatX& d_q0, const MatX& d_turn, bool with_p) const;
+  // The centre's turn δω of the inputs (3 x 2n).
+  MatX turn() const;
+  // out (2n x cols) = (δq^{k+1}, δp^{k+1}) from the chart's dq^{k+1}, dp^{k+1} and the centre's turn (3 x cols).
+  void outputs(const MatX& dq_end, const MatX& dp_end, const MatX& turn, MatX& out) const;
+
+ private:
+  const FreeBase& base_;
+  int n_, j_;
+  Mat3 C_, Rs_, R1_, E_, M_;
+  Eigen::PartialPivLU<Mat3> Et_;
+  Vec3 p_lin0_, p_lin1_;
+};
 
 class FreeBaseJacobians {
  public:
@@ -25,18 +58,20 @@ class FreeBaseJacobians {
   // about `centre`, the attitude of q^k) with controls u (m x (s+1)). False if dR/dy is singular.
   bool step_jacobians(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u, const Mat3& centre, MatX* A,
                       MatX* B) const;
+  // The DEL rows' and p^{k+1}'s derivative by the centre's turn ((s n + n) x 3), by central differences
+  // of del_residual (p^k = 0) at the control points qc, plus the r^{k,0} force `knot` (n) adds at q^{k,0}
+  // (contact impulses; null: none) about each turned centre; res: a workspace of this model's.
+  void turn_derivative(DelWorkspace& res, const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u,
+                       const Mat3& centre, const std::function<VecX(const SE3&)>* knot, MatX& dR_dw) const;
 
  private:
   struct Workspace {
     Workspace(const Model& model, const Quadrature& quad) : jac(model, quad), res(model, quad) {}
     DelJacobianWorkspace jac;
     DelWorkspace res;
-    MatX Jq, Ju, r, rp, rm, dR_dw, sol;
-    VecX zero, pn, pp, pm;
+    MatX Jq, Ju, r, dR_dw, sol;
+    VecX zero, pn;
   };
-  // (r^{k,0..s-1}, p^{k+1}) at control points q with p^k = 0, the centre's placement already set.
-  void residual(Workspace& w, const Eigen::Ref<const MatX>& q, const Eigen::Ref<const MatX>& u, MatX& r,
-                VecX& p_next) const;
 
   const Model& model_;
   const Quadrature& quad_;
