@@ -157,14 +157,10 @@ def test_a_push_on_a_free_base_is_its_wrench_impulse():
     assert np.abs(run.trajectory.p[0] - expected).max() <= 1e-12
 
 
-def test_what_is_not_linearised_on_a_free_base_yet_says_so():
+def test_what_is_not_on_a_free_base_yet_says_so():
     model = quadrotor()
-    integ = hovi.Integrator(model, s=1, dt=0.01)
     with pytest.raises(hovi.ModelError, match="free base"):
         hovi.trajopt.VI(1).transcribe(hovi.trajopt.Problem(model, 5, 0.05, controls="held"))
-    cube, corners = fb.cube("free")
-    with pytest.raises(hovi.ModelError, match="free base"):
-        hovi.Linearizer(hovi.Integrator(cube, s=1, dt=0.01, contacts=Contacts(cube, corners, Terrain(), mu=0.8)))
 
 
 @pytest.mark.parametrize("build", [quadrotor, actuated_chain])
@@ -217,3 +213,45 @@ def test_tvlqr_tracks_a_quadrotor_flip_on_a_heavier_plant():
     miss = lambda run: np.abs(model.difference(ref.q[-1], run.trajectory.q[-1])).max()
     assert miss(opened) > 1.0
     assert miss(closed) < 0.2
+
+
+CONTACT_CASES = {  # (friction, body velocity (linear, angular in its frame), contact points under the body)
+    "one point sticking": (0.8, [0, 0, 0, 0.1, -0.2, 0.3], [(0, 0, -0.1)]),
+    "one point sliding": (0.3, [1.5, 0.5, 0, 0.1, -0.2, 0.3], [(0, 0, -0.1)]),
+    "two points sliding": (0.3, [1.5, 0.5, 0, 0.1, 0.0, 0.3], [(0.1, 0, -0.1), (-0.1, 0, -0.1)]),
+    "two points sticking": (0.9, [0, 0, 0, 0, 0, 0.3], [(0.1, 0, -0.1), (-0.1, 0, -0.1)]),
+}
+
+
+@pytest.mark.parametrize("case", list(CONTACT_CASES))
+def test_the_contact_step_of_a_free_base_is_linearised(case):
+    """Through contact (each contact's state held): A and B against central differences of whole contact
+    steps through integrate and difference, from a state one step after landing (contacts loaded)."""
+    mu, velocity, points = CONTACT_CASES[case]
+    model = quadrotor()
+    integ = hovi.Integrator(model, s=1, dt=0.01, contacts=Contacts(model, [("body", p) for p in points], Terrain(), mu=mu))
+    q = model.neutral()
+    q[2] = 0.1
+    u = np.full((2, 4), 1.0)
+    q1, p1, _ = integ.step(q, integ.momentum(q, velocity), u)
+    lin = hovi.Linearizer(integ).step_jacobians(q1, p1, u)
+    integ.check_start = lambda *args, **kwargs: None  # the differences start 1e-6 m inside or above the ground
+    n = model.nv
+
+    def tangent(qq, pp, uu):
+        qn, pn, info = integ.step(qq, pp, uu)
+        return np.r_[model.difference(lin.q_next, qn), pn - lin.p_next]
+
+    h = 1e-6
+    A = np.array([tangent(model.integrate(q1, e[:n]), p1 + e[n:], u) - tangent(model.integrate(q1, -e[:n]), p1 - e[n:], u)
+                  for e in h * np.eye(2 * n)]).T / (2 * h)
+    hu = 1e-4  # the controls' columns are small (N -> m over a step): a larger step keeps round-off below them
+    B = np.array([tangent(q1, p1, u + e.reshape(2, 4)) - tangent(q1, p1, u - e.reshape(2, 4))
+                  for e in hu * np.eye(8)]).T / (2 * hu)
+    # 5e-8 on the two sticking points: a pitch of the start sinks one point and lifts the other, a switch
+    # at second order that the differences see as O(h) (the Euler base's do the same)
+    assert np.abs(lin.A - A).max() <= 1e-7 * np.abs(A).max()
+    assert np.abs(lin.B - B).max() <= 1e-8 * np.abs(B).max()
+    if "sliding" in case:  # every complementarity pair away from its switch: the central path ends at the held step
+        smoothed = hovi.Linearizer(integ).step_jacobians(q1, p1, u, smoothing=1e-14)
+        assert np.abs(smoothed.A - lin.A).max() <= 1e-6 * np.abs(A).max()

@@ -7,6 +7,7 @@
 #include <functional>
 
 #include "hovi/algorithms/body_points.hpp"
+#include "hovi/algorithms/del_residual.hpp"
 #include "hovi/algorithms/kinematics.hpp"
 
 namespace hovi {
@@ -15,8 +16,9 @@ namespace {
 constexpr double kStickTol = 1e-12;  // m: a sliding displacement γ this small over the step is a stick (round-off)
 }
 
-ContactJacobians::ContactJacobians(const Model& model, const Quadrature& quad, double dt, const ContactModel& contacts)
-    : model_(model), quad_(quad), dt_(dt), contacts_(contacts),
+ContactJacobians::ContactJacobians(const Model& model, const Quadrature& quad, double dt, const ContactModel& contacts,
+                                   const FreeBaseJacobians* free)
+    : model_(model), quad_(quad), dt_(dt), contacts_(contacts), free_(free),
       pool_([this] { return std::make_unique<Workspace>(model_, quad_); }) {
   r_com_ = contacts.points_in_com_frames(model);
   // The tangent axes: x and/or y, those the friction directions (horizontal) reach.
@@ -28,10 +30,17 @@ ContactJacobians::ContactJacobians(const Model& model, const Quadrature& quad, d
 
 void ContactJacobians::point_kinematics(Workspace& w, const Eigen::Ref<const MatX>& qc,
                                          const Eigen::Ref<const MatX>& u, const Eigen::Ref<const VecX>& z,
-                                         bool want_u) const {
+                                         bool want_u, const Mat3* centre) const {
   const int n = model_.n(), s = quad_.s, C = contacts_.size();
   w.Jq.resize((s + 1) * n, (s + 1) * n);
+  if (centre) w.ws.data.chart_placement = w.data.chart_placement = w.res.chart_placement = model_.chart_placement(*centre);
   del_jacobian(model_, quad_, w.ws, qc, u, dt_, w.Jq, want_u ? &w.Ju : nullptr);
+  if (centre) {
+    w.r.resize(n, s);
+    w.pn.resize(n);
+    del_residual(model_, quad_, w.res, qc, VecX::Zero(n), u, dt_, w.r, w.pn);
+    add_centre_term_jacobian(model_, quad_, dt_, qc, w.r, MatX(w.res.chart_P), w.ws, w.Jq, want_u ? &w.Ju : nullptr);
+  }
   w.J0.setZero(3 * C, n);
   w.Je.setZero(3 * C, n);
   w.H.setZero(n, n);
@@ -53,10 +62,17 @@ void ContactJacobians::point_kinematics(Workspace& w, const Eigen::Ref<const Mat
   }
 }
 
-bool ContactJacobians::step_maps(Workspace& w, int ny, const std::function<bool(const MatX&, MatX&)>& solve,
-                                  MatX* A, MatX* B) const {
+bool ContactJacobians::step_maps(Workspace& w, int ny, const std::function<bool(const MatX&, MatX&)>& solve, MatX* A,
+                                  MatX* B, const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u,
+                                  const Eigen::Ref<const VecX>& z, const Mat3* centre) const {
   const int n = model_.n(), s = quad_.s, S1 = s + 1, m = model_.n_controls(), sn = s * n;
   const auto P_y = w.Jq.bottomRightCorner(n, sn);  // dp^{k+1}/dy; p^{k+1} carries no impulse
+  MatX rhs_u;
+  if (B && m > 0) {
+    rhs_u.setZero(ny, S1 * m);
+    for (int a = 0; a < S1; ++a) rhs_u.block(0, a * m, sn, m) = w.Ju.block(0, a * m, sn, m);
+  }
+  if (centre) return tangent_maps(w, ny, solve, A, B, qc, u, z, *centre, rhs_u);
   if (A) {
     if (!solve(w.rhs, w.sol)) return false;
     A->resize(2 * n, 2 * n);
@@ -67,8 +83,6 @@ bool ContactJacobians::step_maps(Workspace& w, int ny, const std::function<bool(
   if (B) {
     B->setZero(2 * n, S1 * m);
     if (m > 0) {
-      MatX rhs_u = MatX::Zero(ny, S1 * m);
-      for (int a = 0; a < S1; ++a) rhs_u.block(0, a * m, sn, m) = w.Ju.block(0, a * m, sn, m);
       if (!solve(rhs_u, w.sol)) return false;
       B->topRows(n) = w.sol.middleRows(sn - n, n);
       B->bottomRows(n).noalias() = P_y * w.sol.topRows(sn);
@@ -78,12 +92,65 @@ bool ContactJacobians::step_maps(Workspace& w, int ny, const std::function<bool(
   return true;
 }
 
+bool ContactJacobians::tangent_maps(Workspace& w, int ny, const std::function<bool(const MatX&, MatX&)>& solve,
+                                     MatX* A, MatX* B, const Eigen::Ref<const MatX>& qc,
+                                     const Eigen::Ref<const MatX>& u, const Eigen::Ref<const VecX>& z,
+                                     const Mat3& centre, const MatX& rhs_u) const {
+  const int n = model_.n(), s = quad_.s, S1 = s + 1, m = model_.n_controls(), sn = s * n, j = model_.rotation_chart;
+  const int C = contacts_.size();
+  const auto P_y = w.Jq.bottomRightCorner(n, sn);
+  VecX F(3 * C);  // the knot's world impulses
+  for (int c = 0; c < C; ++c) F.segment<3>(3 * c) = contacts_.world_impulse(z, c);
+  const VecX p0 = -(w.r.col(0) + w.J0.transpose() * F);  // r^{k,0} = p^k + ... + J_c(q^k)^T F_c = 0
+  const TangentStep step(free_->base(), centre, qc, p0, w.pn);
+  if (A) {
+    // R's derivative by the centre's turn: the DEL rows (with the knot's impulses) and p^{k+1} by central
+    // differences; a contact row through the points it moves, dq^a = A(θ^a) E(0)^-1 δω (θ^{k,0} = 0).
+    const KinematicsView kin{model_, w.data.g.data(), w.data.Sbar.data(), 1};
+    MatX Jc(3, n);
+    const std::function<VecX(const SE3&)> knot = [&](const SE3& placement) {
+      w.data.chart_placement = placement;
+      forward_kinematics(model_, w.data, qc.col(0));
+      VecX f = VecX::Zero(n);
+      for (int c = 0; c < C; ++c) {
+        Vec3 x;
+        Jc.setZero();
+        body_point_jacobian(kin, contacts_.points[c].body, r_com_.col(c), x, Jc);
+        f.noalias() += Jc.transpose() * F.segment<3>(3 * c);
+      }
+      return f;
+    };
+    MatX dR_dw;
+    free_->turn_derivative(w.res, qc, u, centre, &knot, dR_dw);
+    const RotationChart& chart = free_->base().chart;
+    const Mat3 E0inv = chart.rates_to_omega(Vec3::Zero()).inverse();
+    const Mat3 end = chart.centre_shift(qc.col(s).segment<3>(j)) * E0inv;
+    MatX d_turn = MatX::Zero(ny, 3);
+    d_turn.topRows(sn) = dR_dw.topRows(sn);
+    d_turn.bottomRows(ny - sn) = w.K.block(sn, sn - n + j, ny - sn, 3) * end + w.rhs.block(sn, j, ny - sn, 3) * E0inv;
+    if (!solve(step.inputs(w.rhs.leftCols(n), d_turn, true), w.sol)) return false;
+    const MatX Pd = step.inputs(w.Jq.bottomLeftCorner(n, n), dR_dw.bottomRows(n), false);
+    step.outputs(w.sol.middleRows(sn - n, n), P_y * w.sol.topRows(sn) + Pd, step.turn(), *A);
+  }
+  if (B) {
+    if (m == 0) {
+      B->setZero(2 * n, 0);
+      return true;
+    }
+    if (!solve(rhs_u, w.sol)) return false;
+    MatX dp = P_y * w.sol.topRows(sn);
+    for (int a = 0; a < S1; ++a) dp.middleCols(a * m, m) += w.Ju.block(sn, a * m, n, m);
+    step.outputs(w.sol.middleRows(sn - n, n), dp, MatX::Zero(3, S1 * m), *B);
+  }
+  return true;
+}
+
 bool ContactJacobians::step_jacobians(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u,
-                                       const Eigen::Ref<const VecX>& z, MatX* A, MatX* B) const {
+                                       const Eigen::Ref<const VecX>& z, MatX* A, MatX* B, const Mat3* centre) const {
   auto w = pool_.acquire();
   const int n = model_.n(), s = quad_.s, sn = s * n;
   const int C = contacts_.size(), d = contacts_.d(), pc = contacts_.per_contact(), nt = static_cast<int>(T_.rows());
-  point_kinematics(*w, qc, u, z, B != nullptr && model_.n_controls() > 0);
+  point_kinematics(*w, qc, u, z, B != nullptr && model_.n_controls() > 0, centre);
   const MatX &Jq = w->Jq, &J0 = w->J0, &Je = w->Je;
   MatX &K = w->K, &rhs = w->rhs;
   int ny = sn;
@@ -144,16 +211,17 @@ bool ContactJacobians::step_jacobians(const Eigen::Ref<const MatX>& qc, const Ei
       }
     }
   }
-  return step_maps(*w, ny, solve, A, B);
+  return step_maps(*w, ny, solve, A, B, qc, u, z, centre);
 }
 
 bool ContactJacobians::smoothed_jacobians(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u,
-                                           const Eigen::Ref<const VecX>& z, double smoothing, MatX* A, MatX* B) const {
+                                           const Eigen::Ref<const VecX>& z, double smoothing, MatX* A, MatX* B,
+                                           const Mat3* centre) const {
   auto w = pool_.acquire();
   const int n = model_.n(), s = quad_.s, sn = s * n;
   const int C = contacts_.size(), d = contacts_.d(), pc = contacts_.per_contact(), nz = contacts_.unknowns();
   const int ny = sn + nz;
-  point_kinematics(*w, qc, u, z, B != nullptr && model_.n_controls() > 0);
+  point_kinematics(*w, qc, u, z, B != nullptr && model_.n_controls() > 0, centre);
   const MatX &Jq = w->Jq, &J0 = w->J0, &Je = w->Je, &H = w->H, &X0 = w->X0, &Xe = w->Xe;
   MatX &K = w->K, &rhs = w->rhs;
   // Each pair in impulse units: a complement w_i (a gap or displacement, m) over its impulse's own
@@ -228,7 +296,7 @@ bool ContactJacobians::smoothed_jacobians(const Eigen::Ref<const MatX>& qc, cons
   const Eigen::PartialPivLU<MatX> lu(K);
   const double scale = K.cwiseAbs().maxCoeff();
   if (!(lu.matrixLU().diagonal().cwiseAbs().minCoeff() > 1e-14 * scale)) return false;
-  return step_maps(*w, ny, [&](const MatX& b, MatX& x) { x = -lu.solve(b); return true; }, A, B);
+  return step_maps(*w, ny, [&](const MatX& b, MatX& x) { x = -lu.solve(b); return true; }, A, B, qc, u, z, centre);
 }
 
 }  // namespace hovi

@@ -12,12 +12,9 @@ namespace hovi {
 Linearizer::Linearizer(const GalerkinIntegrator& integ)
     : model_(integ.model()), quad_(integ.quadrature()), dt_(integ.dt()), mc_(model_.n_constraints()),
       nz_(integ.contacts().unknowns()), aug_(mc_ ? with_constraint_forces(model_) : model_),
-      contact_(integ.has_contacts() ? std::make_unique<ContactJacobians>(model_, quad_, dt_, integ.contacts()) : nullptr),
       pool_([this] { return std::make_unique<Workspace>(aug_, model_, quad_); }) {
-  if (model_.rotation_chart >= 0) {
-    if (contact_) model_.refuse_free_base("the linearisation through contact");
-    free_ = std::make_unique<FreeBaseJacobians>(model_, quad_, dt_);
-  }
+  if (model_.rotation_chart >= 0) free_ = std::make_unique<FreeBaseJacobians>(model_, quad_, dt_);
+  if (integ.has_contacts()) contact_ = std::make_unique<ContactJacobians>(model_, quad_, dt_, integ.contacts(), free_.get());
 }
 
 void Linearizer::del_jacobian(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u, MatX& Jq, MatX* Ju,
@@ -47,15 +44,15 @@ bool Linearizer::step_jacobians(const Eigen::Ref<const MatX>& qc, const Eigen::R
                                 const Eigen::Ref<const MatX>& lambda, MatX* Yx, MatX* Yu, double smoothing,
                                 const Eigen::Ref<const VecX>& start) const {
   if (smoothing != 0 && !contact_) throw InputError("smoothing is for an integrator with contacts");
+  Mat3 centre;  // a free base: the chart's, q^k's attitude
   if (free_) {
     if (Yx || Yu) model_.refuse_free_base("the control points' sensitivities (FDDP)");
     if (start.size() != model_.nq())
       throw InputError("a free base's linearisation needs the step's start q (" + std::to_string(model_.nq()) +
                        " entries)");
     VecX q(model_.n());
-    Mat3 centre;
-    FreeBase(model_).split(start, q, centre);
-    return free_->step_jacobians(qc, u, centre, A, B);
+    free_->base().split(start, q, centre);
+    if (!contact_) return free_->step_jacobians(qc, u, centre, A, B);
   }
   if (!(smoothing >= 0) || !std::isfinite(smoothing)) throw InputError("smoothing must be finite and >= 0");
   if (contact_) {  // the contact step; s = 1: its one unknown control point is q^{k+1}, the top rows of A and B
@@ -64,8 +61,9 @@ bool Linearizer::step_jacobians(const Eigen::Ref<const MatX>& qc, const Eigen::R
     if (lambda.size() != nz_)
       throw InputError("a contact step's linearisation needs its " + std::to_string(nz_) + " impulses");
     const Eigen::Map<const VecX> z(lambda.data(), lambda.size());
-    const bool ok = smoothing > 0 ? contact_->smoothed_jacobians(qc, u, z, smoothing, A, B)
-                              : contact_->step_jacobians(qc, u, z, A, B);
+    const Mat3* c = free_ ? &centre : nullptr;
+    const bool ok = smoothing > 0 ? contact_->smoothed_jacobians(qc, u, z, smoothing, A, B, c)
+                              : contact_->step_jacobians(qc, u, z, A, B, c);
     if (ok && Yx) *Yx = A->topRows(model_.n());
     if (ok && Yu) *Yu = B->topRows(model_.n());
     return ok;

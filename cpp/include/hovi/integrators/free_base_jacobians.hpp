@@ -63,6 +63,7 @@ class FreeBaseJacobians {
   // (contact impulses; null: none) about each turned centre; res: a workspace of this model's.
   void turn_derivative(DelWorkspace& res, const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u,
                        const Mat3& centre, const std::function<VecX(const SE3&)>* knot, MatX& dR_dw) const;
+  const FreeBase& base() const { return base_; }
 
  private:
   struct Workspace {
