@@ -409,8 +409,8 @@ def readme(results) -> str:
     ratios = [by[(sy, s, "free")]["ms_per_step"] / by[(sy, s, "euler")]["ms_per_step"] for (sy, s, b) in by if b == "free"]
     lines += ["", f"Where the free base loses: its linearisation costs {min(ratios):.1f} to {max(ratios):.1f} times the "
               "Euler base's, for the six evaluations of the step's residual that give its derivative by the chart "
-              "centre's turn, and for the tangent maps; the share falls as n grows. LQR designs once; time-varying LQR "
-              "and MPC, which would pay it per step, are not on the free base yet."]
+              "centre's turn, and for the tangent maps; the share falls as n grows. LQR pays it once, time-varying LQR "
+              "once per step of its reference (MPC, which would pay it at every solve, is not on the free base yet)."]
     return "\n".join(lines)
 
 

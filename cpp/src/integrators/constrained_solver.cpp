@@ -127,7 +127,7 @@ SolveInfo ConstrainedSolver::solve(const SolverOptions& opt, const Eigen::Ref<co
   evaluate(p, u, lambda, dt, qc, r_, H_, p_next);
   Step step{*this, opt, p, u, dt, qc, lambda, p_next};
   step.phi = Step::merit(r_, H_);
-  NewtonLoop loop = newton_loop(opt, aug_);
+  NewtonLoop loop = newton_loop(opt, aug_, false);
   loop.reuse = false;                      // every constrained iteration refactors
   loop.estimate_from_contraction = false;
   return newton_iterate(step, stopping_rule(opt, p), loop);

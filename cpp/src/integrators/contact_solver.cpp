@@ -224,7 +224,7 @@ SolveInfo ContactSolver::solve(const SolverOptions& opt, double tol, const Eigen
   evaluate(p, u, dt, qc, z, cur_);
   Step step{*this, tol, p, u, dt, qc, z, basis, 0.0, false, opt};
   step.phi_merit = Step::merit(cur_);
-  NewtonLoop loop = newton_loop(opt, model_);
+  NewtonLoop loop = newton_loop(opt, model_, false);
   // Every iteration refactors: keeping the factorisation and the LCP's matrix while the iteration
   // contracts (as the integrator's simplified Newton) was measured no faster (bench/README.md, "Design
   // measurements"): the contraction of one active set is not that of the next.

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "hovi/algorithms/rotation_chart.hpp"
+
 namespace hovi {
 
 bool dense_direction_is_faster(const Model& model, int s) {
@@ -17,8 +19,11 @@ DenseDirection::DenseDirection(const Model& model, const Quadrature& quad)
       lu_(quad.s * model.n()), x_(quad.s * model.n()), y_(quad.s * model.n()) {}
 
 bool DenseDirection::factor(const Model& model, const Quadrature& quad, const Eigen::Ref<const MatX>& qc,
-                            const Eigen::Ref<const MatX>& u, double dt, const DelWorkspace* kinematics) {
+                            const Eigen::Ref<const MatX>& u, double dt, const DelWorkspace* kinematics,
+                            const MatX* r) {
   del_jacobian(model, quad, ws_, qc, u, dt, J_, nullptr, kinematics, BlockWindow::newton(quad.s));
+  if (model.rotation_chart >= 0 && kinematics && r)
+    add_centre_term_jacobian(model, quad, dt, qc, *r, kinematics->chart_P, ws_, J_, nullptr, 1);
   lu_.compute(J_);
   // Singular to working precision: a pivot below 1e-14 of J's largest entry (the test of the
   // recursive path's pivot blocks), cheaper than Eigen's rcond() estimate (bench/README.md).

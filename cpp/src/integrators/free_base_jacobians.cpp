@@ -3,63 +3,11 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
-#include <vector>
 
 #include "hovi/algorithms/del_residual.hpp"
 #include "hovi/util/central_differences.hpp"
 
 namespace hovi {
-
-void add_centre_term_jacobian(const Model& model, const Quadrature& quad, double dt, const Eigen::Ref<const MatX>& qc,
-                              const MatX& r, const MatX& P, const DelJacobianWorkspace& ws, MatX& Jq, MatX* Ju) {
-  // With Y' = 0 at the ends, C = sum_b Y'_b^T r^b + sum_a w^a dt D_a^T P_a, D_a = Ẏ'_a - sum_b b^{ab} Y'_b / dt
-  // (r^b the interior DEL rows): dC from the rows of Jq and Ju, dP_a = Kvq(a) dq^a + sum_c b^{ac} / dt
-  // Kvv(a) dq^c, and A's derivatives.
-  const RotationChart chart;
-  const int n = model.n(), s = quad.s, S1 = s + 1, j = model.rotation_chart;
-  const auto th = qc.middleRows(j, 3);
-  const MatX thd = th * quad.b.transpose() / dt;
-  std::vector<Mat3> Y(S1, Mat3::Zero()), D(S1);
-  for (int b = 1; b < s; ++b) Y[b] = chart.centre_shift(th.col(b)) - Mat3::Identity();
-  const Mat3 end = chart.centre_shift(th.col(s)) - Mat3::Identity();
-  for (int a = 0; a < S1; ++a) {
-    D[a] = chart.centre_shift_rate(th.col(a), thd.col(a)) - quad.b(a, s) * end / dt;
-    for (int b = 1; b < s; ++b) D[a] -= quad.b(a, b) * Y[b] / dt;
-  }
-  MatX dC = MatX::Zero(3, S1 * n);
-  for (int b = 1; b < s; ++b) dC.noalias() += Y[b].transpose() * Jq.block(b * n + j, 0, 3, S1 * n);
-  for (int a = 0; a < S1; ++a) {
-    dC.block(0, a * n, 3, n).noalias() += (quad.w[a] * dt) * D[a].transpose() * ws.Kvq[a].middleRows(j, 3);
-    for (int c = 0; c < S1; ++c)
-      if (quad.b(a, c) != 0)
-        dC.block(0, c * n, 3, n).noalias() += (quad.w[a] * quad.b(a, c)) * D[a].transpose() * ws.Kvv[a].middleRows(j, 3);
-  }
-  // the chart's own columns: Y' and D move with θ (A's second derivative by central differences of its closed form)
-  for (int c = 0; c < S1; ++c)
-    for (int k = 0; k < 3; ++k) {
-      const Vec3 e = Vec3::Unit(k);
-      const Mat3 dA = chart.centre_shift_rate(th.col(c), e);  // dA(θ^c)/dθ_k
-      const Vec3 tp = th.col(c) + kCentralStep * e, tm = th.col(c) - kCentralStep * e;
-      const Mat3 dAdot = (chart.centre_shift_rate(tp, thd.col(c)) - chart.centre_shift_rate(tm, thd.col(c))) /
-                         (2 * kCentralStep);  // d/dθ_k of Ȧ(θ^c, θ̇^c) at fixed θ̇
-      Vec3 col = Vec3::Zero();
-      if (c > 0 && c < s) col += dA.transpose() * r.col(c).segment<3>(j);
-      for (int a = 0; a < S1; ++a) {
-        Mat3 dD = (quad.b(a, c) / dt) * chart.centre_shift_rate(th.col(a), e);
-        if (a == c) dD += dAdot;
-        if (c == s) dD -= (quad.b(a, s) / dt) * dA;
-        if (c > 0 && c < s) dD -= (quad.b(a, c) / dt) * dA;
-        col += (quad.w[a] * dt) * dD.transpose() * P.col(a);
-      }
-      dC.col(c * n + j + k) += col;
-    }
-  Jq.block(j, 0, 3, S1 * n) += dC;
-  if (Ju && Ju->cols() > 0) {
-    MatX dCu = MatX::Zero(3, Ju->cols());
-    for (int b = 1; b < s; ++b) dCu.noalias() += Y[b].transpose() * Ju->block(b * n + j, 0, 3, Ju->cols());
-    Ju->middleRows(j, 3) += dCu;
-  }
-}
 
 TangentStep::TangentStep(const FreeBase& base, const Mat3& centre, const Eigen::Ref<const MatX>& qc, const VecX& p0,
                          const VecX& pn)

@@ -11,12 +11,16 @@ StoppingRule stopping_rule(const SolverOptions& opt, const Eigen::Ref<const VecX
   return StoppingRule(opt.tol, opt.step_tol, 1 + (p.size() ? p.cwiseAbs().maxCoeff() : 0.0));
 }
 
-NewtonLoop newton_loop(const SolverOptions& opt, const Model& model) {
+NewtonLoop newton_loop(const SolverOptions& opt, const Model& model, bool exact) {
   NewtonLoop loop;
-  // a free base's chart: the Jacobian leaves out the chart term's derivative, so Newton converges
-  // linearly at a rate that varies: its error is estimated from the larger of the last two
-  // contractions, and a small last correction is applied (the iterate's error is about that size)
-  loop.steady_contraction = loop.apply_last_correction = model.rotation_chart >= 0;
+  // a free base's chart on a direction without the chart term's derivative: Newton converges linearly
+  // at a rate that varies, so its error is estimated from the larger of the last two contractions, and
+  // the last small correction is applied (the iterate's error is about that size); on the exact one
+  // it converges quadratically, and a stop on the contraction's estimate takes one correction more
+  // (its residual of 1e-12 would move the world momenta)
+  const bool chart = model.rotation_chart >= 0;
+  loop.steady_contraction = loop.apply_last_correction = chart && !exact;
+  loop.correct_after_contraction = chart && exact;
   loop.max_iterations = opt.max_iterations;
   loop.max_backtracks = opt.max_backtracks;
   loop.line_search = opt.line_search;
@@ -39,12 +43,15 @@ void NewtonSolver::set_chart_placement(const SE3& placement) {
 }
 
 bool NewtonSolver::factor(const Model& model, const Quadrature& quad, const SolverOptions& opt,
-                          const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u, double dt) {
+                          const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u, double dt,
+                          const MatX& r) {
   factor_valid_ = false;
   factor_dense_ = uses_dense_direction(opt.direction, model, quad.s);
   if (factor_dense_) {
     if (!dense_) dense_ = std::make_unique<DenseDirection>(model, quad);
-    if (!dense_->factor(model, quad, qc, u, dt, &del)) return false;  // del holds Algorithm 1 at qc
+    // del and r hold Algorithm 1 at qc; the chart term's derivative where it pays (exact_chart_direction)
+    const bool exact = exact_chart_direction(opt.direction, model, quad.s);
+    if (!dense_->factor(model, quad, qc, u, dt, &del, exact ? &r : nullptr)) return false;
   } else {
     if (!newton_factor(model, quad, del, factor_)) return false;
     del_factor_.Sbar = del.Sbar;  // newton_solve reads the kinematics of the factorisation
@@ -64,7 +71,7 @@ void NewtonSolver::solve_direction(const Model& model, const Quadrature& quad, c
 bool NewtonSolver::direction(const Model& model, const Quadrature& quad, const SolverOptions& opt,
                              const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u, double dt,
                              const Eigen::Ref<const MatX>& r, Eigen::Ref<MatX> dq) {
-  const bool ok = factor(model, quad, opt, qc, u, dt);
+  const bool ok = factor(model, quad, opt, qc, u, dt, MatX(r));
   if (ok) solve_direction(model, quad, r, dq);
   factor_valid_ = false;
   return ok && dq.allFinite();
@@ -91,7 +98,7 @@ struct NewtonSolver::Step {
   bool feasible() const { return true; }
   double iterate_norm() const { return qc.cwiseAbs().maxCoeff(); }
   bool has_factor() const { return sv.factor_valid_; }
-  Factor factor() { return sv.factor(model, quad, opt, qc, u, dt) ? Factor::Ok : Factor::Singular; }
+  Factor factor() { return sv.factor(model, quad, opt, qc, u, dt, sv.r_) ? Factor::Ok : Factor::Singular; }
   void direction() { sv.solve_direction(model, quad, sv.r_, sv.dq_); }
   bool direction_finite() const { return sv.dq_.allFinite(); }
   double correction_norm() { dq_norm = sv.dq_.norm(); return sv.dq_.cwiseAbs().maxCoeff(); }
@@ -125,7 +132,8 @@ SolveInfo NewtonSolver::solve(const Model& model, const Quadrature& quad, const 
   factor_valid_ = false;  // every solve starts from a fresh factorisation at its guess
   Step step{*this, model, quad, opt, p, u, dt, qc, p_next};
   step.norm2 = r_.norm();
-  return newton_iterate(step, stopping_rule(opt, p), newton_loop(opt, model));
+  return newton_iterate(step, stopping_rule(opt, p),
+                        newton_loop(opt, model, exact_chart_direction(opt.direction, model, quad.s)));
 }
 
 }  // namespace hovi

@@ -6,6 +6,7 @@
 // centre with R_0, which adds centre_term to the first residual (docs/how-it-works.md, "The free
 // base"; measured in bench/README.md, "Free bodies on SE(3)").
 #pragma once
+#include "hovi/algorithms/del_jacobian.hpp"
 #include "hovi/model/model.hpp"
 #include "hovi/quadrature/lobatto.hpp"
 
@@ -36,10 +37,19 @@ struct RotationChart {
 // G = dL/dq + the joint forces and P = dL/dq̇ at the points. Its part along Y - Y' = sum of the interior
 // l_b(t) 1 is the sum of the chart's interior DEL equations, which vanish at the solution; C keeps the
 // rest, Y'(t) = A(θ(t)) - 1 - l_s(t) (A(θ^s) - 1) = O(θ): the step's equations have the same
-// solution and C's derivative is small: the joints' DEL Jacobian without it gives a Newton direction
-// off by about 1e-3 (docs/how-it-works.md). From the chart joints' θ, θ̇ (3 x (s+1)), G and P at the points.
+// solution and C's derivative is small: the joints' DEL Jacobian without it (the recursive direction)
+// gives a Newton direction off by about 1e-3 (docs/how-it-works.md); add_centre_term_jacobian gives it.
+// From the chart joints' θ, θ̇ (3 x (s+1)), G and P at the points.
 Vec3 centre_term(const RotationChart& chart, const Quadrature& quad, double dt, const Eigen::Ref<const MatX>& theta,
                  const Eigen::Ref<const MatX>& theta_dot, const Eigen::Ref<const MatX>& G,
                  const Eigen::Ref<const MatX>& P);
+
+// centre_term's derivative added to the chart's rows of r^{k,0} in Jq (and Ju, if given): from the step's
+// DEL rows r (n x s, its interior columns used), the chart joints' dL/dq̇ P (3 x (s+1)) and ws's Kvq, Kvv at
+// the control points qc (ws: del_jacobian's at qc). Jq holds the column blocks col0..s of del_jacobian.hpp's
+// layout (1: the Newton direction's window). A's second derivative by central differences of its closed form.
+void add_centre_term_jacobian(const Model& model, const Quadrature& quad, double dt, const Eigen::Ref<const MatX>& qc,
+                              const MatX& r, const MatX& P, const DelJacobianWorkspace& ws, Eigen::Ref<MatX> Jq,
+                              MatX* Ju = nullptr, int col0 = 0);
 
 }  // namespace hovi

@@ -20,12 +20,6 @@
 
 namespace hovi {
 
-// The centre term's derivative (rotation_chart.hpp's C) added to the chart's rows of r^{k,0} in Jq
-// (and Ju, if given): from the step's DEL rows r (n x s, at p^k = 0), the chart joints' dL/dq̇ P
-// (3 x (s+1)) and ws's Kvq, Kvv at the control points qc (ws: del_jacobian's, at qc).
-void add_centre_term_jacobian(const Model& model, const Quadrature& quad, double dt, const Eigen::Ref<const MatX>& qc,
-                              const MatX& r, const MatX& P, const DelJacobianWorkspace& ws, MatX& Jq, MatX* Ju);
-
 // One step of a free base in tangent coordinates: its inputs (δv, δω, δr, δp) at q^k and outputs at
 // q^{k+1}, for the step's chart about C (θ^{k,0} = 0) whose unknowns may be more than y (contact_jacobians.hpp).
 class TangentStep {

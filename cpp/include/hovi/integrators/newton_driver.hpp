@@ -103,6 +103,9 @@ struct NewtonLoop {
   // Converged on a small correction: apply it (one more residual) instead of stopping before it, for
   // an iteration that contracts only linearly (its error is about that correction).
   bool apply_last_correction = false;
+  // Converged on the contraction's estimate with a kept factorisation: one more correction from it (a
+  // solve and a residual), for a residual at round-off (a free body's world momenta drift by what is left).
+  bool correct_after_contraction = false;
 };
 
 // NoLcpSolution: the contact step's complementarity subproblem has none (contact_solver.hpp).
@@ -195,8 +198,17 @@ SolveInfo newton_iterate(Problem& pb, const StoppingRule& rule, const NewtonLoop
     previous = lambda == 1 ? dx : INFINITY;
     pb.commit();
     if (loop.estimate_from_contraction && have_theta && pb.finite() && pb.feasible() &&
-        rule.contraction_small(theta, dx, pb.iterate_norm()))
+        rule.contraction_small(theta, dx, pb.iterate_norm())) {
+      if (loop.correct_after_contraction && pb.has_factor()) {
+        pb.direction();
+        if (pb.direction_finite()) {
+          pb.trial(1);
+          ++info.residual_evaluations;
+          pb.commit();
+        }
+      }
       return finish(SolveStatus::Converged);
+    }
   }
 }
 

@@ -53,9 +53,10 @@ struct SolverOptions {
 // The stopping rule (newton_driver.hpp) and the iteration these options ask for; the residual
 // test is relative to 1 + ||p^k||_inf.
 StoppingRule stopping_rule(const SolverOptions& opt, const Eigen::Ref<const VecX>& p);
-// A model with a free base: no contraction estimate and the last correction applied, for its chart's
-// Jacobian (NewtonLoop).
-NewtonLoop newton_loop(const SolverOptions& opt, const Model& model);
+// A model with a free base: if its direction leaves out the chart term's derivative (exact = false: the
+// recursive one, s = 1, the contact step's), the steadier contraction estimate and the last correction
+// applied; else a correction more after a stop on the contraction's estimate (NewtonLoop).
+NewtonLoop newton_loop(const SolverOptions& opt, const Model& model, bool exact);
 
 class DenseDirection;
 
@@ -86,9 +87,10 @@ class NewtonSolver {
  private:
   struct Step;               // the Problem of newton_iterate (newton_solver.cpp)
   DelWorkspace del_trial_;   // Algorithm 1 at the trial point; swapped with del on acceptance
-  // Factors the Jacobian at the current iterate (del, qc) on the path chosen by opt.direction.
+  // Factors the Jacobian at the current iterate (del, qc, its residual r) on the path chosen by opt.direction.
   bool factor(const Model& model, const Quadrature& quad, const SolverOptions& opt,
-              const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u, double dt);
+              const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u, double dt,
+              const MatX& r);
   // dq = -J^{-1} r with the kept factorisation.
   void solve_direction(const Model& model, const Quadrature& quad, const Eigen::Ref<const MatX>& r,
                        Eigen::Ref<MatX> dq);
