@@ -119,6 +119,19 @@ def test_free_base_quick_mode(tmp_path):
     assert not euler["edge_tips_and_rests"]
 
 
+def test_quadrotor_quick_mode(tmp_path):
+    """bench/quadrotor.py --quick: one LQR at hover brings a heavier quadrotor back from tilts up to upside
+    down, and time-varying LQR tracks a flip whose open loop misses by metres."""
+    import json
+    run_quick("quadrotor.py", [], tmp_path)
+    with open(tmp_path / "quadrotor_quick.json") as f:
+        out = json.load(f)
+    assert out["recovery"] and all(r["recovered"] for r in out["recovery"])
+    assert max(r["degrees"] for r in out["recovery"]) >= 179
+    assert out["flip"]["turn_degrees"] > 355
+    assert out["flip"]["miss_closed"] < 0.1 * out["flip"]["miss_open"]
+
+
 def test_astronaut_quick_mode(tmp_path):
     """bench/astronaut.py --quick: Atlas floating in zero gravity under random joint torques, then
     coasting: the two libraries' models agree, and hovi keeps the world momenta to round-off where
