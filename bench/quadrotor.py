@@ -27,7 +27,7 @@ import numpy as np
 
 import hovi
 from common import ROOT, markdown_table, publish, save_figure, study_parser, write_json
-from free_base import to_base, velocity_to_base
+from free_base import based, to_base, velocity_to_base
 from hovi.control import lqr, simulate, tvlqr
 
 DT, T = 0.01, 8.0
@@ -40,17 +40,7 @@ HEAVIER = (1.2, (0.013, 0.011, 0.021))  # the plant's
 def quadrotor(base: str, mass: float, inertia) -> hovi.Model:
     """A quadrotor (rotors at 0.2 m along ±x, ±y; drag torque 0.02 u) on the free joint or on the
     Euler-angle joints."""
-    m = hovi.Model()
-    if base == "free":
-        m.add_body("body", None, "free", mass=mass, inertia=np.diag(inertia))
-    else:
-        parent = None
-        for joint, kind, axis in [("x", "prismatic", (1, 0, 0)), ("y", "prismatic", (0, 1, 0)),
-                                  ("z", "prismatic", (0, 0, 1)), ("yaw", "revolute", (0, 0, 1)),
-                                  ("pitch", "revolute", (0, 1, 0))]:
-            m.add_body(joint, parent, kind, axis=axis)
-            parent = joint
-        m.add_body("body", parent, "revolute", axis=(1, 0, 0), mass=mass, inertia=np.diag(inertia))
+    m = based("body", base, mass=mass, inertia=np.diag(inertia))
     for k, (x, y) in enumerate([(0.2, 0.0), (0.0, 0.2), (-0.2, 0.0), (0.0, -0.2)]):
         m.add_point_wrench("body", force=(0, 0, 1.0), torque=(0, 0, 0.02 * (-1) ** k), point=(x, y, 0.0),
                            frame="body", control=m.add_control())
@@ -101,24 +91,30 @@ def recovery(base: str, limits, axes, angles) -> list:
     return out
 
 
-def flip() -> dict:
-    model = quadrotor("free", *NOMINAL)
-    integ = hovi.Integrator(model, s=1, dt=DT)
+def flip_reference(integ: hovi.Integrator):
+    """A flip: 2 m up, a full turn about x from open-loop roll-torque pulses (rotors +y and -y 7 N apart for
+    0.15 s, then back); (q0, u (150, 2, 4), the reference trajectory)."""
     K, hover, a = 150, 9.81 / 4, 7.0
     u = np.full((K, 2, 4), hover)
     u[20:35, :, 1] += a
     u[20:35, :, 3] -= a
     u[35:50, :, 1] -= a
     u[35:50, :, 3] += a
-    q0 = model.neutral()
+    q0 = integ.model.neutral()
     q0[2] = 2.0
-    ref = integ.rollout(q0, K, u=u)
+    return q0, u, integ.rollout(q0, K, u=u)
+
+
+def flip() -> dict:
+    model = quadrotor("free", *NOMINAL)
+    integ = hovi.Integrator(model, s=1, dt=DT)
+    q0, u, ref = flip_reference(integ)
     roll = np.unwrap([2 * np.arctan2(q[3], q[6]) for q in ref.q])
     policy = tvlqr(integ, ref, u, q_weight=[10, 10, 10, 2, 2, 2], v_weight=1.0, u_weight=0.05)
     plant = hovi.Integrator(quadrotor("free", *HEAVIER), s=1, dt=DT)
     miss = {}
     for name, pol in (("closed", policy), ("open", policy.without_feedback())):
-        run = simulate(plant, pol, q0, K)
+        run = simulate(plant, pol, q0, len(u))
         miss[name] = float(np.abs(model.difference(ref.q[-1], run.trajectory.q[-1])).max())
     return dict(turn_degrees=float(np.degrees(roll[-1])), miss_closed=miss["closed"], miss_open=miss["open"])
 
