@@ -19,6 +19,7 @@ Linearizer::Linearizer(const GalerkinIntegrator& integ)
 
 void Linearizer::del_jacobian(const Eigen::Ref<const MatX>& qc, const Eigen::Ref<const MatX>& u, MatX& Jq, MatX* Ju,
                               const Eigen::Ref<const MatX>& lambda, MatX* Dh) const {
+  model_.refuse_free_base("the DEL Jacobian in joint coordinates (del_jacobian; step_jacobians works)");
   auto w = pool_.acquire();
   const int n = model_.n(), s = quad_.s, S1 = s + 1, m = model_.n_controls();
   Jq.resize(S1 * n, S1 * n);
