@@ -97,6 +97,9 @@ def test_the_hover_controls_balance_gravity():
     q[2] = 1.0
     u = equilibrium_controls(integ, q)
     assert np.abs(u - 1.3 * 9.81 / 4).max() <= 1e-9
+    q[3:7] = axis_angle((1, 0, 0), 90)  # on its side: the thrusts push sideways, nothing holds it up
+    with pytest.raises(ValueError, match="no held controls hold q at rest"):
+        equilibrium_controls(integ, q)
 
 
 @pytest.mark.parametrize("axis, degrees", [((1, 0, 0), 30), ((0.3, 1, 0.2), 90), ((1, -1, 0.5), 150),
