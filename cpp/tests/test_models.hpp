@@ -75,4 +75,27 @@ inline Model forced_pendulum() {
   return with_forces(models::pendulum(5), {{0, 3.0, 0.2}, {3, 1.5, -0.1}}, {{1, 0.4}, {4, 0.2}}, {{2, 1.0}, {4, 2.0}});
 }
 
+// A floating chain: x, y, z sliders, yaw (z), pitch (y), roll (x) turning a body of principal moments
+// 1, 2, 3 kg m^2, and an arm on a skewed revolute joint; the chart on the yaw, pitch and roll joints.
+inline Model floating_chain(bool gravity) {
+  Model m;
+  auto add = [&](const char* name, int parent, JointType type, Vec3 axis, double mass, Mat3 inertia, Vec3 at,
+                 Vec3 com) {
+    return m.add_body(body_spec(name, parent, type, axis, SE3::Translation(at), mass, com, inertia));
+  };
+  const Mat3 Z = Mat3::Zero();
+  int b = add("x", -1, JointType::Prismatic, Vec3::UnitX(), 0, Z, Vec3::Zero(), Vec3::Zero());
+  b = add("y", b, JointType::Prismatic, Vec3::UnitY(), 0, Z, Vec3::Zero(), Vec3::Zero());
+  b = add("z", b, JointType::Prismatic, Vec3::UnitZ(), 0, Z, Vec3::Zero(), Vec3::Zero());
+  b = add("yaw", b, JointType::Revolute, Vec3::UnitZ(), 0, Z, Vec3::Zero(), Vec3::Zero());
+  b = add("pitch", b, JointType::Revolute, Vec3::UnitY(), 0, Z, Vec3::Zero(), Vec3::Zero());
+  b = add("body", b, JointType::Revolute, Vec3::UnitX(), 2.0, Vec3(1, 2, 3).asDiagonal(), Vec3::Zero(),
+          Vec3(0.02, -0.01, 0.03));
+  add("arm", b, JointType::Revolute, Vec3(0.3, 1, 0.2).normalized(), 0.5, Vec3(0.02, 0.01, 0.02).asDiagonal(),
+      Vec3(0.2, 0, 0.1), Vec3(0.15, 0, 0));
+  if (!gravity) m.gravity.setZero();
+  m.set_rotation_chart(3);
+  return m;
+}
+
 }  // namespace hovi::test_models
