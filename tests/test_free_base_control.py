@@ -90,6 +90,27 @@ def test_a_rollouts_jacobians_are_its_steps_and_a_batch_its_rollouts(rng):
         lin.linearize_at(traj.control_points[0], u[0])
 
 
+@pytest.mark.parametrize("build", [quadrotor, actuated_chain])
+def test_the_forces_jacobians_are_their_differences(build, rng):
+    """force_jacobians on a free base, in its velocity's coordinates: dQ/dq by a tangent δ of q (q ⊕ δ, the
+    velocity held), dQ/dv and dQ/du against central differences (a follower thrust, drag, a damper)."""
+    model = build()
+    model.add_drag("body", 0.4, 0.1)
+    n, m = model.nv, model.n_controls
+    q, _ = random_state(model, hovi.Integrator(model, s=1, dt=0.01), rng)
+    v, u = rng.normal(size=n), rng.normal(size=m)
+    Q, Qq, Qv, Qu = model.force_jacobians(q, v, u)
+    h = 1e-6
+    dq = np.array([model.force_jacobians(model.integrate(q, e), v, u)[0] - model.force_jacobians(model.integrate(q, -e), v, u)[0]
+                   for e in h * np.eye(n)]).T / (2 * h)
+    dv = np.array([model.force_jacobians(q, v + e, u)[0] - model.force_jacobians(q, v - e, u)[0]
+                   for e in h * np.eye(n)]).T / (2 * h)
+    du = np.array([model.force_jacobians(q, v, u + e)[0] - model.force_jacobians(q, v, u - e)[0]
+                   for e in h * np.eye(m)]).T / (2 * h)
+    for exact, differenced in ((Qq, dq), (Qv, dv), (Qu, du)):
+        assert np.abs(exact - differenced).max() <= 1e-7 * (1 + np.abs(differenced).max())
+
+
 def test_the_hover_controls_balance_gravity():
     model = quadrotor(mass=1.3)
     integ = hovi.Integrator(model, s=1, dt=0.01)
@@ -98,8 +119,8 @@ def test_the_hover_controls_balance_gravity():
     u = equilibrium_controls(integ, q)
     assert np.abs(u - 1.3 * 9.81 / 4).max() <= 1e-9
     q[3:7] = axis_angle((1, 0, 0), 90)  # on its side: the thrusts push sideways, nothing holds it up
-    with pytest.raises(ValueError, match="no held controls hold q at rest"):
-        equilibrium_controls(integ, q)
+    with pytest.raises(ValueError, match="q is not an equilibrium"):
+        lqr(integ, q)
 
 
 @pytest.mark.parametrize("axis, degrees", [((1, 0, 0), 30), ((0.3, 1, 0.2), 90), ((1, -1, 0.5), 150),
@@ -248,3 +269,24 @@ def test_the_contact_step_of_a_free_base_is_linearised(case):
     if "sliding" in case:  # every complementarity pair away from its switch: the central path ends at the held step
         smoothed = hovi.Linearizer(integ).step_jacobians(q1, p1, u, smoothing=1e-14)
         assert np.abs(smoothed.A - lin.A).max() <= 1e-6 * np.abs(A).max()
+
+
+def test_lqr_through_contact_holds_a_landed_quadrotor_against_a_push():
+    """On its four legs: the statics share the weight between the thrusts and the contacts (least norm
+    over both); LQR with the stance held (the contact linearisation on the free base) keeps it level and
+    on its legs through a push that slides it (a sliding stance moves its rest: x and yaw stay where the
+    push left them), and it comes to rest."""
+    model = quadrotor()
+    legs = [("body", (x, y, -0.05)) for x, y in [(0.15, 0.15), (-0.15, 0.15), (-0.15, -0.15), (0.15, -0.15)]]
+    integ = hovi.Integrator(model, s=1, dt=0.01, contacts=Contacts(model, legs, Terrain(), mu=0.8))
+    q = model.neutral()
+    q[2] = 0.05
+    policy = lqr(integ, q, q_weight=10.0, v_weight=1.0, u_weight=0.1)
+    assert np.all(policy.u_ref[0, 0] > 0) and policy.u_ref[0, 0].sum() < 9.81
+    run = simulate(integ, policy, q, 200, pushes=[Push(0.5, "body", [0.2, 0, 0], point=(0, 0, 0.05))])
+    assert run.converged
+    moved = np.array([model.difference(q, x) for x in run.trajectory.q])
+    assert np.abs(moved[:, 0]).max() > 1e-3                  # the push slid it
+    assert np.abs(moved[:, 3:5]).max() < 1e-3                # level throughout (roll, pitch)
+    assert np.abs(run.trajectory.qdot[-2]).max() < 1e-6      # at rest again
+    assert run.trajectory.contact.gaps.min() >= -1e-9

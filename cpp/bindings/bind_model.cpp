@@ -591,14 +591,25 @@ Kqv[i, j] = d/dq̇_j (dK/dq_i) = Kvq.T, Kqq = d2K/dq2.
           }, py::arg("q"), "Algorithm 3, O(n^2). q: (n,); returns d2V_g/dq2 (n, n) of the gravitational potential (springs not included).")
       .def("force_jacobians", [](PyModel& s, const ArrayLike& q, const ArrayLike& qd, const OptArrayLike& u) {
             const VecX uu = u.is_none() ? VecX::Zero(s.model.n_controls()) : as_vector(u, "u", s.model.n_controls());
-            s.chart_coordinates_only("force_jacobians");
+            const VecX qc = s.config(q);
             ForceJacobians fj(s.model);
-            force_jacobians(s.model, s.ws(), s.vec(q, "q"), s.vec(qd, "qdot"), uu, fj);
-            return py::make_tuple(fj.Q, fj.Qq, fj.Qv, fj.Qu);
+            if (s.model.rotation_chart < 0) {
+              force_jacobians(s.model, s.ws(), qc, s.vec(qd, "qdot"), uu, fj);
+              return py::make_tuple(VecX(fj.Q), MatX(fj.Qq), MatX(fj.Qv), MatX(fj.Qu));
+            }
+            // a free base: Q_v = T^T Q(q, T v, u) in the velocity's coordinates, by a tangent δ of q
+            const VecX v = s.vec(qd, "qdot");
+            MatX dq, dTv, dTf;
+            force_jacobians(s.model, s.ws(), qc, s.velocity(qc, qd, "qdot"), uu, fj);
+            FreeBase(s.model).tangent_maps(s.attitude, v, fj.Q, dq, dTv, dTf);
+            const MatX& T = dq;  // the velocity map at θ = 0
+            return py::make_tuple(VecX(T.transpose() * fj.Q), MatX(dTf + T.transpose() * (fj.Qq * dq + fj.Qv * dTv)),
+                                  MatX(T.transpose() * fj.Qv * T), MatX(T.transpose() * fj.Qu));
           }, py::arg("q"), py::arg("qdot"), py::arg("u") = py::none(), R"doc(
-q, qdot: (n,), u: (m,) (default zero); returns (Q (n,), dQ/dq (n, n), dQ/dq̇ (n, n), dQ/du (n, m)) of
-the generalized non-conservative force: joint springs, dampers and
-actuators plus the body wrench elements mapped to joint space (gravity not included).
+q: (nq,), qdot: (n,), u: (m,) (default zero); returns (Q (n,), dQ/dq (n, n), dQ/dq̇ (n, n), dQ/du (n, m))
+of the generalized non-conservative force: joint springs, dampers and actuators plus the body wrench
+elements mapped to joint space (gravity not included). A free base: in its velocity's coordinates,
+dQ/dq by a tangent δ of q (q ⊕ δ).
 )doc")
       .def("inverse_dynamics", [](PyModel& s, const ArrayLike& q, const ArrayLike& qd, const ArrayLike& qdd) {
             const VecX qc = s.config(q);

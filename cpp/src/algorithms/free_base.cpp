@@ -113,6 +113,28 @@ VecX FreeBase::velocity_rate(const Eigen::Ref<const VecX>& q, const Mat3& attitu
   return out;
 }
 
+void FreeBase::tangent_maps(const Mat3& centre, const Eigen::Ref<const VecX>& v, const Eigen::Ref<const VecX>& f,
+                            MatX& dq, MatX& dTv, MatX& dTf) const {
+  // δ = (δv, δω, δr) moves the chart point by (C δv, E(0)^-1 δω, δr); T = diag(R_b, E(θ)^-1, 1) turns with θ:
+  // d(R_b v_lin) = -C v̂_lin δω, d(R_b^T f_x) = (C^T f_x)^ δω, d(E^-1 ω) = -E^-1 dE E^-1 ω, d(E^-T f_θ) likewise.
+  const int n = int(v.size()), j = j_, nr = n - j - 3;
+  const Mat3 E0inv = chart.rates_to_omega(Vec3::Zero()).inverse();
+  dq.setZero(n, n);
+  dTv.setZero(n, n);
+  dTf.setZero(n, n);
+  dq.topLeftCorner(3, 3) = centre;
+  dq.block(j, j, 3, 3) = E0inv;
+  dq.bottomRightCorner(nr, nr).setIdentity();
+  dTv.block(0, j, 3, 3) = -centre * hat(Vec3(v.head<3>()));
+  dTf.block(0, j, 3, 3) = hat(Vec3(centre.transpose() * f.head<3>()));
+  const Vec3 w = E0inv * v.segment<3>(j), g = E0inv.transpose() * f.segment<3>(j);
+  for (int k = 0; k < 3; ++k) {  // dθ = E(0)^-1 δω along column k
+    const Mat3 dE = chart.rates_to_omega_rate(Vec3::Zero(), E0inv.col(k));
+    dTv.block(j, j + k, 3, 1) = -E0inv * dE * w;
+    dTf.block(j, j + k, 3, 1) = -E0inv.transpose() * dE.transpose() * g;
+  }
+}
+
 VecX FreeBase::integrate(const Eigen::Ref<const VecX>& q, const Eigen::Ref<const VecX>& v) const {
   VecX out = q;
   const SE3 M(quaternion_rotation(q.segment<4>(j_)), q.head<3>());

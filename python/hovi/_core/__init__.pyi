@@ -152,9 +152,10 @@ class Model:
         """
     def force_jacobians(self, q: numpy.typing.ArrayLike, qdot: numpy.typing.ArrayLike, u: numpy.typing.ArrayLike | None = None) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]]:
         """
-        q, qdot: (n,), u: (m,) (default zero); returns (Q (n,), dQ/dq (n, n), dQ/dq̇ (n, n), dQ/du (n, m)) of
-        the generalized non-conservative force: joint springs, dampers and
-        actuators plus the body wrench elements mapped to joint space (gravity not included).
+        q: (nq,), qdot: (n,), u: (m,) (default zero); returns (Q (n,), dQ/dq (n, n), dQ/dq̇ (n, n), dQ/du (n, m))
+        of the generalized non-conservative force: joint springs, dampers and actuators plus the body wrench
+        elements mapped to joint space (gravity not included). A free base: in its velocity's coordinates,
+        dQ/dq by a tangent δ of q (q ⊕ δ).
         """
     def forward_dynamics(self, q: numpy.typing.ArrayLike, qdot: numpy.typing.ArrayLike, tau: numpy.typing.ArrayLike | None = None) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         """

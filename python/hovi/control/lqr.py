@@ -75,31 +75,10 @@ def equilibrium_controls(integrator: Integrator, q: npt.ArrayLike) -> FloatArray
     controls and, with contacts, the contact forces (which then carry the weight with them). ``lqr``
     checks that they hold q at rest."""
     q = real_array(q, "q", (integrator.nq,))
-    if integrator.model.free_base:
-        return _step_equilibrium(integrator, q)
     if integrator.contacts is None:
         return static_controls(integrator.model, q)
     with_inputs = integrator.contacts.core_model().with_inputs(integrator.model)  # the plant's, not the contacts' model
     return static_controls(with_inputs, q)[:integrator.model.n_controls]
-
-
-def _step_equilibrium(integrator: Integrator, q: FloatArray) -> FloatArray:
-    """The held controls u (m,) under which a step from rest at q ends at rest (p^{k+1} = 0), least norm, by
-    Gauss-Newton on the step with its exact B: a free base's statics, whose forces the chart holds."""
-    if integrator.contacts is not None:
-        raise ValueError("the held controls of a free base with contacts are not computed yet: give u_eq (controls "
-                         "that hold q at rest with the feet loaded)")
-    lin, m = Linearizer(integrator), integrator.model.n_controls
-    u, p0 = np.zeros(m), np.zeros(integrator.n)
-    for _ in range(20):
-        step = lin.step_jacobians(q, p0, u, A=False, hold=True)
-        assert step.B is not None
-        if np.abs(step.p_next).max() <= 1e-13 * (1 + np.abs(u).max()):
-            return u
-        u = u - np.linalg.lstsq(step.B[integrator.n:], step.p_next, rcond=None)[0]
-    raise ValueError(f"no held controls hold q at rest (a step from rest still moves by momentum "
-                     f"{np.abs(step.p_next).max():.2e} after 20 Gauss-Newton steps): the controls cannot balance "
-                     "gravity there; give u_eq")
 
 
 def rest_momentum(integrator: Integrator, q: FloatArray, u: FloatArray) -> FloatArray:

@@ -7,7 +7,7 @@ import numpy as np
 
 
 def static_controls(model, q: np.ndarray, controls: Sequence[int] | None = None) -> np.ndarray:
-    """Controls u (m,) that hold configuration q (n,) at rest: Q(q, 0, u) = G(q), with Q = Q0 + (dQ/du) u
+    """Controls u (m,) that hold configuration q (nq,) at rest: Q(q, 0, u) = G(q), with Q = Q0 + (dQ/du) u
     the non-conservative force (force_jacobians) and G(q) = inverse_dynamics(q, 0, 0) the gravity force;
     the least-squares (least-norm) u using only the ``controls`` (indices; default all), the others zero."""
     zero = np.zeros(model.n)

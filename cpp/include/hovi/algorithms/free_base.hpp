@@ -26,6 +26,11 @@ class FreeBase {
   void momentum_to_chart(const Eigen::Ref<const VecX>& q, const Mat3& attitude, Eigen::Ref<VecX> x) const;
   // Ṫ v, so that q̈ = T a + Ṫ v for an acceleration a (the derivative of v).
   VecX velocity_rate(const Eigen::Ref<const VecX>& q, const Mat3& attitude, const Eigen::Ref<const VecX>& v) const;
+  // At the chart's point about C (θ = 0) for a tangent δ of q (q ⊕ δ): dq = d(chart q)/dδ, and for a velocity v
+  // and a chart covector f (a momentum or a force) dTv = d(T v)/dδ and dTf = d(T^T f)/dδ (n x n each):
+  // what a quantity q -> T^T g(q, T v) differentiates to, T^T (g_q dq + g_v dTv) + dTf with f = g.
+  void tangent_maps(const Mat3& centre, const Eigen::Ref<const VecX>& v, const Eigen::Ref<const VecX>& f, MatX& dq,
+                    MatX& dTv, MatX& dTf) const;
   int joint() const { return j_; }
 
   // A whole state: public (q_pub: nq; p in place) -> the chart about q's attitude (q: n with θ = 0,
