@@ -290,3 +290,24 @@ def test_lqr_through_contact_holds_a_landed_quadrotor_against_a_push():
     assert np.abs(moved[:, 3:5]).max() < 1e-3                # level throughout (roll, pitch)
     assert np.abs(run.trajectory.qdot[-2]).max() < 1e-6      # at rest again
     assert run.trajectory.contact.gaps.min() >= -1e-9
+
+
+def test_bad_starts_references_and_plants_are_named():
+    model = quadrotor()
+    integ = hovi.Integrator(model, s=1, dt=0.01)
+    lin = hovi.Linearizer(integ)
+    traj = integ.rollout(model.neutral(), 2, u=np.full((2, 2, 4), 2.0))
+    with pytest.raises(ValueError, match="start must be a 1-D array of length 7"):
+        lin.linearize_at(traj.control_points[0], np.full((2, 4), 2.0), start=np.zeros(6))
+    with pytest.raises(ValueError, match=r"starts \(steps, nq\)"):
+        lin.linearize_at(traj.control_points, np.full((2, 2, 4), 2.0), start=np.zeros((2, 6)))
+    pendulum = hovi.Integrator(hovi.examples.models.pendulum(1), s=1, dt=0.01)
+    with pytest.raises(ValueError, match="start is for a model with a free base"):
+        hovi.Linearizer(pendulum).linearize_at(np.zeros((2, 1)), start=np.zeros(1))
+    policy = lqr(integ, np.r_[0, 0, 1.0, 0, 0, 0, 1.0])
+    with pytest.raises(ValueError, match=r"x_ref must have shape \(S, nq \+ n\)"):
+        hovi.control.Policy(x_ref=np.zeros((1, 14)), u_ref=policy.u_ref, gains=policy.gains, lower=policy.lower,
+                            upper=policy.upper, cost_to_go=policy.cost_to_go, dt=0.01, s=1)
+    euler = hovi.Integrator(bq.quadrotor("euler", *bq.NOMINAL), s=1, dt=0.01)  # n = 6 as well, nq = 6
+    with pytest.raises(ValueError, match=r"the plant \(nq = 6, n = 6.*does not fit the policy \(nq = 7"):
+        simulate(euler, policy, np.r_[0, 0, 1.0, 0, 0, 0], 2)

@@ -47,7 +47,8 @@ class Integrator:
     ``s``: the number of Lobatto intervals of a step, the integrator's order of accuracy being 2s (s = 1
     trapezoidal, s = 2 Simpson, the default; any s up to 16).
     Each step solves the DEL equations for q^{k,1..s} by Newton's method with a backtracking
-    line search. The direction is exact: ``direction="recursive"`` is the paper's O(s^3 n)
+    line search. The direction is exact (on a free base, but for its chart's term at s = 1 and on the
+    recursive path: docs/how-it-works.md, "The free base"): ``direction="recursive"`` is the paper's O(s^3 n)
     recursion (appendix Algorithms A.1/A.2), ``"dense"`` an LU of the DEL Jacobian from the
     linearisation (O(s^2 n^2) + O(s^3 n^3), cheaper for small n) and ``"auto"`` (default) the
     faster of the two for this model and s (the crossover: bench/direction_crossover.py).

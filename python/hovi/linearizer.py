@@ -74,7 +74,7 @@ class Linearizer:
     contact switches; the momentum is the step's state, before the next knot's impulse.
 
     With a free base (``Model.free_base``) A and B act on tangent coordinates, (q ⊖ q_ref, p - p_ref)
-    (cpp/include/hovi/integrators/free_base_jacobians.hpp; not yet through contact).
+    (cpp/include/hovi/integrators/free_base_jacobians.hpp), through contact too.
     """
 
     def __init__(self, integrator: Integrator) -> None:

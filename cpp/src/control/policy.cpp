@@ -53,18 +53,16 @@ PushSchedule::PushSchedule(const Model& model, const std::vector<Push>& pushes)
 
 void PushSchedule::apply(int k, const VecX& q_state, VecX& p_state) {
   if (std::none_of(pushes_.begin(), pushes_.end(), [k](const Push& d) { return d.step == k; })) return;
-  bool moved = false;
   VecX q = q_state, p = VecX::Zero(model_.n());  // a free base: the chart about q's attitude, p's change in it
   Mat3 centre;
-  if (base_) q.resize(model_.n());
+  if (base_) {
+    q.resize(model_.n());
+    base_->split(q_state, q, centre);
+    data_.chart_placement = model_.chart_placement(centre);
+  }
+  forward_kinematics(model_, data_, q);
   for (const Push& d : pushes_) {
     if (d.step != k) continue;
-    if (!moved && base_) {
-      base_->split(q_state, q, centre);
-      data_.chart_placement = model_.chart_placement(centre);
-    }
-    if (!moved) forward_kinematics(model_, data_, q);
-    moved = true;
     J_.setZero();
     Vec3 x;
     const Vec3 r = model_.point_in_com_frame(d.body, d.point);  // body frames sit at the COM (docs/paper.md C-3)
@@ -72,7 +70,6 @@ void PushSchedule::apply(int k, const VecX& q_state, VecX& p_state) {
     p.noalias() += J_.transpose() * d.impulse;
     for (int j = d.body; j >= 0; j = model_.parent[j]) p[j] += data_.Sbar[j].head<3>().dot(d.angular);  // ω_j . τ
   }
-  if (!moved) return;
   if (base_) base_->momentum_to_public(q, centre, p);
   p_state += p;
 }

@@ -30,8 +30,9 @@ class Policy:
     equilibrium) holds at every step; S of them (time-varying LQR) hold at steps 0..S-1 and the last
     after that.
 
-    On a model with a free base x^k - x_ref^k is in tangent coordinates, (q_ref ⊖ q, p - p_ref) with
-    ⊖ ``Model.difference`` (x_ref's q has nq = n + 1 entries: the attitude's quaternion).
+    On a model with a free base x^k - x_ref^k is in tangent coordinates, (q ⊖ q_ref, p - p_ref) =
+    (``Model.difference(q_ref, q)``, p - p_ref) (x_ref's q has nq = n + 1 entries: the attitude's
+    quaternion).
 
     x_ref (S, nq + n), u_ref (S, s+1, m), gains (S, m, 2n), lower and upper (m,) (±inf: no limit),
     cost_to_go (S+1, 2n, 2n) or (1, 2n, 2n): x^T P x of the linear-quadratic problem (the loop does

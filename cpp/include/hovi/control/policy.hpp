@@ -2,8 +2,8 @@
 // At step k:  u^{k,a} = clamp(u_ref^{k,a} - K^k (x^k - x_ref^k), lower, upper),  a = 0..s
 // (the feedback held over the step, the feed-forward at each control point): LQR at an equilibrium
 // (one reference and gain) or time-varying LQR along a trajectory (one per step; past its last
-// step, the last). A model with a free base: x^k - x_ref^k is (q_ref ⊖ ... ) in tangent coordinates,
-// (FreeBase::difference(q_ref, q), p - p_ref), its states public (q: nq, p: n).
+// step, the last). A model with a free base: x^k - x_ref^k is in tangent coordinates,
+// (q ⊖ q_ref, p - p_ref) = (FreeBase::difference(q_ref, q), p - p_ref), its states public (q: nq, p: n).
 #pragma once
 #include <optional>
 #include <vector>
