@@ -17,7 +17,10 @@ base and MuJoCo's free joint.
    tip onto its side; dropped from 0.3 m in 100 random attitudes with a random spin it must come to
    rest on a face within 3 s. Free base and Euler base, s = 1 and 2, dt = 0.01 and 0.005: runs that
    converged at every step, runs at rest on a face, run time per simulated second.
-4. The linearisation: A and B of a step (``Linearizer.rollout_jacobians`` over a 20-step rollout
+4. Newton on the floating chain (dt = 0.01, 300 steps from a tumbling state, s = 1, 2, 3): iterations
+   a step and time per step on the dense direction (with the chart term's derivative at s >= 2) and on
+   the recursive one (without it).
+5. The linearisation: A and B of a step (``Linearizer.rollout_jacobians`` over a 20-step rollout
    from a tumbling state with random controls), on the free base (tangent coordinates) and on the
    Euler base, for the actuated floating chain and Solo12 (example-robot-data, every joint
    actuated); time per step and the free base's ratio.
@@ -337,6 +340,23 @@ def cube_study(quick: bool) -> dict:
     return out
 
 
+def newton_study(quick: bool) -> list:
+    q0 = np.r_[0, 0, 0, 0.1, 0.2, 0.3, 0.927, 0, 0]
+    q0[3:7] /= np.linalg.norm(q0[3:7])
+    v0 = np.r_[0.5, 0, 0, 2, 3, 1, 1, -1]
+    out = []
+    for s in ([2] if quick else [1, 2, 3]):
+        for direction in ("dense", "recursive"):
+            integ = hovi.Integrator(chain(), s=s, dt=0.01, direction=direction)
+            best = np.inf
+            for _ in range(1 if quick else 3):
+                traj = integ.rollout(q0, 300, qdot0=v0)
+                best = min(best, traj.solve_seconds / 300)
+            out.append(dict(s=s, direction=direction, converged=bool(traj.converged),
+                            iterations=float(np.mean(traj.iterations)), us_per_step=1e6 * best))
+    return out
+
+
 def actuated(model: hovi.Model, first: int) -> hovi.Model:
     """The model with every joint from index ``first`` on actuated."""
     for name in model.joint_names[first:]:
@@ -398,6 +418,11 @@ def readme(results) -> str:
                               f"{r['converged']}/{r['drops']}", f"{r['rest_on_a_face']}/{r['drops']}",
                               f"{1e3 * r['seconds_per_second']:.3g} ms", ", ".join(r["failures"]) or "-"]
                              for k, r in results["cube"].items()])
+    lines += ["", "Newton on the floating chain (n = 8, dt 0.01, 300 steps): the dense direction (with the chart "
+              "term's derivative at s >= 2) and the recursive one (without it):", ""]
+    lines += markdown_table(["s", "direction", "iterations a step", "time a step"],
+                            [[str(r["s"]), r["direction"], f"{r['iterations']:.2f}", f"{r['us_per_step']:.1f} µs"]
+                             for r in results["newton"]])
     lines += ["", "The linearisation (A and B of a step, `Linearizer.rollout_jacobians`, every joint actuated), per step:",
               ""]
     by = {(r["system"], r["s"], r["base"]): r for r in results["linearisation"]}
@@ -417,14 +442,14 @@ def readme(results) -> str:
 def main() -> None:
     args = study_parser(__doc__).parse_args()
     results = dict(order=order_study(args.quick), flip=flip_study(args.quick), cube=cube_study(args.quick),
-                   linearisation=linearisation_study(args.quick))
+                   newton=newton_study(args.quick), linearisation=linearisation_study(args.quick))
     for k, r in results["order"].items():
         print(f"order {k}: errors {', '.join(f'{e:.2e}' for e in r['error'])}, order {r['order']:.2f}")
     for r in results["flip"]:
         print({k: (f"{v:.3g}" if isinstance(v, float) else v) for k, v in r.items()})
     for k, r in results["cube"].items():
         print(k, r)
-    for r in results["linearisation"]:
+    for r in results["newton"] + results["linearisation"]:
         print(r)
     write_json("free_base_quick.json" if args.quick else "free_base.json", results)
     publish("free-base", readme(results), args.quick)

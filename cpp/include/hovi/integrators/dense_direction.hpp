@@ -20,9 +20,9 @@ inline bool uses_dense_direction(Direction direction, const Model& model, int s)
 }
 
 // A free base's Newton direction with the chart term's derivative (DenseDirection::factor's r): on the
-// dense path at s >= 2, where the direction without it is off by 1e-3 and Newton needs 4 iterations a
-// step for 2; at s = 1 it is off by 3e-5 and the derivative costs more than the iteration it saves
-// (bench/README.md, "Free bodies on SE(3)").
+// dense path at s >= 2, where the direction without it is off by 1e-3 and Newton needs 3.1-3.2
+// iterations a step for 2.01; at s = 1 it is off by 3e-5 and the derivative costs more than the
+// iteration it saves (bench/README.md, "Free bodies on SE(3)").
 inline bool exact_chart_direction(Direction direction, const Model& model, int s) {
   return model.rotation_chart >= 0 && s >= 2 && uses_dense_direction(direction, model, s);
 }
